@@ -1,0 +1,46 @@
+// The table of `sepal` subcommands and the dispatcher.
+#include <cstring>
+
+#include "cli.h"
+
+namespace sepal {
+
+const std::vector<Command>& commands() {
+    static const std::vector<Command> table = {
+        {"diff", "A B [--max-diff N] [--max-share P] [--min-psnr D] [--heatmap out.png]",
+         "compare two images (PNG or PFM): PSNR, max difference, share over it", cmd_diff},
+    };
+    return table;
+}
+
+static void usage(FILE* f) {
+    std::fprintf(f, "usage: sepal <command> [arguments]\n\ncommands:\n");
+    for (const Command& c : commands()) std::fprintf(f, "  %-8s %s\n", c.name, c.summary);
+    std::fprintf(f, "\n'sepal <command> --help' shows a command's arguments.\n");
+}
+
+int run_sepal(int argc, char** argv, const CommandIO& io) {
+    if (argc < 2) {
+        usage(io.err);
+        return kExitBadInput;
+    }
+    const char* name = argv[1];
+    if (!std::strcmp(name, "help") || !std::strcmp(name, "--help") || !std::strcmp(name, "-h")) {
+        usage(io.out);
+        return kExitOk;
+    }
+    for (const Command& c : commands()) {
+        if (std::strcmp(c.name, name) != 0) continue;
+        std::vector<std::string> args(argv + 2, argv + argc);
+        if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
+            std::fprintf(io.out, "usage: sepal %s %s\n  %s\n", c.name, c.usage, c.summary);
+            return kExitOk;
+        }
+        return c.run(args, io);
+    }
+    std::fprintf(io.err, "sepal: unknown command '%s'\n", name);
+    usage(io.err);
+    return kExitBadInput;
+}
+
+}  // namespace sepal

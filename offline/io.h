@@ -1,0 +1,23 @@
+// File helpers for offline tools: whole-file reads and atomic writes.
+//
+// Every output file of sepal is written through write_file_atomic: the bytes go to a
+// temporary file beside the target, which is renamed over it only when complete, so a
+// failure never leaves a half-written output.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sepal {
+
+// Reads a whole file; refuses files larger than max_bytes (a bound on every input).
+bool read_file(const std::string& path, std::vector<uint8_t>* out, std::string* err,
+               uint64_t max_bytes = uint64_t(1) << 31);
+bool write_file_atomic(const std::string& path, const void* data, size_t size,
+                       std::string* err);
+// Creates a directory and its parents (like mkdir -p).
+bool make_dirs(const std::string& path, std::string* err);
+// Lower-cased extension without the dot ("png"), or "" when there is none.
+std::string file_extension(const std::string& path);
+
+}  // namespace sepal

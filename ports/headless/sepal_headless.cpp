@@ -1,0 +1,234 @@
+// Headless EGL port: see sepal_headless.h.
+#include "sepal_headless.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GLES2/gl2.h>
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct sh_context {
+    EGLDisplay display;
+    EGLSurface surface;
+    EGLContext context;
+    int width, height;
+    char description[512];
+};
+
+static void set_err(char* err, size_t n, const char* fmt, ...) {
+    if (!err || n == 0) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, n, fmt, ap);
+    va_end(ap);
+}
+
+static const char* egl_error_name(EGLint e) {
+    switch (e) {
+        case EGL_SUCCESS: return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+        case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+        case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+        case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
+        default: return "EGL error";
+    }
+}
+
+// Whole-word match in a space-separated extension string.
+static bool has_ext(const char* list, const char* name) {
+    if (!list) return false;
+    size_t n = strlen(name);
+    for (const char* p = list; (p = strstr(p, name)) != nullptr; p += n) {
+        bool start = (p == list) || p[-1] == ' ';
+        bool end = p[n] == '\0' || p[n] == ' ';
+        if (start && end) return true;
+    }
+    return false;
+}
+
+// Opens and initializes a display; returns the platform's name in *platform.
+static EGLDisplay open_display(const char** platform, char* err, size_t n) {
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    const char* forced = getenv("SEPAL_EGL_PLATFORM");
+    auto get_platform_display =
+        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
+    const char* order[3] = {"surfaceless", "device", "default"};
+    int count = 3;
+    if (forced && *forced) {
+        order[0] = forced;
+        count = 1;
+    }
+    char tried[256] = "";
+    for (int i = 0; i < count; ++i) {
+        const char* name = order[i];
+        EGLDisplay d = EGL_NO_DISPLAY;
+        if (strcmp(name, "surfaceless") == 0) {
+            if (get_platform_display && has_ext(client, "EGL_MESA_platform_surfaceless"))
+                d = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
+                                         nullptr);
+        } else if (strcmp(name, "device") == 0) {
+            auto query_devices =
+                (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
+            if (get_platform_display && query_devices &&
+                has_ext(client, "EGL_EXT_platform_device")) {
+                EGLDeviceEXT devices[8];
+                EGLint num = 0;
+                if (query_devices(8, devices, &num) && num > 0)
+                    d = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
+            }
+        } else if (strcmp(name, "default") == 0) {
+            d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+        } else {
+            set_err(err, n, "SEPAL_EGL_PLATFORM='%s' is not one of surfaceless, device, default",
+                    name);
+            return EGL_NO_DISPLAY;
+        }
+        if (d != EGL_NO_DISPLAY) {
+            EGLint major = 0, minor = 0;
+            if (eglInitialize(d, &major, &minor)) {
+                *platform = name;
+                return d;
+            }
+        }
+        size_t len = strlen(tried);
+        snprintf(tried + len, sizeof tried - len, "%s%s", len ? ", " : "", name);
+    }
+    set_err(err, n,
+            "no usable EGL display (tried: %s). Install Mesa's EGL (libegl-mesa0, "
+            "libgl1-mesa-dri) or set SEPAL_EGL_PLATFORM; client extensions: %s",
+            tried, client ? client : "(none: EGL 1.5 client extensions unsupported)");
+    return EGL_NO_DISPLAY;
+}
+
+extern "C" sh_context* sh_create(const sh_desc* desc, char* err, size_t err_len) {
+    sh_desc d = desc ? *desc : sh_desc{};
+    if (d.width == 0) d.width = 256;
+    if (d.height == 0) d.height = 256;
+    if (d.gles_version == 0) d.gles_version = 1;
+    if (d.depth_bits == 0) d.depth_bits = 16;
+    if (d.width < 1 || d.height < 1 || d.width > 16384 || d.height > 16384) {
+        set_err(err, err_len, "image size %dx%d out of range 1..16384", d.width, d.height);
+        return nullptr;
+    }
+    if (d.gles_version != 1 && d.gles_version != 2) {
+        set_err(err, err_len, "gles_version %d: only 1 (GL ES 1.1) and 2 (GL ES 2.0) exist",
+                d.gles_version);
+        return nullptr;
+    }
+
+    const char* platform = "";
+    EGLDisplay display = open_display(&platform, err, err_len);
+    if (display == EGL_NO_DISPLAY) return nullptr;
+
+    if (!eglBindAPI(EGL_OPENGL_ES_API)) {
+        set_err(err, err_len, "eglBindAPI(EGL_OPENGL_ES_API) failed: %s",
+                egl_error_name(eglGetError()));
+        return nullptr;
+    }
+    const EGLint renderable = d.gles_version == 1 ? EGL_OPENGL_ES_BIT : EGL_OPENGL_ES2_BIT;
+    const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
+                                     EGL_RENDERABLE_TYPE, renderable,
+                                     EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
+                                     EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, d.depth_bits,
+                                     EGL_NONE};
+    EGLConfig config;
+    EGLint num_configs = 0;
+    if (!eglChooseConfig(display, config_attribs, &config, 1, &num_configs) ||
+        num_configs < 1) {
+        set_err(err, err_len,
+                "EGL platform '%s' has no RGBA8 pbuffer config with %d depth bits for GL ES %d "
+                "(vendor %s)",
+                platform, d.depth_bits, d.gles_version, eglQueryString(display, EGL_VENDOR));
+        return nullptr;
+    }
+    const EGLint surface_attribs[] = {EGL_WIDTH, d.width, EGL_HEIGHT, d.height, EGL_NONE};
+    EGLSurface surface = eglCreatePbufferSurface(display, config, surface_attribs);
+    if (surface == EGL_NO_SURFACE) {
+        set_err(err, err_len, "eglCreatePbufferSurface %dx%d failed: %s", d.width, d.height,
+                egl_error_name(eglGetError()));
+        return nullptr;
+    }
+    const EGLint context_attribs[] = {EGL_CONTEXT_CLIENT_VERSION, d.gles_version, EGL_NONE};
+    EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
+    if (context == EGL_NO_CONTEXT) {
+        set_err(err, err_len, "EGL platform '%s' cannot create a GL ES %d context: %s",
+                platform, d.gles_version, egl_error_name(eglGetError()));
+        eglDestroySurface(display, surface);
+        return nullptr;
+    }
+    if (!eglMakeCurrent(display, surface, surface, context)) {
+        set_err(err, err_len, "eglMakeCurrent failed: %s", egl_error_name(eglGetError()));
+        eglDestroyContext(display, context);
+        eglDestroySurface(display, surface);
+        return nullptr;
+    }
+    sh_context* c = (sh_context*)calloc(1, sizeof(sh_context));
+    if (!c) {
+        set_err(err, err_len, "out of memory");
+        eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display, context);
+        eglDestroySurface(display, surface);
+        return nullptr;
+    }
+    c->display = display;
+    c->surface = surface;
+    c->context = context;
+    c->width = d.width;
+    c->height = d.height;
+    const char* renderer = (const char*)glGetString(GL_RENDERER);
+    const char* version = (const char*)glGetString(GL_VERSION);
+    snprintf(c->description, sizeof c->description, "EGL %s (%s) | %s | %s", platform,
+             eglQueryString(display, EGL_VENDOR), renderer ? renderer : "?",
+             version ? version : "?");
+    return c;
+}
+
+extern "C" int sh_make_current(sh_context* c) {
+    return c && eglMakeCurrent(c->display, c->surface, c->surface, c->context) ? 1 : 0;
+}
+
+extern "C" int sh_read_rgba(sh_context* c, uint8_t* out) {
+    if (!c || !out) return 0;
+    glFinish();
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, c->width, c->height, GL_RGBA, GL_UNSIGNED_BYTE, out);
+    if (glGetError() != GL_NO_ERROR) return 0;
+    // GL's first row is the bottom one; images are stored top row first.
+    const size_t row = (size_t)c->width * 4;
+    uint8_t tmp[4096];
+    for (int y = 0; y < c->height / 2; ++y) {
+        uint8_t* a = out + (size_t)y * row;
+        uint8_t* b = out + (size_t)(c->height - 1 - y) * row;
+        for (size_t off = 0; off < row; off += sizeof tmp) {
+            size_t k = row - off < sizeof tmp ? row - off : sizeof tmp;
+            memcpy(tmp, a + off, k);
+            memcpy(a + off, b + off, k);
+            memcpy(b + off, tmp, k);
+        }
+    }
+    return 1;
+}
+
+extern "C" int sh_width(const sh_context* c) { return c ? c->width : 0; }
+extern "C" int sh_height(const sh_context* c) { return c ? c->height : 0; }
+extern "C" const char* sh_describe(const sh_context* c) { return c ? c->description : ""; }
+
+extern "C" void sh_destroy(sh_context* c) {
+    if (!c) return;
+    eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(c->display, c->context);
+    eglDestroySurface(c->display, c->surface);
+    // eglTerminate is not called: Mesa shares the display between contexts of the
+    // process and terminating it under another live context would invalidate it.
+    eglReleaseThread();
+    free(c);
+}

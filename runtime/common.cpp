@@ -1,0 +1,62 @@
+// Error reporting and small helpers shared by the runtime.
+#include "internal.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+namespace srt {
+
+srt_result fail(srt_error* err, srt_result code, const char* fmt, ...) {
+    if (err) {
+        err->code = code;
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        va_end(ap);
+    }
+    return code;
+}
+
+bool has_extension(const char* list, const char* name) {
+    if (!list || !name || !*name) return false;
+    const size_t n = strlen(name);
+    for (const char* p = list; (p = strstr(p, name)) != nullptr; p += n) {
+        const bool start = (p == list) || p[-1] == ' ';
+        const bool end = p[n] == '\0' || p[n] == ' ';
+        if (start && end) return true;
+    }
+    return false;
+}
+
+}  // namespace srt
+
+extern "C" void srt_mat4_perspective(float fovy_degrees, float aspect, float z_near,
+                                     float z_far, float out[16]) {
+    const float f = 1.0f / tanf(fovy_degrees * 3.14159265358979f / 360.0f);
+    memset(out, 0, 16 * sizeof(float));
+    out[0] = f / aspect;
+    out[5] = f;
+    out[10] = (z_far + z_near) / (z_near - z_far);
+    out[11] = -1.0f;
+    out[14] = 2.0f * z_far * z_near / (z_near - z_far);
+}
+
+extern "C" void srt_mat4_look_at(const float eye[3], const float target[3], const float up[3],
+                                 float out[16]) {
+    float f[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+    float fl = sqrtf(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    for (float& c : f) c /= fl;
+    float s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2],
+                  f[0] * up[1] - f[1] * up[0]};
+    float sl = sqrtf(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    for (float& c : s) c /= sl;
+    const float u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2],
+                        s[0] * f[1] - s[1] * f[0]};
+    const float m[16] = {s[0], u[0], -f[0], 0,  s[1], u[1], -f[1], 0,
+                         s[2], u[2], -f[2], 0,  0,    0,    0,     1};
+    memcpy(out, m, sizeof m);
+    for (int r = 0; r < 3; ++r)
+        out[12 + r] = -(m[r] * eye[0] + m[4 + r] * eye[1] + m[8 + r] * eye[2]);
+}

@@ -1,0 +1,120 @@
+// sepal_rt.h - the sepal runtime: GL capability checks, meshes, preview drawing.
+//
+// Usage (a port has created and made current a GL ES context):
+//   srt_error err = {};
+//   srt_caps caps;
+//   if (srt_query_caps(1, 0, &caps, &err) != SRT_OK) { puts(err.message); ... }
+//   srt_vertex v[SRT_SPHERE_MAX_VERTICES]; uint16_t idx[SRT_SPHERE_MAX_INDICES];
+//   srt_mesh mesh = {v, idx, 0, 0};
+//   srt_mesh_sphere(32, 16, &mesh, &err);
+//   srt_preview_desc d = {};  d.mesh = &mesh; ...
+//   srt_preview_draw(&caps, &d, &err);
+//
+// Rules: C++17 inside, a C-like API outside; no exceptions, no RTTI, no iostream, no
+// std::string; the runtime allocates nothing: callers hand in all memory. Errors are
+// return codes with a message in srt_error. The runtime never creates a window or a
+// context; ports/ do that and hand the current context in.
+// Limits: meshes use 16-bit indices (at most 65535 vertices).
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum srt_result {
+    SRT_OK = 0,
+    SRT_ERR_INVALID_ARGUMENT = 1,  // a caller error: NULL, out-of-range size, ...
+    SRT_ERR_UNSUPPORTED = 2,       // the GL context lacks what the path needs
+    SRT_ERR_GL = 3,                // GL reported an error (message names the call)
+    SRT_ERR_CAPACITY = 4,          // a caller-provided buffer is too small
+} srt_result;
+
+typedef struct srt_error {
+    srt_result code;
+    char message[256];
+} srt_error;
+
+// ---- capabilities -------------------------------------------------------------------
+// Bits of a mask that hides capabilities the context has, so every fallback path can be
+// exercised on a driver that has everything (e.g. Mesa).
+enum {
+    SRT_MASK_BLEND_SUBTRACT = 1u << 0,  // pretend GL_OES_blend_subtract is missing
+    SRT_MASK_MULTITEXTURE = 1u << 1,    // pretend there is one texture unit
+    SRT_MASK_FBO = 1u << 2,             // pretend framebuffer objects are missing
+    SRT_MASK_NPOT = 1u << 3,            // pretend non-power-of-two textures are missing
+};
+
+typedef struct srt_caps {
+    int gles_version;        // 1 or 2 (a 3.x context reports 2: only ES 2 paths are used)
+    int texture_units;       // fixed-function units (ES 1) or fragment samplers (ES 2)
+    int max_texture_size;
+    int has_blend_subtract;  // GL_OES_blend_subtract (ES 1) or core (ES 2)
+    int has_fbo;             // GL_OES_framebuffer_object (ES 1) or core (ES 2)
+    int has_npot;            // full NPOT textures (GL_OES_texture_npot or ES 3)
+    uint32_t mask;           // the mask that was applied
+    char renderer[128];
+    char version[128];
+} srt_caps;
+
+// Reads the current context's capabilities and applies mask. gles_version must be the
+// version the context was created for (1 or 2).
+srt_result srt_query_caps(int gles_version, uint32_t mask, srt_caps* out, srt_error* err);
+
+// ---- meshes ---------------------------------------------------------------------------
+typedef struct srt_vertex {
+    float position[3];
+    float normal[3];
+    float tangent[4];  // xyz: primary tangent t, w: handedness (s = w * n x t)
+    float uv[2];
+} srt_vertex;
+
+typedef struct srt_mesh {
+    srt_vertex* vertices;  // caller-owned storage
+    uint16_t* indices;     // triangles, caller-owned storage
+    int vertex_count;      // in: capacity, out: used
+    int index_count;       // in: capacity, out: used
+} srt_mesh;
+
+#define SRT_SPHERE_MAX_VERTICES ((256 + 1) * (128 + 1))
+#define SRT_SPHERE_MAX_INDICES (256 * 128 * 6)
+
+// Unit sphere (radius 1, centre 0), slices 3..256 around z, stacks 2..128 from pole to
+// pole; analytic normals and tangents (t along increasing longitude). vertex_count and
+// index_count give capacities on entry (SRT_ERR_CAPACITY if too small).
+srt_result srt_mesh_sphere(int slices, int stacks, srt_mesh* mesh, srt_error* err);
+// Square grid in the z = 0 plane spanning [-1,1]^2, normal +z, tangent +x, n x n cells,
+// n in 1..254.
+srt_result srt_mesh_grid(int n, srt_mesh* mesh, srt_error* err);
+
+// ---- preview drawing ------------------------------------------------------------------
+// A mesh lit by one directional light (Gouraud, like GL ES 1.1 fixed-function lighting)
+// and modulated by an RGBA8 texture. Identical maths on GL ES 1.1 (glLight) and GL ES 2
+// (a tiny shader), so both paths can be pixel-compared. Used by sepal-view before an
+// asset is loaded and by the chain tests.
+typedef struct srt_preview_desc {
+    const srt_mesh* mesh;
+    float model_view[16];     // column-major; must be a rigid transform (normals use it)
+    float projection[16];     // column-major
+    float light_dir_eye[3];   // direction towards the light, eye space
+    float base_color[3];      // material colour
+    float ambient;            // scene ambient level, 0..1
+    const uint8_t* texture;   // RGBA8, top row first; NULL means white
+    int texture_width;        // power of two, 1..max_texture_size
+    int texture_height;
+    float clear_color[4];
+} srt_preview_desc;
+
+srt_result srt_preview_draw(const srt_caps* caps, const srt_preview_desc* desc,
+                            srt_error* err);
+
+// ---- small maths helpers (column-major 4x4) -------------------------------------------
+void srt_mat4_perspective(float fovy_degrees, float aspect, float z_near, float z_far,
+                          float out[16]);
+void srt_mat4_look_at(const float eye[3], const float target[3], const float up[3],
+                      float out[16]);
+
+#ifdef __cplusplus
+}
+#endif

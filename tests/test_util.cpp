@@ -1,0 +1,93 @@
+#include "test_util.h"
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "io.h"
+
+namespace sepal_test {
+
+std::string source_path(const std::string& relative) {
+    return std::string(SEPAL_SOURCE_DIR) + "/" + relative;
+}
+
+std::string output_dir() {
+    const char* env = std::getenv("SEPAL_TEST_OUTPUT");
+    std::string dir = env && *env ? env : source_path("build/test-output");
+    sepal::make_dirs(dir, nullptr);
+    return dir;
+}
+
+std::string temp_dir() {
+    std::string tmpl = output_dir() + "/tmp.XXXXXX";
+    std::vector<char> buf(tmpl.begin(), tmpl.end());
+    buf.push_back('\0');
+    const char* made = mkdtemp(buf.data());
+    return made ? std::string(made) : output_dir();
+}
+
+std::string bin(const std::string& name) { return std::string(SEPAL_BIN_DIR) + "/" + name; }
+
+bool update_goldens() {
+    const char* env = std::getenv("SEPAL_UPDATE_GOLDENS");
+    return env && std::strcmp(env, "1") == 0;
+}
+
+std::string check_golden_in(const std::string& golden_dir, const std::string& name,
+                            const sepal::Image& actual, const sepal::Tolerance& tol, bool owner,
+                            bool update) {
+    const std::string golden = golden_dir + "/" + name + ".png";
+    std::string err;
+    if (update) {
+        if (!owner) return "";
+        if (!sepal::make_dirs(golden_dir, &err) || !sepal::write_png(golden, actual, &err))
+            return "could not update golden: " + err;
+        std::printf("updated golden %s\n", golden.c_str());
+        return "";
+    }
+    sepal::Image expected;
+    const std::string out = output_dir() + "/" + name;
+    if (!sepal::read_image(golden, &expected, &err)) {
+        sepal::write_png(out + ".actual.png", actual, nullptr);
+        return "golden missing or unreadable (" + err + "); actual image: " + out +
+               ".actual.png; run `make update-goldens` to create it";
+    }
+    const sepal::ImageDiff d =
+        sepal::diff_images(expected, actual, sepal::tolerance_threshold(tol));
+    std::string why;
+    if (sepal::tolerance_holds(d, tol, &why)) return "";
+    sepal::write_png(out + ".actual.png", actual, nullptr);
+    sepal::write_png(out + ".expected.png", expected, nullptr);
+    if (d.comparable)
+        sepal::write_png(out + ".heatmap.png",
+                         sepal::diff_heatmap(expected, actual, d.max_diff > 0 ? d.max_diff : 1),
+                         nullptr);
+    char psnr[64];
+    std::snprintf(psnr, sizeof psnr, "%.2f", d.psnr);
+    return "golden '" + name + "' differs: " + why + " (PSNR " + psnr + " dB). See " + out +
+           ".actual.png, " + out + ".expected.png" +
+           (d.comparable ? ", " + out + ".heatmap.png" : std::string());
+}
+
+std::string check_golden(const std::string& name, const sepal::Image& actual,
+                         const sepal::Tolerance& tol, bool owner) {
+    return check_golden_in(source_path("fixtures/golden"), name, actual, tol, owner,
+                           update_goldens());
+}
+
+int run(const std::string& command, std::string* out) {
+    FILE* p = popen((command + " 2>&1").c_str(), "r");
+    if (!p) return -1;
+    std::string text;
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) text.append(buf, n);
+    const int status = pclose(p);
+    if (out) *out = text;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace sepal_test

@@ -1,0 +1,33 @@
+// Helpers for the doctest suites: golden images, temporary folders, running binaries.
+//
+// Golden images live in fixtures/golden/<name>.png. Each test states its own tolerance
+// (sepal::Tolerance: max channel difference, share of pixels over it, PSNR floor).
+// SEPAL_UPDATE_GOLDENS=1 (`make update-goldens`) rewrites the goldens instead of
+// comparing. A failed comparison leaves <name>.actual.png, <name>.expected.png and
+// <name>.heatmap.png in build/test-output/ and names them in the message.
+#pragma once
+#include <string>
+
+#include "image.h"
+
+namespace sepal_test {
+
+std::string source_path(const std::string& relative);  // inside the repository
+std::string output_dir();                              // build/test-output (created)
+std::string temp_dir();                                // a fresh folder per call
+std::string bin(const std::string& name);              // build/bin/<name> of this build
+
+// Empty when the image matches; otherwise the reason and the files written.
+// owner=false: never rewrite the golden (a second test comparing against it).
+std::string check_golden(const std::string& name, const sepal::Image& actual,
+                         const sepal::Tolerance& tol, bool owner = true);
+// The same against an explicit golden folder (for testing the harness itself).
+std::string check_golden_in(const std::string& golden_dir, const std::string& name,
+                            const sepal::Image& actual, const sepal::Tolerance& tol,
+                            bool owner, bool update);
+bool update_goldens();
+
+// Runs a shell command; returns its exit status (or -1), output captured into *out.
+int run(const std::string& command, std::string* out = nullptr);
+
+}  // namespace sepal_test
