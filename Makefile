@@ -30,7 +30,7 @@ ifeq ($(SAN),1)
   OPT    := -O1 -g -fno-omit-frame-pointer
   SANFLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
-CPPFLAGS := -I. -Iruntime -Ioffline -Iports/headless -Itests -I$(BUILD)/gen -DSEPAL_SOURCE_DIR='"$(CURDIR)"' -DSEPAL_BIN_DIR='"$(CURDIR)/$(BUILD)/bin"'
+CPPFLAGS := -isystem /usr/include/eigen3 -I. -Iruntime -Ioffline -Iports/headless -Itests -I$(BUILD)/gen -DSEPAL_SOURCE_DIR='"$(CURDIR)"' -DSEPAL_BIN_DIR='"$(CURDIR)/$(BUILD)/bin"'
 CXXFLAGS_ALL := $(CXXSTD) $(OPT) $(WARN) $(SANFLAGS) -MMD -MP
 # The runtime is shipped to constrained targets: no exceptions, no RTTI.
 RUNTIME_FLAGS := -fno-exceptions -fno-rtti

@@ -55,5 +55,9 @@ class Args {
 
 // Subcommands.
 int cmd_diff(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_eval(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_info(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_gen_merl(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_factor(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

@@ -9,6 +9,15 @@ const std::vector<Command>& commands() {
     static const std::vector<Command> table = {
         {"diff", "A B [--max-diff N] [--max-share P] [--min-psnr D] [--heatmap out.png]",
          "compare two images (PNG or PFM): PSNR, max difference, share over it", cmd_diff},
+        {"eval", "SPEC theta_i phi_i theta_o phi_o   (degrees)",
+         "evaluate a BRDF at one direction pair; prints R G B", cmd_eval},
+        {"info", "SPEC", "describe a BRDF: parameters, albedo, samples and coverage", cmd_info},
+        {"gen-merl", "SPEC -o out.binary",
+         "tabulate any BRDF into a MERL-format .binary file", cmd_gen_merl},
+        {"factor",
+         "SPEC [--param P] [--map M] [--res N] [--terms K] [--method M] [--report r.json] "
+         "[--plot p.png] [--export DIR]",
+         "separable factors of a BRDF with the error per number of terms", cmd_factor},
     };
     return table;
 }

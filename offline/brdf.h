@@ -1,0 +1,45 @@
+// The one BRDF evaluation interface of the encoder.
+//
+// Usage:
+//   std::string err;
+//   std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("ward:rho_d=0.1,rho_s=1.2,ax=0.2,ay=0.02", &err);
+//   if (!f) { fprintf(stderr, "%s\n", err.c_str()); return 2; }
+//   glm::dvec3 rgb = f->eval(wi, wo);
+//
+// Conventions: both directions are unit vectors in the local frame (normal n = +z, primary
+// tangent t = +x, s = n x t = +y), both pointing away from the surface. eval returns linear
+// RGB reflectance per steradian (the cosine factor is NOT included), and exactly 0 when
+// either direction is at or below the horizon (z <= 0). Implementations never return NaN
+// or inf and are safe to call from several threads at once.
+// SPEC is an analytic model ("model:param=value,...", see brdf_models.h) or a path to
+// measured data (.binary MERL, .brdf Cornell; see measured.h).
+#pragma once
+#include <memory>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+namespace sepal {
+
+class Brdf {
+  public:
+    virtual ~Brdf() = default;
+    virtual glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const = 0;
+    // Canonical spec: make_brdf(spec()) rebuilds an equal BRDF.
+    virtual std::string spec() const = 0;
+    // Model or file kind, e.g. "ward", "merl", "cornell".
+    virtual std::string model() const = 0;
+    // Human-readable lines: parameters with their values, and for measured data the
+    // sample counts, missing samples and coverage. Used by `sepal info`.
+    virtual std::string info() const = 0;
+    // True when f depends on the azimuths only through phi_i - phi_o.
+    virtual bool isotropic() const = 0;
+    // True when the model conserves energy at these parameters (albedo <= 1 expected).
+    virtual bool energy_conserving() const { return false; }
+};
+
+// Builds an analytic model from a spec string or loads a measured file. Returns null with
+// the reason in *err (unknown model, bad parameter, unreadable or corrupt file).
+std::unique_ptr<Brdf> make_brdf(const std::string& spec, std::string* err);
+
+}  // namespace sepal
