@@ -101,3 +101,72 @@ extern "C" srt_result srt_mesh_grid(int n, srt_mesh* mesh, srt_error* err) {
     mesh->index_count = k;
     return srt::ok(err);
 }
+
+extern "C" srt_result srt_mesh_torus(float major_radius, float minor_radius, int rings,
+                                     int sides, srt_mesh* mesh, srt_error* err) {
+    if (!(minor_radius > 0.0f) || !(major_radius > minor_radius) || !isfinite(major_radius) ||
+        rings < 3 || rings > 256 || sides < 3 || sides > 128)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                         "torus: need 0 < r < R (got R %g, r %g), rings 3..256 (%d), sides "
+                         "3..128 (%d)",
+                         (double)major_radius, (double)minor_radius, rings, sides);
+    const int nv = (rings + 1) * (sides + 1), ni = rings * sides * 6;
+    if (srt_result r = check_capacity(mesh, nv, ni, "torus", err)) return r;
+    int v = 0;
+    for (int j = 0; j <= sides; ++j) {
+        const float psi = 2.0f * kPi * (float)j / (float)sides;  // around the tube
+        for (int i = 0; i <= rings; ++i) {
+            const float phi = 2.0f * kPi * (float)i / (float)rings;  // around z
+            const float cp = cosf(phi), sp = sinf(phi), cs = cosf(psi), ss = sinf(psi);
+            srt_vertex& p = mesh->vertices[v++];
+            const float ring = major_radius + minor_radius * cs;
+            p.position[0] = ring * cp;
+            p.position[1] = ring * sp;
+            p.position[2] = minor_radius * ss;
+            p.normal[0] = cs * cp;
+            p.normal[1] = cs * sp;
+            p.normal[2] = ss;
+            p.tangent[0] = -sp;
+            p.tangent[1] = cp;
+            p.tangent[2] = 0.0f;
+            p.tangent[3] = 1.0f;
+            p.uv[0] = (float)i / (float)rings;
+            p.uv[1] = (float)j / (float)sides;
+        }
+    }
+    int k = 0;
+    for (int j = 0; j < sides; ++j)
+        for (int i = 0; i < rings; ++i) {
+            const uint16_t a = (uint16_t)(j * (rings + 1) + i), b = (uint16_t)(a + 1);
+            const uint16_t c = (uint16_t)(a + rings + 1), d = (uint16_t)(c + 1);
+            const uint16_t tri[6] = {a, b, d, a, d, c};
+            for (uint16_t t : tri) mesh->indices[k++] = t;
+        }
+    mesh->vertex_count = nv;
+    mesh->index_count = k;
+    return srt::ok(err);
+}
+
+extern "C" srt_result srt_mesh_wave(int n, srt_mesh* mesh, srt_error* err) {
+    srt_result r = srt_mesh_grid(n, mesh, err);
+    if (r != SRT_OK) return r;
+    const float a = 0.35f, w = 0.5f * kPi;
+    for (int i = 0; i < mesh->vertex_count; ++i) {
+        srt_vertex& p = mesh->vertices[i];
+        const float x = p.position[0], y = p.position[1];
+        p.position[2] = a * cosf(w * x) * cosf(w * y);
+        const float dzdx = -a * w * sinf(w * x) * cosf(w * y);
+        const float dzdy = -a * w * cosf(w * x) * sinf(w * y);
+        // dP/dx = (1, 0, dzdx), dP/dy = (0, 1, dzdy), n = normalize(dP/dx x dP/dy).
+        const float nl = sqrtf(dzdx * dzdx + dzdy * dzdy + 1.0f);
+        p.normal[0] = -dzdx / nl;
+        p.normal[1] = -dzdy / nl;
+        p.normal[2] = 1.0f / nl;
+        const float tl = sqrtf(1.0f + dzdx * dzdx);
+        p.tangent[0] = 1.0f / tl;
+        p.tangent[1] = 0.0f;
+        p.tangent[2] = dzdx / tl;
+        p.tangent[3] = 1.0f;
+    }
+    return srt::ok(err);
+}

@@ -88,6 +88,46 @@ srt_result srt_mesh_sphere(int slices, int stacks, srt_mesh* mesh, srt_error* er
 // n in 1..254.
 srt_result srt_mesh_grid(int n, srt_mesh* mesh, srt_error* err);
 
+// Torus around z: major radius R (centre to tube centre), minor radius r (0 < r < R),
+// rings 3..256 around z, sides 3..128 around the tube; analytic normals and tangents
+// (t along the ring direction). Capacity: (rings+1)(sides+1) vertices, 6 rings sides
+// indices.
+srt_result srt_mesh_torus(float major_radius, float minor_radius, int rings, int sides,
+                          srt_mesh* mesh, srt_error* err);
+// The curved test model: the height field z = a cos(pi x / 2) cos(pi y / 2) over
+// [-1,1]^2 with a = 0.35, n x n cells (1..254), analytic normals and tangents (t is the
+// normalized dP/dx: curvature in both directions rotates the frame across the surface).
+srt_result srt_mesh_wave(int n, srt_mesh* mesh, srt_error* err);
+
+// Wavefront OBJ from memory: v, vt, vn and f (polygons fanned into triangles; negative
+// indices allowed); other statements ignored. Two steps, no allocation:
+//   srt_obj_info info; srt_obj_measure(text, len, &info, &err);
+//   ... provide info.max_vertices / info.max_indices storage and info.scratch_bytes ...
+//   srt_obj_load(text, len, &mesh, scratch, info.scratch_bytes, &stats, &err);
+// Corners with the same v/vt/vn triple share a vertex. Missing normals are computed
+// (area-weighted, per position); tangents come from the UVs (per-vertex accumulation,
+// Gram-Schmidt against the normal, handedness in w). Where UVs are missing or
+// degenerate the tangent is any unit vector perpendicular to the normal; stats counts
+// such vertices, so nothing is silent.
+typedef struct srt_obj_info {
+    int positions, texcoords, normals;
+    int triangles;
+    int max_vertices;  // upper bound on unified vertices (= corners)
+    int max_indices;
+    size_t scratch_bytes;
+} srt_obj_info;
+
+typedef struct srt_obj_stats {
+    int computed_normals;      // vertices whose normal was computed (no vn in the file)
+    int fallback_tangents;     // vertices without a usable UV-derived tangent
+    int degenerate_triangles;  // zero-area triangles (kept; they draw nothing)
+} srt_obj_stats;
+
+srt_result srt_obj_measure(const char* text, size_t length, srt_obj_info* info,
+                           srt_error* err);
+srt_result srt_obj_load(const char* text, size_t length, srt_mesh* mesh, void* scratch,
+                        size_t scratch_bytes, srt_obj_stats* stats, srt_error* err);
+
 // ---- preview drawing ------------------------------------------------------------------
 // A mesh lit by one directional light (Gouraud, like GL ES 1.1 fixed-function lighting)
 // and modulated by an RGBA8 texture. Identical maths on GL ES 1.1 (glLight) and GL ES 2
