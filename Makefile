@@ -30,7 +30,7 @@ ifeq ($(SAN),1)
   OPT    := -O1 -g -fno-omit-frame-pointer
   SANFLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
-CPPFLAGS := -isystem /usr/include/eigen3 -I. -Iruntime -Ioffline -Iports/headless -Itests -I$(BUILD)/gen -DSEPAL_SOURCE_DIR='"$(CURDIR)"' -DSEPAL_BIN_DIR='"$(CURDIR)/$(BUILD)/bin"'
+CPPFLAGS := -isystem /usr/include/eigen3 -I. -Iruntime -Ioffline -Iports/headless -Iports/common -Itests -I$(BUILD)/gen -DSEPAL_SOURCE_DIR='"$(CURDIR)"' -DSEPAL_BIN_DIR='"$(CURDIR)/$(BUILD)/bin"'
 CXXFLAGS_ALL := $(CXXSTD) $(OPT) $(WARN) $(SANFLAGS) -MMD -MP
 # The runtime is shipped to constrained targets: no exceptions, no RTTI.
 RUNTIME_FLAGS := -fno-exceptions -fno-rtti
@@ -40,7 +40,7 @@ LIBS     := $(GL_LIBS) -lpthread
 
 RUNTIME_SRC  := $(wildcard runtime/*.cpp)
 OFFLINE_SRC  := $(wildcard offline/*.cpp)
-HEADLESS_SRC := $(wildcard ports/headless/*.cpp)
+HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
 SEPAL_MAIN   := offline/cmd/sepal.cpp
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(wildcard tests/*.cpp)

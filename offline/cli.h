@@ -59,5 +59,6 @@ int cmd_eval(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_info(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_gen_merl(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_factor(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_render(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

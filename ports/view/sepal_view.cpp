@@ -2,7 +2,7 @@
 // code). Today it renders the runtime's preview (a lit, textured sphere); it grows into
 // the asset viewer as the runtime does.
 //
-//   sepal-view --headless [--gles 1|2] [--size WxH] -o out.png
+//   sepal-view --headless [--gles 1|2] [scene flags] -o out.png
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +11,7 @@
 
 #include <vector>
 
+#include "scene_flags.h"
 #include "sepal_headless.h"
 #include "sepal_rt.h"
 
@@ -27,11 +28,12 @@ namespace {
 
 int usage(FILE* f, int code) {
     fprintf(f,
-            "usage: sepal-view --headless [--gles 1|2] [--size WxH] -o out.png\n"
-            "  --headless    render offscreen through EGL (the only mode in this build)\n"
-            "  --gles N      GL ES version: 1 (fixed function, default) or 2\n"
-            "  --size WxH    image size, default 512x512\n"
-            "  -o PATH       output PNG\n");
+            "usage: sepal-view --headless [--gles 1|2] [scene flags] -o out.png\n"
+            "  --headless            render offscreen through EGL (the only mode in this build)\n"
+            "  --gles N              GL ES version: 1 (fixed function, default) or 2\n"
+            "  -o PATH               output PNG\n"
+            "scene flags:\n%s",
+            sepal_ports::scene_flags_help());
     return code;
 }
 
@@ -59,17 +61,26 @@ bool write_png_atomic(const char* path, int w, int h, const uint8_t* rgba) {
 
 int main(int argc, char** argv) {
     bool headless = false;
-    int gles = 1, width = 512, height = 512;
+    int gles = 1;
     const char* out = nullptr;
+    sepal_ports::SceneSetup setup;
+    std::string flag_err;
     for (int i = 1; i < argc; ++i) {
+        const int used = sepal_ports::parse_scene_flag(argc, argv, i, &setup, &flag_err);
+        if (used < 0) {
+            fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
+            return 2;
+        }
+        if (used > 0) {
+            i += used - 1;
+            continue;
+        }
         const char* a = argv[i];
         const bool has_value = i + 1 < argc;
         if (!strcmp(a, "--headless")) {
             headless = true;
         } else if (!strcmp(a, "--gles") && has_value) {
             gles = atoi(argv[++i]);
-        } else if (!strcmp(a, "--size") && has_value) {
-            if (sscanf(argv[++i], "%dx%d", &width, &height) != 2) return usage(stderr, 2);
         } else if (!strcmp(a, "-o") && has_value) {
             out = argv[++i];
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -88,10 +99,11 @@ int main(int argc, char** argv) {
         fprintf(stderr, "sepal-view: --gles %d: use 1 or 2\n", gles);
         return 2;
     }
-    if (width < 1 || height < 1 || width > 8192 || height > 8192) {
-        fprintf(stderr, "sepal-view: --size %dx%d out of range 1..8192\n", width, height);
+    if (!sepal_ports::load_scene_mesh(&setup, &flag_err)) {
+        fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
         return 2;
     }
+    const int width = setup.width, height = setup.height;
 
     char msg[512];
     sh_desc hd = {};
@@ -110,10 +122,7 @@ int main(int argc, char** argv) {
         sh_destroy(ctx);
         return 1;
     }
-    // Meshes and textures are loaded once, before drawing; nothing is allocated after.
-    static srt_vertex vertices[65 * 33];
-    static uint16_t indices[64 * 32 * 6];
-    srt_mesh mesh = {vertices, indices, 65 * 33, 64 * 32 * 6};
+    // Textures are made once, before drawing; nothing is allocated after.
     static uint8_t checker[64 * 64 * 4];
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) {
@@ -125,23 +134,28 @@ int main(int argc, char** argv) {
             p[3] = 255;
         }
     srt_preview_desc d = {};
-    d.mesh = &mesh;
-    const float eye[3] = {0.0f, -3.0f, 1.2f}, target[3] = {0, 0, 0}, up[3] = {0, 0, 1};
-    srt_mat4_look_at(eye, target, up, d.model_view);
-    srt_mat4_perspective(40.0f, (float)width / (float)height, 0.5f, 10.0f, d.projection);
-    d.light_dir_eye[0] = 0.5f;
-    d.light_dir_eye[1] = 0.6f;
-    d.light_dir_eye[2] = 0.62f;
+    d.mesh = &setup.mesh;
+    if (srt_scene_matrices(&setup.scene, width, height, d.model_view, d.projection, &err) != SRT_OK) {
+        fprintf(stderr, "sepal-view: %s\n", err.message);
+        sh_destroy(ctx);
+        return 2;
+    }
+    // The preview has one directional light: the first light's direction seen from the
+    // origin, in eye space.
+    const srt_light& light = setup.scene.lights[0];
+    for (int r = 0; r < 3; ++r)
+        d.light_dir_eye[r] = d.model_view[r] * light.position[0] +
+                             d.model_view[4 + r] * light.position[1] +
+                             d.model_view[8 + r] * light.position[2];
     d.base_color[0] = 0.88f;
     d.base_color[1] = 0.55f;
     d.base_color[2] = 0.3f;
     d.ambient = 0.12f;
     d.texture = checker;
     d.texture_width = d.texture_height = 64;
-    d.clear_color[0] = d.clear_color[1] = d.clear_color[2] = 0.08f;
+    for (int c = 0; c < 3; ++c) d.clear_color[c] = setup.scene.background[c];
     d.clear_color[3] = 1.0f;
-    if (srt_mesh_sphere(64, 32, &mesh, &err) != SRT_OK ||
-        srt_preview_draw(&caps, &d, &err) != SRT_OK) {
+    if (srt_preview_draw(&caps, &d, &err) != SRT_OK) {
         fprintf(stderr, "sepal-view: %s\n", err.message);
         sh_destroy(ctx);
         return 1;

@@ -1,0 +1,94 @@
+// sepal render SPEC --backend exact [scene flags] -o out.png [--float out.pfm]
+#include <chrono>
+#include <cstring>
+
+#include "cli.h"
+#include "render_exact.h"
+#include "scene_flags.h"
+
+namespace sepal {
+
+int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
+    sepal_ports::SceneSetup setup;
+    std::string backend = "exact", out_path, float_path, err;
+    std::vector<std::string> positional;
+    std::vector<char*> argv;
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    const int argc = int(argv.size());
+    for (int i = 0; i < argc; ++i) {
+        const int used = sepal_ports::parse_scene_flag(argc, argv.data(), i, &setup, &err);
+        if (used < 0) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        if (used > 0) {
+            i += used - 1;
+            continue;
+        }
+        const std::string a = args[size_t(i)];
+        const bool has_value = i + 1 < argc;
+        if ((a == "--backend" || a == "-o" || a == "--float") && !has_value) {
+            std::fprintf(io.err, "sepal render: %s needs a value\n", a.c_str());
+            return kExitBadInput;
+        }
+        if (a == "--backend") {
+            backend = args[size_t(++i)];
+        } else if (a == "-o") {
+            out_path = args[size_t(++i)];
+        } else if (a == "--float") {
+            float_path = args[size_t(++i)];
+        } else if (a.size() > 1 && a[0] == '-') {
+            std::fprintf(io.err, "sepal render: unknown option %s\nscene flags:\n%s", a.c_str(),
+                         sepal_ports::scene_flags_help());
+            return kExitBadInput;
+        } else {
+            positional.push_back(a);
+        }
+    }
+    if (positional.size() != 1 || (out_path.empty() && float_path.empty())) {
+        std::fprintf(io.err,
+                     "usage: sepal render SPEC --backend exact [scene flags] -o out.png "
+                     "[--float out.pfm]\nscene flags:\n%s",
+                     sepal_ports::scene_flags_help());
+        return kExitBadInput;
+    }
+    if (backend != "exact") {
+        std::fprintf(io.err,
+                     "sepal render: backend '%s' is not available yet (exact is; the GL "
+                     "backends render baked assets)\n",
+                     backend.c_str());
+        return kExitBadInput;
+    }
+    std::unique_ptr<Brdf> brdf = make_brdf(positional[0], &err);
+    if (!brdf || !sepal_ports::load_scene_mesh(&setup, &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
+    Image img;
+    ExactStats stats;
+    const auto start = std::chrono::steady_clock::now();
+    if (!render_exact(*brdf, setup.scene, setup.mesh, setup.width, setup.height, &img, &stats, &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    int64_t clipped = 0;
+    if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+        (!float_path.empty() && !write_pfm(float_path, img, &err))) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
+    std::fprintf(io.out, "backend    exact (%s), %dx%d, %.1f ms\n", brdf->spec().c_str(), setup.width,
+                 setup.height, ms);
+    std::fprintf(io.out, "pixels     %lld covered, %lld back-facing, %lld degenerate frames\n",
+                 (long long)stats.covered_pixels, (long long)stats.back_facing_pixels,
+                 (long long)stats.degenerate_frames);
+    if (!out_path.empty())
+        std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
+                     (long long)clipped);
+    if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
+    return kExitOk;
+}
+
+}  // namespace sepal

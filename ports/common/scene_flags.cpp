@@ -1,0 +1,181 @@
+#include "scene_flags.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace sepal_ports {
+namespace {
+
+// Parses exactly n comma-separated finite floats.
+bool parse_floats(const std::string& text, int n, float* out) {
+    const char* p = text.c_str();
+    for (int k = 0; k < n; ++k) {
+        char* end = nullptr;
+        errno = 0;
+        const float v = std::strtof(p, &end);
+        if (end == p || errno == ERANGE || !std::isfinite(v)) return false;
+        out[k] = v;
+        p = end;
+        if (k + 1 < n) {
+            if (*p != ',') return false;
+            ++p;
+        }
+    }
+    return *p == '\0';
+}
+
+bool parse_light(const std::string& text, srt_light* l, std::string* err) {
+    const size_t c1 = text.find(':');
+    if (c1 == std::string::npos) {
+        *err = "--light '" + text + "': expected point:X,Y,Z[:I] or dir:X,Y,Z[:I]";
+        return false;
+    }
+    const std::string type = text.substr(0, c1);
+    const size_t c2 = text.find(':', c1 + 1);
+    const std::string pos = text.substr(c1 + 1, c2 == std::string::npos ? std::string::npos : c2 - c1 - 1);
+    *l = srt_light{};
+    if (type == "point") {
+        l->type = SRT_LIGHT_POINT;
+    } else if (type == "dir") {
+        l->type = SRT_LIGHT_DIRECTIONAL;
+    } else {
+        *err = "--light '" + text + "': type must be point or dir";
+        return false;
+    }
+    if (!parse_floats(pos, 3, l->position)) {
+        *err = "--light '" + text + "': position/direction must be three numbers X,Y,Z";
+        return false;
+    }
+    // Default intensity: about 1 at distance 4.5 for points, 1 for directional lights.
+    float i3[3] = {1, 1, 1};
+    if (l->type == SRT_LIGHT_POINT) i3[0] = i3[1] = i3[2] = 20.0f;
+    if (c2 != std::string::npos) {
+        const std::string in = text.substr(c2 + 1);
+        if (parse_floats(in, 1, i3)) {
+            i3[1] = i3[2] = i3[0];
+        } else if (!parse_floats(in, 3, i3)) {
+            *err = "--light '" + text + "': intensity must be I or R,G,B";
+            return false;
+        }
+    }
+    std::memcpy(l->intensity, i3, sizeof i3);
+    return true;
+}
+
+}  // namespace
+
+const char* scene_flags_help() {
+    return "  --size WxH            image size (default 512x512)\n"
+           "  --mesh NAME           sphere (default), torus, wave, or PATH.obj\n"
+           "  --camera X,Y,Z        eye position (default 0,-3.2,1.4)\n"
+           "  --target X,Y,Z        look-at point (default 0,0,0)\n"
+           "  --fov DEGREES         vertical field of view (default 38)\n"
+           "  --light point:X,Y,Z[:I|:R,G,B]  point light (up to 8; default point:2,-2.5,3:20)\n"
+           "  --light dir:X,Y,Z[:I|:R,G,B]    directional light, towards the light\n"
+           "  --background R,G,B    linear background colour (default 0,0,0)\n";
+}
+
+int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* err) {
+    const std::string flag = argv[i];
+    static const char* const kFlags[] = {"--size", "--mesh", "--camera", "--target",
+                                         "--fov",  "--light", "--background"};
+    bool known = false;
+    for (const char* f : kFlags) known = known || flag == f;
+    if (!known) return 0;
+    if (i + 1 >= argc) {
+        *err = flag + " needs a value";
+        return -1;
+    }
+    const std::string value = argv[i + 1];
+    srt_camera& cam = s->scene.camera;
+    if (flag == "--size") {
+        int w = 0, h = 0;
+        char tail = 0;
+        if (std::sscanf(value.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 ||
+            w > 8192 || h > 8192) {
+            *err = "--size '" + value + "': expected WxH with sides 1..8192";
+            return -1;
+        }
+        s->width = w;
+        s->height = h;
+    } else if (flag == "--mesh") {
+        s->mesh_name = value;
+    } else if (flag == "--camera" || flag == "--target" || flag == "--background") {
+        float* dst = flag == "--camera" ? cam.eye : flag == "--target" ? cam.target : s->scene.background;
+        if (!parse_floats(value, 3, dst)) {
+            *err = flag + " '" + value + "': expected three numbers X,Y,Z";
+            return -1;
+        }
+    } else if (flag == "--fov") {
+        if (!parse_floats(value, 1, &cam.fovy_degrees)) {
+            *err = "--fov '" + value + "': expected a number of degrees";
+            return -1;
+        }
+    } else if (flag == "--light") {
+        if (!s->lights_given) s->scene.light_count = 0;
+        s->lights_given = true;
+        if (s->scene.light_count >= SRT_MAX_LIGHTS) {
+            *err = "at most " + std::to_string(SRT_MAX_LIGHTS) + " --light flags";
+            return -1;
+        }
+        if (!parse_light(value, &s->scene.lights[s->scene.light_count], err)) return -1;
+        ++s->scene.light_count;
+    }
+    return 2;
+}
+
+bool load_scene_mesh(SceneSetup* s, std::string* err) {
+    srt_error e = {};
+    srt_result r;
+    const std::string& name = s->mesh_name;
+    if (name == "sphere" || name == "torus" || name == "wave") {
+        s->vertices.resize(name == "sphere" ? 65 * 33 : name == "torus" ? 97 * 49 : 65 * 65);
+        s->indices.resize(name == "sphere" ? 64 * 32 * 6 : name == "torus" ? 96 * 48 * 6 : 64 * 64 * 6);
+        s->mesh = {s->vertices.data(), s->indices.data(), int(s->vertices.size()), int(s->indices.size())};
+        r = name == "sphere" ? srt_mesh_sphere(64, 32, &s->mesh, &e)
+            : name == "torus" ? srt_mesh_torus(0.72f, 0.3f, 96, 48, &s->mesh, &e)
+                              : srt_mesh_wave(64, &s->mesh, &e);
+    } else {
+        FILE* f = std::fopen(name.c_str(), "rb");
+        if (!f) {
+            *err = "--mesh '" + name + "': not sphere, torus or wave, and not a readable file: " +
+                   std::strerror(errno);
+            return false;
+        }
+        std::vector<char> text;
+        char buf[65536];
+        size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, f)) > 0 && text.size() < (size_t(256) << 20))
+            text.insert(text.end(), buf, buf + n);
+        std::fclose(f);
+        if (text.size() >= (size_t(256) << 20)) {
+            *err = name + ": larger than 256 MB";
+            return false;
+        }
+        srt_obj_info info;
+        r = srt_obj_measure(text.data(), text.size(), &info, &e);
+        if (r == SRT_OK) {
+            s->vertices.resize(size_t(info.max_vertices));
+            s->indices.resize(size_t(info.max_indices));
+            std::vector<char> scratch(info.scratch_bytes);
+            s->mesh = {s->vertices.data(), s->indices.data(), int(s->vertices.size()),
+                       int(s->indices.size())};
+            r = srt_obj_load(text.data(), text.size(), &s->mesh, scratch.data(), scratch.size(),
+                             &s->obj_stats, &e);
+        }
+        if (r != SRT_OK) {
+            *err = name + ": " + e.message;
+            return false;
+        }
+    }
+    if (r != SRT_OK || srt_scene_validate(&s->scene, &e) != SRT_OK) {
+        *err = e.message;
+        return false;
+    }
+    return true;
+}
+
+}  // namespace sepal_ports
