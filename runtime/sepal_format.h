@@ -1,0 +1,187 @@
+// sepal_format.h - the .sepal asset format, defined once for the writer (offline/) and
+// the reader (runtime/). Plain C structs; every integer and float is little-endian.
+//
+// File layout (version 1):
+//   srt_fmt_header                       64 bytes, magic "SEPALBRD"
+//   srt_fmt_chunk[chunk_count]           24 bytes each: tag, CRC-32, offset, size
+//   chunk payloads                       each at an 8-byte-aligned offset
+// Chunks:
+//   'MATL' exactly one   srt_fmt_material
+//   'TEXR' 1..32         srt_fmt_texture followed by its MIP levels (level 0 first); each
+//                        level is rows of width*channels*(bits/8) bytes, row 0 first, row 0
+//                        being texture coordinate t = 0 (the order glTexImage2D takes)
+//   'PLAN' exactly one   srt_fmt_plan followed by pass_count srt_fmt_pass
+//   'META' optional      UTF-8 JSON for people and tools; the runtime ignores it
+//   unknown tags are skipped (forward compatibility), but still checksummed.
+// Bounds (enforced by the reader, respected by the writer): see SRT_FMT_MAX_*.
+//
+// Meaning: the material approximates f(wi, wo) ~= sum_k G_k(x) H_k(y) (Kautz-McCool),
+// x and y from the parameterization and hemisphere map. A texture stores q in [0,1]
+// per channel and means value = scale[c] * q + bias[c]. The pass plan adds and
+// subtracts products of those stored values, each times a constant colour, into a
+// framebuffer that holds [0,1]; the final `doublings` passes double the framebuffer.
+// See sepal_rt.h for how the runtime executes the plan.
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sepal_rt.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SRT_FMT_MAGIC "SEPALBRD"
+#define SRT_FMT_VERSION_MAJOR 1
+#define SRT_FMT_VERSION_MINOR 0
+
+#define SRT_FMT_MAX_FILE_BYTES (64u << 20)
+#define SRT_FMT_MAX_CHUNKS 64
+#define SRT_FMT_MAX_TEXTURES 32
+#define SRT_FMT_MAX_TERMS 16
+#define SRT_FMT_MAX_TEXTURE_SIDE 1024
+#define SRT_FMT_MAX_LEVELS 11
+#define SRT_FMT_MAX_PASSES 256
+#define SRT_FMT_MAX_DOUBLINGS 16
+#define SRT_FMT_MAX_META_BYTES (1u << 20)
+
+#define SRT_FMT_TAG(a, b, c, d) \
+    ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
+#define SRT_FMT_TAG_MATERIAL SRT_FMT_TAG('M', 'A', 'T', 'L')
+#define SRT_FMT_TAG_TEXTURE SRT_FMT_TAG('T', 'E', 'X', 'R')
+#define SRT_FMT_TAG_PLAN SRT_FMT_TAG('P', 'L', 'A', 'N')
+#define SRT_FMT_TAG_META SRT_FMT_TAG('M', 'E', 'T', 'A')
+
+// Parameterizations (NOTES.md section 1). Per-vertex (GL ES 1.1) paths can use the first
+// three; the last two need per-pixel evaluation (shaders or the CPU).
+typedef enum srt_param {
+    SRT_PARAM_IV = 0,            // x = wi, y = wo
+    SRT_PARAM_GS_HALF = 1,       // Gram-Schmidt half/difference (Kautz-McCool eq. 6)
+    SRT_PARAM_VH = 2,            // x = wo, y = h (Lawrence 2004)
+    SRT_PARAM_RUSINKIEWICZ = 3,  // per pixel only
+    SRT_PARAM_ELEV_AZIM = 4,     // per pixel only
+    SRT_PARAM_COUNT = 5
+} srt_param;
+
+typedef enum srt_hemi_map { SRT_MAP_XY = 0, SRT_MAP_PARABOLIC = 1, SRT_MAP_COUNT = 2 } srt_hemi_map;
+
+typedef enum srt_color_mode {
+    SRT_COLOR_PER_CHANNEL = 0,  // each channel factored on its own
+    SRT_COLOR_ACHROMATIC = 1,   // one channel, the same for R, G and B
+    SRT_COLOR_COUNT = 2
+} srt_color_mode;
+
+typedef enum srt_tex_role { SRT_ROLE_G = 0, SRT_ROLE_H = 1, SRT_ROLE_COUNT = 2 } srt_tex_role;
+
+typedef enum srt_pass_op {
+    SRT_OP_PRODUCT = 0,   // colour * tex0 * tex1
+    SRT_OP_TEXTURE = 1,   // colour * tex0
+    SRT_OP_CONSTANT = 2,  // colour
+    SRT_OP_COUNT = 3
+} srt_pass_op;
+
+typedef enum srt_blend {
+    SRT_BLEND_ADD = 0,       // framebuffer += source
+    SRT_BLEND_SUBTRACT = 1,  // framebuffer -= source (reverse subtract)
+    SRT_BLEND_COUNT = 2
+} srt_blend;
+
+#define SRT_FMT_NO_TEXTURE 0xFFFFu
+
+typedef struct srt_fmt_header {
+    char magic[8];           // "SEPALBRD"
+    uint16_t version_major;  // readers refuse other majors
+    uint16_t version_minor;  // readers accept any minor of their major
+    uint32_t header_bytes;   // 64
+    uint64_t file_bytes;     // the whole file
+    uint32_t chunk_count;
+    uint32_t flags;          // 0
+    uint32_t header_crc;     // CRC-32 of these 64 bytes (this field 0) and the chunk table
+    uint8_t reserved[28];    // 0
+} srt_fmt_header;
+
+typedef struct srt_fmt_chunk {
+    uint32_t tag;
+    uint32_t crc;     // CRC-32 (ISO-HDLC, as zlib) of the payload
+    uint64_t offset;  // from the start of the file, multiple of 8
+    uint64_t size;    // payload bytes
+} srt_fmt_chunk;
+
+typedef struct srt_fmt_material {
+    uint32_t param;       // srt_param
+    uint32_t map;         // srt_hemi_map
+    uint32_t color_mode;  // srt_color_mode
+    uint32_t terms;       // 1..SRT_FMT_MAX_TERMS
+    uint32_t channels;    // 1 (achromatic) or 3
+    uint32_t reserved0;
+    // Cosine-weighted RMS radiance error of this asset (Kautz-McCool metric), of the
+    // float factors it came from, and relative to the BRDF's RMS; NaN when not measured.
+    float error_quantized;
+    float error_float;
+    float error_relative;
+    uint32_t reserved[7];
+} srt_fmt_material;
+
+typedef struct srt_fmt_texture {
+    uint32_t width, height;  // powers of two, 1..SRT_FMT_MAX_TEXTURE_SIDE
+    uint32_t levels;         // 1, or the full MIP chain down to 1x1
+    uint32_t channels;       // 1 (luminance) or 3 (RGB)
+    uint32_t bits;           // 8 or 16 per channel (16: little-endian uint16)
+    uint32_t role;           // srt_tex_role
+    uint32_t term;           // 0..terms-1
+    uint32_t reserved0;
+    float scale[4];          // value = scale[c] * q + bias[c], q in [0,1]
+    float bias[4];
+    uint64_t data_bytes;     // sum over levels
+} srt_fmt_texture;
+
+typedef struct srt_fmt_plan {
+    uint32_t pass_count;   // 1..SRT_FMT_MAX_PASSES
+    uint32_t doublings;    // final framebuffer doublings, 0..SRT_FMT_MAX_DOUBLINGS
+    // Largest partial sum of the plan at unit irradiance (the writer guarantees <= 1);
+    // the runtime divides its per-frame exposure by it.
+    float peak_partial_sum;
+    uint32_t reserved[5];
+} srt_fmt_plan;
+
+typedef struct srt_fmt_pass {
+    uint16_t op;         // srt_pass_op
+    uint16_t blend;      // srt_blend
+    uint16_t tex0;       // texture index or SRT_FMT_NO_TEXTURE
+    uint16_t tex1;
+    float color[3];      // per-channel constant in [0,1], times the light's irradiance
+    uint32_t rgb_scale;  // 1, 2 or 4: GL_RGB_SCALE of the pass's last combiner stage
+} srt_fmt_pass;
+
+// ---- reading (runtime/asset.cpp) ------------------------------------------------------
+// A parsed asset: descriptions copied out, pixel data and META pointing into the caller's
+// buffer (which must outlive it). No allocation.
+typedef struct srt_asset_texture {
+    srt_fmt_texture desc;
+    const uint8_t* level_data[SRT_FMT_MAX_LEVELS];  // level 0 first
+    uint32_t level_bytes[SRT_FMT_MAX_LEVELS];
+} srt_asset_texture;
+
+typedef struct srt_asset {
+    srt_fmt_header header;
+    srt_fmt_material material;
+    srt_fmt_plan plan;
+    srt_asset_texture textures[SRT_FMT_MAX_TEXTURES];
+    uint32_t texture_count;
+    srt_fmt_pass passes[SRT_FMT_MAX_PASSES];
+    const char* meta;  // not NUL-terminated; NULL when absent
+    uint32_t meta_bytes;
+} srt_asset;
+
+// Validates everything (sizes, bounds, checksums, enums, cross references) and fills
+// out. Any failure returns a code and a message naming the problem; out is then
+// unspecified. Needs a little-endian host (every supported target is).
+srt_result srt_asset_parse(const void* bytes, size_t size, srt_asset* out, srt_error* err);
+
+// CRC-32 (polynomial 0xEDB88320, initial and final xor 0xFFFFFFFF): chain calls by
+// passing the previous result as crc, starting from 0.
+uint32_t srt_crc32(uint32_t crc, const void* data, size_t size);
+
+#ifdef __cplusplus
+}
+#endif
