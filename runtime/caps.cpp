@@ -20,8 +20,8 @@ srt_result gl_check(const char* what, srt_error* err) {
 }
 }  // namespace srt
 
-extern "C" srt_result srt_query_caps(int gles_version, uint32_t mask, srt_caps* out,
-                                     srt_error* err) {
+extern "C" srt_result srt_query_caps(int gles_version, uint32_t mask, srt_proc_loader get_proc,
+                                     srt_caps* out, srt_error* err) {
     if (!out) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "srt_query_caps: out is NULL");
     if (gles_version != 1 && gles_version != 2)
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
@@ -61,10 +61,18 @@ extern "C" srt_result srt_query_caps(int gles_version, uint32_t mask, srt_caps* 
         out->has_fbo = 1;             // core in ES 2.0
         out->has_npot = major >= 3 || srt::has_extension(ext, "GL_OES_texture_npot");
     }
+    // Subtractive blending needs its entry point too (not exported by GL ES 1.1 libraries).
+    if (out->has_blend_subtract) {
+        srt_gl_proc f = nullptr;
+        if (get_proc) f = get_proc(gles_version == 1 ? "glBlendEquationOES" : "glBlendEquation");
+        if (!f && gles_version == 2) f = (srt_gl_proc)&glBlendEquation;  // core: linked directly
+        out->blend_equation = (void (*)(unsigned int))f;
+        if (!f) out->has_blend_subtract = 0;
+    }
     if (glGetError() != GL_NO_ERROR)
         return srt::fail(err, SRT_ERR_GL, "GL error while querying capabilities");
     out->mask = mask;
-    if (mask & SRT_MASK_BLEND_SUBTRACT) out->has_blend_subtract = 0;
+    if (mask & SRT_MASK_BLEND_SUBTRACT) out->has_blend_subtract = 0, out->blend_equation = nullptr;
     if (mask & SRT_MASK_MULTITEXTURE) out->texture_units = out->texture_units > 0 ? 1 : 0;
     if (mask & SRT_MASK_FBO) out->has_fbo = 0;
     if (mask & SRT_MASK_NPOT) out->has_npot = 0;

@@ -3,7 +3,7 @@
 // Usage (a port has created and made current a GL ES context):
 //   srt_error err = {};
 //   srt_caps caps;
-//   if (srt_query_caps(1, 0, &caps, &err) != SRT_OK) { puts(err.message); ... }
+//   if (srt_query_caps(1, 0, sh_get_proc_address, &caps, &err) != SRT_OK) { puts(err.message); }
 //   srt_vertex v[SRT_SPHERE_MAX_VERTICES]; uint16_t idx[SRT_SPHERE_MAX_INDICES];
 //   srt_mesh mesh = {v, idx, 0, 0};
 //   srt_mesh_sphere(32, 16, &mesh, &err);
@@ -54,13 +54,22 @@ typedef struct srt_caps {
     int has_fbo;             // GL_OES_framebuffer_object (ES 1) or core (ES 2)
     int has_npot;            // full NPOT textures (GL_OES_texture_npot or ES 3)
     uint32_t mask;           // the mask that was applied
+    // Extension entry points, from the port's loader (NULL when unavailable).
+    void (*blend_equation)(unsigned int mode);  // glBlendEquationOES / glBlendEquation
     char renderer[128];
     char version[128];
 } srt_caps;
 
+// The port's way to find GL entry points (eglGetProcAddress for EGL ports): the runtime
+// never calls EGL itself, and GL ES 1.1 libraries do not export extension functions.
+typedef void (*srt_gl_proc)(void);
+typedef srt_gl_proc (*srt_proc_loader)(const char* name);
+
 // Reads the current context's capabilities and applies mask. gles_version must be the
-// version the context was created for (1 or 2).
-srt_result srt_query_caps(int gles_version, uint32_t mask, srt_caps* out, srt_error* err);
+// version the context was created for (1 or 2). get_proc may be NULL: capabilities
+// that need an extension entry point are then reported missing.
+srt_result srt_query_caps(int gles_version, uint32_t mask, srt_proc_loader get_proc,
+                          srt_caps* out, srt_error* err);
 
 // ---- meshes ---------------------------------------------------------------------------
 typedef struct srt_vertex {

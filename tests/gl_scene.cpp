@@ -54,7 +54,7 @@ bool render_lit_quad(int gles, int width, int height, sepal::Image* out, std::st
     d.clear_color[1] = 0.1f;
     d.clear_color[2] = 0.15f;
     d.clear_color[3] = 1.0f;
-    bool ok = srt_query_caps(gles, 0, &caps, &e) == SRT_OK && srt_mesh_grid(16, &mesh, &e) == SRT_OK &&
+    bool ok = srt_query_caps(gles, 0, sh_get_proc_address, &caps, &e) == SRT_OK && srt_mesh_grid(16, &mesh, &e) == SRT_OK &&
               srt_preview_draw(&caps, &d, &e) == SRT_OK;
     if (!ok) *err = e.message;
     std::vector<uint8_t> px(size_t(width) * height * 4);

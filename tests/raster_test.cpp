@@ -67,7 +67,7 @@ TEST_CASE("raster: a sphere covers exactly the pixels GL ES 2 covers") {
     sh_context* ctx = sh_create(&hd, msg, sizeof msg);
     REQUIRE_MESSAGE(ctx, msg);
     srt_caps caps;
-    REQUIRE(srt_query_caps(2, 0, &caps, &err) == SRT_OK);
+    REQUIRE(srt_query_caps(2, 0, sh_get_proc_address, &caps, &err) == SRT_OK);
     REQUIRE_MESSAGE(srt_preview_draw(&caps, &d, &err) == SRT_OK, err.message);
     std::vector<uint8_t> px(size_t(W) * H * 4);
     REQUIRE(sh_read_rgba(ctx, px.data()));

@@ -19,23 +19,24 @@ TEST_CASE("caps: detected per GL ES version, and every mask bit hides its capabi
         REQUIRE_MESSAGE(c, msg);
         srt_error err = {};
         srt_caps caps;
-        REQUIRE_MESSAGE(srt_query_caps(version, 0, &caps, &err) == SRT_OK, err.message);
+        REQUIRE_MESSAGE(srt_query_caps(version, 0, sh_get_proc_address, &caps, &err) == SRT_OK, err.message);
         CHECK(caps.gles_version == version);
         CHECK(caps.texture_units >= 2);  // Mesa has at least 2
         CHECK(caps.max_texture_size >= 64);
         CHECK(caps.has_blend_subtract == 1);  // Mesa has GL_OES_blend_subtract / ES 2 core
+        CHECK(bool(caps.blend_equation));  // found through the port's loader
         CHECK(caps.has_fbo == 1);
         srt_caps masked;
-        REQUIRE(srt_query_caps(version,
-                               SRT_MASK_BLEND_SUBTRACT | SRT_MASK_MULTITEXTURE | SRT_MASK_FBO |
-                                   SRT_MASK_NPOT,
+        REQUIRE(srt_query_caps(version, SRT_MASK_BLEND_SUBTRACT | SRT_MASK_MULTITEXTURE | SRT_MASK_FBO |
+                                   SRT_MASK_NPOT, sh_get_proc_address,
                                &masked, &err) == SRT_OK);
         CHECK(masked.texture_units == 1);
         CHECK(masked.has_blend_subtract == 0);
+        CHECK_FALSE(bool(masked.blend_equation));
         CHECK(masked.has_fbo == 0);
         CHECK(masked.has_npot == 0);
         // Asking for the other version's paths is refused with the context named.
-        CHECK(srt_query_caps(3 - version, 0, &caps, &err) == SRT_ERR_UNSUPPORTED);
+        CHECK(srt_query_caps(3 - version, 0, sh_get_proc_address, &caps, &err) == SRT_ERR_UNSUPPORTED);
         CHECK(std::string(err.message).find("current context") != std::string::npos);
         sh_destroy(c);
     }

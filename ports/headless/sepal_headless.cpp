@@ -232,3 +232,7 @@ extern "C" void sh_destroy(sh_context* c) {
     eglReleaseThread();
     free(c);
 }
+
+extern "C" sh_proc sh_get_proc_address(const char* name) {
+    return (sh_proc)eglGetProcAddress(name);
+}

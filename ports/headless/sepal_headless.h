@@ -45,6 +45,9 @@ int sh_height(const sh_context* c);
 // Human-readable description: platform, EGL vendor, GL renderer and version.
 const char* sh_describe(const sh_context* c);
 void sh_destroy(sh_context* c);
+// eglGetProcAddress, typed as the runtime's srt_proc_loader wants it.
+typedef void (*sh_proc)(void);
+sh_proc sh_get_proc_address(const char* name);
 
 #ifdef __cplusplus
 }

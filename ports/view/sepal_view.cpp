@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
     }
     srt_error err = {};
     srt_caps caps;
-    if (srt_query_caps(gles, 0, &caps, &err) != SRT_OK) {
+    if (srt_query_caps(gles, 0, sh_get_proc_address, &caps, &err) != SRT_OK) {
         fprintf(stderr, "sepal-view: %s\n", err.message);
         sh_destroy(ctx);
         return 1;
