@@ -178,6 +178,15 @@ typedef struct srt_asset {
 // unspecified. Needs a little-endian host (every supported target is).
 srt_result srt_asset_parse(const void* bytes, size_t size, srt_asset* out, srt_error* err);
 
+// ---- parameterization (runtime/param.cpp) --------------------------------------------
+// Texture coordinates of the G and H factors for one direction pair in the local frame
+// (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh); the same
+// maths as offline/param.h. Returns 1 when both directions are above the horizon, 0
+// otherwise (coordinates are still filled and continuous, for interpolation).
+// Returns -1 for the per-pixel-only parameterizations.
+int srt_param_texcoords(srt_param p, srt_hemi_map m, const float wi[3], const float wo[3],
+                        float g_uv[2], float h_uv[2]);
+
 // CRC-32 (polynomial 0xEDB88320, initial and final xor 0xFFFFFFFF): chain calls by
 // passing the previous result as crc, starting from 0.
 uint32_t srt_crc32(uint32_t crc, const void* data, size_t size);

@@ -1,0 +1,330 @@
+// The GL ES 1.1 fixed-function executor of a material's pass plan (see sepal_material.h).
+#include <GLES/gl.h>
+#include <GLES/glext.h>
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal_material.h"
+#include "vertex_setup.h"
+
+namespace {
+
+constexpr GLenum kFuncAdd = 0x8006;             // GL_FUNC_ADD(_OES)
+constexpr GLenum kFuncSubtract = 0x800A;        // GL_FUNC_SUBTRACT(_OES): src - dst
+constexpr GLenum kFuncReverseSubtract = 0x800B;  // GL_FUNC_REVERSE_SUBTRACT(_OES): dst - src
+
+struct Frame {
+    const srt_material* m;
+    const srt_mesh* mesh;
+    const srt_scene* scene;
+    float* scratch;
+    int width, height;
+    float exposure;
+    srt_draw_stats* stats;
+    bool acc_valid;  // single-unit path: the copy texture holds the running sum
+};
+
+void set_equation(const srt_material* m, GLenum eq) {
+    // Without the extension only GL_FUNC_ADD exists, which is GL's fixed behaviour.
+    if (m->caps.blend_equation) m->caps.blend_equation(eq);
+}
+
+void bind_unit(GLenum unit, GLuint texture, const float* uv) {
+    glActiveTexture(unit);
+    glClientActiveTexture(unit);
+    if (texture) {
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, texture);
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+        glTexCoordPointer(2, GL_FLOAT, 0, uv);
+    } else {
+        glDisable(GL_TEXTURE_2D);
+        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+}
+
+// texture env: out = arg0 (x arg1) times scale, RGB; alpha passes through.
+void set_env_modulate(GLenum arg0, GLenum arg1, GLint scale) {
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, arg1 ? GL_MODULATE : GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_RGB, (GLint)arg0);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+    if (arg1) {
+        glTexEnvi(GL_TEXTURE_ENV, GL_SRC1_RGB, (GLint)arg1);
+        glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+    }
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_ALPHA, GL_PRIMARY_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, scale);
+}
+
+const float* factor_uv(const Frame& f, uint16_t tex, int light) {
+    const int n = f.mesh->vertex_count;
+    return f.m->texture_role[tex] == SRT_ROLE_G ? srt::light_g_uv(f.scratch, n, light)
+                                                 : srt::light_h_uv(f.scratch, n, light);
+}
+
+void mesh_arrays(const Frame& f, bool colors) {
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, sizeof(srt_vertex), f.mesh->vertices[0].position);
+    if (colors) {
+        glEnableClientState(GL_COLOR_ARRAY);
+        glColorPointer(4, GL_FLOAT, 0, srt::pass_colors(f.scratch, f.mesh->vertex_count, f.scene->light_count));
+    } else {
+        glDisableClientState(GL_COLOR_ARRAY);
+        glColor4f(1, 1, 1, 1);
+    }
+}
+
+void draw_mesh(const Frame& f) {
+    glDrawElements(GL_TRIANGLES, f.mesh->index_count, GL_UNSIGNED_SHORT, f.mesh->indices);
+    ++f.stats->draw_calls;
+}
+
+// A quad over the whole viewport at NDC depth z, optionally textured with the copy
+// texture (texel centres line up with pixel centres), in the given constant colour.
+void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
+    const float sx = (float)f.width / (float)(f.m->copy_width ? f.m->copy_width : 1);
+    const float sy = (float)f.height / (float)(f.m->copy_height ? f.m->copy_height : 1);
+    const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
+    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+    glMatrixMode(GL_PROJECTION);
+    glPushMatrix();
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glLoadIdentity();
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, pos);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glColor4f(color[0], color[1], color[2], color[3]);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, textured ? f.m->copy_texture : 0, uv);
+    if (textured) set_env_modulate(GL_TEXTURE, 0, 1);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+    ++f.stats->fullscreen_passes;
+    glMatrixMode(GL_PROJECTION);
+    glPopMatrix();
+    glMatrixMode(GL_MODELVIEW);
+    glPopMatrix();
+}
+
+// Fills the colour array for one pass and light: pass colour x irradiance x exposure.
+void fill_colors(const Frame& f, const srt_fmt_pass& pass, int light) {
+    const int n = f.mesh->vertex_count;
+    const float* e = srt::light_irradiance(f.scratch, n, light);
+    float* c = srt::pass_colors(f.scratch, n, f.scene->light_count);
+    const bool mono = f.m->info.channels == 1;
+    for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            // Achromatic materials carry the light's colour in the vertex colour.
+            const float pc = mono ? pass.color[0] : pass.color[k];
+            c[4 * i + k] = pc * e[3 * i + k] * f.exposure;
+        }
+        c[4 * i + 3] = 1.0f;
+    }
+}
+
+// Two texture units: tex0 x tex1 x colour, added or subtracted by blending.
+void pass_multitexture(Frame& f, const srt_fmt_pass& pass, int light, bool inverted) {
+    const GLint scale = (GLint)pass.rgb_scale;
+    mesh_arrays(f, true);
+    if (pass.op == SRT_OP_CONSTANT) {
+        bind_unit(GL_TEXTURE1, 0, nullptr);
+        bind_unit(GL_TEXTURE0, 0, nullptr);
+    } else {
+        bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, pass.op == SRT_OP_TEXTURE ? scale : 1);
+        if (pass.op == SRT_OP_PRODUCT) {
+            bind_unit(GL_TEXTURE1, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
+            set_env_modulate(GL_PREVIOUS, GL_TEXTURE, scale);
+        } else {
+            bind_unit(GL_TEXTURE1, 0, nullptr);
+        }
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    // Subtracting: dst - src with the extension; in the inverted framebuffer, an add.
+    const bool subtract = pass.blend == SRT_BLEND_SUBTRACT && !inverted;
+    set_equation(f.m, subtract ? kFuncReverseSubtract : kFuncAdd);
+    draw_mesh(f);
+    set_equation(f.m, kFuncAdd);
+}
+
+void copy_to_accumulator(Frame& f) {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, f.m->copy_texture);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, f.width, f.height);
+    ++f.stats->copies;
+    f.acc_valid = true;
+}
+
+// One texture unit (Kautz-McCool's two passes per product): the pass's contribution P is
+// drawn alone into the colour buffer, the running sum (copy texture) is blended onto it,
+// and the result is copied back.
+void pass_single_unit(Frame& f, const srt_fmt_pass& pass, int light, bool inverted) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glClear(GL_COLOR_BUFFER_BIT);  // depth stays: EQUAL keeps testing against the pre-pass
+    glDisable(GL_BLEND);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    if (pass.op == SRT_OP_PRODUCT) {
+        // The second factor first, alone: its 8-bit texels land in the framebuffer
+        // exactly. Then first factor x colour through a multiplicative blend: the product
+        // is rounded once, as on the two-unit path (colour x G first would round the
+        // small intermediate G x colour to 8 bits and lose several levels).
+        mesh_arrays(f, false);
+        bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
+        set_env_modulate(GL_TEXTURE, 0, 1);
+        draw_mesh(f);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+    }
+    mesh_arrays(f, true);
+    if (pass.op == SRT_OP_CONSTANT) {
+        bind_unit(GL_TEXTURE0, 0, nullptr);
+    } else {
+        bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)pass.rgb_scale);
+    }
+    draw_mesh(f);
+    if (f.acc_valid) {
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        const bool subtract = pass.blend == SRT_BLEND_SUBTRACT && !inverted;
+        set_equation(f.m, subtract ? kFuncSubtract : kFuncAdd);  // acc - P, or acc + P
+        fullscreen(f, 0.0f, true, kWhite);
+        set_equation(f.m, kFuncAdd);
+        glEnable(GL_DEPTH_TEST);
+    }
+    copy_to_accumulator(f);
+}
+
+// framebuffer = 1 - framebuffer (and the running sum with it, on the single-unit path).
+void invert(Frame& f) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE_MINUS_DST_COLOR, GL_ZERO);
+    fullscreen(f, 0.0f, false, kWhite);
+    if (f.m->single_unit) copy_to_accumulator(f);
+    glEnable(GL_DEPTH_TEST);
+}
+
+}  // namespace
+
+extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out, srt_error* err) {
+    if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
+    const srt_material* m = d->material;
+    if (m->texture_count == 0)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
+    if (d->width < 1 || d->height < 1 || d->width > m->max_width || d->height > m->max_height)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                         "draw: viewport %dx%d outside 1x1..%dx%d (the size given at creation)",
+                         d->width, d->height, m->max_width, m->max_height);
+    if (!d->mesh->vertices || !d->mesh->indices || d->mesh->vertex_count < 1 || d->mesh->index_count % 3)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: empty or malformed mesh");
+    const size_t need = srt_draw_scratch_floats(d->mesh->vertex_count, d->scene->light_count);
+    if (d->scratch_floats < need)
+        return srt::fail(err, SRT_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
+                         d->scratch_floats, need);
+    float view[16], proj[16];
+    srt_result r = srt_scene_matrices(d->scene, d->width, d->height, view, proj, err);
+    if (r != SRT_OK) return r;
+    srt_draw_stats local_stats;
+    srt_draw_stats* stats = stats_out ? stats_out : &local_stats;
+    memset(stats, 0, sizeof *stats);
+    const srt::VertexSetupResult vs = srt::setup_vertices((srt_param)m->info.param,
+                                                          (srt_hemi_map)m->info.map, *d->mesh,
+                                                          *d->scene, d->scratch);
+    stats->below_horizon = vs.below_horizon;
+    // Exposure 2^-e: no partial sum over the lights above 1, no vertex colour above 1.
+    const int plan_doublings = (int)m->plan.doublings;
+    int e = -plan_doublings;
+    const float need_sum = vs.max_irradiance_sum * m->plan.peak_partial_sum;
+    const float need_color = vs.max_irradiance_single * m->max_pass_color;
+    if (need_sum > 0.0f) e = e > (int)ceilf(log2f(need_sum)) ? e : (int)ceilf(log2f(need_sum));
+    if (need_color > 0.0f) e = e > (int)ceilf(log2f(need_color)) ? e : (int)ceilf(log2f(need_color));
+    if (e > 30)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                         "draw: irradiance %g at a vertex needs 2^%d doublings; lights too bright",
+                         (double)vs.max_irradiance_single, e + plan_doublings);
+    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, ldexpf(1.0f, -e), stats, false};
+    stats->exposure = f.exposure;
+    stats->doublings = plan_doublings + e;
+
+    glViewport(0, 0, d->width, d->height);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(view);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
+    glShadeModel(GL_SMOOTH);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    // Depth pre-pass: later passes test EQUAL, so each pixel's front surface is shaded once.
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, 0, nullptr);
+    mesh_arrays(f, false);
+    draw_mesh(f);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_EQUAL);
+    if ((r = srt::gl_check("depth pre-pass", err)) != SRT_OK) return r;
+
+    bool inverted = false;
+    for (uint32_t p = 0; p < m->plan.pass_count; ++p) {
+        const srt_fmt_pass& pass = m->passes[p];
+        if (pass.blend == SRT_BLEND_SUBTRACT && m->subtract_by_inversion && !inverted) {
+            invert(f);
+            inverted = true;
+        }
+        for (int l = 0; l < d->scene->light_count; ++l) {
+            fill_colors(f, pass, l);
+            if (m->single_unit)
+                pass_single_unit(f, pass, l, inverted);
+            else
+                pass_multitexture(f, pass, l, inverted);
+            if ((r = srt::gl_check("a plan pass", err)) != SRT_OK) return r;
+        }
+    }
+    if (inverted) invert(f);
+    // Scale up: each full-screen pass with blend (GL_DST_COLOR, GL_ONE) doubles the image.
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ONE);
+    for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, false, kWhite);
+    // Background where no surface is: a quad at the far plane passes LEQUAL only there.
+    const float* bg = d->scene->background;
+    if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
+        const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
+        glDisable(GL_BLEND);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        fullscreen(f, 1.0f, false, color);
+    }
+    // Leave GL in its default state for whoever draws next.
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_DITHER);
+    glDisable(GL_CULL_FACE);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, 0, nullptr);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    return srt::gl_check("the final passes", err);
+}

@@ -1,0 +1,152 @@
+// Material creation: validation against the context's capabilities, texture upload.
+#include <GLES/gl.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal_material.h"
+#include "vertex_setup.h"
+
+namespace {
+
+// Uploads one texture with all its levels. 16-bit data is rounded to 8 bits row by row
+// through a stack buffer (no allocation).
+srt_result upload(const srt_asset_texture& t, GLuint name, srt_error* err) {
+    const srt_fmt_texture& d = t.desc;
+    const GLenum format = d.channels == 1 ? GL_LUMINANCE : GL_RGB;
+    glBindTexture(GL_TEXTURE_2D, name);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    uint32_t w = d.width, h = d.height;
+    for (uint32_t level = 0; level < d.levels; ++level) {
+        const uint8_t* src = t.level_data[level];
+        if (d.bits == 8) {
+            glTexImage2D(GL_TEXTURE_2D, (GLint)level, (GLint)format, (GLsizei)w, (GLsizei)h, 0, format,
+                         GL_UNSIGNED_BYTE, src);
+        } else {
+            glTexImage2D(GL_TEXTURE_2D, (GLint)level, (GLint)format, (GLsizei)w, (GLsizei)h, 0, format,
+                         GL_UNSIGNED_BYTE, nullptr);
+            uint8_t row[SRT_FMT_MAX_TEXTURE_SIDE * 3];
+            const size_t values = (size_t)w * d.channels;
+            for (uint32_t y = 0; y < h; ++y) {
+                for (size_t i = 0; i < values; ++i) {
+                    uint16_t q;
+                    memcpy(&q, src + (y * values + i) * 2, 2);
+                    row[i] = (uint8_t)((q * 255u + 32767u) / 65535u);
+                }
+                glTexSubImage2D(GL_TEXTURE_2D, (GLint)level, 0, (GLint)y, (GLsizei)w, 1, format,
+                                GL_UNSIGNED_BYTE, row);
+            }
+        }
+        w = w > 1 ? w / 2 : 1;
+        h = h > 1 ? h / 2 : 1;
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    d.levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return srt::gl_check("texture upload", err);
+}
+
+int next_pow2(int v) {
+    int p = 1;
+    while (p < v) p <<= 1;
+    return p;
+}
+
+}  // namespace
+
+extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset* asset,
+                                          int max_width, int max_height, srt_material* out,
+                                          srt_error* err) {
+    if (!caps || !asset || !out)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "material: NULL argument");
+    memset(out, 0, sizeof *out);
+    if (caps->gles_version != 1)
+        return srt::fail(err, SRT_ERR_UNSUPPORTED,
+                         "material: only the GL ES 1.1 path exists so far (context is GL ES %d)",
+                         caps->gles_version);
+    if (max_width < 1 || max_height < 1 || max_width > caps->max_texture_size ||
+        max_height > caps->max_texture_size)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "material: viewport %dx%d out of 1..%d",
+                         max_width, max_height, caps->max_texture_size);
+    const srt_fmt_material& info = asset->material;
+    if (info.param != SRT_PARAM_IV && info.param != SRT_PARAM_GS_HALF && info.param != SRT_PARAM_VH)
+        return srt::fail(err, SRT_ERR_UNSUPPORTED,
+                         "material: parameterization %u needs per-pixel evaluation (GL ES 2 or "
+                         "CPU); GL ES 1.1 takes iv, gs-half or vh",
+                         info.param);
+    for (uint32_t i = 0; i < asset->texture_count; ++i) {
+        const srt_fmt_texture& d = asset->textures[i].desc;
+        if ((int)d.width > caps->max_texture_size || (int)d.height > caps->max_texture_size)
+            return srt::fail(err, SRT_ERR_UNSUPPORTED, "material: texture %u is %ux%u, the GPU's limit is %d",
+                             i, d.width, d.height, caps->max_texture_size);
+    }
+    out->caps = *caps;
+    out->info = info;
+    out->plan = asset->plan;
+    memcpy(out->passes, asset->passes, asset->plan.pass_count * sizeof(srt_fmt_pass));
+    out->max_width = max_width;
+    out->max_height = max_height;
+    for (uint32_t p = 0; p < asset->plan.pass_count; ++p) {
+        const srt_fmt_pass& pass = asset->passes[p];
+        for (int c = 0; c < 3; ++c) {
+            const float v = pass.color[c] * (float)pass.rgb_scale;
+            if (v > out->max_pass_color) out->max_pass_color = v;
+        }
+        if (pass.blend == SRT_BLEND_SUBTRACT) out->has_negative_passes = 1;
+        // Adds must come before subtracts so no partial sum clamps at 0 (writer's rule).
+        if (pass.blend == SRT_BLEND_ADD && p > 0 && asset->passes[p - 1].blend == SRT_BLEND_SUBTRACT)
+            return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                             "material: plan adds after subtracting (pass %u); partial sums could clamp", p);
+    }
+    out->single_unit = caps->texture_units < 2;
+    out->subtract_by_inversion = out->has_negative_passes && !caps->has_blend_subtract;
+    out->texture_count = asset->texture_count;
+    glGenTextures((GLsizei)asset->texture_count, out->gl_textures);
+    for (uint32_t i = 0; i < asset->texture_count; ++i) {
+        out->texture_role[i] = asset->textures[i].desc.role;
+        srt_result r = upload(asset->textures[i], out->gl_textures[i], err);
+        if (r != SRT_OK) {
+            srt_material_destroy(out);
+            return r;
+        }
+    }
+    if (out->single_unit) {
+        out->copy_width = next_pow2(max_width);
+        out->copy_height = next_pow2(max_height);
+        if (out->copy_width > caps->max_texture_size || out->copy_height > caps->max_texture_size) {
+            srt_material_destroy(out);
+            return srt::fail(err, SRT_ERR_UNSUPPORTED,
+                             "material: the one-texture-unit path needs a %dx%d copy texture; the "
+                             "GPU's limit is %d",
+                             out->copy_width, out->copy_height, caps->max_texture_size);
+        }
+        glGenTextures(1, &out->copy_texture);
+        glBindTexture(GL_TEXTURE_2D, out->copy_texture);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, out->copy_width, out->copy_height, 0, GL_RGB,
+                     GL_UNSIGNED_BYTE, nullptr);
+        // Nearest: full-screen passes sample the copy exactly at texel centres.
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        srt_result r = srt::gl_check("copy texture", err);
+        if (r != SRT_OK) {
+            srt_material_destroy(out);
+            return r;
+        }
+    }
+    return srt::ok(err);
+}
+
+extern "C" void srt_material_destroy(srt_material* m) {
+    if (!m) return;
+    if (m->texture_count) glDeleteTextures((GLsizei)m->texture_count, m->gl_textures);
+    if (m->copy_texture) glDeleteTextures(1, &m->copy_texture);
+    m->texture_count = 0;
+    m->copy_texture = 0;
+}
+
+extern "C" size_t srt_draw_scratch_floats(int vertex_count, int light_count) {
+    return srt::scratch_floats(vertex_count, light_count);
+}

@@ -1,0 +1,90 @@
+// sepal_material.h - baked assets on the GPU: upload once, then draw frames.
+//
+// Usage (a port made a GL ES context current; caps from srt_query_caps):
+//   static srt_asset asset;                      // parsed from the file's bytes
+//   srt_asset_parse(bytes, size, &asset, &err);
+//   static srt_material mat;
+//   srt_material_create(&caps, &asset, 512, 512, &mat, &err);   // textures uploaded here
+//   std::vector<float> scratch(srt_draw_scratch_floats(mesh.vertex_count, scene.light_count));
+//   srt_draw_desc d = {}; d.material = &mat; d.mesh = &mesh; d.scene = &scene;
+//   d.width = 512; d.height = 512; d.scratch = scratch.data(); d.scratch_floats = scratch.size();
+//   srt_draw(&d, &stats, &err);                  // clears, draws all passes, scales up
+//   srt_material_destroy(&mat);
+//
+// How a frame is drawn on GL ES 1.1 (Kautz-McCool section 5): per vertex, on the CPU, the
+// factors' texture coordinates from wi and wo in the vertex frame, and the light's
+// irradiance cos(theta_i) I / d^2 as the vertex colour. A depth-only pre-pass lays down
+// depth; every pass of the asset's plan is then drawn once per light with depth test
+// EQUAL: tex0 x tex1 x colour (two texture units, GL_MODULATE) added with blending, or
+// subtracted. The framebuffer holds [0,1], so the colours carry an exposure 2^-m chosen per
+// frame from the lights so that no partial sum exceeds 1; the final doublings (blend
+// GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale.
+// Fallback paths, each forced by a capability mask so tests run them on any driver:
+//   - no GL_OES_blend_subtract: the framebuffer is inverted (1 - x, a blend with
+//     GL_ONE_MINUS_DST_COLOR), the subtracted passes are added, and it is inverted back:
+//     exact in 8 bits, and 2 full-screen passes in all instead of an extension.
+//   - one texture unit: the paper's two passes per product (G x colour, then H with a
+//     multiplicative blend), the running sum kept in a texture (glCopyTexSubImage2D)
+//     and added back with a full-screen pass.
+// Framebuffer objects are not needed by any GL ES 1.1 path.
+// Limits: viewport up to the size given at creation (copy textures are sized then);
+// 16-bit assets are rounded to 8 bits at upload (GL ES 1.1 has no 16-bit textures).
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sepal_format.h"
+#include "sepal_rt.h"
+#include "sepal_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct srt_material {
+    srt_caps caps;
+    srt_fmt_material info;
+    srt_fmt_plan plan;
+    srt_fmt_pass passes[SRT_FMT_MAX_PASSES];
+    uint32_t texture_count;
+    uint32_t gl_textures[SRT_FMT_MAX_TEXTURES];
+    uint32_t texture_role[SRT_FMT_MAX_TEXTURES];
+    float max_pass_color;     // largest colour of any pass and channel (times rgb_scale)
+    int single_unit;          // one texture unit: products through the copy texture
+    int subtract_by_inversion;  // no blend subtract: invert, add, invert back
+    int has_negative_passes;
+    uint32_t copy_texture;    // running sum (single-unit path), 0 when unused
+    int copy_width, copy_height;  // power-of-two size of the copy texture
+    int max_width, max_height;
+} srt_material;
+
+srt_result srt_material_create(const srt_caps* caps, const srt_asset* asset, int max_width,
+                               int max_height, srt_material* out, srt_error* err);
+void srt_material_destroy(srt_material* m);
+
+// Floats of scratch srt_draw needs (per-vertex texture coordinates, irradiance, colours).
+size_t srt_draw_scratch_floats(int vertex_count, int light_count);
+
+typedef struct srt_draw_desc {
+    const srt_material* material;
+    const srt_mesh* mesh;    // world space
+    const srt_scene* scene;
+    int width, height;       // the viewport, at most the material's max size
+    float* scratch;          // srt_draw_scratch_floats() floats
+    size_t scratch_floats;
+} srt_draw_desc;
+
+typedef struct srt_draw_stats {
+    int draw_calls;         // mesh passes, including the depth pre-pass
+    int fullscreen_passes;  // doublings, inversions, accumulations, background
+    int copies;             // framebuffer-to-texture copies
+    int doublings;          // final framebuffer doublings
+    float exposure;         // 2^-m applied to the vertex colours
+    int below_horizon;      // vertex-light pairs with the light or the eye below the horizon
+} srt_draw_stats;
+
+srt_result srt_draw(const srt_draw_desc* desc, srt_draw_stats* stats, srt_error* err);
+
+#ifdef __cplusplus
+}
+#endif
