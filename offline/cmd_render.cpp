@@ -1,16 +1,19 @@
-// sepal render SPEC --backend exact [scene flags] -o out.png [--float out.pfm]
+// sepal render SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] [scene flags] -o out.png
+//   [--float out.pfm]
 #include <chrono>
 #include <cstring>
 
 #include "cli.h"
+#include "io.h"
 #include "render_exact.h"
+#include "render_gl.h"
 #include "scene_flags.h"
 
 namespace sepal {
 
 int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     sepal_ports::SceneSetup setup;
-    std::string backend = "exact", out_path, float_path, err;
+    std::string backend = "exact", out_path, float_path, mask_text, err;
     std::vector<std::string> positional;
     std::vector<char*> argv;
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -27,7 +30,7 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         }
         const std::string a = args[size_t(i)];
         const bool has_value = i + 1 < argc;
-        if ((a == "--backend" || a == "-o" || a == "--float") && !has_value) {
+        if ((a == "--backend" || a == "-o" || a == "--float" || a == "--mask") && !has_value) {
             std::fprintf(io.err, "sepal render: %s needs a value\n", a.c_str());
             return kExitBadInput;
         }
@@ -37,6 +40,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             out_path = args[size_t(++i)];
         } else if (a == "--float") {
             float_path = args[size_t(++i)];
+        } else if (a == "--mask") {
+            mask_text = args[size_t(++i)];
         } else if (a.size() > 1 && a[0] == '-') {
             std::fprintf(io.err, "sepal render: unknown option %s\nscene flags:\n%s", a.c_str(),
                          sepal_ports::scene_flags_help());
@@ -47,16 +52,44 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     }
     if (positional.size() != 1 || (out_path.empty() && float_path.empty())) {
         std::fprintf(io.err,
-                     "usage: sepal render SPEC --backend exact [scene flags] -o out.png "
-                     "[--float out.pfm]\nscene flags:\n%s",
+                     "usage: sepal render SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] "
+                     "[scene flags] -o out.png [--float out.pfm]\nscene flags:\n%s",
                      sepal_ports::scene_flags_help());
         return kExitBadInput;
     }
+    if (backend == "gles1") {
+        uint32_t mask = 0;
+        std::vector<uint8_t> bytes, rgba;
+        sepal_ports::GlRenderInfo info;
+        if (!float_path.empty()) err = "--float: the GL backends render 8-bit images";
+        if (err.empty() && file_extension(positional[0]) != "sepal")
+            err = "backend gles1 renders a baked asset (.sepal); '" + positional[0] + "' is not one";
+        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
+            !sepal_ports::load_scene_mesh(&setup, &err) ||
+            !sepal_ports::read_asset_file(positional[0], &bytes, &err) ||
+            !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, 1, mask, &rgba, &info, &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
+        if (!write_png(out_path, img, &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "backend    gles1, %dx%d, %.2f ms (%s)\n", setup.width, setup.height, info.ms,
+                     info.device.c_str());
+        std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
+                     info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
+                     info.stats.copies, info.stats.doublings);
+        std::fprintf(io.out, "png        %s\n", out_path.c_str());
+        return kExitOk;
+    }
     if (backend != "exact") {
-        std::fprintf(io.err,
-                     "sepal render: backend '%s' is not available yet (exact is; the GL "
-                     "backends render baked assets)\n",
-                     backend.c_str());
+        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1)\n", backend.c_str());
+        return kExitBadInput;
+    }
+    if (!mask_text.empty()) {
+        std::fprintf(io.err, "sepal render: --mask applies to the GL backends only\n");
         return kExitBadInput;
     }
     std::unique_ptr<Brdf> brdf = make_brdf(positional[0], &err);

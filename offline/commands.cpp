@@ -18,8 +18,9 @@ const std::vector<Command>& commands() {
          "SPEC [--param P] [--map M] [--res N] [--terms K] [--method M] [--report r.json] "
          "[--plot p.png] [--export DIR]",
          "separable factors of a BRDF with the error per number of terms", cmd_factor},
-        {"render", "SPEC --backend exact [scene flags] -o out.png [--float out.pfm]",
-         "render a scene with a BRDF (exact: evaluated per pixel)", cmd_render},
+        {"render",
+         "SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] [scene flags] -o out.png [--float out.pfm]",
+         "render a scene: exact (BRDF per pixel) or gles1 (a baked asset, headless)", cmd_render},
     };
     return table;
 }

@@ -10,6 +10,7 @@
 
 #include "asset_file.h"
 #include "render_exact.h"
+#include "render_gl.h"
 #include "scene_flags.h"
 #include "sepal_headless.h"
 #include "sepal_material.h"
@@ -70,40 +71,16 @@ struct Rendered {
 
 // Renders an asset through the runtime on GL ES 1.1 with a capability mask.
 Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::SceneSetup& s) {
-    std::vector<uint8_t> bytes;
+    std::vector<uint8_t> bytes, rgba;
     std::string err;
     REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
-    auto asset = std::make_unique<srt_asset>();
-    srt_error e{};
-    REQUIRE_MESSAGE(srt_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SRT_OK, e.message);
-    sh_desc hd = {};
-    hd.width = s.width;
-    hd.height = s.height;
-    hd.gles_version = 1;
-    char msg[512];
-    sh_context* ctx = sh_create(&hd, msg, sizeof msg);
-    REQUIRE_MESSAGE(ctx, msg);
-    srt_caps caps;
-    REQUIRE(srt_query_caps(1, mask, sh_get_proc_address, &caps, &e) == SRT_OK);
-    auto mat = std::make_unique<srt_material>();
-    REQUIRE_MESSAGE(srt_material_create(&caps, asset.get(), s.width, s.height, mat.get(), &e) == SRT_OK,
-                    e.message);
-    std::vector<float> scratch(srt_draw_scratch_floats(s.mesh.vertex_count, s.scene.light_count));
-    srt_draw_desc d = {};
-    d.material = mat.get();
-    d.mesh = &s.mesh;
-    d.scene = &s.scene;
-    d.width = s.width;
-    d.height = s.height;
-    d.scratch = scratch.data();
-    d.scratch_floats = scratch.size();
+    sepal_ports::GlRenderInfo info;
+    // Fails on any GL error: srt_draw checks after every pass.
+    REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, 1, mask, &rgba, &info, &err),
+                    err);
     Rendered out;
-    REQUIRE_MESSAGE(srt_draw(&d, &out.stats, &e) == SRT_OK, e.message);  // includes GL error checks
-    std::vector<uint8_t> px(size_t(s.width) * s.height * 4);
-    REQUIRE(sh_read_rgba(ctx, px.data()));
-    srt_material_destroy(mat.get());
-    sh_destroy(ctx);
-    out.image = sepal::to_rgb(sepal::image_from_rgba8(px.data(), s.width, s.height));
+    out.stats = info.stats;
+    out.image = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
     return out;
 }
 
@@ -264,4 +241,47 @@ TEST_CASE("gles1 material: refusals") {
     CHECK(std::string(e.message).find("viewport") != std::string::npos);
     srt_material_destroy(mat.get());
     sh_destroy(ctx);
+}
+
+TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the same way") {
+    sepal::AssetData a = base_asset(SRT_PARAM_VH, 1);
+    a.textures.push_back(make_texture(8, SRT_ROLE_G, 0, 1, [](float u, float, int) { return 0.2f + 0.8f * u; }));
+    a.textures.push_back(make_texture(8, SRT_ROLE_H, 0, 1, [](float, float v, int c) { return 0.3f + 0.2f * c + 0.4f * v; }));
+    a.passes.push_back(pass(SRT_OP_PRODUCT, SRT_BLEND_ADD, 0, 1, 0.4f));
+    a.plan.peak_partial_sum = 0.4f;
+    const std::string dir = sepal_test::temp_dir();
+    std::string err, out;
+    REQUIRE_MESSAGE(sepal::write_asset(dir + "/m.sepal", a, &err), err);
+    const std::string flags = " --size 80x60 --mesh torus --light point:1,-2,2:15 ";
+    REQUIRE(sepal_test::run(sepal_test::bin("sepal") + " render " + dir + "/m.sepal --backend gles1" + flags +
+                                "-o " + dir + "/r.png", &out) == 0);
+    CHECK(out.find("two texture units") != std::string::npos);
+    REQUIRE(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal" + flags + "-o " +
+                                dir + "/v.png", &out) == 0);
+    REQUIRE(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --mask multitexture" +
+                                flags + "-o " + dir + "/v1.png", &out) == 0);
+    CHECK(out.find("one texture unit") != std::string::npos);
+    sepal::Image r, v, v1;
+    REQUIRE(sepal::read_image(dir + "/r.png", &r, &err));
+    REQUIRE(sepal::read_image(dir + "/v.png", &v, &err));
+    REQUIRE(sepal::read_image(dir + "/v1.png", &v1, &err));
+    CHECK(sepal::diff_images(r, v, 0).max_diff == 0);
+    CHECK(sepal::diff_images(r, v1, 0).max_diff <= 4);
+    double peak = 0;
+    for (float x : r.data) peak = std::max<double>(peak, x);
+    CHECK(peak > 0.2);
+    // Refusals: not an asset, a corrupt asset, a bad mask.
+    CHECK(sepal_test::run(sepal_test::bin("sepal") + " render ward --backend gles1 -o " + dir + "/x.png", &out) == 2);
+    CHECK(out.find("baked asset") != std::string::npos);
+    std::FILE* f = std::fopen((dir + "/bad.sepal").c_str(), "wb");
+    std::fputs("SEPALBRD but not really", f);
+    std::fclose(f);
+    CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/bad.sepal -o " + dir + "/x.png",
+                          &out) == 1);
+    CHECK(out.find("too short") != std::string::npos);
+    CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --mask bogus -o " + dir +
+                              "/x.png", &out) == 2);
+    std::FILE* none = std::fopen((dir + "/x.png").c_str(), "rb");
+    CHECK(none == nullptr);  // nothing half-written
+    if (none) std::fclose(none);
 }

@@ -1,8 +1,8 @@
 // sepal-view: the runtime's own viewer. Built from runtime/ and ports/ only (no offline
-// code). Today it renders the runtime's preview (a lit, textured sphere); it grows into
-// the asset viewer as the runtime does.
+// code). With an asset it draws the baked material; without one, the runtime's preview
+// (a lit, textured mesh).
 //
-//   sepal-view --headless [--gles 1|2] [scene flags] -o out.png
+//   sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [scene flags] -o out.png
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +11,7 @@
 
 #include <vector>
 
+#include "render_gl.h"
 #include "scene_flags.h"
 #include "sepal_headless.h"
 #include "sepal_rt.h"
@@ -28,9 +29,12 @@ namespace {
 
 int usage(FILE* f, int code) {
     fprintf(f,
-            "usage: sepal-view --headless [--gles 1|2] [scene flags] -o out.png\n"
+            "usage: sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [scene flags] -o out.png\n"
+            "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"
             "  --headless            render offscreen through EGL (the only mode in this build)\n"
             "  --gles N              GL ES version: 1 (fixed function, default) or 2\n"
+            "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
+            "                        multitexture, fbo, npot (comma-separated)\n"
             "  -o PATH               output PNG\n"
             "scene flags:\n%s",
             sepal_ports::scene_flags_help());
@@ -62,7 +66,9 @@ bool write_png_atomic(const char* path, int w, int h, const uint8_t* rgba) {
 int main(int argc, char** argv) {
     bool headless = false;
     int gles = 1;
+    uint32_t mask = 0;
     const char* out = nullptr;
+    const char* asset_path = nullptr;
     sepal_ports::SceneSetup setup;
     std::string flag_err;
     for (int i = 1; i < argc; ++i) {
@@ -83,8 +89,15 @@ int main(int argc, char** argv) {
             gles = atoi(argv[++i]);
         } else if (!strcmp(a, "-o") && has_value) {
             out = argv[++i];
+        } else if (!strcmp(a, "--mask") && has_value) {
+            if (!sepal_ports::parse_mask(argv[++i], &mask, &flag_err)) {
+                fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
+                return 2;
+            }
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             return usage(stdout, 0);
+        } else if (a[0] != '-' && !asset_path) {
+            asset_path = a;
         } else {
             fprintf(stderr, "sepal-view: unknown or incomplete argument '%s'\n", a);
             return usage(stderr, 2);
@@ -104,6 +117,28 @@ int main(int argc, char** argv) {
         return 2;
     }
     const int width = setup.width, height = setup.height;
+    if (asset_path) {
+        std::vector<uint8_t> bytes, rgba;
+        sepal_ports::GlRenderInfo info;
+        if (!sepal_ports::read_asset_file(asset_path, &bytes, &flag_err)) {
+            fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
+            return 2;
+        }
+        if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, gles, mask, &rgba,
+                                                &info, &flag_err)) {
+            fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
+            return 1;
+        }
+        fprintf(stderr, "sepal-view: %s | %s | %d draws, %d full-screen passes, %d copies, %.2f ms\n",
+                info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
+                info.stats.fullscreen_passes, info.stats.copies, info.ms);
+        if (!write_png_atomic(out, width, height, rgba.data())) {
+            fprintf(stderr, "sepal-view: could not write %s\n", out);
+            return 1;
+        }
+        printf("%s\n", out);
+        return 0;
+    }
 
     char msg[512];
     sh_desc hd = {};

@@ -1,0 +1,113 @@
+#include "render_gl.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include <GLES/gl.h>
+
+#include "sepal_headless.h"
+
+namespace sepal_ports {
+
+bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err) {
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) {
+        *err = path + ": " + std::strerror(errno);
+        return false;
+    }
+    bytes->clear();
+    uint8_t buf[65536];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+        bytes->insert(bytes->end(), buf, buf + n);
+        if (bytes->size() > SRT_FMT_MAX_FILE_BYTES) {
+            std::fclose(f);
+            *err = path + ": larger than the format's limit of " + std::to_string(SRT_FMT_MAX_FILE_BYTES) + " bytes";
+            return false;
+        }
+    }
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) *err = path + ": read error";
+    return !failed;
+}
+
+bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
+    *mask = 0;
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = text.find(',', start);
+        const std::string word = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (word == "subtract") *mask |= SRT_MASK_BLEND_SUBTRACT;
+        else if (word == "multitexture") *mask |= SRT_MASK_MULTITEXTURE;
+        else if (word == "fbo") *mask |= SRT_MASK_FBO;
+        else if (word == "npot") *mask |= SRT_MASK_NPOT;
+        else if (!word.empty()) {
+            *err = "--mask '" + text + "': use a comma-separated list of subtract, multitexture, fbo, npot";
+            return false;
+        }
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return true;
+}
+
+bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup, int gles_version,
+                           uint32_t mask, std::vector<uint8_t>* rgba, GlRenderInfo* info,
+                           std::string* err) {
+    // Large runtime structs live on the heap here: this is port code, not the runtime.
+    auto asset = std::make_unique<srt_asset>();
+    auto material = std::make_unique<srt_material>();
+    srt_error e = {};
+    if (srt_asset_parse(bytes, size, asset.get(), &e) != SRT_OK) {
+        *err = e.message;
+        return false;
+    }
+    sh_desc hd = {};
+    hd.width = setup.width;
+    hd.height = setup.height;
+    hd.gles_version = gles_version;
+    char msg[512];
+    sh_context* ctx = sh_create(&hd, msg, sizeof msg);
+    if (!ctx) {
+        *err = msg;
+        return false;
+    }
+    srt_caps caps;
+    bool ok = srt_query_caps(gles_version, mask, sh_get_proc_address, &caps, &e) == SRT_OK &&
+              srt_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SRT_OK;
+    if (ok) {
+        std::vector<float> scratch(srt_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
+        srt_draw_desc d = {};
+        d.material = material.get();
+        d.mesh = &setup.mesh;
+        d.scene = &setup.scene;
+        d.width = setup.width;
+        d.height = setup.height;
+        d.scratch = scratch.data();
+        d.scratch_floats = scratch.size();
+        const auto start = std::chrono::steady_clock::now();
+        ok = srt_draw(&d, &info->stats, &e) == SRT_OK;
+        glFinish();
+        info->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        rgba->resize(size_t(setup.width) * setup.height * 4);
+        if (ok && !sh_read_rgba(ctx, rgba->data())) {
+            ok = false;
+            std::snprintf(e.message, sizeof e.message, "reading the framebuffer back failed");
+        }
+        info->device = sh_describe(ctx);
+        info->path = std::string(material->single_unit ? "one texture unit (copy texture)" : "two texture units") +
+                     (material->has_negative_passes
+                          ? (material->subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
+                          : ", no subtraction");
+        srt_material_destroy(material.get());
+    }
+    sh_destroy(ctx);
+    if (!ok) *err = e.message;
+    return ok;
+}
+
+}  // namespace sepal_ports

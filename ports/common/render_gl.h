@@ -1,0 +1,36 @@
+// Rendering a .sepal asset headless on GL ES, shared by sepal-view and `sepal render`.
+//
+// Usage:
+//   std::vector<uint8_t> rgba; srt_draw_stats stats; std::string err;
+//   if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, 1, 0,
+//                                          &rgba, &stats, &err)) ...
+//
+// Creates an offscreen context of the scene's size (ports/headless), queries its
+// capabilities with `mask` applied, uploads the material, draws one frame and reads it
+// back (RGBA8, top row first). Also reports which path the runtime took.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene_flags.h"
+#include "sepal_material.h"
+
+namespace sepal_ports {
+
+struct GlRenderInfo {
+    srt_draw_stats stats = {};
+    std::string device;  // EGL platform, renderer and version
+    std::string path;    // e.g. "two texture units, blend subtract"
+    double ms = 0;       // time of srt_draw plus glFinish, one frame
+};
+
+bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup, int gles_version,
+                           uint32_t mask, std::vector<uint8_t>* rgba, GlRenderInfo* info,
+                           std::string* err);
+// Reads a whole asset file (bounded by the format's maximum size).
+bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err);
+// Parses "subtract,multitexture,fbo,npot" into SRT_MASK_* bits.
+bool parse_mask(const std::string& text, uint32_t* mask, std::string* err);
+
+}  // namespace sepal_ports
