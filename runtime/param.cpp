@@ -65,3 +65,37 @@ extern "C" int srt_param_texcoords(srt_param p, srt_hemi_map m, const float wi[3
             return -1;
     }
 }
+
+extern "C" int srt_param_texcoords_pixel(srt_param p, srt_hemi_map m, const float wi[3],
+                                         const float wo[3], float g[2], float h[2]) {
+    const int above = wi[2] > 0.0f && wo[2] > 0.0f;
+    const float kPi = 3.14159265358979f;
+    if (p == SRT_PARAM_RUSINKIEWICZ) {
+        static const float kUp[3] = {0, 0, 1};
+        float half[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
+        normalize(half, kUp);
+        map(m, half, g);
+        // d = rot_y(-theta_h) rot_z(-phi_h) wi: the half vector rotated to the pole.
+        const float ct = half[2] < 1.0f ? half[2] : 1.0f;
+        const float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+        const float phi = atan2f(half[1], half[0]);
+        const float cp = cosf(phi), sp = sinf(phi);
+        const float x1 = wi[0] * cp + wi[1] * sp, y1 = -wi[0] * sp + wi[1] * cp, z1 = wi[2];
+        const float d[3] = {x1 * ct - z1 * st, y1, x1 * st + z1 * ct};
+        map(m, d, h);
+        return above;
+    }
+    if (p == SRT_PARAM_ELEV_AZIM) {
+        // Plain angle textures: G(theta_i, theta_o), H(phi_i, phi_o) (H wraps).
+        const float ti = acosf(fminf(1.0f, fmaxf(-1.0f, wi[2]))), to = acosf(fminf(1.0f, fmaxf(-1.0f, wo[2])));
+        float pi_ = atan2f(wi[1], wi[0]), po = atan2f(wo[1], wo[0]);
+        if (pi_ < 0.0f) pi_ += 2.0f * kPi;
+        if (po < 0.0f) po += 2.0f * kPi;
+        g[0] = ti / (0.5f * kPi);
+        g[1] = to / (0.5f * kPi);
+        h[0] = pi_ / (2.0f * kPi);
+        h[1] = po / (2.0f * kPi);
+        return above;
+    }
+    return srt_param_texcoords(p, m, wi, wo, g, h);
+}

@@ -186,6 +186,11 @@ srt_result srt_asset_parse(const void* bytes, size_t size, srt_asset* out, srt_e
 // Returns -1 for the per-pixel-only parameterizations.
 int srt_param_texcoords(srt_param p, srt_hemi_map m, const float wi[3], const float wo[3],
                         float g_uv[2], float h_uv[2]);
+// The same for every parameterization, including the per-pixel-only ones: rusinkiewicz
+// (G = map(h), H = map(d), d = rot_y(-theta_h) rot_z(-phi_h) wi) and elev-azim
+// (G at (theta_i, theta_o) / (pi/2), H at (phi_i, phi_o) / (2 pi), H periodic).
+int srt_param_texcoords_pixel(srt_param p, srt_hemi_map m, const float wi[3], const float wo[3],
+                              float g_uv[2], float h_uv[2]);
 
 // CRC-32 (polynomial 0xEDB88320, initial and final xor 0xFFFFFFFF): chain calls by
 // passing the previous result as crc, starting from 0.

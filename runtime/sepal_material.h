@@ -85,6 +85,28 @@ typedef struct srt_draw_stats {
 
 srt_result srt_draw(const srt_draw_desc* desc, srt_draw_stats* stats, srt_error* err);
 
+// ---- the CPU backend -------------------------------------------------------------------
+// Renders the same scene from the asset in float with no GL: the software rasterizer
+// (sepal_raster.h, pixel-aligned with GL), frames interpolated per pixel, the factors'
+// coordinates per pixel (every parameterization), textures decoded as scale * q + bias
+// and sampled bilinearly at level 0, f = sum_k G_k H_k evaluated directly (not through
+// the pass plan), radiance as in sepal_scene.h. For devices without a GPU and as the
+// precise reference of the factored BRDF. No allocation: callers hand in the buffers;
+// the asset's bytes must stay alive.
+typedef struct srt_cpu_desc {
+    const srt_asset* asset;
+    const srt_mesh* mesh;   // world space
+    const srt_scene* scene;
+    int width, height;
+    float* color;           // width * height * 3 floats out: linear radiance, top row first
+    float* depth;           // width * height floats of scratch
+    float* scratch;         // srt_cpu_scratch_floats() floats
+    size_t scratch_floats;
+} srt_cpu_desc;
+
+size_t srt_cpu_scratch_floats(int vertex_count);
+srt_result srt_draw_cpu(const srt_cpu_desc* desc, srt_error* err);
+
 #ifdef __cplusplus
 }
 #endif

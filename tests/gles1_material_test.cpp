@@ -10,6 +10,7 @@
 
 #include "asset_file.h"
 #include "render_exact.h"
+#include "plan.h"
 #include "render_gl.h"
 #include "scene_flags.h"
 #include "sepal_headless.h"
@@ -21,14 +22,15 @@ namespace {
 using TexFn = std::function<float(float u, float v, int channel)>;
 
 // A texture of side n with the full MIP chain, q = fn(u, v) at texel centres.
-sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn) {
+sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
+                                 float bias = 0.0f) {
     sepal::AssetTexture t;
     t.desc.width = t.desc.height = uint32_t(n);
     t.desc.channels = 3;
     t.desc.bits = 8;
     t.desc.role = role;
     t.desc.term = term;
-    for (int c = 0; c < 4; ++c) t.desc.scale[c] = scale;
+    for (int c = 0; c < 4; ++c) t.desc.scale[c] = scale, t.desc.bias[c] = bias;
     uint32_t levels = 0;
     for (int side = n; side >= 1; side /= 2) {
         ++levels;
@@ -84,6 +86,46 @@ Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::Sce
     return out;
 }
 
+// f = G0 H0 + G1 H1 with G1, H1 signed (stored with a bias): the plan needs every kind
+// of pass, subtractions included.
+sepal::AssetData signed_asset() {
+    sepal::AssetData a = base_asset(SRT_PARAM_GS_HALF, 2);
+    a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1.0f, [](float u, float v, int c) {
+        const float r2 = (u - 0.5f) * (u - 0.5f) + (v - 0.5f) * (v - 0.5f);
+        return std::exp(-r2 * 12.0f) * (0.8f + 0.1f * c);
+    }));
+    a.textures.push_back(make_texture(16, SRT_ROLE_H, 0, 0.3f, [](float u, float v, int) { return 0.5f + 0.5f * u * v; }));
+    a.textures.push_back(make_texture(16, SRT_ROLE_G, 1, 0.6f, [](float u, float, int) { return u; }, -0.3f));
+    a.textures.push_back(make_texture(16, SRT_ROLE_H, 1, 0.1f, [](float, float v, int) { return v; }, -0.02f));
+    std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
+    return a;
+}
+
+// Renders an asset with the CPU backend.
+sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup& s) {
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    auto asset = std::make_unique<srt_asset>();
+    srt_error e{};
+    REQUIRE(srt_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SRT_OK);
+    sepal::Image img(s.width, s.height, 3);
+    std::vector<float> depth(size_t(s.width) * s.height), scratch(srt_cpu_scratch_floats(s.mesh.vertex_count));
+    srt_cpu_desc d = {};
+    d.asset = asset.get();
+    d.mesh = &s.mesh;
+    d.scene = &s.scene;
+    d.width = s.width;
+    d.height = s.height;
+    d.color = img.data.data();
+    d.depth = depth.data();
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    REQUIRE_MESSAGE(srt_draw_cpu(&d, &e) == SRT_OK, e.message);
+    return img;
+}
+
 sepal_ports::SceneSetup test_scene(const char* mesh, int lights) {
     sepal_ports::SceneSetup s;
     s.width = 128;
@@ -120,24 +162,19 @@ class ConstantBrdf : public sepal::Brdf {
 
 }  // namespace
 
-TEST_CASE("gles1 material: a constant BRDF matches the exact backend's Lambert render") {
-    // f = 2^D * colour * (scale q)(scale q) with q = 1: 4 * 0.5 * 0.3 = 0.6 /sr... kept
-    // below 1/pi x albedo 1 is not needed here: any constant works.
+TEST_CASE("gles1 and cpu: a constant BRDF matches the exact backend's render") {
+    // G = 0.5 q, H = 0.25 q with q = 1: f = 0.125 per steradian everywhere.
+    const double f = 0.125;
     sepal::AssetData a = base_asset(SRT_PARAM_IV, 1);
-    a.textures.push_back(make_texture(8, SRT_ROLE_G, 0, 1.0f, [](float, float, int) { return 1.0f; }));
-    a.textures.push_back(make_texture(8, SRT_ROLE_H, 0, 1.0f, [](float, float, int) { return 1.0f; }));
-    a.passes.push_back(pass(SRT_OP_PRODUCT, SRT_BLEND_ADD, 0, 1, 0.5f));
-    a.plan.doublings = 2;  // f = 4 * 0.5 = 2 ... divided below
-    a.plan.peak_partial_sum = 0.5f;
-    const double f = 4.0 * 0.5 / 16.0;  // the scene's lights are bright: scale f down
-    a.passes[0].color[0] = a.passes[0].color[1] = a.passes[0].color[2] = 0.5f / 16.0f;
-    a.plan.peak_partial_sum = 0.5f / 16.0f;
+    a.textures.push_back(make_texture(8, SRT_ROLE_G, 0, 0.5f, [](float, float, int) { return 1.0f; }));
+    a.textures.push_back(make_texture(8, SRT_ROLE_H, 0, 0.25f, [](float, float, int) { return 1.0f; }));
+    std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
     for (int lights : {1, 3}) {
         CAPTURE(lights);
         sepal_ports::SceneSetup s = test_scene("sphere", lights);
         const Rendered gl = render(a, 0, s);
         sepal::Image exact;
-        std::string err;
         REQUIRE(sepal::render_exact(ConstantBrdf(f), s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err));
         sepal::write_png(sepal_test::output_dir() + "/gles1_constant_" + std::to_string(lights) + ".png",
                          gl.image, nullptr);
@@ -148,25 +185,17 @@ TEST_CASE("gles1 material: a constant BRDF matches the exact backend's Lambert r
         // Per-vertex (Gouraud) irradiance against per-pixel: a few levels on a 64x32 sphere.
         CHECK(diff.psnr > 38.0);
         CHECK(diff.share_over < 0.02);
+        // The CPU backend evaluates per pixel in float: it matches the exact render.
+        const sepal::Image cpu = render_cpu(a, s);
+        const sepal::ImageDiff dc = sepal::diff_images(exact, cpu, 0.01);
+        CAPTURE(dc.max_diff);
+        CHECK(dc.max_diff < 0.01);  // 8-bit units: float against double, ~1e-5 relative
     }
 }
 
 TEST_CASE("gles1 material: every capability-masked path renders the full path's image") {
-    // Two signed terms with varying factors: f = 2^D (c0 G0 H0 - c1 G1 H1), in gs-half.
-    sepal::AssetData a = base_asset(SRT_PARAM_GS_HALF, 2);
-    a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1, [](float u, float v, int c) {
-        const float r2 = (u - 0.5f) * (u - 0.5f) + (v - 0.5f) * (v - 0.5f);
-        return std::exp(-r2 * 12.0f) * (0.8f + 0.1f * c);
-    }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_H, 0, 1, [](float u, float v, int) { return 0.5f + 0.5f * u * v; }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_G, 1, 1, [](float u, float, int) { return 0.3f * u; }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_H, 1, 1, [](float, float v, int) { return 0.5f * v; }));
-    a.passes.push_back(pass(SRT_OP_PRODUCT, SRT_BLEND_ADD, 0, 1, 0.06f));
-    a.passes.push_back(pass(SRT_OP_TEXTURE, SRT_BLEND_ADD, 1, SRT_FMT_NO_TEXTURE, 0.01f));
-    a.passes.push_back(pass(SRT_OP_PRODUCT, SRT_BLEND_SUBTRACT, 2, 3, 0.05f));
-    a.passes.push_back(pass(SRT_OP_CONSTANT, SRT_BLEND_SUBTRACT, SRT_FMT_NO_TEXTURE, SRT_FMT_NO_TEXTURE, 0.002f));
-    a.plan.doublings = 3;
-    a.plan.peak_partial_sum = 0.07f;
+    // Two signed terms with varying factors (biased textures), in gs-half.
+    sepal::AssetData a = signed_asset();
     for (const char* mesh : {"sphere", "torus"}) {
         const std::string mesh_name = mesh;
         CAPTURE(mesh_name);
@@ -177,6 +206,15 @@ TEST_CASE("gles1 material: every capability-masked path renders the full path's 
         double brightest = 0;
         for (float v : full.image.data) brightest = std::max<double>(brightest, v);
         CHECK(brightest > 0.3);  // the scene is lit: the comparison means something
+        // Against the CPU backend (per-pixel coordinates, float): the price of per-vertex
+        // coordinates and an 8-bit framebuffer.
+        const sepal::Image cpu = render_cpu(a, s);
+        sepal::write_png(sepal_test::output_dir() + "/cpu_signed_" + mesh_name + ".png", cpu, nullptr);
+        const sepal::ImageDiff dc = sepal::diff_images(cpu, full.image, 4.0);
+        CAPTURE(dc.psnr);
+        CAPTURE(dc.max_diff);
+        CAPTURE(dc.share_over);
+        CHECK(dc.psnr > 30.0);
         const uint32_t masks[] = {SRT_MASK_BLEND_SUBTRACT, SRT_MASK_MULTITEXTURE,
                                   SRT_MASK_MULTITEXTURE | SRT_MASK_BLEND_SUBTRACT, SRT_MASK_FBO | SRT_MASK_NPOT};
         for (uint32_t mask : masks) {

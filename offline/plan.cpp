@@ -1,0 +1,118 @@
+#include "plan.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sepal {
+namespace {
+
+struct Coef {
+    srt_pass_op op;
+    uint16_t tex0, tex1;
+    double value[3];
+};
+
+}  // namespace
+
+bool build_plan(AssetData* a, std::string* err) {
+    const uint32_t terms = a->material.terms;
+    const int channels = int(a->material.channels);
+    std::vector<int> g(terms, -1), h(terms, -1);
+    for (size_t i = 0; i < a->textures.size(); ++i) {
+        const srt_fmt_texture& d = a->textures[i].desc;
+        if (d.term >= terms || d.role >= SRT_ROLE_COUNT) {
+            if (err) *err = "plan: texture " + std::to_string(i) + " has a bad term or role";
+            return false;
+        }
+        (d.role == SRT_ROLE_G ? g : h)[d.term] = int(i);
+    }
+    std::vector<Coef> coefs;
+    for (uint32_t k = 0; k < terms; ++k) {
+        if (g[k] < 0 || h[k] < 0) {
+            if (err) *err = "plan: term " + std::to_string(k) + " lacks its G or H texture";
+            return false;
+        }
+        const srt_fmt_texture& G = a->textures[size_t(g[k])].desc;
+        const srt_fmt_texture& H = a->textures[size_t(h[k])].desc;
+        Coef prod{SRT_OP_PRODUCT, uint16_t(g[k]), uint16_t(h[k]), {0, 0, 0}};
+        Coef tg{SRT_OP_TEXTURE, uint16_t(g[k]), SRT_FMT_NO_TEXTURE, {0, 0, 0}};
+        Coef th{SRT_OP_TEXTURE, uint16_t(h[k]), SRT_FMT_NO_TEXTURE, {0, 0, 0}};
+        Coef cst{SRT_OP_CONSTANT, SRT_FMT_NO_TEXTURE, SRT_FMT_NO_TEXTURE, {0, 0, 0}};
+        for (int c = 0; c < channels; ++c) {
+            if (!(G.scale[c] >= 0) || !(H.scale[c] >= 0)) {
+                if (err) *err = "plan: texture scales must be >= 0 (term " + std::to_string(k) + ")";
+                return false;
+            }
+            prod.value[c] = double(G.scale[c]) * H.scale[c];
+            tg.value[c] = double(G.scale[c]) * H.bias[c];
+            th.value[c] = double(G.bias[c]) * H.scale[c];
+            cst.value[c] = double(G.bias[c]) * H.bias[c];
+        }
+        for (const Coef& c : {prod, tg, th, cst}) coefs.push_back(c);
+    }
+    // Split by sign per channel into added and subtracted passes.
+    std::vector<std::pair<srt_blend, Coef>> passes;
+    for (srt_blend blend : {SRT_BLEND_ADD, SRT_BLEND_SUBTRACT})
+        for (const Coef& c : coefs) {
+            Coef part = c;
+            bool any = false;
+            for (int ch = 0; ch < 3; ++ch) {
+                const double v = ch < channels ? c.value[ch] : 0.0;
+                const bool mine = blend == SRT_BLEND_ADD ? v > 0 : v < 0;
+                part.value[ch] = mine ? std::fabs(v) : 0.0;
+                any = any || mine;
+            }
+            if (any) passes.push_back({blend, part});
+        }
+    if (passes.empty()) {
+        if (err) *err = "plan: every coefficient is zero (an all-zero BRDF?)";
+        return false;
+    }
+    double added[3] = {0, 0, 0}, biggest = 0;
+    for (const auto& p : passes)
+        for (int ch = 0; ch < 3; ++ch) {
+            if (p.first == SRT_BLEND_ADD) added[ch] += p.second.value[ch];
+            biggest = std::max(biggest, p.second.value[ch]);
+        }
+    const double peak = std::max({added[0], added[1], added[2], biggest});
+    // Smallest D with peak * 2^-D <= 1; negative D would scale up at no cost, but the
+    // runtime's exposure already uses the headroom per frame.
+    int doublings = 0;
+    while (std::ldexp(peak, -doublings) > 1.0) ++doublings;
+    if (doublings > SRT_FMT_MAX_DOUBLINGS) {
+        if (err) *err = "plan: coefficients up to " + std::to_string(peak) + " need more than " +
+                        std::to_string(SRT_FMT_MAX_DOUBLINGS) + " doublings";
+        return false;
+    }
+    a->passes.clear();
+    for (const auto& p : passes) {
+        srt_fmt_pass out{};
+        out.op = uint16_t(p.second.op);
+        out.blend = uint16_t(p.first);
+        out.tex0 = p.second.tex0;
+        out.tex1 = p.second.tex1;
+        for (int ch = 0; ch < 3; ++ch)
+            out.color[ch] = float(std::min(1.0, std::ldexp(p.second.value[ch], -doublings)));
+        out.rgb_scale = 1;
+        a->passes.push_back(out);
+    }
+    a->plan = srt_fmt_plan{};
+    a->plan.pass_count = uint32_t(a->passes.size());
+    a->plan.doublings = uint32_t(doublings);
+    const double peak_added = std::max({added[0], added[1], added[2]});
+    a->plan.peak_partial_sum = float(std::min(1.0, std::max(1e-30, std::ldexp(peak_added, -doublings))));
+    return true;
+}
+
+double plan_value(const AssetData& a, const double* q, int channel) {
+    double sum = 0;
+    for (const srt_fmt_pass& p : a.passes) {
+        double v = p.color[channel];
+        if (p.op != SRT_OP_CONSTANT) v *= q[p.tex0];
+        if (p.op == SRT_OP_PRODUCT) v *= q[p.tex1];
+        sum += p.blend == SRT_BLEND_ADD ? v : -v;
+    }
+    return std::ldexp(sum, int(a.plan.doublings));
+}
+
+}  // namespace sepal

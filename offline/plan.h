@@ -1,0 +1,33 @@
+// The pass plan: how a GL ES 1.1 framebuffer (values in [0,1], add and subtract by
+// blending) rebuilds f = sum_k G_k H_k from quantized textures.
+//
+// Usage:
+//   sepal::AssetData a;  ... textures with scale/bias filled in ...
+//   std::string err;
+//   if (!sepal::build_plan(&a, &err)) ...      // fills a.passes and a.plan
+//
+// Each texture stores q in [0,1] and means scale * q + bias (per channel). For a term
+// with G = aG qG + bG and H = aH qH + bH,
+//   G H = aG aH qG qH + aG bH qG + bG aH qH + bG bH          (Kautz-McCool section 5.1)
+// so a term is one PRODUCT pass, plus a TEXTURE pass per nonzero bias of the other
+// factor and a CONSTANT pass when both biases are nonzero; non-negative factors (bias
+// 0, e.g. NMF) need the PRODUCT pass alone. A coefficient's sign picks the blend (add or
+// subtract); where channels disagree in sign the pass is split in two. All adds come
+// before all subtracts, so partial sums only grow and then only shrink: none clamps at 0
+// unless f itself is negative there. Coefficients are scaled by 2^-D so that every pass
+// colour and the sum of all added passes (a bound on any partial sum, since q <= 1) stay
+// within [0,1] at unit irradiance; plan.doublings = D undoes it.
+#pragma once
+#include <string>
+
+#include "asset_file.h"
+
+namespace sepal {
+
+bool build_plan(AssetData* asset, std::string* err);
+
+// f at one point from decoded factor values, as the plan computes it (for tests):
+// sum over passes of sign * colour * operands, times 2^doublings.
+double plan_value(const AssetData& asset, const double* q, int channel);
+
+}  // namespace sepal

@@ -1,0 +1,176 @@
+// The CPU backend (see srt_draw_cpu in sepal_material.h).
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal_material.h"
+#include "sepal_raster.h"
+
+namespace {
+
+constexpr int kVaryings = 10;  // world position 3, normal 3, tangent 4
+
+struct Shader {
+    const srt_asset* asset;
+    const srt_asset_texture* g[SRT_FMT_MAX_TERMS];  // per term, found once per frame
+    const srt_asset_texture* h[SRT_FMT_MAX_TERMS];
+    const srt_scene* scene;
+    float* color;
+    int width;
+    int below_horizon;
+};
+
+float texel(const srt_asset_texture& t, int i, int j, int c) {
+    const srt_fmt_texture& d = t.desc;
+    const size_t idx = ((size_t)j * d.width + (size_t)i) * d.channels + (size_t)c;
+    float q;
+    if (d.bits == 8) {
+        q = (float)t.level_data[0][idx] / 255.0f;
+    } else {
+        uint16_t v;
+        memcpy(&v, t.level_data[0] + 2 * idx, 2);
+        q = (float)v / 65535.0f;
+    }
+    return d.scale[c] * q + d.bias[c];
+}
+
+// GL_LINEAR at level 0: texel centres at (i + 0.5) / N, clamped or wrapped at the edges.
+float sample(const srt_asset_texture& t, float u, float v, int c, bool wrap) {
+    const int w = (int)t.desc.width, h = (int)t.desc.height;
+    const float x = u * (float)w - 0.5f, y = v * (float)h - 0.5f;
+    const float fx = floorf(x), fy = floorf(y);
+    const float ax = x - fx, ay = y - fy;
+    int x0 = (int)fx, y0 = (int)fy, x1 = x0 + 1, y1 = y0 + 1;
+    auto fix = [wrap](int k, int n) {
+        if (wrap) return ((k % n) + n) % n;
+        return k < 0 ? 0 : k >= n ? n - 1 : k;
+    };
+    x0 = fix(x0, w), x1 = fix(x1, w), y0 = fix(y0, h), y1 = fix(y1, h);
+    return (1 - ay) * ((1 - ax) * texel(t, x0, y0, c) + ax * texel(t, x1, y0, c)) +
+           ay * ((1 - ax) * texel(t, x0, y1, c) + ax * texel(t, x1, y1, c));
+}
+
+inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline bool normalize3(float* v) {
+    const float l = sqrtf(dot3(v, v));
+    if (!(l > 1e-20f)) return false;
+    v[0] /= l, v[1] /= l, v[2] /= l;
+    return true;
+}
+
+void shade(void* user, int x, int y, float, const float* v) {
+    Shader& s = *static_cast<Shader*>(user);
+    const srt_asset& a = *s.asset;
+    float n[3] = {v[3], v[4], v[5]};
+    if (!normalize3(n)) n[0] = 0, n[1] = 0, n[2] = 1;
+    float t[3] = {v[6], v[7], v[8]};
+    float d = dot3(t, n);
+    for (int k = 0; k < 3; ++k) t[k] -= d * n[k];
+    if (!normalize3(t)) {
+        const float axis[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
+        d = dot3(axis, n);
+        for (int k = 0; k < 3; ++k) t[k] = axis[k] - d * n[k];
+        normalize3(t);
+    }
+    const float hand = v[9] < 0.0f ? -1.0f : 1.0f;
+    const float b[3] = {hand * (n[1] * t[2] - n[2] * t[1]), hand * (n[2] * t[0] - n[0] * t[2]),
+                        hand * (n[0] * t[1] - n[1] * t[0])};
+    float to_eye[3] = {s.scene->camera.eye[0] - v[0], s.scene->camera.eye[1] - v[1], s.scene->camera.eye[2] - v[2]};
+    normalize3(to_eye);
+    const float wo[3] = {dot3(to_eye, t), dot3(to_eye, b), dot3(to_eye, n)};
+    const bool wraps_h = a.material.param == SRT_PARAM_ELEV_AZIM;
+    const int channels = (int)a.material.channels;
+    float sum[3] = {0, 0, 0};
+    for (int l = 0; l < s.scene->light_count; ++l) {
+        const srt_light& light = s.scene->lights[l];
+        float to_light[3], falloff = 1.0f;
+        if (light.type == SRT_LIGHT_POINT) {
+            for (int k = 0; k < 3; ++k) to_light[k] = light.position[k] - v[k];
+            const float d2 = dot3(to_light, to_light);
+            falloff = d2 > 1e-12f ? 1.0f / d2 : 0.0f;
+        } else {
+            for (int k = 0; k < 3; ++k) to_light[k] = light.position[k];
+        }
+        normalize3(to_light);
+        const float wi[3] = {dot3(to_light, t), dot3(to_light, b), dot3(to_light, n)};
+        float guv[2], huv[2];
+        if (srt_param_texcoords_pixel((srt_param)a.material.param, (srt_hemi_map)a.material.map, wi, wo, guv,
+                                      huv) <= 0) {
+            ++s.below_horizon;
+            continue;
+        }
+        float f[3] = {0, 0, 0};
+        for (uint32_t k = 0; k < a.material.terms; ++k)
+            for (int c = 0; c < channels; ++c)
+                f[c] += sample(*s.g[k], guv[0], guv[1], c, false) * sample(*s.h[k], huv[0], huv[1], c, wraps_h);
+        if (channels == 1) f[1] = f[2] = f[0];
+        for (int c = 0; c < 3; ++c) sum[c] += f[c] * wi[2] * falloff * light.intensity[c];
+    }
+    float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;
+    for (int c = 0; c < 3; ++c) out[c] = sum[c] > 0.0f ? sum[c] : 0.0f;  // light is never negative
+}
+
+}  // namespace
+
+extern "C" size_t srt_cpu_scratch_floats(int vertex_count) {
+    return (size_t)(vertex_count > 0 ? vertex_count : 0) * (4 + kVaryings);
+}
+
+extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
+    if (!d || !d->asset || !d->mesh || !d->scene || !d->color || !d->depth || !d->scratch)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
+    if (d->scratch_floats < srt_cpu_scratch_floats(d->mesh->vertex_count))
+        return srt::fail(err, SRT_ERR_CAPACITY, "cpu: scratch holds %zu floats, needs %zu", d->scratch_floats,
+                         srt_cpu_scratch_floats(d->mesh->vertex_count));
+    float view[16], proj[16];
+    srt_result r = srt_scene_matrices(d->scene, d->width, d->height, view, proj, err);
+    if (r != SRT_OK) return r;
+    const int n = d->mesh->vertex_count;
+    float* clip = d->scratch;
+    float* vary = d->scratch + 4 * (size_t)n;
+    for (int i = 0; i < n; ++i) {
+        const srt_vertex& v = d->mesh->vertices[i];
+        for (int row = 0; row < 4; ++row) {
+            float acc = 0.0f;
+            for (int k = 0; k < 4; ++k) {
+                float m = 0.0f;  // (proj * view)[row][k], column-major
+                for (int j = 0; j < 4; ++j) m += proj[j * 4 + row] * view[k * 4 + j];
+                acc += m * (k < 3 ? v.position[k] : 1.0f);
+            }
+            clip[4 * (size_t)i + row] = acc;
+        }
+        float* dst = vary + (size_t)i * kVaryings;
+        memcpy(dst, v.position, 3 * sizeof(float));
+        memcpy(dst + 3, v.normal, 3 * sizeof(float));
+        memcpy(dst + 6, v.tangent, 4 * sizeof(float));
+    }
+    const size_t pixels = (size_t)d->width * (size_t)d->height;
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c) d->color[p * 3 + c] = d->scene->background[c];
+    srt_raster_target target = {d->width, d->height, d->depth};
+    srt_raster_clear_depth(&target);
+    // The rasterizer calls the shader for every fragment passing LEQUAL; the last one
+    // written per pixel is the front surface, as GL's depth test gives.
+    Shader s = {};
+    s.asset = d->asset;
+    s.scene = d->scene;
+    s.color = d->color;
+    s.width = d->width;
+    for (uint32_t i = 0; i < d->asset->texture_count; ++i) {
+        const srt_fmt_texture& t = d->asset->textures[i].desc;
+        (t.role == SRT_ROLE_G ? s.g : s.h)[t.term] = &d->asset->textures[i];
+    }
+    srt_raster_desc rd = {};
+    rd.clip = clip;
+    rd.vertex_count = n;
+    rd.varyings = vary;
+    rd.varying_count = kVaryings;
+    rd.varying_stride = kVaryings;
+    rd.indices = d->mesh->indices;
+    rd.index_count = d->mesh->index_count;
+    rd.cull = SRT_CULL_BACK;
+    rd.depth_func = SRT_DEPTH_LEQUAL;
+    rd.fragment = shade;
+    rd.user = &s;
+    return srt_raster_triangles(&target, &rd, err);
+}
