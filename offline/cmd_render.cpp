@@ -13,7 +13,7 @@ namespace sepal {
 
 int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     sepal_ports::SceneSetup setup;
-    std::string backend = "exact", out_path, float_path, mask_text, err;
+    std::string backend = "exact", out_path, float_path, mask_text, diffuse_path, err;
     std::vector<std::string> positional;
     std::vector<char*> argv;
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -30,7 +30,7 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         }
         const std::string a = args[size_t(i)];
         const bool has_value = i + 1 < argc;
-        if ((a == "--backend" || a == "-o" || a == "--float" || a == "--mask") && !has_value) {
+        if ((a == "--backend" || a == "-o" || a == "--float" || a == "--mask" || a == "--diffuse") && !has_value) {
             std::fprintf(io.err, "sepal render: %s needs a value\n", a.c_str());
             return kExitBadInput;
         }
@@ -42,6 +42,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             float_path = args[size_t(++i)];
         } else if (a == "--mask") {
             mask_text = args[size_t(++i)];
+        } else if (a == "--diffuse") {
+            diffuse_path = args[size_t(++i)];
         } else if (a.size() > 1 && a[0] == '-') {
             std::fprintf(io.err, "sepal render: unknown option %s\nscene flags:\n%s", a.c_str(),
                          sepal_ports::scene_flags_help());
@@ -61,13 +63,19 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         uint32_t mask = 0;
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
+        sepal_ports::Rgba8Image diffuse;
+        if (!diffuse_path.empty() && !sepal_ports::read_diffuse_png(diffuse_path, &diffuse, &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
         if (!float_path.empty()) err = "--float: the GL backends render 8-bit images";
         if (err.empty() && file_extension(positional[0]) != "sepal")
             err = "backend gles1 renders a baked asset (.sepal); '" + positional[0] + "' is not one";
         if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
             !sepal_ports::load_scene_mesh(&setup, &err) ||
             !sepal_ports::read_asset_file(positional[0], &bytes, &err) ||
-            !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, 1, mask, &rgba, &info, &err)) {
+            !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, 1, mask,
+                                                diffuse_path.empty() ? nullptr : &diffuse, &rgba, &info, &err)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
@@ -88,8 +96,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1)\n", backend.c_str());
         return kExitBadInput;
     }
-    if (!mask_text.empty()) {
-        std::fprintf(io.err, "sepal render: --mask applies to the GL backends only\n");
+    if (!mask_text.empty() || !diffuse_path.empty()) {
+        std::fprintf(io.err, "sepal render: --mask and --diffuse apply to the baked-asset backends only\n");
         return kExitBadInput;
     }
     std::unique_ptr<Brdf> brdf = make_brdf(positional[0], &err);

@@ -19,7 +19,7 @@ const std::vector<Command>& commands() {
          "[--plot p.png] [--export DIR]",
          "separable factors of a BRDF with the error per number of terms", cmd_factor},
         {"render",
-         "SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] [scene flags] -o out.png [--float out.pfm]",
+         "SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]",
          "render a scene: exact (BRDF per pixel) or gles1 (a baked asset, headless)", cmd_render},
     };
     return table;

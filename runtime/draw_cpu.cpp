@@ -8,7 +8,7 @@
 
 namespace {
 
-constexpr int kVaryings = 10;  // world position 3, normal 3, tangent 4
+constexpr int kVaryings = 12;  // world position 3, normal 3, tangent 4, uv 2
 
 struct Shader {
     const srt_asset* asset;
@@ -18,7 +18,20 @@ struct Shader {
     float* color;
     int width;
     int below_horizon;
+    const uint8_t* diffuse;
+    int diffuse_w, diffuse_h;
 };
+
+// Bilinear, repeat wrapping, level 0: the diffuse map at a mesh UV (row 0 at v = 0).
+float diffuse_sample(const Shader& s, float u, float v, int c) {
+    const float x = u * (float)s.diffuse_w - 0.5f, y = v * (float)s.diffuse_h - 0.5f;
+    const float fx = floorf(x), fy = floorf(y), ax = x - fx, ay = y - fy;
+    auto wrap = [](int k, int n) { return ((k % n) + n) % n; };
+    const int x0 = wrap((int)fx, s.diffuse_w), x1 = wrap((int)fx + 1, s.diffuse_w);
+    const int y0 = wrap((int)fy, s.diffuse_h), y1 = wrap((int)fy + 1, s.diffuse_h);
+    auto at = [&](int i, int j) { return (float)s.diffuse[((size_t)j * s.diffuse_w + i) * 4 + c] / 255.0f; };
+    return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+}
 
 float texel(const srt_asset_texture& t, int i, int j, int c) {
     const srt_fmt_texture& d = t.desc;
@@ -107,7 +120,10 @@ void shade(void* user, int x, int y, float, const float* v) {
         for (int c = 0; c < 3; ++c) sum[c] += f[c] * wi[2] * falloff * light.intensity[c];
     }
     float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;
-    for (int c = 0; c < 3; ++c) out[c] = sum[c] > 0.0f ? sum[c] : 0.0f;  // light is never negative
+    for (int c = 0; c < 3; ++c) {
+        out[c] = sum[c] > 0.0f ? sum[c] : 0.0f;  // light is never negative
+        if (s.diffuse) out[c] *= diffuse_sample(s, v[10], v[11], c);
+    }
 }
 
 }  // namespace
@@ -143,6 +159,7 @@ extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
         memcpy(dst, v.position, 3 * sizeof(float));
         memcpy(dst + 3, v.normal, 3 * sizeof(float));
         memcpy(dst + 6, v.tangent, 4 * sizeof(float));
+        memcpy(dst + 10, v.uv, 2 * sizeof(float));
     }
     const size_t pixels = (size_t)d->width * (size_t)d->height;
     for (size_t p = 0; p < pixels; ++p)
@@ -156,6 +173,11 @@ extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
     s.scene = d->scene;
     s.color = d->color;
     s.width = d->width;
+    if (d->diffuse_rgba && d->diffuse_width > 0 && d->diffuse_height > 0) {
+        s.diffuse = d->diffuse_rgba;
+        s.diffuse_w = d->diffuse_width;
+        s.diffuse_h = d->diffuse_height;
+    }
     for (uint32_t i = 0; i < d->asset->texture_count; ++i) {
         const srt_fmt_texture& t = d->asset->textures[i].desc;
         (t.role == SRT_ROLE_G ? s.g : s.h)[t.term] = &d->asset->textures[i];

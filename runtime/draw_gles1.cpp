@@ -306,6 +306,24 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     glEnable(GL_BLEND);
     glBlendFunc(GL_DST_COLOR, GL_ONE);
     for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, false, kWhite);
+    // Diffuse map (Fig. 13): one more mesh pass multiplying the framebuffer by the
+    // texture at the mesh's UVs; after the doublings, so the product keeps their precision.
+    if (d->diffuse_texture) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_EQUAL);
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+        mesh_arrays(f, false);
+        bind_unit(GL_TEXTURE1, 0, nullptr);
+        glActiveTexture(GL_TEXTURE0);
+        glClientActiveTexture(GL_TEXTURE0);
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, d->diffuse_texture);
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+        glTexCoordPointer(2, GL_FLOAT, sizeof(srt_vertex), d->mesh->vertices[0].uv);
+        set_env_modulate(GL_TEXTURE, 0, 1);
+        draw_mesh(f);
+        glDisable(GL_DEPTH_TEST);
+    }
     // Background where no surface is: a quad at the far plane passes LEQUAL only there.
     const float* bg = d->scene->background;
     if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
@@ -327,4 +345,32 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     glDisableClientState(GL_COLOR_ARRAY);
     glDisableClientState(GL_VERTEX_ARRAY);
     return srt::gl_check("the final passes", err);
+}
+
+extern "C" srt_result srt_texture_create_rgba8(const uint8_t* rgba, int width, int height, uint32_t* out,
+                                               srt_error* err) {
+    if (!rgba || !out || width < 1 || height < 1 || (width & (width - 1)) || (height & (height - 1)))
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                         "texture: NULL pixels or %dx%d is not a power-of-two size", width, height);
+    GLuint name = 0;
+    glGenTextures(1, &name);
+    glBindTexture(GL_TEXTURE_2D, name);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexParameteri(GL_TEXTURE_2D, GL_GENERATE_MIPMAP, GL_TRUE);  // core in GL ES 1.1
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    srt_result r = srt::gl_check("diffuse texture upload", err);
+    if (r != SRT_OK) {
+        glDeleteTextures(1, &name);
+        return r;
+    }
+    *out = name;
+    return srt::ok(err);
+}
+
+extern "C" void srt_texture_destroy(uint32_t texture) {
+    if (texture) glDeleteTextures(1, &texture);
 }

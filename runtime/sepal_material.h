@@ -72,7 +72,16 @@ typedef struct srt_draw_desc {
     int width, height;       // the viewport, at most the material's max size
     float* scratch;          // srt_draw_scratch_floats() floats
     size_t scratch_floats;
+    // Optional diffuse texture map modulating the result per pixel at the mesh's UVs
+    // (Kautz-McCool Fig. 13): a GL texture name from srt_texture_create_rgba8, or 0.
+    uint32_t diffuse_texture;
 } srt_draw_desc;
+
+// Uploads an RGBA8 image (top row first, power-of-two sides) with a MIP chain, for use
+// as srt_draw_desc.diffuse_texture. Delete it with srt_texture_destroy.
+srt_result srt_texture_create_rgba8(const uint8_t* rgba, int width, int height, uint32_t* out,
+                                    srt_error* err);
+void srt_texture_destroy(uint32_t texture);
 
 typedef struct srt_draw_stats {
     int draw_calls;         // mesh passes, including the depth pre-pass
@@ -102,6 +111,10 @@ typedef struct srt_cpu_desc {
     float* depth;           // width * height floats of scratch
     float* scratch;         // srt_cpu_scratch_floats() floats
     size_t scratch_floats;
+    // Optional diffuse map, as srt_draw_desc.diffuse_texture: RGBA8, top row first,
+    // bilinear at level 0 with repeat wrapping; NULL for none.
+    const uint8_t* diffuse_rgba;
+    int diffuse_width, diffuse_height;
 } srt_cpu_desc;
 
 size_t srt_cpu_scratch_floats(int vertex_count);

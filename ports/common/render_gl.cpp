@@ -10,6 +10,17 @@
 
 #include "sepal_headless.h"
 
+// stb_image reads diffuse maps (the ports' PNG decoder; offline/ has its own copy).
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_ONLY_PNG
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
 namespace sepal_ports {
 
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err) {
@@ -55,9 +66,29 @@ bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
     return true;
 }
 
+bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err) {
+    int w = 0, h = 0, c = 0;
+    unsigned char* px = stbi_load(path.c_str(), &w, &h, &c, 4);
+    if (!px) {
+        *err = path + ": cannot read PNG: " + stbi_failure_reason();
+        return false;
+    }
+    const bool pow2 = w > 0 && h > 0 && !(w & (w - 1)) && !(h & (h - 1)) && w <= 4096 && h <= 4096;
+    if (pow2) {
+        out->width = w;
+        out->height = h;
+        out->pixels.assign(px, px + size_t(w) * h * 4);
+    } else {
+        *err = path + ": " + std::to_string(w) + "x" + std::to_string(h) +
+               " diffuse map: sides must be powers of two up to 4096 (GL ES 1.1)";
+    }
+    stbi_image_free(px);
+    return pow2;
+}
+
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup, int gles_version,
-                           uint32_t mask, std::vector<uint8_t>* rgba, GlRenderInfo* info,
-                           std::string* err) {
+                           uint32_t mask, const Rgba8Image* diffuse, std::vector<uint8_t>* rgba,
+                           GlRenderInfo* info, std::string* err) {
     // Large runtime structs live on the heap here: this is port code, not the runtime.
     auto asset = std::make_unique<srt_asset>();
     auto material = std::make_unique<srt_material>();
@@ -89,8 +120,11 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         d.height = setup.height;
         d.scratch = scratch.data();
         d.scratch_floats = scratch.size();
+        if (diffuse && srt_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
+                                                &d.diffuse_texture, &e) != SRT_OK)
+            ok = false;
         const auto start = std::chrono::steady_clock::now();
-        ok = srt_draw(&d, &info->stats, &e) == SRT_OK;
+        ok = ok && srt_draw(&d, &info->stats, &e) == SRT_OK;
         glFinish();
         info->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         rgba->resize(size_t(setup.width) * setup.height * 4);
@@ -103,6 +137,7 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
                      (material->has_negative_passes
                           ? (material->subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
                           : ", no subtraction");
+        srt_texture_destroy(d.diffuse_texture);
         srt_material_destroy(material.get());
     }
     sh_destroy(ctx);

@@ -25,9 +25,18 @@ struct GlRenderInfo {
     double ms = 0;       // time of srt_draw plus glFinish, one frame
 };
 
+// An RGBA8 image, top row first, power-of-two sides (a diffuse texture map).
+struct Rgba8Image {
+    int width = 0, height = 0;
+    std::vector<uint8_t> pixels;
+};
+
+// diffuse may be NULL (no diffuse map).
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup, int gles_version,
-                           uint32_t mask, std::vector<uint8_t>* rgba, GlRenderInfo* info,
-                           std::string* err);
+                           uint32_t mask, const Rgba8Image* diffuse, std::vector<uint8_t>* rgba,
+                           GlRenderInfo* info, std::string* err);
+// Reads a PNG (stb_image) as RGBA8; refuses non-power-of-two sizes.
+bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err);
 // Reads a whole asset file (bounded by the format's maximum size).
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err);
 // Parses "subtract,multitexture,fbo,npot" into SRT_MASK_* bits.

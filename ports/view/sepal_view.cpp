@@ -33,6 +33,7 @@ int usage(FILE* f, int code) {
             "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"
             "  --headless            render offscreen through EGL (the only mode in this build)\n"
             "  --gles N              GL ES version: 1 (fixed function, default) or 2\n"
+            "  --diffuse PNG         a diffuse texture map modulating the material (Fig. 13)\n"
             "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
             "                        multitexture, fbo, npot (comma-separated)\n"
             "  -o PATH               output PNG\n"
@@ -69,6 +70,7 @@ int main(int argc, char** argv) {
     uint32_t mask = 0;
     const char* out = nullptr;
     const char* asset_path = nullptr;
+    const char* diffuse_path = nullptr;
     sepal_ports::SceneSetup setup;
     std::string flag_err;
     for (int i = 1; i < argc; ++i) {
@@ -89,6 +91,8 @@ int main(int argc, char** argv) {
             gles = atoi(argv[++i]);
         } else if (!strcmp(a, "-o") && has_value) {
             out = argv[++i];
+        } else if (!strcmp(a, "--diffuse") && has_value) {
+            diffuse_path = argv[++i];
         } else if (!strcmp(a, "--mask") && has_value) {
             if (!sepal_ports::parse_mask(argv[++i], &mask, &flag_err)) {
                 fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
@@ -120,12 +124,14 @@ int main(int argc, char** argv) {
     if (asset_path) {
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
-        if (!sepal_ports::read_asset_file(asset_path, &bytes, &flag_err)) {
+        sepal_ports::Rgba8Image diffuse;
+        if (!sepal_ports::read_asset_file(asset_path, &bytes, &flag_err) ||
+            (diffuse_path && !sepal_ports::read_diffuse_png(diffuse_path, &diffuse, &flag_err))) {
             fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
             return 2;
         }
-        if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, gles, mask, &rgba,
-                                                &info, &flag_err)) {
+        if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, gles, mask,
+                                                diffuse_path ? &diffuse : nullptr, &rgba, &info, &flag_err)) {
             fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
             return 1;
         }
