@@ -6,6 +6,7 @@
 
 #include "internal.h"
 #include "sepal_material.h"
+#include "draw_internal.h"
 #include "vertex_setup.h"
 
 namespace {
@@ -216,47 +217,14 @@ void invert(Frame& f) {
 
 }  // namespace
 
-extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out, srt_error* err) {
-    if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
-        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
-    const srt_material* m = d->material;
-    if (m->texture_count == 0)
-        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
-    if (d->width < 1 || d->height < 1 || d->width > m->max_width || d->height > m->max_height)
-        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
-                         "draw: viewport %dx%d outside 1x1..%dx%d (the size given at creation)",
-                         d->width, d->height, m->max_width, m->max_height);
-    if (!d->mesh->vertices || !d->mesh->indices || d->mesh->vertex_count < 1 || d->mesh->index_count % 3)
-        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: empty or malformed mesh");
-    const size_t need = srt_draw_scratch_floats(d->mesh->vertex_count, d->scene->light_count);
-    if (d->scratch_floats < need)
-        return srt::fail(err, SRT_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
-                         d->scratch_floats, need);
-    float view[16], proj[16];
-    srt_result r = srt_scene_matrices(d->scene, d->width, d->height, view, proj, err);
-    if (r != SRT_OK) return r;
-    srt_draw_stats local_stats;
-    srt_draw_stats* stats = stats_out ? stats_out : &local_stats;
-    memset(stats, 0, sizeof *stats);
-    const srt::VertexSetupResult vs = srt::setup_vertices((srt_param)m->info.param,
-                                                          (srt_hemi_map)m->info.map, *d->mesh,
-                                                          *d->scene, d->scratch);
-    stats->below_horizon = vs.below_horizon;
-    // Exposure 2^-e: no partial sum over the lights above 1, no vertex colour above 1.
-    const int plan_doublings = (int)m->plan.doublings;
-    int e = -plan_doublings;
-    const float need_sum = vs.max_irradiance_sum * m->plan.peak_partial_sum;
-    const float need_color = vs.max_irradiance_single * m->max_pass_color;
-    if (need_sum > 0.0f) e = e > (int)ceilf(log2f(need_sum)) ? e : (int)ceilf(log2f(need_sum));
-    if (need_color > 0.0f) e = e > (int)ceilf(log2f(need_color)) ? e : (int)ceilf(log2f(need_color));
-    if (e > 30)
-        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
-                         "draw: irradiance %g at a vertex needs 2^%d doublings; lights too bright",
-                         (double)vs.max_irradiance_single, e + plan_doublings);
-    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, ldexpf(1.0f, -e), stats, false};
-    stats->exposure = f.exposure;
-    stats->doublings = plan_doublings + e;
+namespace srt {
 
+srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err) {
+    const srt_material* m = d->material;
+    srt_result r;
+    const float* proj = prep.proj;
+    const float* view = prep.view;
+    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -346,6 +314,8 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     glDisableClientState(GL_VERTEX_ARRAY);
     return srt::gl_check("the final passes", err);
 }
+
+}  // namespace srt
 
 extern "C" srt_result srt_texture_create_rgba8(const uint8_t* rgba, int width, int height, uint32_t* out,
                                                srt_error* err) {

@@ -1,0 +1,48 @@
+// srt_draw: validation, per-vertex set-up and exposure shared by the GL backends, then
+// dispatch to the GL ES 1.1 or GL ES 2 executor.
+#include <math.h>
+#include <string.h>
+
+#include "draw_internal.h"
+
+extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out, srt_error* err) {
+    if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
+    const srt_material* m = d->material;
+    if (m->texture_count == 0)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
+    if (d->width < 1 || d->height < 1 || d->width > m->max_width || d->height > m->max_height)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                         "draw: viewport %dx%d outside 1x1..%dx%d (the size given at creation)",
+                         d->width, d->height, m->max_width, m->max_height);
+    if (!d->mesh->vertices || !d->mesh->indices || d->mesh->vertex_count < 1 || d->mesh->index_count % 3)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: empty or malformed mesh");
+    const size_t need = srt_draw_scratch_floats(d->mesh->vertex_count, d->scene->light_count);
+    if (d->scratch_floats < need)
+        return srt::fail(err, SRT_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
+                         d->scratch_floats, need);
+    srt::FramePrep prep;
+    srt_result r = srt_scene_matrices(d->scene, d->width, d->height, prep.view, prep.proj, err);
+    if (r != SRT_OK) return r;
+    srt_draw_stats local_stats;
+    srt_draw_stats* stats = stats_out ? stats_out : &local_stats;
+    memset(stats, 0, sizeof *stats);
+    prep.vertices = srt::setup_vertices((srt_param)m->info.param, (srt_hemi_map)m->info.map, *d->mesh,
+                                        *d->scene, d->scratch);
+    stats->below_horizon = prep.vertices.below_horizon;
+    // Exposure 2^-e: no partial sum over the lights above 1, no vertex colour above 1.
+    const int plan_doublings = (int)m->plan.doublings;
+    int e = -plan_doublings;
+    const float need_sum = prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum;
+    const float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
+    if (need_sum > 0.0f && (int)ceilf(log2f(need_sum)) > e) e = (int)ceilf(log2f(need_sum));
+    if (need_color > 0.0f && (int)ceilf(log2f(need_color)) > e) e = (int)ceilf(log2f(need_color));
+    if (e > 30)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
+                         "draw: irradiance %g at a vertex needs 2^%d doublings; lights too bright",
+                         (double)prep.vertices.max_irradiance_single, e + plan_doublings);
+    prep.exposure = ldexpf(1.0f, -e);
+    stats->exposure = prep.exposure;
+    stats->doublings = plan_doublings + e;
+    return m->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err) : srt::draw_gles2(d, prep, stats, err);
+}

@@ -1,0 +1,17 @@
+// Shared by the GL backends' executors (internal): what srt_draw prepares per frame.
+#pragma once
+#include "sepal_material.h"
+#include "vertex_setup.h"
+
+namespace srt {
+
+struct FramePrep {
+    float view[16], proj[16];
+    VertexSetupResult vertices;
+    float exposure;  // 2^-e on the vertex colours (or the fused shaders' output)
+};
+
+srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err);
+srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err);
+
+}  // namespace srt
