@@ -1,5 +1,5 @@
-// sepal render SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] [scene flags] -o out.png
-//   [--float out.pfm]
+// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu
+//   [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
 #include <chrono>
 #include <cstring>
 
@@ -54,13 +54,14 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     }
     if (positional.size() != 1 || (out_path.empty() && float_path.empty())) {
         std::fprintf(io.err,
-                     "usage: sepal render SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] "
-                     "[scene flags] -o out.png [--float out.pfm]\nscene flags:\n%s",
+                     "usage: sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|"
+                     "gles2-fused-pixel|cpu [--mask LIST] [--diffuse PNG] [scene flags] -o out.png "
+                     "[--float out.pfm]\nscene flags:\n%s",
                      sepal_ports::scene_flags_help());
         return kExitBadInput;
     }
-    if (backend == "gles1") {
-        uint32_t mask = 0;
+    sepal_ports::GlRenderOptions opt;
+    if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") {
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
         sepal_ports::Rgba8Image diffuse;
@@ -68,15 +69,41 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
-        if (!float_path.empty()) err = "--float: the GL backends render 8-bit images";
+        opt.diffuse = diffuse_path.empty() ? nullptr : &diffuse;
+        if (!float_path.empty() && backend != "cpu") err = "--float: the GL backends render 8-bit images";
         if (err.empty() && file_extension(positional[0]) != "sepal")
-            err = "backend gles1 renders a baked asset (.sepal); '" + positional[0] + "' is not one";
-        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
+            err = "backend " + backend + " renders a baked asset (.sepal); '" + positional[0] + "' is not one";
+        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &opt.mask, &err) ||
             !sepal_ports::load_scene_mesh(&setup, &err) ||
-            !sepal_ports::read_asset_file(positional[0], &bytes, &err) ||
-            !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, 1, mask,
-                                                diffuse_path.empty() ? nullptr : &diffuse, &rgba, &info, &err)) {
+            !sepal_ports::read_asset_file(positional[0], &bytes, &err)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        if (backend == "cpu") {
+            std::vector<float> rgb;
+            double ms = 0;
+            if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, opt.diffuse, &rgb, &ms, &err)) {
+                std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+                return kExitBadInput;
+            }
+            Image img(setup.width, setup.height, 3);
+            img.data = rgb;
+            int64_t clipped = 0;
+            if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+                (!float_path.empty() && !write_pfm(float_path, img, &err))) {
+                std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+                return kExitBadInput;
+            }
+            std::fprintf(io.out, "backend    cpu, %dx%d, %.1f ms\n", setup.width, setup.height, ms);
+            if (!out_path.empty())
+                std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
+                             (long long)clipped);
+            if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
+            return kExitOk;
+        }
+        if (out_path.empty() ||
+            !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba, &info, &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", out_path.empty() ? "-o out.png is required" : err.c_str());
             return kExitBadInput;
         }
         const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
@@ -84,7 +111,7 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
-        std::fprintf(io.out, "backend    gles1, %dx%d, %.2f ms (%s)\n", setup.width, setup.height, info.ms,
+        std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
                      info.device.c_str());
         std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
                      info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
@@ -93,7 +120,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         return kExitOk;
     }
     if (backend != "exact") {
-        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1)\n", backend.c_str());
+        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu)\n",
+                     backend.c_str());
         return kExitBadInput;
     }
     if (!mask_text.empty() || !diffuse_path.empty()) {

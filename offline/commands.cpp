@@ -19,8 +19,10 @@ const std::vector<Command>& commands() {
          "[--plot p.png] [--export DIR]",
          "separable factors of a BRDF with the error per number of terms", cmd_factor},
         {"render",
-         "SPEC_OR_ASSET --backend exact|gles1 [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]",
-         "render a scene: exact (BRDF per pixel) or gles1 (a baked asset, headless)", cmd_render},
+         "SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu [--mask LIST] "
+         "[--diffuse PNG] [scene flags] -o out.png [--float out.pfm]",
+         "render a scene: exact (a BRDF per pixel), or a baked asset on GL ES (headless) or the CPU",
+         cmd_render},
     };
     return table;
 }

@@ -12,6 +12,8 @@ struct FramePrep {
 };
 
 srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err);
+srt_result create_gles2_programs(srt_material* m, srt_error* err);
+void destroy_gles2_programs(srt_material* m);
 srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err);
 
 }  // namespace srt

@@ -4,13 +4,14 @@
 
 #include "internal.h"
 #include "sepal_material.h"
+#include "draw_internal.h"
 #include "vertex_setup.h"
 
 namespace {
 
 // Uploads one texture with all its levels. 16-bit data is rounded to 8 bits row by row
 // through a stack buffer (no allocation).
-srt_result upload(const srt_asset_texture& t, GLuint name, srt_error* err) {
+srt_result upload(const srt_asset_texture& t, GLuint name, bool wrap, srt_error* err) {
     const srt_fmt_texture& d = t.desc;
     const GLenum format = d.channels == 1 ? GL_LUMINANCE : GL_RGB;
     glBindTexture(GL_TEXTURE_2D, name);
@@ -42,8 +43,9 @@ srt_result upload(const srt_asset_texture& t, GLuint name, srt_error* err) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
                     d.levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    // Factors clamp at the hemisphere's rim; elevation/azimuth's H is periodic in phi.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE);
     return srt::gl_check("texture upload", err);
 }
 
@@ -61,16 +63,13 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
     if (!caps || !asset || !out)
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "material: NULL argument");
     memset(out, 0, sizeof *out);
-    if (caps->gles_version != 1)
-        return srt::fail(err, SRT_ERR_UNSUPPORTED,
-                         "material: only the GL ES 1.1 path exists so far (context is GL ES %d)",
-                         caps->gles_version);
     if (max_width < 1 || max_height < 1 || max_width > caps->max_texture_size ||
         max_height > caps->max_texture_size)
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "material: viewport %dx%d out of 1..%d",
                          max_width, max_height, caps->max_texture_size);
     const srt_fmt_material& info = asset->material;
-    if (info.param != SRT_PARAM_IV && info.param != SRT_PARAM_GS_HALF && info.param != SRT_PARAM_VH)
+    if (caps->gles_version == 1 && info.param != SRT_PARAM_IV && info.param != SRT_PARAM_GS_HALF &&
+        info.param != SRT_PARAM_VH)
         return srt::fail(err, SRT_ERR_UNSUPPORTED,
                          "material: parameterization %u needs per-pixel evaluation (GL ES 2 or "
                          "CPU); GL ES 1.1 takes iv, gs-half or vh",
@@ -99,13 +98,29 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
             return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
                              "material: plan adds after subtracting (pass %u); partial sums could clamp", p);
     }
-    out->single_unit = caps->texture_units < 2;
+    // GL ES 2 guarantees 8 texture units; the one-unit path exists for GL ES 1.1.
+    out->single_unit = caps->gles_version == 1 && caps->texture_units < 2;
+    int group = caps->texture_units / 2;
+    if (group > 8) group = 8;
+    if (group > (int)info.terms) group = (int)info.terms;
+    out->fused_group = group > 0 ? group : 1;
     out->subtract_by_inversion = out->has_negative_passes && !caps->has_blend_subtract;
     out->texture_count = asset->texture_count;
     glGenTextures((GLsizei)asset->texture_count, out->gl_textures);
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
-        out->texture_role[i] = asset->textures[i].desc.role;
-        srt_result r = upload(asset->textures[i], out->gl_textures[i], err);
+        const srt_fmt_texture& td = asset->textures[i].desc;
+        out->texture_role[i] = td.role;
+        out->texture_term[i] = td.term;
+        for (int c = 0; c < 3; ++c) out->texture_scale[i][c] = td.scale[c], out->texture_bias[i][c] = td.bias[c];
+        const bool wrap = info.param == SRT_PARAM_ELEV_AZIM && td.role == SRT_ROLE_H;
+        srt_result r = upload(asset->textures[i], out->gl_textures[i], wrap, err);
+        if (r != SRT_OK) {
+            srt_material_destroy(out);
+            return r;
+        }
+    }
+    if (caps->gles_version == 2) {
+        srt_result r = srt::create_gles2_programs(out, err);
         if (r != SRT_OK) {
             srt_material_destroy(out);
             return r;
@@ -143,6 +158,7 @@ extern "C" void srt_material_destroy(srt_material* m) {
     if (!m) return;
     if (m->texture_count) glDeleteTextures((GLsizei)m->texture_count, m->gl_textures);
     if (m->copy_texture) glDeleteTextures(1, &m->copy_texture);
+    srt::destroy_gles2_programs(m);
     m->texture_count = 0;
     m->copy_texture = 0;
 }

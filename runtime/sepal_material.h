@@ -11,6 +11,13 @@
 //   srt_draw(&d, &stats, &err);                  // clears, draws all passes, scales up
 //   srt_material_destroy(&mat);
 //
+// GL ES 2 (shaders/): the same plan with tiny shaders (SRT_MODE_MULTIPASS), or fused
+// shaders summing every term in one pass per light, with per-vertex factor coordinates
+// as in the paper (SRT_MODE_FUSED_VERTEX) or everything per pixel (SRT_MODE_FUSED_PIXEL,
+// which also takes the rusinkiewicz and elevation/azimuth parameterizations). Fused
+// passes clamp each light's f at 0, as the CPU backend does; more terms than the texture
+// units hold are drawn in groups.
+//
 // How a frame is drawn on GL ES 1.1 (Kautz-McCool section 5): per vertex, on the CPU, the
 // factors' texture coordinates from wi and wo in the vertex frame, and the light's
 // irradiance cos(theta_i) I / d^2 as the vertex colour. A depth-only pre-pass lays down
@@ -49,6 +56,9 @@ typedef struct srt_material {
     uint32_t texture_count;
     uint32_t gl_textures[SRT_FMT_MAX_TEXTURES];
     uint32_t texture_role[SRT_FMT_MAX_TEXTURES];
+    uint32_t texture_term[SRT_FMT_MAX_TEXTURES];
+    float texture_scale[SRT_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
+    float texture_bias[SRT_FMT_MAX_TEXTURES][3];
     float max_pass_color;     // largest colour of any pass and channel (times rgb_scale)
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
@@ -56,7 +66,18 @@ typedef struct srt_material {
     uint32_t copy_texture;    // running sum (single-unit path), 0 when unused
     int copy_width, copy_height;  // power-of-two size of the copy texture
     int max_width, max_height;
+    // GL ES 2: shader programs compiled at creation (0 on GL ES 1.1).
+    uint32_t program_pass, program_fullscreen, program_mesh_texture;
+    uint32_t program_fused_vertex, program_fused_pixel;
+    int fused_group;  // terms summed per fused pass: min(terms, texture units / 2, 8)
 } srt_material;
+
+// How a material is drawn. GL ES 1.1 has only MULTIPASS.
+typedef enum srt_draw_mode {
+    SRT_MODE_MULTIPASS = 0,     // the asset's pass plan (GL ES 1.1, or GL ES 2 tiny shaders)
+    SRT_MODE_FUSED_VERTEX = 1,  // GL ES 2: one pass per light sums all terms; per-vertex coordinates
+    SRT_MODE_FUSED_PIXEL = 2,   // GL ES 2: the same with everything per pixel (any parameterization)
+} srt_draw_mode;
 
 srt_result srt_material_create(const srt_caps* caps, const srt_asset* asset, int max_width,
                                int max_height, srt_material* out, srt_error* err);
@@ -75,6 +96,7 @@ typedef struct srt_draw_desc {
     // Optional diffuse texture map modulating the result per pixel at the mesh's UVs
     // (Kautz-McCool Fig. 13): a GL texture name from srt_texture_create_rgba8, or 0.
     uint32_t diffuse_texture;
+    srt_draw_mode mode;      // 0: multipass
 } srt_draw_desc;
 
 // Uploads an RGBA8 image (top row first, power-of-two sides) with a MIP chain, for use
@@ -99,7 +121,7 @@ srt_result srt_draw(const srt_draw_desc* desc, srt_draw_stats* stats, srt_error*
 // (sepal_raster.h, pixel-aligned with GL), frames interpolated per pixel, the factors'
 // coordinates per pixel (every parameterization), textures decoded as scale * q + bias
 // and sampled bilinearly at level 0, f = sum_k G_k H_k evaluated directly (not through
-// the pass plan), radiance as in sepal_scene.h. For devices without a GPU and as the
+// the pass plan) and clamped at 0 per light, radiance as in sepal_scene.h. For devices without a GPU and as the
 // precise reference of the factored BRDF. No allocation: callers hand in the buffers;
 // the asset's bytes must stay alive.
 typedef struct srt_cpu_desc {

@@ -86,9 +86,12 @@ bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err
     return pow2;
 }
 
-bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup, int gles_version,
-                           uint32_t mask, const Rgba8Image* diffuse, std::vector<uint8_t>* rgba,
+bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
+                           const GlRenderOptions& options, std::vector<uint8_t>* rgba,
                            GlRenderInfo* info, std::string* err) {
+    const int gles_version = options.gles_version;
+    const uint32_t mask = options.mask;
+    const Rgba8Image* diffuse = options.diffuse;
     // Large runtime structs live on the heap here: this is port code, not the runtime.
     auto asset = std::make_unique<srt_asset>();
     auto material = std::make_unique<srt_material>();
@@ -120,6 +123,7 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         d.height = setup.height;
         d.scratch = scratch.data();
         d.scratch_floats = scratch.size();
+        d.mode = options.mode;
         if (diffuse && srt_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
                                                 &d.diffuse_texture, &e) != SRT_OK)
             ok = false;
@@ -133,7 +137,9 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
             std::snprintf(e.message, sizeof e.message, "reading the framebuffer back failed");
         }
         info->device = sh_describe(ctx);
-        info->path = std::string(material->single_unit ? "one texture unit (copy texture)" : "two texture units") +
+        static const char* const kModes[] = {"multipass", "fused, per-vertex coordinates", "fused, per pixel"};
+        info->path = std::string(gles_version == 2 ? "GL ES 2 " : "GL ES 1.1 ") + kModes[int(options.mode) % 3] + ", " +
+                     std::string(material->single_unit ? "one texture unit (copy texture)" : "two texture units") +
                      (material->has_negative_passes
                           ? (material->subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
                           : ", no subtraction");
@@ -143,6 +149,62 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
     sh_destroy(ctx);
     if (!ok) *err = e.message;
     return ok;
+}
+
+}  // namespace sepal_ports
+
+namespace sepal_ports {
+
+bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
+                      std::vector<float>* rgb, double* ms, std::string* err) {
+    auto asset = std::make_unique<srt_asset>();
+    srt_error e = {};
+    if (srt_asset_parse(bytes, size, asset.get(), &e) != SRT_OK) {
+        *err = e.message;
+        return false;
+    }
+    const size_t pixels = size_t(setup.width) * setup.height;
+    rgb->assign(pixels * 3, 0.0f);
+    std::vector<float> depth(pixels), scratch(srt_cpu_scratch_floats(setup.mesh.vertex_count));
+    srt_cpu_desc d = {};
+    d.asset = asset.get();
+    d.mesh = &setup.mesh;
+    d.scene = &setup.scene;
+    d.width = setup.width;
+    d.height = setup.height;
+    d.color = rgb->data();
+    d.depth = depth.data();
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    if (diffuse) {
+        d.diffuse_rgba = diffuse->pixels.data();
+        d.diffuse_width = diffuse->width;
+        d.diffuse_height = diffuse->height;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const bool ok = srt_draw_cpu(&d, &e) == SRT_OK;
+    if (ms) *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!ok) *err = e.message;
+    return ok;
+}
+
+bool parse_gl_backend(const std::string& name, GlRenderOptions* o) {
+    if (name == "gles1") {
+        o->gles_version = 1;
+        o->mode = SRT_MODE_MULTIPASS;
+    } else if (name == "gles2") {
+        o->gles_version = 2;
+        o->mode = SRT_MODE_MULTIPASS;
+    } else if (name == "gles2-fused") {
+        o->gles_version = 2;
+        o->mode = SRT_MODE_FUSED_VERTEX;
+    } else if (name == "gles2-fused-pixel") {
+        o->gles_version = 2;
+        o->mode = SRT_MODE_FUSED_PIXEL;
+    } else {
+        return false;
+    }
+    return true;
 }
 
 }  // namespace sepal_ports

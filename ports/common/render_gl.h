@@ -2,8 +2,9 @@
 //
 // Usage:
 //   std::vector<uint8_t> rgba; srt_draw_stats stats; std::string err;
-//   if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, 1, 0,
-//                                          &rgba, &stats, &err)) ...
+//   sepal_ports::GlRenderOptions opt;  // GL ES 1.1, no mask, multipass
+//   if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba,
+//                                          &info, &err)) ...
 //
 // Creates an offscreen context of the scene's size (ports/headless), queries its
 // capabilities with `mask` applied, uploads the material, draws one frame and reads it
@@ -31,12 +32,24 @@ struct Rgba8Image {
     std::vector<uint8_t> pixels;
 };
 
-// diffuse may be NULL (no diffuse map).
-bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup, int gles_version,
-                           uint32_t mask, const Rgba8Image* diffuse, std::vector<uint8_t>* rgba,
+struct GlRenderOptions {
+    int gles_version = 1;                 // 1 or 2
+    uint32_t mask = 0;                    // SRT_MASK_* bits
+    srt_draw_mode mode = SRT_MODE_MULTIPASS;
+    const Rgba8Image* diffuse = nullptr;  // optional diffuse map
+};
+
+bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
+                           const GlRenderOptions& options, std::vector<uint8_t>* rgba,
                            GlRenderInfo* info, std::string* err);
 // Reads a PNG (stb_image) as RGBA8; refuses non-power-of-two sizes.
 bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err);
+// The CPU backend: linear radiance floats (RGB, top row first), no GL.
+bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
+                      std::vector<float>* rgb, double* ms, std::string* err);
+// Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
+// false for others (cpu is not a GL backend).
+bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
 // Reads a whole asset file (bounded by the format's maximum size).
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err);
 // Parses "subtract,multitexture,fbo,npot" into SRT_MASK_* bits.

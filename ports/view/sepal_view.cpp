@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <string>
 #include <vector>
 
 #include "render_gl.h"
@@ -29,10 +30,14 @@ namespace {
 
 int usage(FILE* f, int code) {
     fprintf(f,
-            "usage: sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [scene flags] -o out.png\n"
+            "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [scene flags] -o out.png\n"
             "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"
             "  --headless            render offscreen through EGL (the only mode in this build)\n"
             "  --gles N              GL ES version: 1 (fixed function, default) or 2\n"
+            "  --mode M              GL ES 2: multipass (default), fused (per-vertex\n"
+            "                        coordinates) or fused-pixel\n"
+            "  --backend B           gles1, gles2, gles2-fused, gles2-fused-pixel or cpu\n"
+            "                        (sets --gles and --mode; cpu draws without GL)\n"
             "  --diffuse PNG         a diffuse texture map modulating the material (Fig. 13)\n"
             "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
             "                        multitexture, fbo, npot (comma-separated)\n"
@@ -68,6 +73,8 @@ int main(int argc, char** argv) {
     bool headless = false;
     int gles = 1;
     uint32_t mask = 0;
+    srt_draw_mode mode = SRT_MODE_MULTIPASS;
+    std::string backend;
     const char* out = nullptr;
     const char* asset_path = nullptr;
     const char* diffuse_path = nullptr;
@@ -91,6 +98,26 @@ int main(int argc, char** argv) {
             gles = atoi(argv[++i]);
         } else if (!strcmp(a, "-o") && has_value) {
             out = argv[++i];
+        } else if (!strcmp(a, "--backend") && has_value) {
+            sepal_ports::GlRenderOptions o;
+            backend = argv[++i];
+            if (sepal_ports::parse_gl_backend(backend, &o)) {
+                gles = o.gles_version;
+                mode = o.mode;
+            } else if (backend != "cpu") {
+                fprintf(stderr, "sepal-view: --backend '%s': gles1, gles2, gles2-fused, gles2-fused-pixel or cpu\n",
+                        backend.c_str());
+                return 2;
+            }
+        } else if (!strcmp(a, "--mode") && has_value) {
+            const char* m = argv[++i];
+            if (!strcmp(m, "multipass")) mode = SRT_MODE_MULTIPASS;
+            else if (!strcmp(m, "fused")) mode = SRT_MODE_FUSED_VERTEX;
+            else if (!strcmp(m, "fused-pixel")) mode = SRT_MODE_FUSED_PIXEL;
+            else {
+                fprintf(stderr, "sepal-view: --mode '%s': multipass, fused or fused-pixel\n", m);
+                return 2;
+            }
         } else if (!strcmp(a, "--diffuse") && has_value) {
             diffuse_path = argv[++i];
         } else if (!strcmp(a, "--mask") && has_value) {
@@ -130,8 +157,36 @@ int main(int argc, char** argv) {
             fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
             return 2;
         }
-        if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, gles, mask,
-                                                diffuse_path ? &diffuse : nullptr, &rgba, &info, &flag_err)) {
+        if (backend == "cpu") {
+            std::vector<float> rgb;
+            double ms = 0;
+            if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, diffuse_path ? &diffuse : nullptr,
+                                               &rgb, &ms, &flag_err)) {
+                fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
+                return 1;
+            }
+            rgba.resize(size_t(width) * height * 4);
+            for (size_t p = 0; p < size_t(width) * height; ++p) {
+                for (int c = 0; c < 3; ++c) {
+                    const float v = rgb[p * 3 + c];
+                    rgba[p * 4 + c] = (uint8_t)(v <= 0.0f ? 0 : v >= 1.0f ? 255 : (int)(v * 255.0f + 0.5f));
+                }
+                rgba[p * 4 + 3] = 255;
+            }
+            fprintf(stderr, "sepal-view: cpu backend, %.1f ms\n", ms);
+            if (!write_png_atomic(out, width, height, rgba.data())) {
+                fprintf(stderr, "sepal-view: could not write %s\n", out);
+                return 1;
+            }
+            printf("%s\n", out);
+            return 0;
+        }
+        sepal_ports::GlRenderOptions opt;
+        opt.gles_version = gles;
+        opt.mask = mask;
+        opt.mode = mode;
+        opt.diffuse = diffuse_path ? &diffuse : nullptr;
+        if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba, &info, &flag_err)) {
             fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
             return 1;
         }

@@ -1,0 +1,88 @@
+// Per-pixel evaluation of a factored material: frame, directions, factor coordinates
+// (runtime/param.cpp's maths), sum over terms and lights. Written for mediump: every
+// quantity is a direction, an angle, a texture coordinate or a radiance of modest range;
+// world positions stay within a few units of the origin in sepal's scenes.
+precision mediump float;
+uniform sampler2D u_g[MAX_TERMS];
+uniform sampler2D u_h[MAX_TERMS];
+uniform vec3 u_g_scale[MAX_TERMS];
+uniform vec3 u_g_bias[MAX_TERMS];
+uniform vec3 u_h_scale[MAX_TERMS];
+uniform vec3 u_h_bias[MAX_TERMS];
+uniform int u_terms;
+uniform float u_out_scale;
+uniform int u_param;  // srt_param
+uniform int u_map;    // srt_hemi_map
+uniform vec3 u_eye;
+uniform vec4 u_light_pos[8];  // w = 1: point light at xyz; w = 0: direction towards it
+uniform vec3 u_light_intensity[8];
+uniform int u_light_count;
+varying vec3 v_position;
+varying vec3 v_normal;
+varying vec4 v_tangent;
+
+vec2 hemi(vec3 a) {
+    if (u_map == 0) return 0.5 * (a.xy + 1.0);
+    return 0.5 * (a.xy / max(1.0 + a.z, 1e-4) + 1.0);
+}
+
+void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
+    vec3 hv = normalize(wi + wo);
+    if (u_param == 0) {  // iv
+        g = hemi(wi);
+        h = hemi(wo);
+    } else if (u_param == 1) {  // gs-half, Kautz-McCool eq. 6
+        vec3 tp = vec3(1.0, 0.0, 0.0) - hv.x * hv;
+        tp = dot(tp, tp) > 1e-6 ? normalize(tp) : normalize(vec3(0.0, 1.0, 0.0) - hv.y * hv);
+        vec3 sp = cross(hv, tp);
+        g = hemi(hv);
+        h = hemi(vec3(dot(wi, tp), dot(wi, sp), dot(wi, hv)));
+    } else if (u_param == 2) {  // vh
+        g = hemi(wo);
+        h = hemi(hv);
+    } else if (u_param == 3) {  // rusinkiewicz: h rotated to the pole
+        float ct = min(hv.z, 1.0);
+        float st = sqrt(max(0.0, 1.0 - ct * ct));
+        float phi = atan(hv.y, hv.x);
+        float cp = cos(phi), sn = sin(phi);
+        float x1 = wi.x * cp + wi.y * sn, y1 = -wi.x * sn + wi.y * cp;
+        g = hemi(hv);
+        h = hemi(vec3(x1 * ct - wi.z * st, y1, x1 * st + wi.z * ct));
+    } else {  // elevation/azimuth: G(theta_i, theta_o), H(phi_i, phi_o), H wraps
+        const float kPi = 3.14159265;
+        g = vec2(acos(clamp(wi.z, -1.0, 1.0)), acos(clamp(wo.z, -1.0, 1.0))) / (0.5 * kPi);
+        vec2 p = vec2(atan(wi.y, wi.x), atan(wo.y, wo.x));
+        p += vec2(p.x < 0.0 ? 2.0 * kPi : 0.0, p.y < 0.0 ? 2.0 * kPi : 0.0);
+        h = p / (2.0 * kPi);
+    }
+}
+
+void main() {
+    vec3 n = normalize(v_normal);
+    vec3 t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
+    t = dot(t, t) > 1e-8 ? normalize(t) : normalize(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) - n * n.x
+                                                                     : vec3(0.0, 1.0, 0.0) - n * n.y);
+    vec3 s = (v_tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+    vec3 e = normalize(u_eye - v_position);
+    vec3 wo = vec3(dot(e, t), dot(e, s), dot(e, n));
+    vec3 sum = vec3(0.0);
+    for (int l = 0; l < 8; ++l) {
+        if (l >= u_light_count) break;
+        vec3 to_light = u_light_pos[l].xyz - u_light_pos[l].w * v_position;
+        float falloff = u_light_pos[l].w > 0.5 ? 1.0 / max(dot(to_light, to_light), 1e-6) : 1.0;
+        vec3 li = normalize(to_light);
+        vec3 wi = vec3(dot(li, t), dot(li, s), dot(li, n));
+        if (wi.z <= 0.0 || wo.z <= 0.0) continue;
+        vec2 g, h;
+        coords(wi, wo, g, h);
+        vec3 f = vec3(0.0);
+        for (int k = 0; k < MAX_TERMS; ++k) {
+            if (k >= u_terms) break;
+            vec3 gv = texture2D(u_g[k], g).rgb * u_g_scale[k] + u_g_bias[k];
+            vec3 hv2 = texture2D(u_h[k], h).rgb * u_h_scale[k] + u_h_bias[k];
+            f += gv * hv2;
+        }
+        sum += max(f, 0.0) * wi.z * falloff * u_light_intensity[l];
+    }
+    gl_FragColor = vec4(sum * u_out_scale, 1.0);
+}

@@ -1,0 +1,19 @@
+// Fused material, per-vertex factor coordinates (as in the paper): one pass per light
+// sums every term. a_irradiance is cos(theta_i) I / d^2 for this light.
+attribute vec3 a_position;
+attribute vec2 a_uv_g;
+attribute vec2 a_uv_h;
+attribute vec3 a_irradiance;
+uniform mat4 u_mvp;
+// Every mesh pass tests depth EQUAL against the pre-pass (drawn with pass.vert): the
+// position must come out bit-identical across programs.
+invariant gl_Position;
+varying vec2 v_uv_g;
+varying vec2 v_uv_h;
+varying vec3 v_irradiance;
+void main() {
+    v_uv_g = a_uv_g;
+    v_uv_h = a_uv_h;
+    v_irradiance = a_irradiance;
+    gl_Position = u_mvp * vec4(a_position, 1.0);
+}

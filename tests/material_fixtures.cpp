@@ -1,0 +1,146 @@
+#include "material_fixtures.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "plan.h"
+
+namespace material_fx {
+
+
+// A texture of side n with the full MIP chain, q = fn(u, v) at texel centres.
+sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
+                                 float bias) {
+    sepal::AssetTexture t;
+    t.desc.width = t.desc.height = uint32_t(n);
+    t.desc.channels = 3;
+    t.desc.bits = 8;
+    t.desc.role = role;
+    t.desc.term = term;
+    for (int c = 0; c < 4; ++c) t.desc.scale[c] = scale, t.desc.bias[c] = bias;
+    uint32_t levels = 0;
+    for (int side = n; side >= 1; side /= 2) {
+        ++levels;
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i)
+                for (int c = 0; c < 3; ++c) {
+                    const float q = fn((i + 0.5f) / side, (j + 0.5f) / side, c);
+                    t.data.push_back(uint8_t(std::lround(std::fmin(1.0f, std::fmax(0.0f, q)) * 255.0f)));
+                }
+    }
+    t.desc.levels = levels;
+    return t;
+}
+
+srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, float color) {
+    srt_fmt_pass p{};
+    p.op = uint16_t(op);
+    p.blend = uint16_t(blend);
+    p.tex0 = t0;
+    p.tex1 = t1;
+    p.color[0] = p.color[1] = p.color[2] = color;
+    p.rgb_scale = 1;
+    return p;
+}
+
+sepal::AssetData base_asset(srt_param param, uint32_t terms) {
+    sepal::AssetData a;
+    a.material.param = param;
+    a.material.map = SRT_MAP_XY;
+    a.material.terms = terms;
+    a.material.channels = 3;
+    a.material.error_quantized = a.material.error_float = a.material.error_relative = NAN;
+    return a;
+}
+
+
+// Renders an asset through the runtime on GL ES 1.1 with a capability mask.
+Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::SceneSetup& s,
+                const sepal_ports::Rgba8Image* diffuse, int gles_version, srt_draw_mode mode) {
+    std::vector<uint8_t> bytes, rgba;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    sepal_ports::GlRenderInfo info;
+    // Fails on any GL error: srt_draw checks after every pass.
+    sepal_ports::GlRenderOptions opt;
+    opt.mask = mask;
+    opt.diffuse = diffuse;
+    opt.gles_version = gles_version;
+    opt.mode = mode;
+    REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &err), err);
+    Rendered out;
+    out.stats = info.stats;
+    out.path = info.path;
+    out.image = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+    return out;
+}
+
+// f = G0 H0 + G1 H1 with G1, H1 signed (stored with a bias): the plan needs every kind
+// of pass, subtractions included.
+sepal::AssetData signed_asset(srt_param param) {
+    sepal::AssetData a = base_asset(param, 2);
+    a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1.0f, [](float u, float v, int c) {
+        const float r2 = (u - 0.5f) * (u - 0.5f) + (v - 0.5f) * (v - 0.5f);
+        return std::exp(-r2 * 12.0f) * (0.8f + 0.1f * c);
+    }));
+    a.textures.push_back(make_texture(16, SRT_ROLE_H, 0, 0.3f, [](float u, float v, int) { return 0.5f + 0.5f * u * v; }));
+    a.textures.push_back(make_texture(16, SRT_ROLE_G, 1, 0.6f, [](float u, float, int) { return u; }, -0.3f));
+    a.textures.push_back(make_texture(16, SRT_ROLE_H, 1, 0.1f, [](float, float v, int) { return v; }, -0.02f));
+    std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
+    return a;
+}
+
+// Renders an asset with the CPU backend.
+sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup& s,
+                        const sepal_ports::Rgba8Image* diffuse) {
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    auto asset = std::make_unique<srt_asset>();
+    srt_error e{};
+    REQUIRE(srt_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SRT_OK);
+    sepal::Image img(s.width, s.height, 3);
+    std::vector<float> depth(size_t(s.width) * s.height), scratch(srt_cpu_scratch_floats(s.mesh.vertex_count));
+    srt_cpu_desc d = {};
+    d.asset = asset.get();
+    d.mesh = &s.mesh;
+    d.scene = &s.scene;
+    d.width = s.width;
+    d.height = s.height;
+    d.color = img.data.data();
+    d.depth = depth.data();
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    if (diffuse) {
+        d.diffuse_rgba = diffuse->pixels.data();
+        d.diffuse_width = diffuse->width;
+        d.diffuse_height = diffuse->height;
+    }
+    REQUIRE_MESSAGE(srt_draw_cpu(&d, &e) == SRT_OK, e.message);
+    return img;
+}
+
+sepal_ports::SceneSetup test_scene(const char* mesh, int lights) {
+    sepal_ports::SceneSetup s;
+    s.width = 128;
+    s.height = 96;
+    s.mesh_name = mesh;
+    s.scene.light_count = lights;
+    for (int l = 0; l < lights; ++l) {
+        srt_light& light = s.scene.lights[l];
+        light.type = l % 2 ? SRT_LIGHT_DIRECTIONAL : SRT_LIGHT_POINT;
+        light.position[0] = l % 2 ? -0.5f : 2.0f;
+        light.position[1] = l % 2 ? -1.0f : -2.5f;
+        light.position[2] = l % 2 ? 0.6f : 3.0f;
+        for (int c = 0; c < 3; ++c) light.intensity[c] = l % 2 ? 0.7f : 18.0f + 2.0f * c;
+    }
+    std::string err;
+    REQUIRE_MESSAGE(sepal_ports::load_scene_mesh(&s, &err), err);
+    return s;
+}
+
+}  // namespace material_fx
