@@ -44,6 +44,8 @@ HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
 SEPAL_MAIN   := offline/cmd/sepal.cpp
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(wildcard tests/*.cpp)
+BENCH_SRC    := $(wildcard tests/bench/*.cpp)
+BENCH_BINS   := $(patsubst tests/bench/%.cpp,$(BUILD)/bin/bench-%,$(BENCH_SRC))
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -62,6 +64,7 @@ BIN_TESTS    := $(BUILD)/bin/sepal-tests
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
 
+.SECONDARY:
 .PHONY: all build help deps run test test-asan test-build update-goldens bench clean check-runtime
 
 all: build ## the default: same as make build
@@ -101,7 +104,9 @@ update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@echo "sepal: no benchmarks yet (they arrive with the factorization engine)"
+	@$(MAKE) --no-print-directory -j$(NPROC) build $(BENCH_BINS)
+	@mkdir -p $(BUILD)/bench
+	@for b in $(BENCH_BINS); do echo "== $$b"; $$b $(BUILD)/bench $(BUILD) || exit 1; done
 
 clean: ## remove build/
 	rm -rf build
@@ -146,6 +151,12 @@ $(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SE
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
+
+# Benchmarks: one binary per tests/bench/*.cpp.
+$(BUILD)/bin/bench-%: $(BUILD)/obj/tests/bench/%.o $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
 
 # The runtime's rules, checked on every build: no iostream, no exceptions, no RTTI use,
 # no std::string in its headers (it is also compiled with -fno-exceptions -fno-rtti).
