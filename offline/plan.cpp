@@ -17,6 +17,11 @@ struct Coef {
 bool build_plan(AssetData* a, std::string* err) {
     const uint32_t terms = a->material.terms;
     const int channels = int(a->material.channels);
+    for (int c = 0; c < 3; ++c)
+        if (!(a->material.ratio[c] >= 0.0f) || !std::isfinite(a->material.ratio[c])) {
+            if (err) *err = "plan: the material's colour ratio must be finite and >= 0";
+            return false;
+        }
     std::vector<int> g(terms, -1), h(terms, -1);
     for (size_t i = 0; i < a->textures.size(); ++i) {
         const srt_fmt_texture& d = a->textures[i].desc;
@@ -38,15 +43,18 @@ bool build_plan(AssetData* a, std::string* err) {
         Coef tg{SRT_OP_TEXTURE, uint16_t(g[k]), SRT_FMT_NO_TEXTURE, {0, 0, 0}};
         Coef th{SRT_OP_TEXTURE, uint16_t(h[k]), SRT_FMT_NO_TEXTURE, {0, 0, 0}};
         Coef cst{SRT_OP_CONSTANT, SRT_FMT_NO_TEXTURE, SRT_FMT_NO_TEXTURE, {0, 0, 0}};
-        for (int c = 0; c < channels; ++c) {
-            if (!(G.scale[c] >= 0) || !(H.scale[c] >= 0)) {
+        for (int c = 0; c < 3; ++c) {
+            // One channel (luminance): the texture's channel 0, times the material's ratio.
+            const int t = channels == 1 ? 0 : c;
+            const double ratio = a->material.ratio[c];
+            if (!(G.scale[t] >= 0) || !(H.scale[t] >= 0)) {
                 if (err) *err = "plan: texture scales must be >= 0 (term " + std::to_string(k) + ")";
                 return false;
             }
-            prod.value[c] = double(G.scale[c]) * H.scale[c];
-            tg.value[c] = double(G.scale[c]) * H.bias[c];
-            th.value[c] = double(G.bias[c]) * H.scale[c];
-            cst.value[c] = double(G.bias[c]) * H.bias[c];
+            prod.value[c] = ratio * G.scale[t] * H.scale[t];
+            tg.value[c] = ratio * G.scale[t] * H.bias[t];
+            th.value[c] = ratio * G.bias[t] * H.scale[t];
+            cst.value[c] = ratio * G.bias[t] * H.bias[t];
         }
         for (const Coef& c : {prod, tg, th, cst}) coefs.push_back(c);
     }
@@ -57,7 +65,7 @@ bool build_plan(AssetData* a, std::string* err) {
             Coef part = c;
             bool any = false;
             for (int ch = 0; ch < 3; ++ch) {
-                const double v = ch < channels ? c.value[ch] : 0.0;
+                const double v = c.value[ch];
                 const bool mine = blend == SRT_BLEND_ADD ? v > 0 : v < 0;
                 part.value[ch] = mine ? std::fabs(v) : 0.0;
                 any = any || mine;

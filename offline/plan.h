@@ -6,7 +6,9 @@
 //   std::string err;
 //   if (!sepal::build_plan(&a, &err)) ...      // fills a.passes and a.plan
 //
-// Each texture stores q in [0,1] and means scale * q + bias (per channel). For a term
+// Each texture stores q in [0,1] and means scale * q + bias (per channel; a luminance
+// material's one channel is multiplied by material.ratio per channel, folded into the
+// pass colours). For a term
 // with G = aG qG + bG and H = aH qH + bH,
 //   G H = aG aH qG qH + aG bH qG + bG aH qH + bG bH          (Kautz-McCool section 5.1)
 // so a term is one PRODUCT pass, plus a TEXTURE pass per nonzero bias of the other

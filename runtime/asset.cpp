@@ -188,6 +188,15 @@ extern "C" srt_result srt_asset_parse(const void* bytes, size_t size, srt_asset*
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
                          "asset: unknown parameterization %u, map %u or colour mode %u", m.param,
                          m.map, m.color_mode);
+    for (int c = 0; c < 3; ++c)
+        if (!(m.ratio[c] >= 0.0f) || !isfinite(m.ratio[c]))
+            return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: colour ratio %g is not finite and >= 0",
+                             (double)m.ratio[c]);
+    if (!(m.ratio[0] + m.ratio[1] + m.ratio[2] > 0.0f))
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: colour ratio is all zero");
+    if ((m.channels == 1) != (m.color_mode == SRT_COLOR_LUMINANCE))
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
+                         m.channels, m.color_mode);
     if (m.terms < 1 || m.terms > SRT_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: %u terms (1..%d), %u channels (1 or 3)",
                          m.terms, SRT_FMT_MAX_TERMS, m.channels);

@@ -117,6 +117,7 @@ void shade(void* user, int x, int y, float, const float* v) {
             for (int c = 0; c < channels; ++c)
                 f[c] += sample(*s.g[k], guv[0], guv[1], c, false) * sample(*s.h[k], huv[0], huv[1], c, wraps_h);
         if (channels == 1) f[1] = f[2] = f[0];
+        for (int c = 0; c < 3; ++c) f[c] *= a.material.ratio[c];
         // A signed factorization can dip below 0 where f is near 0: clamp per light, as
         // the fused shaders do (a BRDF is never negative).
         for (int c = 0; c < 3; ++c) sum[c] += (f[c] > 0.0f ? f[c] : 0.0f) * wi[2] * falloff * light.intensity[c];

@@ -118,13 +118,9 @@ void fill_colors(const Frame& f, const srt_fmt_pass& pass, int light) {
     const int n = f.mesh->vertex_count;
     const float* e = srt::light_irradiance(f.scratch, n, light);
     float* c = srt::pass_colors(f.scratch, n, f.scene->light_count);
-    const bool mono = f.m->info.channels == 1;
     for (int i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) {
-            // Achromatic materials carry the light's colour in the vertex colour.
-            const float pc = mono ? pass.color[0] : pass.color[k];
-            c[4 * i + k] = pc * e[3 * i + k] * f.exposure;
-        }
+        // Per channel: a luminance material's colour ratio is in the pass colour.
+        for (int k = 0; k < 3; ++k) c[4 * i + k] = pass.color[k] * e[3 * i + k] * f.exposure;
         c[4 * i + 3] = 1.0f;
     }
 }

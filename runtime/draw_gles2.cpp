@@ -129,9 +129,8 @@ void multipass(const Frame& f) {
         if (pass.op == SRT_OP_PRODUCT) bind_texture(GL_TEXTURE1, m->gl_textures[pass.tex1]);
         for (int l = 0; l < lights; ++l) {
             const float* e = srt::light_irradiance(f.scratch, n, l);
-            const bool mono = m->info.channels == 1;
             for (int v = 0; v < n; ++v) {
-                for (int k = 0; k < 3; ++k) colors[4 * v + k] = (mono ? pass.color[0] : pass.color[k]) * e[3 * v + k] * f.exposure;
+                for (int k = 0; k < 3; ++k) colors[4 * v + k] = pass.color[k] * e[3 * v + k] * f.exposure;
                 colors[4 * v + 3] = 1.0f;
             }
             auto uv = [&](uint16_t tex) {
@@ -184,6 +183,7 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
     }
     (void)group;
     glUniform1i(loc(p, "u_terms"), count);
+    glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
     // The fused shaders compute f itself; 2^-D matches the plan's doublings.
     glUniform1f(loc(p, "u_out_scale"), ldexpf(f.exposure, -(int)m->plan.doublings));
     glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);

@@ -67,7 +67,7 @@ typedef enum srt_hemi_map { SRT_MAP_XY = 0, SRT_MAP_PARABOLIC = 1, SRT_MAP_COUNT
 
 typedef enum srt_color_mode {
     SRT_COLOR_PER_CHANNEL = 0,  // each channel factored on its own
-    SRT_COLOR_ACHROMATIC = 1,   // one channel, the same for R, G and B
+    SRT_COLOR_LUMINANCE = 1,    // one channel (luminance), times the material's ratio per channel
     SRT_COLOR_COUNT = 2
 } srt_color_mode;
 
@@ -119,7 +119,10 @@ typedef struct srt_fmt_material {
     float error_quantized;
     float error_float;
     float error_relative;
-    uint32_t reserved[7];
+    // Per-channel multiplier of f: a luminance factorization (1 channel) times its colour;
+    // (1, 1, 1) for per-channel factorizations. Finite, >= 0, not all 0.
+    float ratio[3];
+    uint32_t reserved[4];
 } srt_fmt_material;
 
 typedef struct srt_fmt_texture {

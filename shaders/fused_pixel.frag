@@ -10,6 +10,7 @@ uniform vec3 u_g_bias[MAX_TERMS];
 uniform vec3 u_h_scale[MAX_TERMS];
 uniform vec3 u_h_bias[MAX_TERMS];
 uniform int u_terms;
+uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
 uniform int u_param;  // srt_param
 uniform int u_map;    // srt_hemi_map
@@ -82,7 +83,7 @@ void main() {
             vec3 hv2 = texture2D(u_h[k], h).rgb * u_h_scale[k] + u_h_bias[k];
             f += gv * hv2;
         }
-        sum += max(f, 0.0) * wi.z * falloff * u_light_intensity[l];
+        sum += max(f * u_ratio, 0.0) * wi.z * falloff * u_light_intensity[l];
     }
     gl_FragColor = vec4(sum * u_out_scale, 1.0);
 }

@@ -9,6 +9,7 @@ uniform vec3 u_g_bias[MAX_TERMS];
 uniform vec3 u_h_scale[MAX_TERMS];
 uniform vec3 u_h_bias[MAX_TERMS];
 uniform int u_terms;
+uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
 varying vec2 v_uv_g;
 varying vec2 v_uv_h;
@@ -21,5 +22,5 @@ void main() {
         vec3 h = texture2D(u_h[k], v_uv_h).rgb * u_h_scale[k] + u_h_bias[k];
         f += g * h;
     }
-    gl_FragColor = vec4(max(f, 0.0) * v_irradiance * u_out_scale, 1.0);
+    gl_FragColor = vec4(max(f * u_ratio, 0.0) * v_irradiance * u_out_scale, 1.0);
 }

@@ -21,6 +21,7 @@ sepal::AssetData small_asset() {
     a.material.color_mode = SRT_COLOR_PER_CHANNEL;
     a.material.terms = 1;
     a.material.channels = 3;
+    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
     a.material.error_quantized = 0.01f;
     a.material.error_float = 0.009f;
     a.material.error_relative = 0.05f;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "material_fixtures.h"
+#include "plan.h"
 #include "test_util.h"
 
 using namespace material_fx;
@@ -117,4 +118,34 @@ TEST_CASE("sepal render and sepal-view: every asset backend, same images") {
     CHECK(sepal::read_image(dir + "/r.pfm", &pfm, &err));
     CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --backend metal -o " + dir +
                           "/x.png") == 2);
+}
+
+TEST_CASE("luminance materials: one channel times a colour ratio, on every backend") {
+    sepal::AssetData a = base_asset(SRT_PARAM_GS_HALF, 1);
+    a.material.color_mode = SRT_COLOR_LUMINANCE;
+    a.material.channels = 1;
+    a.material.ratio[0] = 1.0f;
+    a.material.ratio[1] = 0.5f;
+    a.material.ratio[2] = 0.25f;
+    a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1.0f, [](float u, float v, int) {
+        return std::exp(-((u - 0.5f) * (u - 0.5f) + (v - 0.5f) * (v - 0.5f)) * 10.0f); }, 0.0f, 1));
+    a.textures.push_back(make_texture(16, SRT_ROLE_H, 0, 0.4f, [](float u, float, int) { return 0.5f + 0.5f * u; }, 0.0f, 1));
+    std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
+    sepal_ports::SceneSetup s = test_scene("sphere", 2);
+    for (int l = 0; l < 2; ++l)  // white lights, so the image's colour is the ratio
+        for (int c = 0; c < 3; ++c) s.scene.lights[l].intensity[c] = s.scene.lights[l].intensity[0];
+    const sepal::Image cpu = render_cpu(a, s);
+    const Rendered es1 = render(a, 0, s), fused = render(a, 0, s, nullptr, 2, SRT_MODE_FUSED_PIXEL);
+    CHECK(sepal::diff_images(cpu, es1.image, 4.0).psnr > 35.0);
+    CHECK(sepal::diff_images(cpu, fused.image, 3.0).psnr > 40.0);
+    // The ratio shows: red : green : blue = 4 : 2 : 1 where the image is bright.
+    int checked = 0;
+    for (int p = 0; p < s.width * s.height; ++p)
+        if (cpu.data[size_t(p) * 3] > 0.3f) {
+            CHECK(cpu.data[size_t(p) * 3 + 1] == doctest::Approx(cpu.data[size_t(p) * 3] * 0.5f).epsilon(1e-4));
+            CHECK(es1.image.data[size_t(p) * 3 + 2] == doctest::Approx(es1.image.data[size_t(p) * 3] * 0.25f).epsilon(0.05));
+            ++checked;
+        }
+    CHECK(checked > 50);
 }

@@ -13,10 +13,10 @@ namespace material_fx {
 
 // A texture of side n with the full MIP chain, q = fn(u, v) at texel centres.
 sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
-                                 float bias) {
+                                 float bias, int channels) {
     sepal::AssetTexture t;
     t.desc.width = t.desc.height = uint32_t(n);
-    t.desc.channels = 3;
+    t.desc.channels = uint32_t(channels);
     t.desc.bits = 8;
     t.desc.role = role;
     t.desc.term = term;
@@ -26,7 +26,7 @@ sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scal
         ++levels;
         for (int j = 0; j < side; ++j)
             for (int i = 0; i < side; ++i)
-                for (int c = 0; c < 3; ++c) {
+                for (int c = 0; c < channels; ++c) {
                     const float q = fn((i + 0.5f) / side, (j + 0.5f) / side, c);
                     t.data.push_back(uint8_t(std::lround(std::fmin(1.0f, std::fmax(0.0f, q)) * 255.0f)));
                 }
@@ -52,6 +52,7 @@ sepal::AssetData base_asset(srt_param param, uint32_t terms) {
     a.material.map = SRT_MAP_XY;
     a.material.terms = terms;
     a.material.channels = 3;
+    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
     a.material.error_quantized = a.material.error_float = a.material.error_relative = NAN;
     return a;
 }

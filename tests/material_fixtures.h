@@ -16,7 +16,7 @@ using TexFn = std::function<float(float u, float v, int channel)>;
 
 // A texture of side n with the full MIP chain, q = fn(u, v) at texel centres.
 sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
-                                 float bias = 0.0f);
+                                 float bias = 0.0f, int channels = 3);
 srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, float color);
 sepal::AssetData base_asset(srt_param param, uint32_t terms);
 

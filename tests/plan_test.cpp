@@ -21,6 +21,7 @@ sepal::AssetData random_asset(uint32_t terms, bool signed_factors) {
     sepal::AssetData a;
     a.material.terms = terms;
     a.material.channels = 3;
+    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
     for (uint32_t k = 0; k < terms; ++k)
         for (uint32_t role = 0; role < 2; ++role) {
             sepal::AssetTexture t;

@@ -44,6 +44,7 @@ sepal::AssetData synthetic_asset(int terms) {
     a.material.map = SRT_MAP_XY;
     a.material.terms = uint32_t(terms);
     a.material.channels = 3;
+    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
     for (int k = 0; k < terms; ++k)
         for (uint32_t role = 0; role < 2; ++role) {
             sepal::AssetTexture t;
