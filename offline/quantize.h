@@ -1,0 +1,39 @@
+// Quantization of float factor textures into the asset's 8- or 16-bit textures.
+//
+// Usage:
+//   sepal::QuantizeOptions opt;  opt.bits = 8;  opt.mips = true;
+//   sepal::AssetTexture tex; std::string err;
+//   if (!sepal::quantize_texture(values, n, channels, opt, &tex, &err)) ...
+//   // tex.desc: size, levels, channels, bits, scale and bias; tex.data: every level
+//   std::vector<float> back = sepal::dequantize_level0(tex);   // for measuring the error
+//
+// Per channel, a texture stores q = (v - bias) / scale in [0, 1] with the full range
+// used: bias = 0 and scale = max for non-negative channels, bias = min and scale =
+// max - min for signed ones (the plan's correction passes handle the bias). MIP levels
+// are 2x2 box averages of the float values, quantized with the level-0 scale and bias
+// (averages stay inside [min, max]). Role and term are left for the caller.
+// Limits: power-of-two sides 1..1024 (GL ES 1.1 needs powers of two and MIP chains);
+// values must be finite.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "asset_file.h"
+
+namespace sepal {
+
+struct QuantizeOptions {
+    int bits = 8;      // 8 or 16
+    bool mips = true;  // full MIP chain (GL ES 1.1 minification without aliasing)
+};
+
+struct QuantizeStats {
+    double max_error[3] = {0, 0, 0};  // largest |v - dequantized| at level 0, per channel
+};
+
+bool quantize_texture(const float* values, int n, int channels, const QuantizeOptions& options,
+                      AssetTexture* out, std::string* err, QuantizeStats* stats = nullptr);
+// The level-0 values the texture stands for: scale * q + bias.
+std::vector<float> dequantize_level0(const AssetTexture& t);
+
+}  // namespace sepal
