@@ -30,6 +30,48 @@ bool has_extension(const char* list, const char* name) {
     return false;
 }
 
+bool normalize3(float* v) {
+    const float l = sqrtf(dot3(v, v));
+    if (!(l > 1e-20f) || !isfinite(l)) return false;
+    v[0] /= l, v[1] /= l, v[2] /= l;
+    return true;
+}
+
+bool shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f) {
+    float* n = f->n;
+    float* t = f->t;
+    n[0] = normal[0], n[1] = normal[1], n[2] = normal[2];
+    if (!normalize3(n)) n[0] = 0, n[1] = 0, n[2] = 1;
+    t[0] = tangent[0], t[1] = tangent[1], t[2] = tangent[2];
+    float d = dot3(t, n);
+    for (int k = 0; k < 3; ++k) t[k] -= d * n[k];
+    bool ok = normalize3(t);
+    if (!ok) {
+        const float axis[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
+        d = dot3(axis, n);
+        for (int k = 0; k < 3; ++k) t[k] = axis[k] - d * n[k];
+        normalize3(t);
+    }
+    const float hand = tangent[3] < 0.0f ? -1.0f : 1.0f;
+    f->s[0] = hand * (n[1] * t[2] - n[2] * t[1]);
+    f->s[1] = hand * (n[2] * t[0] - n[0] * t[2]);
+    f->s[2] = hand * (n[0] * t[1] - n[1] * t[0]);
+    return ok;
+}
+
+float light_direction(const srt_light& light, const float position[3], float dir[3]) {
+    float falloff = 1.0f;
+    if (light.type == SRT_LIGHT_POINT) {
+        for (int k = 0; k < 3; ++k) dir[k] = light.position[k] - position[k];
+        const float d2 = dot3(dir, dir);
+        falloff = d2 > 1e-12f ? 1.0f / d2 : 0.0f;
+    } else {
+        for (int k = 0; k < 3; ++k) dir[k] = light.position[k];
+    }
+    normalize3(dir);
+    return falloff;
+}
+
 }  // namespace srt
 
 extern "C" void srt_mat4_perspective(float fovy_degrees, float aspect, float z_near,

@@ -63,49 +63,23 @@ float sample(const srt_asset_texture& t, float u, float v, int c, bool wrap) {
            ay * ((1 - ax) * texel(t, x0, y1, c) + ax * texel(t, x1, y1, c));
 }
 
-inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-inline bool normalize3(float* v) {
-    const float l = sqrtf(dot3(v, v));
-    if (!(l > 1e-20f)) return false;
-    v[0] /= l, v[1] /= l, v[2] /= l;
-    return true;
-}
-
 void shade(void* user, int x, int y, float, const float* v) {
     Shader& s = *static_cast<Shader*>(user);
     const srt_asset& a = *s.asset;
-    float n[3] = {v[3], v[4], v[5]};
-    if (!normalize3(n)) n[0] = 0, n[1] = 0, n[2] = 1;
-    float t[3] = {v[6], v[7], v[8]};
-    float d = dot3(t, n);
-    for (int k = 0; k < 3; ++k) t[k] -= d * n[k];
-    if (!normalize3(t)) {
-        const float axis[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
-        d = dot3(axis, n);
-        for (int k = 0; k < 3; ++k) t[k] = axis[k] - d * n[k];
-        normalize3(t);
-    }
-    const float hand = v[9] < 0.0f ? -1.0f : 1.0f;
-    const float b[3] = {hand * (n[1] * t[2] - n[2] * t[1]), hand * (n[2] * t[0] - n[0] * t[2]),
-                        hand * (n[0] * t[1] - n[1] * t[0])};
+    srt::ShadingFrame fr;
+    srt::shading_frame(v + 3, v + 6, &fr);
     float to_eye[3] = {s.scene->camera.eye[0] - v[0], s.scene->camera.eye[1] - v[1], s.scene->camera.eye[2] - v[2]};
-    normalize3(to_eye);
-    const float wo[3] = {dot3(to_eye, t), dot3(to_eye, b), dot3(to_eye, n)};
+    srt::normalize3(to_eye);
+    float wo[3];
+    fr.to_local(to_eye, wo);
     const bool wraps_h = a.material.param == SRT_PARAM_ELEV_AZIM;
     const int channels = (int)a.material.channels;
     float sum[3] = {0, 0, 0};
     for (int l = 0; l < s.scene->light_count; ++l) {
         const srt_light& light = s.scene->lights[l];
-        float to_light[3], falloff = 1.0f;
-        if (light.type == SRT_LIGHT_POINT) {
-            for (int k = 0; k < 3; ++k) to_light[k] = light.position[k] - v[k];
-            const float d2 = dot3(to_light, to_light);
-            falloff = d2 > 1e-12f ? 1.0f / d2 : 0.0f;
-        } else {
-            for (int k = 0; k < 3; ++k) to_light[k] = light.position[k];
-        }
-        normalize3(to_light);
-        const float wi[3] = {dot3(to_light, t), dot3(to_light, b), dot3(to_light, n)};
+        float to_light[3], wi[3];
+        const float falloff = srt::light_direction(light, v, to_light);
+        fr.to_local(to_light, wi);
         float guv[2], huv[2];
         if (srt_param_texcoords_pixel((srt_param)a.material.param, (srt_hemi_map)a.material.map, wi, wo, guv,
                                       huv) <= 0) {

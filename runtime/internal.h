@@ -1,6 +1,7 @@
 // Runtime internals shared by its translation units (not part of the API).
 #pragma once
 #include "sepal_rt.h"
+#include "sepal_scene.h"
 
 namespace srt {
 
@@ -18,6 +19,26 @@ inline srt_result ok(srt_error* err) {
 
 // Whole-word search in a space-separated GL extension string.
 bool has_extension(const char* list, const char* name);
+
+// ---- small vector maths shared by the backends ----
+inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+// Normalizes v in place; false (v unchanged) when it is too short to have a direction.
+bool normalize3(float* v);
+
+// An orthonormal shading frame (t, s, n) from a (possibly interpolated) normal and a
+// tangent with handedness in w: Gram-Schmidt, with any perpendicular tangent when the
+// given one is degenerate. Returns false when that fallback was needed.
+struct ShadingFrame {
+    float t[3], s[3], n[3];
+    void to_local(const float* w, float* out) const {
+        out[0] = dot3(w, t), out[1] = dot3(w, s), out[2] = dot3(w, n);
+    }
+};
+bool shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f);
+
+// Unit direction from a surface point towards a light, and the light's falloff there
+// (1/d^2 for point lights, 1 for directional ones).
+float light_direction(const struct srt_light& light, const float position[3], float dir[3]);
 
 // Returns SRT_OK, or drains GL's error flags and fills err naming `what`. Works on
 // either GL ES version (glGetError is common to both).

@@ -101,27 +101,9 @@ sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup
     std::vector<uint8_t> bytes;
     std::string err;
     REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
-    auto asset = std::make_unique<srt_asset>();
-    srt_error e{};
-    REQUIRE(srt_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SRT_OK);
     sepal::Image img(s.width, s.height, 3);
-    std::vector<float> depth(size_t(s.width) * s.height), scratch(srt_cpu_scratch_floats(s.mesh.vertex_count));
-    srt_cpu_desc d = {};
-    d.asset = asset.get();
-    d.mesh = &s.mesh;
-    d.scene = &s.scene;
-    d.width = s.width;
-    d.height = s.height;
-    d.color = img.data.data();
-    d.depth = depth.data();
-    d.scratch = scratch.data();
-    d.scratch_floats = scratch.size();
-    if (diffuse) {
-        d.diffuse_rgba = diffuse->pixels.data();
-        d.diffuse_width = diffuse->width;
-        d.diffuse_height = diffuse->height;
-    }
-    REQUIRE_MESSAGE(srt_draw_cpu(&d, &e) == SRT_OK, e.message);
+    REQUIRE_MESSAGE(sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, diffuse, &img.data, nullptr, &err),
+                    err);
     return img;
 }
 
