@@ -77,7 +77,9 @@ std::unique_ptr<Brdf> make_analytic_brdf(const std::string& spec, std::string* e
 static bool prepare(const dvec3& w, dvec3* out) {
     if (!(w.z > 0.0) || !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
         return false;
-    const double len = std::hypot(std::hypot(w.x, w.y), w.z);  // no overflow for huge input
+    double len = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+    if (!(len > 0.0 && len < 1e150))  // squares over- or underflowed: the slow exact way
+        len = std::hypot(std::hypot(w.x, w.y), w.z);
     if (!(len > 0.0) || !std::isfinite(len)) return false;
     dvec3 u = w / len;
     if (u.z < kMinCos) {
@@ -334,15 +336,21 @@ class HapkeLommel final : public AnalyticBrdf {
                       wi.x * wo.y - wi.y * wo.x);
         const double sin_a = std::sqrt(x.x * x.x + x.y * x.y + x.z * x.z);
         const double cos_a = std::clamp(wi.x * wo.x + wi.y * wo.y + wi.z * wo.z, -1.0, 1.0);
-        const double alpha = std::atan2(sin_a, cos_a);
         // Lambert-sphere phase function plus Hapke's forward-scattering term.
-        const double phase =
-            (sin_a + (kPi - alpha) * cos_a) / kPi + f_ * (1.0 - cos_a) * (1.0 - cos_a);
+        const double phase = lambert_sphere(sin_a, cos_a) + f_ * (1.0 - cos_a) * (1.0 - cos_a);
         const double s = 2.0 / (3.0 * kPi) * phase;
         return r_ * (s * retro(sin_a, cos_a) / (wi.z + wo.z));
     }
 
   private:
+    // (sin a + (pi - a) cos a) / pi. Near a = pi (grazing forward scattering) the two terms
+    // cancel to (pi - a)^3 / 3: there, with d = pi - a, sin d - d cos d by its series.
+    static double lambert_sphere(double sin_a, double cos_a) {
+        const double d = std::atan2(sin_a, -cos_a);  // pi - a, accurate when small
+        if (d > 0.1) return (sin_a + d * cos_a) / kPi;
+        const double d2 = d * d;
+        return d * d2 * (1.0 / 3.0 - d2 * (1.0 / 30.0 - d2 * (1.0 / 840.0 - d2 / 45360.0))) / kPi;
+    }
     // Hapke's retrodirective function B(alpha, g): 2 at alpha = 0, falling to 1 at 90
     // degrees and beyond. With x = g / tan(alpha):
     //   B = 2 - (1 - e^-x)(3 - e^-x) / (2x).
@@ -407,7 +415,7 @@ const ModelEntry& blinn_entry() {
         "normalized Blinn-Phong: rho_d/pi + rho_s (n+8)/(8 pi) (n.h)^n",
         "Blinn 1977, Models of light reflection for computer synthesized pictures; (n+8)/(8 pi) "
         "normalization from Akenine-Moller, Haines and Hoffman, Real-Time Rendering 3rd ed. "
-        "(2008), eq. 7.49",
+        "(2008)",
         {{"rho_d", ParamKind::kColour, 0.3, 0.0, 1.0, "diffuse albedo"},
          {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular weight"},
          {"n", ParamKind::kScalar, 100.0, 0.0, 1e6, "exponent"}},
@@ -434,7 +442,7 @@ const ModelEntry& oren_nayar_entry() {
         "oren-nayar",
         "Oren-Nayar qualitative model: rho/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) "
         "tan(beta))",
-        "Oren and Nayar 1994, Generalization of Lambert's reflectance model, eq. 30",
+        "Oren and Nayar 1994, Generalization of Lambert's reflectance model (the qualitative model)",
         {{"rho", ParamKind::kColour, 0.8, 0.0, 1.0, "albedo"},
          {"sigma", ParamKind::kScalar, 0.3, 0.0, kPi / 2, "facet slope deviation (radians)"}},
         {},

@@ -47,7 +47,7 @@
 //                      d [0.1] [0,1], Rd colour [0.12/0.22/0.48] [0,1], s [0.9] [0,1],
 //                      F0 colour [= Rd] [0,1], m [0.2] [1e-4,1].
 //                      Energy conserving when d max(Rd) + s <= 1.
-//   ashikhmin-shirley  Ashikhmin and Shirley 2000 anisotropic Phong (eqs. 4, 5), Schlick F:
+//   ashikhmin-shirley  Ashikhmin and Shirley 2000 anisotropic Phong, Schlick F:
 //                      Rd colour [0.5] [0,1], Rs colour [0.05] [0,1], nu [100] (along x) and
 //                      nv [10] (along y) in [0,1e6].
 //   poulin-fournier    Poulin and Fournier 1990 microcylinders, cylinders along x. Evaluated
@@ -64,7 +64,7 @@
 //                      B = 2 - (1-e^-x)(3-e^-x)/(2x), x = g/tan a, for a < 90 deg, else 1.
 //                      g [0.6] [0,100], f [0.1] [0,1], r colour [1] [0,1] (Lawrence et al.
 //                      2004 Table 1). Not energy conserving (B doubles the back-scatter).
-//   oren-nayar         Oren and Nayar 1994 qualitative model (eq. 30):
+//   oren-nayar         Oren and Nayar 1994 qualitative model:
 //                      rho/pi (A + B max(0, cos(phi_i-phi_o)) sin(alpha) tan(beta)),
 //                      A = 1 - 0.5 s^2/(s^2+0.33), B = 0.45 s^2/(s^2+0.09).
 //                      rho colour [0.8] [0,1], sigma [0.3] radians [0, pi/2]. Energy
