@@ -42,8 +42,12 @@ struct Profile2D {
 class PoulinFournier final : public AnalyticBrdf {
   public:
     PoulinFournier(const ModelEntry& e, const ParamSet& p)
-        : AnalyticBrdf(e, p), d_(scalar("d")), h_(scalar("h")), n_(scalar("n")),
-          rs_(colour("Rs")), rd_(colour("Rd")) {
+        : AnalyticBrdf(e, p),
+          d_(scalar("d")),
+          h_(scalar("h")),
+          n_(scalar("n")),
+          rs_(colour("Rs")),
+          rd_(colour("Rd")) {
         psi_max_ = std::acos(std::clamp(-h_, -1.0, 1.0));
         c_ = std::sqrt(std::max(0.0, 1.0 - h_ * h_));
         gauss_legendre(kGL, gx_, gw_);
@@ -139,8 +143,8 @@ class PoulinFournier final : public AnalyticBrdf {
     }
 
     // Integral over psi in [A, B] of (m.wi)(m.wo) max(0, 2 (m.wi)(m.wo) - wi.wo)^n.
-    double spec_integral(const Profile2D& pi, const Profile2D& po, const dvec3& wi,
-                         const dvec3& wo, double dot_io, double A, double B) const {
+    double spec_integral(const Profile2D& pi, const Profile2D& po, const dvec3& wi, const dvec3& wo,
+                         double dot_io, double A, double B) const {
         const double aa = pi.a * po.a, xx = wi.x * wo.x;
         const double peak = aa - xx;  // the largest r_m.wo over psi
         if (!(peak > 0.0) || !(aa > 0.0)) return 0.0;

@@ -43,8 +43,7 @@ class Brdf;
 // Directional albedo rho(wi) = integral of f(wi, wo) cos(theta_o) d(wo) over the upper
 // hemisphere, per channel; wi at (theta_i, phi_i) in radians. samples >= 8 (rounded up to
 // a multiple of 8). See the accuracy note above.
-glm::dvec3 directional_albedo(const Brdf& f, double theta_i, int samples = 128,
-                              double phi_i = 0.0);
+glm::dvec3 directional_albedo(const Brdf& f, double theta_i, int samples = 128, double phi_i = 0.0);
 
 // Gauss-Legendre nodes and weights on [-1, 1]; n in [1, 64]. Deterministic (Newton
 // iterations from fixed starts), accurate to ~1e-15.
