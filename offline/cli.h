@@ -60,5 +60,7 @@ int cmd_info(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_gen_merl(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_factor(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_render(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_bake(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

@@ -18,6 +18,12 @@ const std::vector<Command>& commands() {
          "SPEC [--param P] [--map M] [--res N] [--terms K] [--method M] [--report r.json] "
          "[--plot p.png] [--export DIR]",
          "separable factors of a BRDF with the error per number of terms", cmd_factor},
+        {"bake",
+         "SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] [--method M,..] "
+         "[--colour rgb|luminance] [--bits 8|16] [--max-error E] [--max-passes P] [--max-bytes B] "
+         "[--report r.json] [--export DIR] [--threads N]",
+         "bake a BRDF into a shipping asset: the cheapest candidate meeting the budgets", cmd_bake},
+        {"inspect", "FILE.sepal", "validate and print an asset", cmd_inspect},
         {"render",
          "SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu [--mask LIST] "
          "[--diffuse PNG] [scene flags] -o out.png [--float out.pfm]",

@@ -44,5 +44,13 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     prep.exposure = ldexpf(1.0f, -e);
     stats->exposure = prep.exposure;
     stats->doublings = plan_doublings + e;
+    const float need_fused = prep.vertices.max_irradiance_sum * m->plan.peak_value;
+    prep.fused_doublings = need_fused > 0.0f ? (int)ceilf(log2f(need_fused)) : 0;
+    if (prep.fused_doublings < 0) prep.fused_doublings = 0;
+    prep.fused_exposure = ldexpf(1.0f, -prep.fused_doublings);
+    if (d->mode != SRT_MODE_MULTIPASS) {
+        stats->exposure = prep.fused_exposure;
+        stats->doublings = prep.fused_doublings;
+    }
     return m->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err) : srt::draw_gles2(d, prep, stats, err);
 }

@@ -184,8 +184,8 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
     (void)group;
     glUniform1i(loc(p, "u_terms"), count);
     glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
-    // The fused shaders compute f itself; 2^-D matches the plan's doublings.
-    glUniform1f(loc(p, "u_out_scale"), ldexpf(f.exposure, -(int)m->plan.doublings));
+    // The fused shaders compute f itself: scaled by the frame's fused exposure.
+    glUniform1f(loc(p, "u_out_scale"), f.exposure);
     glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
 }
 
@@ -291,7 +291,7 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     } else if (d->mode != SRT_MODE_FUSED_PIXEL) {
         return fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
     }
-    Frame f = {m, d, d->scratch, {}, prep.exposure, stats};
+    Frame f = {m, d, d->scratch, {}, d->mode == SRT_MODE_MULTIPASS ? prep.exposure : prep.fused_exposure, stats};
     mat4_mul(prep.proj, prep.view, f.mvp);
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);

@@ -1,0 +1,300 @@
+#include "bake.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <tuple>
+#include <unistd.h>
+
+#include "factor_error.h"
+#include "json.h"
+#include "plan.h"
+
+namespace sepal {
+namespace {
+
+srt_param to_fmt(Param p) {
+    switch (p) {
+        case Param::IncidentView: return SRT_PARAM_IV;
+        case Param::GsHalf: return SRT_PARAM_GS_HALF;
+        case Param::ViewHalf: return SRT_PARAM_VH;
+        case Param::Rusinkiewicz: return SRT_PARAM_RUSINKIEWICZ;
+        default: return SRT_PARAM_ELEV_AZIM;
+    }
+}
+
+const char* pass_op_name(uint16_t op) {
+    return op == SRT_OP_PRODUCT ? "product" : op == SRT_OP_TEXTURE ? "texture" : "constant";
+}
+
+}  // namespace
+
+std::string BakeCandidate::label() const {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s/%s %d %s x%d", param_name(param), map_name(map), res, method_name(method), terms);
+    return buf;
+}
+
+bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err) {
+    if (terms < 1 || terms > f.term_count() || terms > SRT_FMT_MAX_TERMS) {
+        if (err) *err = "bake: " + std::to_string(terms) + " terms asked of a " + std::to_string(f.term_count()) + "-term factorization";
+        return false;
+    }
+    AssetData a;
+    a.material.param = to_fmt(f.param);
+    a.material.map = f.map == HemiMap::XY ? SRT_MAP_XY : SRT_MAP_PARABOLIC;
+    a.material.color_mode = f.colour == ColourMode::PerChannel ? SRT_COLOR_PER_CHANNEL : SRT_COLOR_LUMINANCE;
+    a.material.terms = uint32_t(terms);
+    a.material.channels = uint32_t(f.channels);
+    for (int c = 0; c < 3; ++c) a.material.ratio[c] = float(f.ratio[c]);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    a.material.error_quantized = a.material.error_float = a.material.error_relative = nan;
+    for (int k = 0; k < terms; ++k)
+        for (int role = 0; role < 2; ++role) {
+            const FactorTexture& src = role == 0 ? f.terms[size_t(k)].g : f.terms[size_t(k)].h;
+            AssetTexture t;
+            if (!quantize_texture(src.data.data(), src.n, src.channels, q, &t, err)) return false;
+            t.desc.role = uint32_t(role);
+            t.desc.term = uint32_t(k);
+            a.textures.push_back(std::move(t));
+        }
+    if (!build_plan(&a, err)) return false;
+    *out = std::move(a);
+    return true;
+}
+
+Factored dequantize(const AssetData& a, const Factored& like) {
+    Factored f = like;
+    f.terms.resize(a.material.terms);
+    for (const AssetTexture& t : a.textures) {
+        FactorTexture& dst = t.desc.role == SRT_ROLE_G ? f.terms[t.desc.term].g : f.terms[t.desc.term].h;
+        dst = FactorTexture(int(t.desc.width), int(t.desc.channels));
+        dst.data = dequantize_level0(t);
+    }
+    return f;
+}
+
+std::string asset_manifest(const AssetData& a, const std::string& spec, const std::string& method, int res) {
+    JsonWriter j;
+    static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"};
+    j.begin_object();
+    j.key("format").value("sepal asset 1.0");
+    j.key("spec").value(spec);
+    j.key("method").value(method);
+    j.key("parameterization").value(kParams[a.material.param % 5]);
+    j.key("map").value(a.material.map == SRT_MAP_XY ? "xy" : "parabolic");
+    j.key("colour").value(a.material.color_mode == SRT_COLOR_PER_CHANNEL ? "rgb" : "luminance");
+    j.key("resolution").value(res);
+    j.key("terms").value(int(a.material.terms));
+    j.key("ratio").begin_array();
+    for (float r : a.material.ratio) j.value(double(r));
+    j.end_array();
+    j.key("errors").begin_object();
+    j.key("float_rms").value(double(a.material.error_float));
+    j.key("quantized_rms").value(double(a.material.error_quantized));
+    j.key("quantized_relative").value(double(a.material.error_relative));
+    j.end_object();
+    j.key("textures").begin_array();
+    for (size_t i = 0; i < a.textures.size(); ++i) {
+        const srt_fmt_texture& d = a.textures[i].desc;
+        j.begin_object();
+        j.key("index").value(int(i));
+        j.key("term").value(int(d.term));
+        j.key("role").value(d.role == SRT_ROLE_G ? "G" : "H");
+        j.key("size").value(int(d.width));
+        j.key("levels").value(int(d.levels));
+        j.key("channels").value(int(d.channels));
+        j.key("bits").value(int(d.bits));
+        j.key("scale").begin_array();
+        for (uint32_t c = 0; c < d.channels; ++c) j.value(double(d.scale[c]));
+        j.end_array();
+        j.key("bias").begin_array();
+        for (uint32_t c = 0; c < d.channels; ++c) j.value(double(d.bias[c]));
+        j.end_array();
+        j.end_object();
+    }
+    j.end_array();
+    j.key("plan").begin_object();
+    j.key("doublings").value(int(a.plan.doublings));
+    j.key("peak_partial_sum").value(double(a.plan.peak_partial_sum));
+    j.key("passes").begin_array();
+    for (const srt_fmt_pass& p : a.passes) {
+        j.begin_object();
+        j.key("op").value(pass_op_name(p.op));
+        j.key("blend").value(p.blend == SRT_BLEND_ADD ? "add" : "subtract");
+        if (p.tex0 != SRT_FMT_NO_TEXTURE) j.key("tex0").value(int(p.tex0));
+        if (p.tex1 != SRT_FMT_NO_TEXTURE) j.key("tex1").value(int(p.tex1));
+        j.key("color").begin_array();
+        for (float c : p.color) j.value(double(c));
+        j.end_array();
+        j.end_object();
+    }
+    j.end_array();
+    j.end_object();
+    j.end_object();
+    return j.str();
+}
+
+bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* err) {
+    const auto start = std::chrono::steady_clock::now();
+    *out = BakeResult{};
+    if (o.params.empty() || o.maps.empty() || o.resolutions.empty() || o.terms.empty() || o.methods.empty()) {
+        if (err) *err = "bake: an empty search list";
+        return false;
+    }
+    const size_t searches = o.params.size() * o.maps.size() * o.resolutions.size() * o.methods.size();
+    if (searches > 64) {
+        if (err) *err = "bake: " + std::to_string(searches) + " factorizations to search; at most 64 (narrow a list)";
+        return false;
+    }
+    int max_terms = 0;
+    for (int k : o.terms) {
+        if (k < 1 || k > SRT_FMT_MAX_TERMS) {
+            if (err) *err = "bake: --terms " + std::to_string(k) + " outside 1.." + std::to_string(SRT_FMT_MAX_TERMS);
+            return false;
+        }
+        max_terms = std::max(max_terms, k);
+    }
+    for (int r : o.resolutions)
+        if (r < 16 || r > 256 || (r & (r - 1))) {
+            if (err) *err = "bake: --res " + std::to_string(r) + ": a power of two in 16..256 (GL ES 1.1 textures)";
+            return false;
+        }
+    ErrorOptions eo;
+    eo.dense = 0;  // the Monte Carlo metric ranks candidates; the dense one is for reports
+    eo.threads = o.threads;
+    ErrorEvaluator ev(brdf, eo);
+    if (!ev.init(err)) return false;
+    QuantizeOptions q;
+    q.bits = o.bits;
+    q.mips = o.mips;
+    const bool show = o.progress && isatty(2);
+    size_t done = 0;
+    for (Param param : o.params)
+        for (HemiMap map : o.maps)
+            for (int res : o.resolutions)
+                for (Method method : o.methods) {
+                    FactorOptions fo;
+                    fo.param = param;
+                    fo.map = map;
+                    fo.res = res;
+                    fo.terms = max_terms;
+                    fo.method = method;
+                    fo.colour = o.colour;
+                    fo.supersample = o.supersample;
+                    fo.threads = o.threads;
+                    fo.max_memory_mb = o.max_memory_mb;
+                    fo.svd_weighted = o.svd_weighted;
+                    ++done;
+                    if (show)
+                        std::fprintf(stderr, "\rbake: factoring %zu/%zu: %s/%s %d %s x%d   ", done, searches,
+                                     param_name(param), map_name(map), res, method_name(method), max_terms);
+                    FactorResult r;
+                    std::string ferr;
+                    const bool factored = factor_brdf(brdf, fo, &r, &ferr);
+                    for (int k : o.terms) {
+                        BakeCandidate c;
+                        c.param = param;
+                        c.map = map;
+                        c.res = res;
+                        c.terms = k;
+                        c.method = method;
+                        if (!factored) {
+                            c.note = ferr;
+                            out->candidates.push_back(c);
+                            continue;
+                        }
+                        const Factored& f = r.by_terms[size_t(k - 1)];
+                        c.error_float = ev.measure(f).relative;
+                        AssetData a;
+                        std::vector<uint8_t> bytes;
+                        std::string aerr;
+                        if (!make_asset(f, k, q, &a, &aerr) || !encode_asset(a, &bytes, &aerr)) {
+                            c.note = aerr;
+                            out->candidates.push_back(c);
+                            continue;
+                        }
+                        const ApproxError qe = ev.measure(dequantize(a, f));
+                        c.ok = true;
+                        c.error_quantized = qe.relative;
+                        c.rms_quantized = qe.rms;
+                        c.passes = int(a.passes.size());
+                        c.doublings = int(a.plan.doublings);
+                        c.non_negative = f.non_negative();
+                        c.bytes = int64_t(bytes.size());
+                        c.meets = (o.max_error < 0 || c.error_quantized <= o.max_error) &&
+                                  (o.max_passes < 0 || c.passes <= o.max_passes) &&
+                                  (o.max_bytes < 0 || c.bytes <= o.max_bytes);
+                        out->candidates.push_back(c);
+                    }
+                }
+    if (show) std::fprintf(stderr, "\r%80s\r", "");
+    // The winner: cheapest that meets the budgets; without an error budget, most accurate.
+    int best = -1;
+    for (size_t i = 0; i < out->candidates.size(); ++i) {
+        const BakeCandidate& c = out->candidates[i];
+        if (!c.meets) continue;
+        if (best < 0) {
+            best = int(i);
+            continue;
+        }
+        const BakeCandidate& b = out->candidates[size_t(best)];
+        const bool better = o.max_error >= 0
+                                ? std::make_tuple(c.passes, c.bytes, c.error_quantized) <
+                                      std::make_tuple(b.passes, b.bytes, b.error_quantized)
+                                : std::make_tuple(c.error_quantized, c.passes, c.bytes) <
+                                      std::make_tuple(b.error_quantized, b.passes, b.bytes);
+        if (better) best = int(i);
+    }
+    out->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (best < 0) {
+        double closest = std::numeric_limits<double>::infinity();
+        std::string label;
+        for (const BakeCandidate& c : out->candidates)
+            if (c.ok && c.error_quantized < closest) closest = c.error_quantized, label = c.label();
+        if (err) {
+            char buf[256];
+            std::snprintf(buf, sizeof buf,
+                          "bake: no candidate meets the budgets (lowest error %.4g, %s); allow more terms, "
+                          "a higher --res, --bits 16, or loosen --max-error/--max-passes/--max-bytes",
+                          closest, label.c_str());
+            *err = buf;
+        }
+        return false;
+    }
+    out->winner = best;
+    const BakeCandidate& w = out->candidates[size_t(best)];
+    char why[256];
+    if (o.max_error >= 0)
+        std::snprintf(why, sizeof why,
+                      "%s: the fewest passes (%d per light), then the fewest bytes (%lld), with error %.4g <= %.4g",
+                      w.label().c_str(), w.passes, (long long)w.bytes, w.error_quantized, o.max_error);
+    else
+        std::snprintf(why, sizeof why, "%s: the lowest error (%.4g) within the budgets (no --max-error given)",
+                      w.label().c_str(), w.error_quantized);
+    out->why = why;
+    // Rebuild the winner (one more factorization: cheaper than keeping every candidate).
+    FactorOptions fo;
+    fo.param = w.param;
+    fo.map = w.map;
+    fo.res = w.res;
+    fo.terms = max_terms;
+    fo.method = w.method;
+    fo.colour = o.colour;
+    fo.supersample = o.supersample;
+    fo.threads = o.threads;
+    fo.max_memory_mb = o.max_memory_mb;
+    fo.svd_weighted = o.svd_weighted;
+    FactorResult r;
+    if (!factor_brdf(brdf, fo, &r, err)) return false;
+    const Factored& f = r.by_terms[size_t(w.terms - 1)];
+    if (!make_asset(f, w.terms, q, &out->asset, err)) return false;
+    out->asset.material.error_float = float(w.error_float * ev.reference_rms());
+    out->asset.material.error_quantized = float(w.rms_quantized);
+    out->asset.material.error_relative = float(w.error_quantized);
+    out->asset.meta = asset_manifest(out->asset, brdf.spec(), method_name(w.method), w.res);
+    return true;
+}
+
+}  // namespace sepal

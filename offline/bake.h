@@ -1,0 +1,94 @@
+// Baking: from a BRDF to the asset a game ships (quantized texture pairs, a pass plan).
+//
+// Usage:
+//   sepal::BakeOptions o;                 // search space and budgets, see below
+//   o.max_error = 0.1;                    // relative cosine-weighted RMS
+//   sepal::BakeResult r; std::string err;
+//   if (!sepal::bake(*brdf, o, &r, &err)) ...
+//   sepal::write_asset("ward.sepal", r.asset, &err);
+//
+// The search: every combination of the listed parameterizations, maps, resolutions and
+// methods is factored once with the largest term count (factor.h); each k-term prefix (or
+// k-term solution, for nmf and acls) is quantized (quantize.h), given a plan (plan.h),
+// encoded, and measured again with the same metric as the float factors (factor_error.h:
+// 8000 Monte Carlo pairs, fixed seed), so every candidate knows its passes, bytes, float
+// error and quantized error. The winner is the cheapest that meets every budget: fewest
+// passes (per light), then fewest bytes, then lowest error. Without --max-error the lowest
+// quantized error within the pass and byte budgets wins.
+// Determinism: equal inputs give byte-identical assets whatever the thread count; the
+// asset's META chunk holds no timings.
+// Limits: resolutions must be powers of two (GL ES 1.1 textures); at most 64 factorizations
+// per search.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "asset_file.h"
+#include "brdf.h"
+#include "factor.h"
+#include "factored.h"
+#include "quantize.h"
+
+namespace sepal {
+
+struct BakeOptions {
+    std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf};
+    std::vector<HemiMap> maps = {HemiMap::XY};
+    // Defaults keep a bake under a minute on two cores; widen them for the best asset.
+    std::vector<int> resolutions = {32};
+    std::vector<int> terms = {1, 2, 3, 4};
+    std::vector<Method> methods = {Method::SVD, Method::NMF};
+    ColourMode colour = ColourMode::PerChannel;
+    int bits = 8;
+    bool mips = true;
+    double max_error = -1;  // relative cosine-weighted RMS after quantization; < 0: none
+    int max_passes = -1;    // plan passes per light; < 0: none
+    int64_t max_bytes = -1;  // encoded asset size; < 0: none
+    int supersample = 1;
+    // SVD fitted to the entries above the horizon only (factor.h's svd_weighted): the
+    // plain zero-filled SVD spends its rank on the horizon's edge (Lambert: 22% error
+    // plain, 0.9% weighted, at 32x32 gs-half).
+    bool svd_weighted = true;
+    int threads = 0;
+    double max_memory_mb = 2048;
+    bool progress = false;  // a line per factorization on stderr
+};
+
+struct BakeCandidate {
+    Param param = Param::GsHalf;
+    HemiMap map = HemiMap::XY;
+    int res = 0, terms = 0;
+    Method method = Method::SVD;
+    bool ok = false;            // factored and encoded; else `note` says why not
+    std::string note;
+    double error_float = 0;     // relative cosine-weighted RMS of the float factors
+    double error_quantized = 0;  // the same after quantization
+    double rms_quantized = 0;   // absolute
+    int passes = 0;             // plan passes per light
+    int doublings = 0;
+    bool non_negative = false;  // no correction passes
+    int64_t bytes = 0;
+    bool meets = false;         // within every budget
+    std::string label() const;  // "gs-half/xy 64 svd x2"
+};
+
+struct BakeResult {
+    std::vector<BakeCandidate> candidates;
+    int winner = -1;
+    std::string why;  // one line: why the winner won
+    AssetData asset;  // the winner's
+    double seconds = 0;
+};
+
+bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::string* err);
+
+// The first `terms` terms of a factorization as a quantized asset with its plan;
+// spec and method go into the META manifest. errors may be NaN when not measured.
+bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err);
+// The float factors an asset stands for (level 0, scale * q + bias), for measuring it.
+Factored dequantize(const AssetData& asset, const Factored& like);
+// The JSON manifest (scales, biases, parameterization, map, plan, errors).
+std::string asset_manifest(const AssetData& asset, const std::string& spec, const std::string& method, int res);
+
+}  // namespace sepal

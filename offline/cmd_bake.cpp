@@ -1,0 +1,172 @@
+// sepal bake SPEC -o out.sepal [factor options] [--bits 8|16] [--max-error E]
+//   [--max-passes P] [--max-bytes B] [--report r.json] [--export DIR] [--threads N]
+#include <cmath>
+#include <cstring>
+
+#include "bake.h"
+#include "cli.h"
+#include "image.h"
+#include "io.h"
+#include "json.h"
+
+namespace sepal {
+namespace {
+
+// Splits "a,b,c" and parses each with fn; false with *err naming the option.
+template <typename T, typename Fn>
+bool parse_list(const std::string& option, const std::string& text, Fn fn, std::vector<T>* out, std::string* err) {
+    out->clear();
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        T v;
+        if (item.empty() || !fn(item, &v)) {
+            *err = "--" + option + ": '" + item + "' is not valid";
+            return false;
+        }
+        out->push_back(v);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return true;
+}
+
+bool parse_int(const std::string& s, int* v) {
+    char* end = nullptr;
+    const long x = std::strtol(s.c_str(), &end, 10);
+    if (*end || x < -1000000 || x > 1000000) return false;
+    *v = int(x);
+    return true;
+}
+
+// One PNG per texture (level 0; signed values shown through their scale and bias as
+// stored) and the manifest, for people and tools.
+bool export_asset(const AssetData& a, const std::string& dir, std::string* err) {
+    if (!make_dirs(dir, err)) return false;
+    for (size_t i = 0; i < a.textures.size(); ++i) {
+        const AssetTexture& t = a.textures[i];
+        Image img(int(t.desc.width), int(t.desc.height), int(t.desc.channels));
+        const size_t count = img.data.size();
+        for (size_t k = 0; k < count; ++k) {
+            const double top = double((1u << t.desc.bits) - 1);
+            const uint32_t code = t.desc.bits == 8 ? t.data[k] : uint32_t(t.data[2 * k]) | (uint32_t(t.data[2 * k + 1]) << 8);
+            img.data[k] = float(code / top);
+        }
+        // Image rows go top first; texture row 0 is v = 0: flip so v grows upwards.
+        Image flipped = img;
+        const size_t row = size_t(img.width) * img.channels;
+        for (int y = 0; y < img.height; ++y)
+            std::copy(img.data.begin() + long(size_t(img.height - 1 - y) * row),
+                      img.data.begin() + long(size_t(img.height - y) * row), flipped.data.begin() + long(size_t(y) * row));
+        const std::string name = dir + "/term" + std::to_string(t.desc.term) + (t.desc.role == SRT_ROLE_G ? "_G" : "_H") + ".png";
+        if (!write_png(name, flipped, err)) return false;
+    }
+    return write_file_atomic(dir + "/manifest.json", a.meta.data(), a.meta.size(), err);
+}
+
+}  // namespace
+
+int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
+    // The output is given as "-o": the parser knows long options only.
+    std::vector<std::string> fixed;
+    for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
+    Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
+                        "max-bytes", "report", "export", "threads", "supersample", "max-memory"},
+              {"no-mips"});
+    BakeOptions o;
+    std::string err;
+    auto bad = [&](const std::string& m) {
+        std::fprintf(io.err, "sepal bake: %s\n", m.c_str());
+        return kExitBadInput;
+    };
+    if (!args.ok()) return bad(args.error());
+    if (args.positional().size() != 1 || !args.has("o"))
+        return bad("usage: sepal bake SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] "
+                   "[--method M,..] [--colour rgb|luminance] [--bits 8|16] [--max-error E] [--max-passes P] "
+                   "[--max-bytes B] [--report r.json] [--export DIR] [--threads N]");
+    if (args.has("param") && !parse_list<Param>("param", args.get("param"), parse_param, &o.params, &err)) return bad(err);
+    if (args.has("map") && !parse_list<HemiMap>("map", args.get("map"), parse_map, &o.maps, &err)) return bad(err);
+    if (args.has("method") && !parse_list<Method>("method", args.get("method"), parse_method, &o.methods, &err))
+        return bad(err);
+    if (args.has("res") && !parse_list<int>("res", args.get("res"), parse_int, &o.resolutions, &err)) return bad(err);
+    if (args.has("terms") && !parse_list<int>("terms", args.get("terms"), parse_int, &o.terms, &err)) return bad(err);
+    if (args.has("colour") && !parse_colour(args.get("colour"), &o.colour)) return bad("--colour: rgb or luminance");
+    long v = 0;
+    double d = 0;
+    if (args.has("bits")) {
+        if (!args.integer("bits", &v) || (v != 8 && v != 16)) return bad("--bits: 8 or 16");
+        o.bits = int(v);
+    }
+    if (args.has("max-error")) {
+        if (!args.number("max-error", &d) || d <= 0) return bad("--max-error: a relative error > 0, e.g. 0.1");
+        o.max_error = d;
+    }
+    if (args.has("max-passes")) {
+        if (!args.integer("max-passes", &v) || v < 1) return bad("--max-passes: an integer >= 1");
+        o.max_passes = int(v);
+    }
+    if (args.has("max-bytes")) {
+        if (!args.integer("max-bytes", &v) || v < 1) return bad("--max-bytes: an integer >= 1");
+        o.max_bytes = v;
+    }
+    if (args.has("threads")) {
+        if (!args.integer("threads", &v) || v < 0 || v > 256) return bad("--threads: 0 (all cores) .. 256");
+        o.threads = int(v);
+    }
+    if (args.has("supersample")) {
+        if (!args.integer("supersample", &v) || v < 1 || v > 4) return bad("--supersample: 1..4");
+        o.supersample = int(v);
+    }
+    if (args.has("max-memory")) {
+        if (!args.number("max-memory", &d) || d <= 0) return bad("--max-memory: megabytes > 0");
+        o.max_memory_mb = d;
+    }
+    o.mips = !args.has("no-mips");
+    o.progress = true;  // shown only when stderr is a terminal
+    std::unique_ptr<Brdf> brdf = make_brdf(args.positional()[0], &err);
+    if (!brdf) return bad(err);
+    BakeResult r;
+    const bool ok = bake(*brdf, o, &r, &err);
+    // The candidates, for people, whether or not one won.
+    std::fprintf(io.out, "%-28s %9s %9s %7s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes", "");
+    for (size_t i = 0; i < r.candidates.size(); ++i) {
+        const BakeCandidate& c = r.candidates[i];
+        if (!c.ok) {
+            std::fprintf(io.out, "%-28s  skipped: %s\n", c.label().c_str(), c.note.c_str());
+            continue;
+        }
+        std::fprintf(io.out, "%-28s %9.4f %9.4f %7d %8lld %s%s\n", c.label().c_str(), c.error_float, c.error_quantized,
+                     c.passes, (long long)c.bytes, int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
+                     c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
+    }
+    if (args.has("report")) {
+        JsonWriter j;
+        j.begin_object().key("spec").value(brdf->spec()).key("seconds").value(r.seconds);
+        j.key("budgets").begin_object();
+        j.key("max_error").value(o.max_error).key("max_passes").value(o.max_passes).key("max_bytes").value(o.max_bytes);
+        j.key("bits").value(o.bits).end_object();
+        j.key("winner").value(r.winner).key("why").value(r.why);
+        j.key("candidates").begin_array();
+        for (const BakeCandidate& c : r.candidates) {
+            j.begin_object().key("label").value(c.label()).key("param").value(param_name(c.param));
+            j.key("map").value(map_name(c.map)).key("res").value(c.res).key("terms").value(c.terms);
+            j.key("method").value(method_name(c.method)).key("ok").value(c.ok);
+            if (!c.ok) j.key("note").value(c.note);
+            j.key("error_float_relative").value(c.error_float).key("error_quantized_relative").value(c.error_quantized);
+            j.key("rms_quantized").value(c.rms_quantized).key("passes").value(c.passes);
+            j.key("doublings").value(c.doublings).key("non_negative").value(c.non_negative);
+            j.key("bytes").value(c.bytes).key("meets").value(c.meets).end_object();
+        }
+        j.end_array().end_object();
+        std::string werr;
+        if (!write_file_atomic(args.get("report"), j.str().data(), j.str().size(), &werr)) return bad(werr);
+    }
+    if (!ok) return bad(err);
+    if (!write_asset(args.get("o"), r.asset, &err)) return bad(err);
+    if (args.has("export") && !export_asset(r.asset, args.get("export"), &err)) return bad(err);
+    std::fprintf(io.out, "winner: %s\nwrote %s (%.1f s)\n", r.why.c_str(), args.get("o").c_str(), r.seconds);
+    return kExitOk;
+}
+
+}  // namespace sepal
