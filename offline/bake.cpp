@@ -1,5 +1,6 @@
 #include "bake.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +28,31 @@ srt_param to_fmt(Param p) {
 const char* pass_op_name(uint16_t op) {
     return op == SRT_OP_PRODUCT ? "product" : op == SRT_OP_TEXTURE ? "texture" : "constant";
 }
+
+// f clamped at a cap, per channel; counts how often (thread-safe: factoring is parallel).
+class CappedBrdf : public Brdf {
+  public:
+    CappedBrdf(const Brdf& f, double cap) : f_(f), cap_(cap) {}
+    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override {
+        glm::dvec3 v = f_.eval(wi, wo);
+        ++calls_;
+        if (v.x > cap_ || v.y > cap_ || v.z > cap_) {
+            ++capped_;
+            v = glm::dvec3(std::min(v.x, cap_), std::min(v.y, cap_), std::min(v.z, cap_));
+        }
+        return v;
+    }
+    std::string spec() const override { return f_.spec(); }
+    std::string model() const override { return f_.model(); }
+    std::string info() const override { return f_.info(); }
+    bool isotropic() const override { return f_.isotropic(); }
+    double share() const { return calls_ ? double(capped_) / double(calls_) : 0.0; }
+
+  private:
+    const Brdf& f_;
+    double cap_;
+    mutable std::atomic<int64_t> calls_{0}, capped_{0};
+};
 
 }  // namespace
 
@@ -161,6 +187,9 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
             if (err) *err = "bake: --res " + std::to_string(r) + ": a power of two in 16..256 (GL ES 1.1 textures)";
             return false;
         }
+    // The factors see the capped BRDF; every error is measured against the original.
+    const CappedBrdf capped(brdf, o.cap);
+    const Brdf& source = o.cap > 0 ? static_cast<const Brdf&>(capped) : brdf;
     ErrorOptions eo;
     eo.dense = 0;  // the Monte Carlo metric ranks candidates; the dense one is for reports
     eo.threads = o.threads;
@@ -192,7 +221,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
                                      param_name(param), map_name(map), res, method_name(method), max_terms);
                     FactorResult r;
                     std::string ferr;
-                    const bool factored = factor_brdf(brdf, fo, &r, &ferr);
+                    const bool factored = factor_brdf(source, fo, &r, &ferr);
                     for (int k : o.terms) {
                         BakeCandidate c;
                         c.param = param;
@@ -248,6 +277,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         if (better) best = int(i);
     }
     out->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out->capped_share = capped.share();
     if (best < 0) {
         double closest = std::numeric_limits<double>::infinity();
         std::string label;
@@ -287,7 +317,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     fo.max_memory_mb = o.max_memory_mb;
     fo.svd_weighted = o.svd_weighted;
     FactorResult r;
-    if (!factor_brdf(brdf, fo, &r, err)) return false;
+    if (!factor_brdf(source, fo, &r, err)) return false;
     const Factored& f = r.by_terms[size_t(w.terms - 1)];
     if (!make_asset(f, w.terms, q, &out->asset, err)) return false;
     out->asset.material.error_float = float(w.error_float * ev.reference_rms());

@@ -53,6 +53,12 @@ struct BakeOptions {
     int threads = 0;
     double max_memory_mb = 2048;
     bool progress = false;  // a line per factorization on stderr
+    // Values of f above `cap` (per steradian) are clamped before factoring; <= 0: none.
+    // GL ES 1.1 draws through an 8-bit framebuffer whose scale-up multiplies its step by
+    // the largest factor product: BRDFs with huge grazing peaks (Ward, Cook-Torrance) lose
+    // every mid-tone there unless the peaks, white on screen anyway, are capped. The error
+    // is still measured against the uncapped BRDF, and the clamped share is reported.
+    double cap = -1;
 };
 
 struct BakeCandidate {
@@ -75,6 +81,7 @@ struct BakeCandidate {
 
 struct BakeResult {
     std::vector<BakeCandidate> candidates;
+    double capped_share = 0;  // share of sampled f values the cap clamped
     int winner = -1;
     std::string why;  // one line: why the winner won
     AssetData asset;  // the winner's

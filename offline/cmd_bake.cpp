@@ -72,7 +72,7 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     std::vector<std::string> fixed;
     for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
     Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
-                        "max-bytes", "report", "export", "threads", "supersample", "max-memory"},
+                        "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap"},
               {"no-mips"});
     BakeOptions o;
     std::string err;
@@ -122,6 +122,10 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
         if (!args.number("max-memory", &d) || d <= 0) return bad("--max-memory: megabytes > 0");
         o.max_memory_mb = d;
     }
+    if (args.has("cap")) {
+        if (!args.number("cap", &d) || d <= 0) return bad("--cap: a value of f per steradian > 0");
+        o.cap = d;
+    }
     o.mips = !args.has("no-mips");
     o.progress = true;  // shown only when stderr is a terminal
     std::unique_ptr<Brdf> brdf = make_brdf(args.positional()[0], &err);
@@ -165,6 +169,9 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (!ok) return bad(err);
     if (!write_asset(args.get("o"), r.asset, &err)) return bad(err);
     if (args.has("export") && !export_asset(r.asset, args.get("export"), &err)) return bad(err);
+    if (o.cap > 0)
+        std::fprintf(io.out, "cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", o.cap,
+                     100.0 * r.capped_share);
     std::fprintf(io.out, "winner: %s\nwrote %s (%.1f s)\n", r.why.c_str(), args.get("o").c_str(), r.seconds);
     return kExitOk;
 }

@@ -21,7 +21,7 @@ const std::vector<Command>& commands() {
         {"bake",
          "SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] [--method M,..] "
          "[--colour rgb|luminance] [--bits 8|16] [--max-error E] [--max-passes P] [--max-bytes B] "
-         "[--report r.json] [--export DIR] [--threads N]",
+         "[--cap F] [--report r.json] [--export DIR] [--threads N]",
          "bake a BRDF into a shipping asset: the cheapest candidate meeting the budgets", cmd_bake},
         {"inspect", "FILE.sepal", "validate and print an asset", cmd_inspect},
         {"render",

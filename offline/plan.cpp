@@ -59,6 +59,44 @@ double reconstruction_peak(const AssetData& a) {
     return peak * margin;
 }
 
+double partial_sum_peak(const AssetData& a) {
+    const size_t count = a.textures.size();
+    if (count == 0 || a.passes.empty()) return 0.0;
+    for (const AssetTexture& t : a.textures)
+        if (t.data.empty() || t.desc.width != a.textures[0].desc.width) return 0.0;
+    const int channels = int(a.material.channels);
+    const size_t n = size_t(a.textures[0].desc.width) * a.textures[0].desc.height;
+    size_t stride = 1;
+    while ((n / stride) * (n / stride) > (size_t(1) << 22)) ++stride;
+    const double margin = stride > 1 ? 1.25 : 1.0;
+    const double top8 = 255.0;
+    auto q = [&](const AssetTexture& t, size_t i, int c) {
+        const size_t k = i * t.desc.channels + size_t(c < int(t.desc.channels) ? c : 0);
+        return t.desc.bits == 8 ? t.data[k] / top8
+                                : double(uint32_t(t.data[2 * k]) | (uint32_t(t.data[2 * k + 1]) << 8)) / 65535.0;
+    };
+    double peak = 0;
+    // Every added pass reads a G texture at texel i and an H texture at texel j (or one of
+    // them, or none): the partial sum at (i, j) after all adds.
+    for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < n; i += stride)
+            for (size_t j = 0; j < n; j += stride) {
+                double sum = 0;
+                for (const srt_fmt_pass& p : a.passes) {
+                    if (p.blend != SRT_BLEND_ADD) break;
+                    double v = p.color[c];
+                    for (uint16_t tex : {p.tex0, p.tex1}) {
+                        if (tex == SRT_FMT_NO_TEXTURE) continue;
+                        const AssetTexture& t = a.textures[tex];
+                        v *= q(t, t.desc.role == SRT_ROLE_G ? i : j, channels == 1 ? 0 : c);
+                    }
+                    sum += v;
+                }
+                peak = std::max(peak, sum);
+            }
+    return peak * margin;
+}
+
 bool build_plan(AssetData* a, std::string* err) {
     const uint32_t terms = a->material.terms;
     const int channels = int(a->material.channels);
@@ -154,8 +192,11 @@ bool build_plan(AssetData* a, std::string* err) {
     a->plan.peak_value = float(std::max(peak_value, 1e-30));
     a->plan.pass_count = uint32_t(a->passes.size());
     a->plan.doublings = uint32_t(doublings);
-    const double peak_added = std::max({added[0], added[1], added[2]});
-    a->plan.peak_partial_sum = float(std::min(1.0, std::max(1e-30, std::ldexp(peak_added, -doublings))));
+    // The bound sum-of-added-colours assumes every texture at 1 at once; the real peak
+    // over texel pairs is usually far lower, and the runtime's exposure uses it.
+    const double bound = std::ldexp(std::max({added[0], added[1], added[2]}), -doublings);
+    const double real = partial_sum_peak(*a);
+    a->plan.peak_partial_sum = float(std::min(1.0, std::max(1e-30, real > 0 ? std::min(real, bound) : bound)));
     return true;
 }
 

@@ -33,7 +33,9 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     // Exposure 2^-e: no partial sum over the lights above 1, no vertex colour above 1.
     const int plan_doublings = (int)m->plan.doublings;
     int e = -plan_doublings;
-    const float need_sum = prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum;
+    // Only a plan that subtracts needs headroom: without subtractions a partial sum never
+    // exceeds the final value, and a final value above 1 is white on screen either way.
+    const float need_sum = m->has_negative_passes ? prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum : 0.0f;
     const float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
     if (need_sum > 0.0f && (int)ceilf(log2f(need_sum)) > e) e = (int)ceilf(log2f(need_sum));
     if (need_color > 0.0f && (int)ceilf(log2f(need_color)) > e) e = (int)ceilf(log2f(need_color));
@@ -44,10 +46,10 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     prep.exposure = ldexpf(1.0f, -e);
     stats->exposure = prep.exposure;
     stats->doublings = plan_doublings + e;
-    const float need_fused = prep.vertices.max_irradiance_sum * m->plan.peak_value;
-    prep.fused_doublings = need_fused > 0.0f ? (int)ceilf(log2f(need_fused)) : 0;
-    if (prep.fused_doublings < 0) prep.fused_doublings = 0;
-    prep.fused_exposure = ldexpf(1.0f, -prep.fused_doublings);
+    // The fused shaders compute f E directly; the 8-bit framebuffer clamps it at 1, as
+    // the display would: no exposure, no doublings.
+    prep.fused_doublings = 0;
+    prep.fused_exposure = 1.0f;
     if (d->mode != SRT_MODE_MULTIPASS) {
         stats->exposure = prep.fused_exposure;
         stats->doublings = prep.fused_doublings;
