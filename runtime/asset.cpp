@@ -100,12 +100,13 @@ extern "C" srt_result srt_asset_parse(const void* bytes, size_t size, srt_asset*
     const uint16_t probe = 1;
     if (*(const uint8_t*)&probe != 1)
         return srt::fail(err, SRT_ERR_UNSUPPORTED, "asset: big-endian hosts are not supported");
-    if (!bytes || !out) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: NULL argument");
-    const uint8_t* base = (const uint8_t*)bytes;
+    if (!out) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: NULL argument");
     memset(out, 0, sizeof *out);
     if (size < sizeof(srt_fmt_header))
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
                          "asset: %zu bytes is too short for the 64-byte header (truncated?)", size);
+    if (!bytes) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: NULL bytes");
+    const uint8_t* base = (const uint8_t*)bytes;
     srt_fmt_header& h = out->header;
     memcpy(&h, base, sizeof h);
     if (memcmp(h.magic, SRT_FMT_MAGIC, 8) != 0)
