@@ -23,8 +23,9 @@ extern "C" void srt_scene_default(srt_scene* s) {
     s->lights[0].type = SRT_LIGHT_POINT;
     const float light[3] = {2.0f, -2.5f, 3.0f};
     memcpy(s->lights[0].position, light, sizeof light);
-    // About 1 at the object: intensity / distance^2 with distance ~4.4.
-    s->lights[0].intensity[0] = s->lights[0].intensity[1] = s->lights[0].intensity[2] = 20.0f;
+    // Irradiance about pi at the object (intensity / distance^2, distance ~4.4): a white
+    // Lambertian surface facing the light shows as 1.
+    s->lights[0].intensity[0] = s->lights[0].intensity[1] = s->lights[0].intensity[2] = 60.0f;
     s->background[0] = s->background[1] = s->background[2] = 0.0f;
 }
 

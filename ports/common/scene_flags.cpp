@@ -49,9 +49,10 @@ bool parse_light(const std::string& text, srt_light* l, std::string* err) {
         *err = "--light '" + text + "': position/direction must be three numbers X,Y,Z";
         return false;
     }
-    // Default intensity: about 1 at distance 4.5 for points, 1 for directional lights.
-    float i3[3] = {1, 1, 1};
-    if (l->type == SRT_LIGHT_POINT) i3[0] = i3[1] = i3[2] = 20.0f;
+    // Default intensity: irradiance about pi at distance 4.4 for points, pi for directional
+    // lights (a white Lambertian surface facing the light shows as 1).
+    float i3[3] = {3.14159265f, 3.14159265f, 3.14159265f};
+    if (l->type == SRT_LIGHT_POINT) i3[0] = i3[1] = i3[2] = 60.0f;
     if (c2 != std::string::npos) {
         const std::string in = text.substr(c2 + 1);
         if (parse_floats(in, 1, i3)) {
@@ -73,7 +74,7 @@ const char* scene_flags_help() {
            "  --camera X,Y,Z        eye position (default 0,-3.2,1.4)\n"
            "  --target X,Y,Z        look-at point (default 0,0,0)\n"
            "  --fov DEGREES         vertical field of view (default 38)\n"
-           "  --light point:X,Y,Z[:I|:R,G,B]  point light (up to 8; default point:2,-2.5,3:20)\n"
+           "  --light point:X,Y,Z[:I|:R,G,B]  point light (up to 8; default point:2,-2.5,3:60)\n"
            "  --light dir:X,Y,Z[:I|:R,G,B]    directional light, towards the light\n"
            "  --background R,G,B    linear background colour (default 0,0,0)\n";
 }
