@@ -113,21 +113,28 @@ void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
     glPopMatrix();
 }
 
+// Textured passes send colour / boost and scale by 4 in their last combiner stage
+// (GL_RGB_SCALE accepts 1, 2 or 4): vertex colours stay below 1 at a 4x higher exposure.
+float color_boost(const srt_fmt_pass& pass) {
+    return pass.op == SRT_OP_CONSTANT ? 1.0f : 4.0f / (float)pass.rgb_scale;
+}
+
 // Fills the colour array for one pass and light: pass colour x irradiance x exposure.
 void fill_colors(const Frame& f, const srt_fmt_pass& pass, int light) {
     const int n = f.mesh->vertex_count;
+    const float scale = f.exposure / color_boost(pass);
     const float* e = srt::light_irradiance(f.scratch, n, light);
     float* c = srt::pass_colors(f.scratch, n, f.scene->light_count);
     for (int i = 0; i < n; ++i) {
         // Per channel: a luminance material's colour ratio is in the pass colour.
-        for (int k = 0; k < 3; ++k) c[4 * i + k] = pass.color[k] * e[3 * i + k] * f.exposure;
+        for (int k = 0; k < 3; ++k) c[4 * i + k] = pass.color[k] * e[3 * i + k] * scale;
         c[4 * i + 3] = 1.0f;
     }
 }
 
 // Two texture units: tex0 x tex1 x colour, added or subtracted by blending.
 void pass_multitexture(Frame& f, const srt_fmt_pass& pass, int light, bool inverted) {
-    const GLint scale = (GLint)pass.rgb_scale;
+    const GLint scale = (GLint)(pass.rgb_scale * color_boost(pass));
     mesh_arrays(f, true);
     if (pass.op == SRT_OP_CONSTANT) {
         bind_unit(GL_TEXTURE1, 0, nullptr);
@@ -184,7 +191,7 @@ void pass_single_unit(Frame& f, const srt_fmt_pass& pass, int light, bool invert
         bind_unit(GL_TEXTURE0, 0, nullptr);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
-        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)pass.rgb_scale);
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)(pass.rgb_scale * color_boost(pass)));
     }
     draw_mesh(f);
     if (f.acc_valid) {

@@ -88,8 +88,12 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
     out->max_height = max_height;
     for (uint32_t p = 0; p < asset->plan.pass_count; ++p) {
         const srt_fmt_pass& pass = asset->passes[p];
+        // GL ES 1.1 clamps vertex colours at 1: textured passes send colour / 4 and scale
+        // by 4 in the combiner (GL_RGB_SCALE), which buys two doublings of framebuffer
+        // precision; constant passes have no combiner. GL ES 2 attributes are not clamped.
+        const float boost = pass.op == SRT_OP_CONSTANT ? 1.0f : 4.0f / (float)pass.rgb_scale;
         for (int c = 0; c < 3; ++c) {
-            const float v = pass.color[c] * (float)pass.rgb_scale;
+            const float v = caps->gles_version == 1 ? pass.color[c] / boost : 0.0f;
             if (v > out->max_pass_color) out->max_pass_color = v;
         }
         if (pass.blend == SRT_BLEND_SUBTRACT) out->has_negative_passes = 1;

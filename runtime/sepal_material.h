@@ -59,7 +59,7 @@ typedef struct srt_material {
     uint32_t texture_term[SRT_FMT_MAX_TEXTURES];
     float texture_scale[SRT_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
     float texture_bias[SRT_FMT_MAX_TEXTURES][3];
-    float max_pass_color;     // largest colour of any pass and channel (times rgb_scale)
+    float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;
