@@ -44,6 +44,7 @@ HEADLESS_SRC := $(wildcard ports/headless/*.cpp)
 SEPAL_MAIN   := offline/cmd/sepal.cpp
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(wildcard tests/*.cpp)
+BENCH_SRC    := $(wildcard tests/bench/*.cpp)
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -52,6 +53,7 @@ RUNTIME_OBJ  := $(call obj,$(RUNTIME_SRC))
 OFFLINE_OBJ  := $(call obj,$(OFFLINE_SRC))
 HEADLESS_OBJ := $(call obj,$(HEADLESS_SRC))
 TEST_OBJ     := $(call obj,$(TEST_SRC))
+BENCH_OBJ    := $(call obj,$(BENCH_SRC))
 
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
@@ -59,6 +61,8 @@ LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
 BIN_SEPAL    := $(BUILD)/bin/sepal
 BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
+BIN_BENCH    := $(BUILD)/bin/sepal-bench
+BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
 
@@ -66,7 +70,7 @@ RUN_OUT      := $(BUILD)/out/sepal-run.png
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BIN_BENCH) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -101,7 +105,8 @@ update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@echo "sepal: no benchmarks yet (they arrive with the factorization engine)"
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH)
+	@$(BIN_BENCH) all --out $(BENCH_OUT)
 
 clean: ## remove build/
 	rm -rf build
@@ -146,6 +151,12 @@ $(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SE
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
+
+# sepal-bench: benchmarks and the README's factorization sweeps (`make bench`).
+$(BIN_BENCH): $(BENCH_OBJ) $(LIB_OFFLINE)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) $(LDFLAGS) $(BENCH_OBJ) $(LIB_OFFLINE) -lpthread -o $@
 
 # The runtime's rules, checked on every build: no iostream, no exceptions, no RTTI use,
 # no std::string in its headers (it is also compiled with -fno-exceptions -fno-rtti).
