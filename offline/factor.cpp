@@ -768,7 +768,9 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
     r.factored = build_factored(o, brdf.spec(), ratio, lr, layout);
     if (stages.empty()) {
         for (int kk = 1; kk <= k; ++kk) r.by_terms.push_back(r.factored.prefix(kk));
-        if (o.method == Method::ND) {
+        if (!o.matrix_error) {
+            // left empty
+        } else if (o.method == Method::ND) {
             if (!matrix_rms_streamed(sampler, o, r.factored, layout, &r.matrix_rms, err))
                 return false;
         } else {
@@ -777,7 +779,8 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
     } else {
         for (int kk = 1; kk <= k; ++kk) {
             r.by_terms.push_back(build_factored(o, brdf.spec(), ratio, stages[size_t(kk - 1)], layout));
-            r.matrix_rms.push_back(matrix_rms_held(m, r.by_terms.back(), layout, o.threads).back());
+            if (o.matrix_error)
+                r.matrix_rms.push_back(matrix_rms_held(m, r.by_terms.back(), layout, o.threads).back());
         }
     }
     *out = std::move(r);

@@ -114,6 +114,7 @@ void run_timing(int runs) {
     FactorOptions base;
     base.res = 64;
     base.terms = 4;
+    base.matrix_error = false;  // sample + factor only
     cases.push_back({"sample 64x64 (one pass, baseline)", base, true});
     FactorOptions o = base;
     cases.push_back({"svd 4 terms 64x64", o, false});
