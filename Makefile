@@ -44,8 +44,10 @@ HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
 SEPAL_MAIN   := offline/cmd/sepal.cpp
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(wildcard tests/*.cpp)
-BENCH_SRC    := $(wildcard tests/bench/*.cpp)
-BENCH_BINS   := $(patsubst tests/bench/%.cpp,$(BUILD)/bin/bench-%,$(BENCH_SRC))
+# sepal-bench (the factorization sweeps) and sepal-bench-runtime (GL frame times) are
+# separate programs: the second links the runtime and the headless port.
+BENCH_SRC    := tests/bench/bench_main.cpp
+RUNTIME_BENCH_SRC := tests/bench/runtime_bench.cpp
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -54,6 +56,7 @@ RUNTIME_OBJ  := $(call obj,$(RUNTIME_SRC))
 OFFLINE_OBJ  := $(call obj,$(OFFLINE_SRC))
 HEADLESS_OBJ := $(call obj,$(HEADLESS_SRC))
 TEST_OBJ     := $(call obj,$(TEST_SRC))
+BENCH_OBJ    := $(call obj,$(BENCH_SRC))
 
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
@@ -61,6 +64,9 @@ LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
 BIN_SEPAL    := $(BUILD)/bin/sepal
 BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
+BIN_BENCH    := $(BUILD)/bin/sepal-bench
+BIN_RUNTIME_BENCH := $(BUILD)/bin/sepal-bench-runtime
+BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
 # The default material of `make run`: an anisotropic Ward, 2 NMF terms in gs-half at
@@ -74,7 +80,7 @@ RUN_ASSET    := $(BUILD)/out/ward.sepal
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BIN_BENCH) $(BIN_RUNTIME_BENCH) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -117,9 +123,9 @@ update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@$(MAKE) --no-print-directory -j$(NPROC) build $(BENCH_BINS)
-	@mkdir -p $(BUILD)/bench
-	@for b in $(BENCH_BINS); do echo "== $$b"; $$b $(BUILD)/bench $(BUILD) || exit 1; done
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH)
+	@$(BIN_BENCH) all --out $(BENCH_OUT)
+	@$(BIN_RUNTIME_BENCH) $(BENCH_OUT) $(BUILD)
 
 clean: ## remove build/
 	rm -rf build
@@ -165,8 +171,13 @@ $(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SE
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
 
-# Benchmarks: one binary per tests/bench/*.cpp.
-$(BUILD)/bin/bench-%: $(BUILD)/obj/tests/bench/%.o $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+# sepal-bench: benchmarks and the README's factorization sweeps (`make bench`).
+$(BIN_BENCH): $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) $(LDFLAGS) $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
+# sepal-bench-runtime: GL ES frame times against the fill limit (`make bench`).
+$(BIN_RUNTIME_BENCH): $(call obj,$(RUNTIME_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@

@@ -12,10 +12,11 @@
 // S = supersample), counting only pairs with both directions above the horizon; its
 // weight is the share of such pairs (0 where the whole entry falls below the horizon).
 // Decompositions (each per colour channel, or of the luminance with per-channel ratios):
-//   svd   truncated SVD, signed, computed for the top K triplets only by randomized subspace
-//         iteration (fixed seed) on the zero-filled matrix; where some entries have weight
-//         < 1 it is then refined by weighted alternating least squares over the valid
-//         entries (svd_weighted) and re-orthogonalized. k-term results are prefixes.
+//   svd   truncated SVD, signed, of the matrix with entries below the horizon as 0 (the
+//         paper's): the top K triplets only, by randomized subspace iteration with a fixed
+//         seed; k-term results are prefixes. With svd_weighted, a weighted fit instead:
+//         alternating least squares over the entries by their weight (entries wholly below
+//         the horizon by horizon_weight), one solution per term count, re-orthogonalized.
 //   nd    normalized decomposition (Kautz-McCool 4.2) with a p-norm; multi-term on signed
 //         residuals (a row's sign is that of its correlation with the largest-norm
 //         residual row). Streams rows: memory = output; 1 + 2 (K - 1) sampling passes.
@@ -70,6 +71,9 @@ struct FactorOptions {
     int threads = 0;  // 0: all cores
     uint64_t seed = 1;
     bool progress = false;  // one-line progress on stderr
+    // Fill FactorResult::matrix_rms (for nd one more sampling pass); benchmarks of the
+    // factoring time alone turn it off.
+    bool matrix_error = true;
 };
 
 // Checks ranges and combinations; false with a message naming the option.

@@ -12,32 +12,41 @@ int default_threads() {
     return n == 0 ? 1 : int(std::min(n, 64u));
 }
 
-void parallel_for(size_t n_chunks, int threads, const std::function<void(size_t)>& fn) {
+int workers(size_t n_chunks, int threads) {
     if (threads <= 0) threads = default_threads();
     threads = std::min(threads, 64);
-    const size_t workers = std::min<size_t>(size_t(threads), n_chunks);
-    if (workers <= 1) {
-        for (size_t c = 0; c < n_chunks; ++c) fn(c);
+    return int(std::max<size_t>(1, std::min<size_t>(size_t(threads), n_chunks)));
+}
+
+void parallel_for_workers(size_t n_chunks, int threads,
+                          const std::function<void(size_t, int)>& fn) {
+    const int n = workers(n_chunks, threads);
+    if (n <= 1) {
+        for (size_t c = 0; c < n_chunks; ++c) fn(c, 0);
         return;
     }
     // Chunks are handed out dynamically (they differ in cost), which is fine: every chunk's
     // result is independent of which thread computed it.
     std::atomic<size_t> next{0};
-    auto work = [&]() {
-        for (size_t c; (c = next.fetch_add(1)) < n_chunks;) fn(c);
+    auto work = [&](int worker) {
+        for (size_t c; (c = next.fetch_add(1)) < n_chunks;) fn(c, worker);
     };
     std::vector<std::thread> pool;
-    pool.reserve(workers - 1);
-    for (size_t t = 1; t < workers; ++t) {
+    pool.reserve(size_t(n - 1));
+    for (int t = 1; t < n; ++t) {
         // A thread that cannot be started only means fewer workers, never a failure.
         try {
-            pool.emplace_back(work);
+            pool.emplace_back(work, t);
         } catch (...) {
             break;
         }
     }
-    work();
+    work(0);
     for (std::thread& t : pool) t.join();
+}
+
+void parallel_for(size_t n_chunks, int threads, const std::function<void(size_t)>& fn) {
+    parallel_for_workers(n_chunks, threads, [&](size_t c, int) { fn(c); });
 }
 
 }  // namespace sepal

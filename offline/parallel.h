@@ -25,6 +25,11 @@ int default_threads();
 
 // Runs fn(0) .. fn(n_chunks - 1), on up to `threads` threads (0 = default_threads()).
 void parallel_for(size_t n_chunks, int threads, const std::function<void(size_t)>& fn);
+// The same, also passing the worker's index in [0, workers(n_chunks, threads)), for
+// per-worker scratch buffers that live across calls.
+void parallel_for_workers(size_t n_chunks, int threads,
+                          const std::function<void(size_t chunk, int worker)>& fn);
+int workers(size_t n_chunks, int threads);
 
 // splitmix64 (Steele, Lea, Flood 2014): tiny, fast, and the same everywhere.
 inline uint64_t splitmix64(uint64_t x) {
