@@ -98,3 +98,53 @@ TEST_CASE("golden: cook-torrance on GL ES 1.1 against exact") {
 TEST_CASE("golden: Cornell garnet_red on GL ES 1.1 against exact") {
     run_case({"garnet_red", "fixtures/cornell/garnet_red.brdf", sepal::Method::NMF, 2, -1, 28.0, 16, 0.26, false});  // 29.9 dB, 19.8%
 }
+
+TEST_CASE("every backend against exact, and against each other (2-term NMF ward)") {
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(kWard, &err);
+    REQUIRE(f);
+    sepal::BakeOptions o;
+    o.params = {sepal::Param::GsHalf};
+    o.resolutions = {32};
+    o.methods = {sepal::Method::NMF};
+    o.terms = {2};
+    o.cap = 2.0;
+    sepal::BakeResult r;
+    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+    std::vector<uint8_t> bytes;
+    REQUIRE(sepal::encode_asset(r.asset, &bytes, &err));
+    sepal_ports::SceneSetup s;
+    s.width = s.height = 128;
+    s.mesh_name = "torus";
+    REQUIRE(sepal_ports::load_scene_mesh(&s, &err));
+    sepal::Image exact;
+    REQUIRE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err));
+    for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
+    std::vector<float> rgb;
+    REQUIRE(sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, nullptr, &err));
+    sepal::Image cpu(s.width, s.height, 3);
+    cpu.data = rgb;
+    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
+    const double cpu_psnr = sepal::diff_images(exact, cpu, 0).psnr;
+    CAPTURE(cpu_psnr);
+    CHECK(cpu_psnr > 25.0);  // measured 26.6 dB: the factorization's own error
+    for (const char* backend : {"gles1", "gles2", "gles2-fused", "gles2-fused-pixel"}) {
+        CAPTURE(std::string(backend));
+        sepal_ports::GlRenderOptions opt;
+        REQUIRE(sepal_ports::parse_gl_backend(backend, &opt));
+        sepal_ports::GlRenderInfo info;
+        std::vector<uint8_t> rgba;
+        REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &err), err);
+        const sepal::Image gl = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+        const sepal::ImageDiff to_exact = sepal::diff_images(exact, gl, 0);
+        const sepal::ImageDiff to_cpu = sepal::diff_images(cpu, gl, 8.0);
+        CAPTURE(to_exact.psnr);
+        CAPTURE(to_cpu.psnr);
+        CAPTURE(to_cpu.share_over);
+        // Against exact: no backend may lose more than 1.5 dB to the float CPU render.
+        CHECK(to_exact.psnr > cpu_psnr - 1.5);
+        // Against the CPU (same factors): 8-bit output and per-vertex coordinates only.
+        CHECK(to_cpu.psnr > 33.0);
+        CHECK(to_cpu.share_over < 0.03);  // pixels more than 8 levels apart
+    }
+}

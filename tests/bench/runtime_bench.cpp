@@ -17,6 +17,10 @@
 #include <vector>
 
 #include "asset_file.h"
+#include "bake.h"
+#include "image.h"
+#include "render_exact.h"
+#include "render_gl.h"
 #include "io.h"
 #include "plan.h"
 #include "scene_flags.h"
@@ -114,6 +118,100 @@ long stripped_size(const std::string& path, const std::string& tmp) {
     const std::string cmd = "strip -o '" + tmp + "' '" + path + "' 2>/dev/null";
     if (std::system(cmd.c_str()) != 0) return -1;
     return file_size(tmp);
+}
+
+struct BackendRow {
+    std::string material, backend;
+    double ms = 0, psnr = 0;
+};
+
+// ms/frame (median of 7 after 2 warm-up frames) and PSNR against the exact render for every
+// backend, on the golden materials of the tests at 512x512 in the default scene.
+std::vector<BackendRow> backend_table() {
+    std::vector<BackendRow> rows;
+    struct Mat {
+        const char* name;
+        const char* spec;
+        double cap;
+    } mats[] = {{"ward (make run)", "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", 2.0},
+                {"cook-torrance", "cook-torrance", 2.0},
+                {"garnet_red", SEPAL_SOURCE_DIR "/fixtures/cornell/garnet_red.brdf", -1}};
+    for (const Mat& m : mats) {
+        std::string err;
+        std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(m.spec, &err);
+        sepal::BakeOptions o;
+        o.params = {sepal::Param::GsHalf};
+        o.resolutions = {32};
+        o.methods = {sepal::Method::NMF};
+        o.terms = {2};
+        o.cap = m.cap;
+        sepal::BakeResult r;
+        std::vector<uint8_t> bytes;
+        if (!f || !sepal::bake(*f, o, &r, &err) || !sepal::encode_asset(r.asset, &bytes, &err)) {
+            std::fprintf(stderr, "bench: %s\n", err.c_str());
+            std::exit(1);
+        }
+        sepal_ports::SceneSetup s;
+        sepal_ports::load_scene_mesh(&s, &err);
+        sepal::Image exact;
+        sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err);
+        for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
+        auto asset = std::make_unique<srt_asset>();
+        srt_error e = {};
+        srt_asset_parse(bytes.data(), bytes.size(), asset.get(), &e);
+        for (const char* backend : {"gles1", "gles2", "gles2-fused", "gles2-fused-pixel"}) {
+            sepal_ports::GlRenderOptions opt;
+            sepal_ports::parse_gl_backend(backend, &opt);
+            sh_desc hd = {};
+            hd.width = s.width;
+            hd.height = s.height;
+            hd.gles_version = opt.gles_version;
+            char msg[512];
+            sh_context* ctx = sh_create(&hd, msg, sizeof msg);
+            srt_caps caps;
+            auto mat = std::make_unique<srt_material>();
+            if (!ctx || srt_query_caps(opt.gles_version, 0, sh_get_proc_address, &caps, &e) != SRT_OK ||
+                srt_material_create(&caps, asset.get(), s.width, s.height, mat.get(), &e) != SRT_OK) {
+                std::fprintf(stderr, "bench: %s: %s\n", backend, ctx ? e.message : msg);
+                std::exit(1);
+            }
+            std::vector<float> scratch(srt_draw_scratch_floats(s.mesh.vertex_count, s.scene.light_count));
+            srt_draw_desc d = {};
+            d.material = mat.get();
+            d.mesh = &s.mesh;
+            d.scene = &s.scene;
+            d.width = s.width;
+            d.height = s.height;
+            d.scratch = scratch.data();
+            d.scratch_floats = scratch.size();
+            d.mode = opt.mode;
+            std::vector<double> times;
+            for (int i = 0; i < 9; ++i) {
+                const auto t = Clock::now();
+                srt_draw(&d, nullptr, &e);
+                glFinish();
+                if (i >= 2) times.push_back(ms_since(t));
+            }
+            std::vector<uint8_t> px(size_t(s.width) * s.height * 4);
+            sh_read_rgba(ctx, px.data());
+            srt_material_destroy(mat.get());
+            sh_destroy(ctx);
+            const sepal::Image img = sepal::to_rgb(sepal::image_from_rgba8(px.data(), s.width, s.height));
+            rows.push_back({m.name, backend, median(times), sepal::diff_images(exact, img, 0).psnr});
+        }
+        std::vector<float> rgb;
+        std::vector<double> times;
+        for (int i = 0; i < 3; ++i) {
+            double ms = 0;
+            sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, &ms, &err);
+            times.push_back(ms);
+        }
+        sepal::Image img(s.width, s.height, 3);
+        img.data = rgb;
+        for (float& v : img.data) v = std::min(1.0f, std::max(0.0f, v));
+        rows.push_back({m.name, "cpu", median(times), sepal::diff_images(exact, img, 0).psnr});
+    }
+    return rows;
 }
 
 }  // namespace
@@ -229,6 +327,21 @@ int main(int argc, char** argv) {
         std::snprintf(row, sizeof row, "  \"vertex_setup_ns_per_vertex_light\": %.2f,\n", ns);
         json += row;
     }
+    // Every backend on the golden materials: PSNR against exact and ms/frame.
+    const std::vector<BackendRow> rows = backend_table();
+    std::printf("\nbackends, 512x512, default scene, 2-term NMF gs-half 32x32 assets; median of 7 frames (cpu: 3)\n");
+    std::printf("%-18s %-18s %9s %10s\n", "material", "backend", "ms/frame", "PSNR (dB)");
+    json += "  \"backends\": [\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        std::printf("%-18s %-18s %9.2f %10.2f\n", rows[i].material.c_str(), rows[i].backend.c_str(), rows[i].ms,
+                    rows[i].psnr);
+        char row[256];
+        std::snprintf(row, sizeof row, "    {\"material\": \"%s\", \"backend\": \"%s\", \"ms\": %.3f, \"psnr\": %.3f}%s\n",
+                      rows[i].material.c_str(), rows[i].backend.c_str(), rows[i].ms, rows[i].psnr,
+                      i + 1 < rows.size() ? "," : "");
+        json += row;
+    }
+    json += "  ],\n";
     const long lib = stripped_size(bin_dir + "/lib/libsepal_runtime.a", out_dir + "/runtime.stripped.a");
     const long view = stripped_size(bin_dir + "/bin/sepal-view", out_dir + "/sepal-view.stripped");
     std::printf("stripped sizes: libsepal_runtime.a %ld bytes, sepal-view %ld bytes\n", lib, view);
