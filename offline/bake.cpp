@@ -101,11 +101,13 @@ Factored dequantize(const AssetData& a, const Factored& like) {
     return f;
 }
 
-std::string asset_manifest(const AssetData& a, const std::string& spec, const std::string& method, int res) {
+std::string asset_manifest(const AssetData& a, const std::string& spec, const std::string& method, int res,
+                           const std::string& bake_key) {
     JsonWriter j;
     static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"};
     j.begin_object();
     j.key("format").value("sepal asset 1.0");
+    if (!bake_key.empty()) j.key("bake_key").value(bake_key);
     j.key("spec").value(spec);
     j.key("method").value(method);
     j.key("parameterization").value(kParams[a.material.param % 5]);
@@ -323,7 +325,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     out->asset.material.error_float = float(w.error_float * ev.reference_rms());
     out->asset.material.error_quantized = float(w.rms_quantized);
     out->asset.material.error_relative = float(w.error_quantized);
-    out->asset.meta = asset_manifest(out->asset, brdf.spec(), method_name(w.method), w.res);
+    out->asset.meta = asset_manifest(out->asset, brdf.spec(), method_name(w.method), w.res, o.key);
     return true;
 }
 

@@ -59,6 +59,8 @@ struct BakeOptions {
     // every mid-tone there unless the peaks, white on screen anyway, are capped. The error
     // is still measured against the uncapped BRDF, and the clamped share is reported.
     double cap = -1;
+    // Stored in the asset's manifest as "bake_key" (bake-scene's up-to-date check).
+    std::string key;
 };
 
 struct BakeCandidate {
@@ -96,6 +98,7 @@ bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetDat
 // The float factors an asset stands for (level 0, scale * q + bias), for measuring it.
 Factored dequantize(const AssetData& asset, const Factored& like);
 // The JSON manifest (scales, biases, parameterization, map, plan, errors).
-std::string asset_manifest(const AssetData& asset, const std::string& spec, const std::string& method, int res);
+std::string asset_manifest(const AssetData& asset, const std::string& spec, const std::string& method, int res,
+                           const std::string& bake_key = "");
 
 }  // namespace sepal

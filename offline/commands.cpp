@@ -23,6 +23,8 @@ const std::vector<Command>& commands() {
          "[--colour rgb|luminance] [--bits 8|16] [--max-error E] [--max-passes P] [--max-bytes B] "
          "[--cap F] [--report r.json] [--export DIR] [--threads N]",
          "bake a BRDF into a shipping asset: the cheapest candidate meeting the budgets", cmd_bake},
+        {"bake-scene", "scene.json -o DIR [--threads N] [--force]",
+         "bake the materials a scene lists, each with its budget; skip up-to-date ones", cmd_bake_scene},
         {"inspect", "FILE.sepal", "validate and print an asset", cmd_inspect},
         {"render",
          "SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu [--mask LIST] "
@@ -35,7 +37,7 @@ const std::vector<Command>& commands() {
 
 static void usage(FILE* f) {
     std::fprintf(f, "usage: sepal <command> [arguments]\n\ncommands:\n");
-    for (const Command& c : commands()) std::fprintf(f, "  %-8s %s\n", c.name, c.summary);
+    for (const Command& c : commands()) std::fprintf(f, "  %-10s %s\n", c.name, c.summary);
     std::fprintf(f, "\n'sepal <command> --help' shows a command's arguments.\n");
 }
 

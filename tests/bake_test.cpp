@@ -150,3 +150,43 @@ TEST_CASE("sepal bake, sepal inspect: the command line, the export and refusals"
         CHECK_MESSAGE(out.find(d.expect) != std::string::npos, out);
     }
 }
+
+TEST_CASE("sepal bake-scene: bakes what a scene lists, skips what is up to date, reports failures") {
+    const std::string dir = sepal_test::temp_dir();
+    const std::string sepal = sepal_test::bin("sepal");
+    // A measured file relative to the scene file.
+    REQUIRE(sepal_test::run("mkdir -p " + dir + "/data && cp " + sepal_test::source_path("fixtures/cornell/garnet_red.brdf") +
+                            " " + dir + "/data/") == 0);
+    auto write_scene = [&](const std::string& budget) {
+        std::ofstream(dir + "/scene.json")
+            << "{\"materials\": [\n"
+               " {\"name\": \"shiny\", \"spec\": \"blinn:n=20\", \"param\": \"gs-half\", \"res\": [16],\n"
+               "  \"method\": [\"nmf\"], \"terms\": [1, 2], \"max_error\": " << budget << "},\n"
+               " {\"name\": \"paint\", \"spec\": \"data/garnet_red.brdf\", \"param\": [\"gs-half\"], \"res\": 16,\n"
+               "  \"method\": \"nmf\", \"terms\": [1]}\n"
+               "]}\n";
+    };
+    write_scene("0.5");
+    std::string out;
+    REQUIRE(sepal_test::run(sepal + " bake-scene " + dir + "/scene.json -o " + dir + "/assets", &out) == 0);
+    CHECK(out.find("2 baked, 0 up to date, 0 failed") != std::string::npos);
+    REQUIRE(sepal_test::run(sepal + " inspect " + dir + "/assets/paint.sepal") == 0);
+    REQUIRE(sepal_test::run(sepal + " bake-scene " + dir + "/scene.json -o " + dir + "/assets", &out) == 0);
+    CHECK(out.find("0 baked, 2 up to date, 0 failed") != std::string::npos);
+    write_scene("0.45");  // one budget changed: only that material is baked again
+    REQUIRE(sepal_test::run(sepal + " bake-scene " + dir + "/scene.json -o " + dir + "/assets", &out) == 0);
+    CHECK(out.find("1 baked, 1 up to date, 0 failed") != std::string::npos);
+    // A bad material fails alone; the exit code says so.
+    std::ofstream(dir + "/bad.json") << "{\"materials\": [{\"name\": \"ok\", \"spec\": \"lambert\", \"res\": 16, "
+                                         "\"param\": \"gs-half\", \"method\": \"svd\", \"terms\": 1},\n"
+                                         " {\"name\": \"typo\", \"spec\": \"lambert\", \"max_eror\": 0.1},\n"
+                                         " {\"name\": \"../escape\", \"spec\": \"lambert\"}]}";
+    CHECK(sepal_test::run(sepal + " bake-scene " + dir + "/bad.json -o " + dir + "/assets2", &out) == 1);
+    CHECK(out.find("unknown key \"max_eror\"") != std::string::npos);
+    CHECK(out.find("name must be") != std::string::npos);
+    CHECK(out.find("1 baked, 0 up to date, 2 failed") != std::string::npos);
+    // Malformed JSON: exit 2 with the position.
+    std::ofstream(dir + "/broken.json") << "{\"materials\": [\n  {\"name\": \"x\",, }]}";
+    CHECK(sepal_test::run(sepal + " bake-scene " + dir + "/broken.json -o " + dir + "/assets3", &out) == 2);
+    CHECK(out.find("line 2, column") != std::string::npos);
+}
