@@ -17,10 +17,17 @@ using glm::dvec3;
 
 static const std::vector<const ModelEntry*>& registry() {
     static const std::vector<const ModelEntry*> table = {
-        &lambert_entry(),     &phong_entry(),        &blinn_entry(),
-        &lafortune_entry(),   &ward_entry(),         &cook_torrance_entry(),
-        &ashikhmin_shirley_entry(), &poulin_fournier_entry(), &hapke_lommel_entry(),
-        &oren_nayar_entry(),  &velvet_entry(),
+        &lambert_entry(),
+        &phong_entry(),
+        &blinn_entry(),
+        &lafortune_entry(),
+        &ward_entry(),
+        &cook_torrance_entry(),
+        &ashikhmin_shirley_entry(),
+        &poulin_fournier_entry(),
+        &hapke_lommel_entry(),
+        &oren_nayar_entry(),
+        &velvet_entry(),
     };
     return table;
 }
@@ -32,12 +39,13 @@ std::vector<std::string> analytic_model_names() {
 }
 
 static std::string param_doc(const ParamDef& d) {
-    std::string s = std::string(d.doc) + " (" +
-                    (d.kind == ParamKind::kColour ? "colour " : "") + format_range(d.lo, d.hi);
+    std::string s = std::string(d.doc) + " (" + (d.kind == ParamKind::kColour ? "colour " : "") +
+                    format_range(d.lo, d.hi);
     if (d.default_from)
         s += std::string(", default: ") + d.default_from;
     else
-        s += ", default " + (d.kind == ParamKind::kColour ? format_colour(d.def) : format_number(d.def.x));
+        s += ", default " +
+             (d.kind == ParamKind::kColour ? format_colour(d.def) : format_number(d.def.x));
     return s + ")";
 }
 
@@ -47,7 +55,7 @@ std::string analytic_models_help() {
         s += std::string(e->name) + ": " + e->summary + "\n  source: " + e->source + "\n";
         for (const ParamDef& d : e->params)
             s += "  " + std::string(d.name) + ": " + param_doc(d) + "\n";
-        for (const std::string& r : e->repeated) s += "  " + r + ": repeatable, see brdf_models.h\n";
+        for (const std::string& r : e->repeated) s += "  " + r + ": repeatable (syntax above)\n";
     }
     return s;
 }
@@ -64,7 +72,8 @@ std::unique_ptr<Brdf> make_analytic_brdf(const std::string& spec, std::string* e
     }
     if (err) {
         std::string names;
-        for (const ModelEntry* e : registry()) names += (names.empty() ? "" : ", ") + std::string(e->name);
+        for (const ModelEntry* e : registry())
+            names += (names.empty() ? "" : ", ") + std::string(e->name);
         *err = "unknown BRDF model '" + model + "'; models: " + names +
                " (or a measured file: .binary, .brdf)";
     }
@@ -77,7 +86,9 @@ std::unique_ptr<Brdf> make_analytic_brdf(const std::string& spec, std::string* e
 static bool prepare(const dvec3& w, dvec3* out) {
     if (!(w.z > 0.0) || !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
         return false;
-    const double len = std::hypot(std::hypot(w.x, w.y), w.z);  // no overflow for huge input
+    double len = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+    if (!(len > 0.0 && len < 1e150))  // squares over- or underflowed: the slow exact way
+        len = std::hypot(std::hypot(w.x, w.y), w.z);
     if (!(len > 0.0) || !std::isfinite(len)) return false;
     dvec3 u = w / len;
     if (u.z < kMinCos) {
@@ -174,9 +185,7 @@ class Blinn final : public AnalyticBrdf {
   public:
     Blinn(const ModelEntry& e, const ParamSet& p)
         : AnalyticBrdf(e, p), rd_(colour("rho_d")), rs_(colour("rho_s")), n_(scalar("n")) {}
-    bool energy_conserving() const override {
-        return max3(rd_ + kBlinnMaxAlbedo * rs_) <= 1.0;
-    }
+    bool energy_conserving() const override { return max3(rd_ + kBlinnMaxAlbedo * rs_) <= 1.0; }
 
   protected:
     dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
@@ -208,9 +217,9 @@ bool parse_lobe(int index, const std::string& text, Lobe* out, std::string* err)
     while (true) {
         const size_t slash = text.find('/', pos);
         double x;
-        if (!parse_finite(text.substr(pos, slash == std::string::npos ? std::string::npos
-                                                                      : slash - pos),
-                          &x)) {
+        if (!parse_finite(
+                text.substr(pos, slash == std::string::npos ? std::string::npos : slash - pos),
+                &x)) {
             if (err) *err = where + ": every field must be a finite number";
             return false;
         }
@@ -224,7 +233,8 @@ bool parse_lobe(int index, const std::string& text, Lobe* out, std::string* err)
     }
     for (int i = 0; i < 3; ++i)
         if (std::fabs(v[i]) > kLobeCMax) {
-            if (err) *err = where + ": Cx, Cy, Cz must lie in " + format_range(-kLobeCMax, kLobeCMax);
+            if (err)
+                *err = where + ": Cx, Cy, Cz must lie in " + format_range(-kLobeCMax, kLobeCMax);
             return false;
         }
     if (!(v[3] >= 0.0 && v[3] <= kLobeNMax)) {
@@ -277,8 +287,7 @@ class Lafortune final : public AnalyticBrdf {
     std::string extra_info() const override {
         std::string s;
         for (size_t i = 0; i < lobes_.size(); ++i)
-            s += "lobe " + std::to_string(i + 1) + " = " + lobe_text(lobes_[i]) +
-                 "   Cx/Cy/Cz/n[/weight]: weight * max(0, Cx x_i x_o + Cy y_i y_o + Cz z_i z_o)^n\n";
+            s += "lobe " + std::to_string(i + 1) + " = " + lobe_text(lobes_[i]) + "\n";
         return s;
     }
 
@@ -297,8 +306,7 @@ class Lafortune final : public AnalyticBrdf {
 
 class OrenNayar final : public AnalyticBrdf {
   public:
-    OrenNayar(const ModelEntry& e, const ParamSet& p)
-        : AnalyticBrdf(e, p), rho_(colour("rho")) {
+    OrenNayar(const ModelEntry& e, const ParamSet& p) : AnalyticBrdf(e, p), rho_(colour("rho")) {
         const double s2 = scalar("sigma") * scalar("sigma");
         a_ = 1.0 - 0.5 * s2 / (s2 + 0.33);
         b_ = 0.45 * s2 / (s2 + 0.09);
@@ -334,15 +342,21 @@ class HapkeLommel final : public AnalyticBrdf {
                       wi.x * wo.y - wi.y * wo.x);
         const double sin_a = std::sqrt(x.x * x.x + x.y * x.y + x.z * x.z);
         const double cos_a = std::clamp(wi.x * wo.x + wi.y * wo.y + wi.z * wo.z, -1.0, 1.0);
-        const double alpha = std::atan2(sin_a, cos_a);
         // Lambert-sphere phase function plus Hapke's forward-scattering term.
-        const double phase =
-            (sin_a + (kPi - alpha) * cos_a) / kPi + f_ * (1.0 - cos_a) * (1.0 - cos_a);
+        const double phase = lambert_sphere(sin_a, cos_a) + f_ * (1.0 - cos_a) * (1.0 - cos_a);
         const double s = 2.0 / (3.0 * kPi) * phase;
         return r_ * (s * retro(sin_a, cos_a) / (wi.z + wo.z));
     }
 
   private:
+    // (sin a + (pi - a) cos a) / pi. Near a = pi (grazing forward scattering) the two terms
+    // cancel to (pi - a)^3 / 3: there, with d = pi - a, sin d - d cos d by its series.
+    static double lambert_sphere(double sin_a, double cos_a) {
+        const double d = std::atan2(sin_a, -cos_a);  // pi - a, accurate when small
+        if (d > 0.1) return (sin_a + d * cos_a) / kPi;
+        const double d2 = d * d;
+        return d * d2 * (1.0 / 3.0 - d2 * (1.0 / 30.0 - d2 * (1.0 / 840.0 - d2 / 45360.0))) / kPi;
+    }
     // Hapke's retrodirective function B(alpha, g): 2 at alpha = 0, falling to 1 at 90
     // degrees and beyond. With x = g / tan(alpha):
     //   B = 2 - (1 - e^-x)(3 - e^-x) / (2x).
@@ -380,9 +394,12 @@ std::unique_ptr<Brdf> make_lafortune(const ModelEntry& e, const ParamSet& p, std
 }  // namespace
 
 const ModelEntry& lambert_entry() {
-    static const ModelEntry e{
-        "lambert", "Lambertian diffuse: f = rho / pi", "Lambert 1760",
-        {{"rho", ParamKind::kColour, 0.5, 0.0, 1.0, "albedo"}}, {}, make_simple<Lambert>};
+    static const ModelEntry e{"lambert",
+                              "Lambertian diffuse: f = rho / pi",
+                              "Lambert 1760",
+                              {{"rho", ParamKind::kColour, 0.5, 0.0, 1.0, "albedo"}},
+                              {},
+                              make_simple<Lambert>};
     return e;
 }
 
@@ -407,7 +424,7 @@ const ModelEntry& blinn_entry() {
         "normalized Blinn-Phong: rho_d/pi + rho_s (n+8)/(8 pi) (n.h)^n",
         "Blinn 1977, Models of light reflection for computer synthesized pictures; (n+8)/(8 pi) "
         "normalization from Akenine-Moller, Haines and Hoffman, Real-Time Rendering 3rd ed. "
-        "(2008), eq. 7.49",
+        "(2008)",
         {{"rho_d", ParamKind::kColour, 0.3, 0.0, 1.0, "diffuse albedo"},
          {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular weight"},
          {"n", ParamKind::kScalar, 100.0, 0.0, 1e6, "exponent"}},
@@ -420,7 +437,8 @@ const ModelEntry& lafortune_entry() {
     static const ModelEntry e{
         "lafortune",
         "generalized cosine lobes: rho_d/pi + sum_k w_k max(0, Cx x_i x_o + Cy y_i y_o + "
-        "Cz z_i z_o)^n_k",
+        "Cz z_i z_o)^n_k; lobe=Cx/Cy/Cz/n, Cx/Cy/Cz/n/w or Cx/Cy/Cz/n/r/g/b, 1 to 16 lobes, "
+        "C in [-100, 100], n in [0, 1e6], w in [0, 1000] (default: one lobe -1/-1/1/20/0.5)",
         "Lafortune, Foo, Torrance and Greenberg 1997, Non-linear approximation of "
         "reflectance functions",
         {{"rho_d", ParamKind::kColour, 0.2, 0.0, 1.0, "diffuse albedo"}},
@@ -434,7 +452,8 @@ const ModelEntry& oren_nayar_entry() {
         "oren-nayar",
         "Oren-Nayar qualitative model: rho/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) "
         "tan(beta))",
-        "Oren and Nayar 1994, Generalization of Lambert's reflectance model, eq. 30",
+        "Oren and Nayar 1994, Generalization of Lambert's reflectance model (the qualitative "
+        "model)",
         {{"rho", ParamKind::kColour, 0.8, 0.0, 1.0, "albedo"},
          {"sigma", ParamKind::kScalar, 0.3, 0.0, kPi / 2, "facet slope deviation (radians)"}},
         {},

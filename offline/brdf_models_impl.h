@@ -22,8 +22,7 @@ struct ModelEntry;
 // eval_above() with unit vectors of z >= kMinCos.
 class AnalyticBrdf : public Brdf {
   public:
-    AnalyticBrdf(const ModelEntry& entry, const ParamSet& params)
-        : entry_(entry), p_(params) {}
+    AnalyticBrdf(const ModelEntry& entry, const ParamSet& params) : entry_(entry), p_(params) {}
     glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const final;
     std::string spec() const override;
     std::string model() const override;
@@ -68,7 +67,8 @@ const ModelEntry& ashikhmin_shirley_entry();
 const ModelEntry& velvet_entry();
 const ModelEntry& poulin_fournier_entry();
 
-inline double max3(const glm::dvec3& v) { return v.x > v.y ? (v.x > v.z ? v.x : v.z)
-                                                           : (v.y > v.z ? v.y : v.z); }
+inline double max3(const glm::dvec3& v) {
+    return v.x > v.y ? (v.x > v.z ? v.x : v.z) : (v.y > v.z ? v.y : v.z);
+}
 
 }  // namespace sepal

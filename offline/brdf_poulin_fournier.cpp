@@ -42,8 +42,12 @@ struct Profile2D {
 class PoulinFournier final : public AnalyticBrdf {
   public:
     PoulinFournier(const ModelEntry& e, const ParamSet& p)
-        : AnalyticBrdf(e, p), d_(scalar("d")), h_(scalar("h")), n_(scalar("n")),
-          rs_(colour("Rs")), rd_(colour("Rd")) {
+        : AnalyticBrdf(e, p),
+          d_(scalar("d")),
+          h_(scalar("h")),
+          n_(scalar("n")),
+          rs_(colour("Rs")),
+          rd_(colour("Rd")) {
         psi_max_ = std::acos(std::clamp(-h_, -1.0, 1.0));
         c_ = std::sqrt(std::max(0.0, 1.0 - h_ * h_));
         gauss_legendre(kGL, gx_, gw_);
@@ -55,8 +59,8 @@ class PoulinFournier final : public AnalyticBrdf {
 
   protected:
     dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
-        const Profile2D pi{std::hypot(wi.y, wi.z), std::atan2(wi.y, wi.z)};
-        const Profile2D po{std::hypot(wo.y, wo.z), std::atan2(wo.y, wo.z)};
+        const Profile2D pi{std::sqrt(wi.y * wi.y + wi.z * wi.z), std::atan2(wi.y, wi.z)};
+        const Profile2D po{std::sqrt(wo.y * wo.y + wo.z * wo.z), std::atan2(wo.y, wo.z)};
         const double dot_io = wi.x * wo.x + wi.y * wo.y + wi.z * wo.z;
 
         // Cylinder arc seen from both directions.
@@ -70,7 +74,7 @@ class PoulinFournier final : public AnalyticBrdf {
             diff = 0.5 * aa *
                    ((B - A) * std::cos(pi.beta - po.beta) +
                     0.5 * (std::sin(2.0 * B - bs) - std::sin(2.0 * A - bs)));
-            spec = spec_integral(pi, po, wi.x * wo.x, dot_io, A, B);
+            spec = spec_integral(pi, po, wi, wo, dot_io, A, B);
         }
 
         // Flat ground between the cylinders, seen from both.
@@ -139,9 +143,9 @@ class PoulinFournier final : public AnalyticBrdf {
     }
 
     // Integral over psi in [A, B] of (m.wi)(m.wo) max(0, 2 (m.wi)(m.wo) - wi.wo)^n.
-    double spec_integral(const Profile2D& pi, const Profile2D& po, double xx, double dot_io,
-                         double A, double B) const {
-        const double aa = pi.a * po.a;
+    double spec_integral(const Profile2D& pi, const Profile2D& po, const dvec3& wi, const dvec3& wo,
+                         double dot_io, double A, double B) const {
+        const double aa = pi.a * po.a, xx = wi.x * wo.x;
         const double peak = aa - xx;  // the largest r_m.wo over psi
         if (!(peak > 0.0) || !(aa > 0.0)) return 0.0;
         const double centre = 0.5 * (pi.beta + po.beta);
@@ -176,9 +180,8 @@ class PoulinFournier final : public AnalyticBrdf {
             double s = 0.0;
             for (int j = 0; j < kGL; ++j) {
                 const double psi = mid + half * gx_[j];
-                const double mi = pi.a * std::cos(psi - pi.beta);
-                const double mo = po.a * std::cos(psi - po.beta);
-                const double mm = mi * mo;
+                const double sp = std::sin(psi), cp = std::cos(psi);  // m = (0, sp, cp)
+                const double mm = (sp * wi.y + cp * wi.z) * (sp * wo.y + cp * wo.z);
                 s += gw_[j] * mm * lobe(2.0 * mm - dot_io);
             }
             sum += half * s;

@@ -40,9 +40,8 @@ bool split_spec(const std::string& spec, std::string* model, std::vector<SpecIte
     size_t pos = 0;
     while (true) {
         const size_t comma = rest.find(',', pos);
-        const std::string item = trim(rest.substr(pos, comma == std::string::npos
-                                                            ? std::string::npos
-                                                            : comma - pos));
+        const std::string item =
+            trim(rest.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos));
         if (item.empty()) {
             if (err)
                 *err = *model + ": empty parameter in '" + spec +
@@ -117,8 +116,8 @@ static bool parse_value(const std::string& model, const ParamDef& d, const std::
     size_t pos = 0;
     while (true) {
         const size_t slash = text.find('/', pos);
-        parts.push_back(trim(text.substr(pos, slash == std::string::npos ? std::string::npos
-                                                                         : slash - pos)));
+        parts.push_back(
+            trim(text.substr(pos, slash == std::string::npos ? std::string::npos : slash - pos)));
         if (slash == std::string::npos) break;
         pos = slash + 1;
     }
@@ -126,8 +125,8 @@ static bool parse_value(const std::string& model, const ParamDef& d, const std::
     if (!(parts.size() == 1 || (colour && parts.size() == 3))) {
         if (err)
             *err = where + ": expected " +
-                   (colour ? std::string("a number or r/g/b") : std::string("a number")) +
-                   " in " + range;
+                   (colour ? std::string("a number or r/g/b") : std::string("a number")) + " in " +
+                   range;
         return false;
     }
     double v[3];
@@ -153,9 +152,8 @@ static std::string names_of(const std::vector<ParamDef>& defs,
     return s.empty() ? "none" : s;
 }
 
-bool bind_spec(const std::string& spec, const std::string& model,
-               const std::vector<ParamDef>& defs, const std::vector<std::string>& repeated,
-               ParamSet* out, std::string* err) {
+bool bind_spec(const std::string& spec, const std::string& model, const std::vector<ParamDef>& defs,
+               const std::vector<std::string>& repeated, ParamSet* out, std::string* err) {
     std::string name;
     std::vector<SpecItem> items;
     if (!split_spec(spec, &name, &items, err)) return false;

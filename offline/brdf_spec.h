@@ -43,14 +43,19 @@ struct ParamDef {
     ParamDef(const char* name_, ParamKind kind_, double def_, double lo_, double hi_,
              const char* doc_, const char* default_from_ = nullptr)
         : ParamDef(name_, kind_, glm::dvec3(def_), lo_, hi_, doc_, default_from_) {}
-    ParamDef(const char* name_, ParamKind kind_, const glm::dvec3& def_, double lo_,
-             double hi_, const char* doc_, const char* default_from_ = nullptr)
-        : name(name_), kind(kind_), def(def_), lo(lo_), hi(hi_), doc(doc_),
+    ParamDef(const char* name_, ParamKind kind_, const glm::dvec3& def_, double lo_, double hi_,
+             const char* doc_, const char* default_from_ = nullptr)
+        : name(name_),
+          kind(kind_),
+          def(def_),
+          lo(lo_),
+          hi(hi_),
+          doc(doc_),
           default_from(default_from_) {}
     const char* name;
     ParamKind kind;
     glm::dvec3 def;  // default (a scalar's is def.x)
-    double lo, hi;  // accepted closed range, for each channel of a colour
+    double lo, hi;   // accepted closed range, for each channel of a colour
     const char* doc;
     // When set, an absent parameter takes this other (colour) parameter's value, e.g.
     // Cook-Torrance's F0 defaults to its Rd.
@@ -74,9 +79,8 @@ class ParamSet {
 // Parses, validates against defs and fills *out (defaults for absent keys). `model` must
 // equal the spec's model name (it prefixes the messages). `repeated` lists keys that may
 // occur several times; their values are stored raw for the model to parse.
-bool bind_spec(const std::string& spec, const std::string& model,
-               const std::vector<ParamDef>& defs, const std::vector<std::string>& repeated,
-               ParamSet* out, std::string* err);
+bool bind_spec(const std::string& spec, const std::string& model, const std::vector<ParamDef>& defs,
+               const std::vector<std::string>& repeated, ParamSet* out, std::string* err);
 
 // Range text for messages: "[0, 1]".
 std::string format_range(double lo, double hi);

@@ -58,14 +58,15 @@ glm::dvec3 Rng::hemisphere() {
 }
 
 // Sorted, de-duplicated panel edges on [lo, hi]: `uniform` equal panels plus edges graded
-// geometrically (ratio 4, from 1e-8) towards each of the `peaks`.
+// geometrically (ratio 3, from 1e-8) towards each of the `peaks`. Ratio 3 with 8 nodes per
+// panel measured 1e-7 on a 1e-3-wide lobe (ratio 4: 3e-6; ratio 2 costs twice as much).
 static std::vector<double> graded_edges(double lo, double hi, int uniform,
                                         std::initializer_list<double> peaks) {
     std::vector<double> e;
     for (int k = 0; k <= uniform; ++k) e.push_back(lo + (hi - lo) * k / uniform);
     for (double p : peaks) {
         if (p >= lo && p <= hi) e.push_back(p);
-        for (double r = 1e-8; r < hi - lo; r *= 4.0)
+        for (double r = 1e-8; r < hi - lo; r *= 3.0)
             for (double q : {p - r, p + r})
                 if (q > lo && q < hi) e.push_back(q);
     }

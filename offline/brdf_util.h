@@ -10,13 +10,15 @@
 // (+x) towards +y. Functions taking radians say so; *_degrees ones take degrees.
 //
 // directional_albedo integrates f(wi, wo) cos(theta_o) over the outgoing hemisphere with a
-// product rule: composite 8-point Gauss-Legendre in theta_o (panels split at theta_i, where
-// mirror-like lobes peak) times the periodic midpoint rule in phi_o (4 x samples nodes, one
-// of them at the mirror azimuth phi_i + pi). Measured accuracy: exact to rounding for
-// Lambert; relative error < 1e-6 for lobes at least ~4 node spacings wide (spacing about
-// 90/samples degrees in theta, 90/samples degrees in phi); a lobe narrower than the node
-// spacing is under- or over-counted, so raise `samples` for sharp BRDFs (e.g. a Ward lobe of
-// roughness 0.02 needs samples >= 256 for 1e-3). Cost: samples x 4 samples evaluations.
+// product rule: 8-point Gauss-Legendre on panels in theta_o and in phi_o. Besides
+// `samples`/8 equal theta panels and `samples`/2 equal phi panels, panel edges are graded
+// geometrically (1e-8 rad, ratio 3) towards theta_i and towards the mirror and retro
+// azimuths phi_i + pi and phi_i, where lobes peak; a lobe of roughness 1e-3 at 89.99 degrees
+// is thus resolved without a fine grid everywhere. Measured accuracy with samples = 64
+// against samples = 512 with 16 nodes: 1e-12 for Lambert (exact), <= 1e-7 relative for
+// smooth lobes (Phong n = 1e4, Ward roughness 1e-3 to 1, theta_i up to 89.99 degrees); about
+// 1e-5 where the integrand has a kink off the panel edges (Cook-Torrance's min() masking).
+// Cost: about (samples + 170) x (4 samples + 340) evaluations (176,000 for samples = 64).
 #pragma once
 #include <cstdint>
 
@@ -41,8 +43,7 @@ class Brdf;
 // Directional albedo rho(wi) = integral of f(wi, wo) cos(theta_o) d(wo) over the upper
 // hemisphere, per channel; wi at (theta_i, phi_i) in radians. samples >= 8 (rounded up to
 // a multiple of 8). See the accuracy note above.
-glm::dvec3 directional_albedo(const Brdf& f, double theta_i, int samples = 128,
-                              double phi_i = 0.0);
+glm::dvec3 directional_albedo(const Brdf& f, double theta_i, int samples = 128, double phi_i = 0.0);
 
 // Gauss-Legendre nodes and weights on [-1, 1]; n in [1, 64]. Deterministic (Newton
 // iterations from fixed starts), accurate to ~1e-15.

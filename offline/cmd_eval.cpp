@@ -9,8 +9,10 @@ namespace sepal {
 int cmd_eval(const std::vector<std::string>& args, const CommandIO& io) {
     Args a(args, {});
     if (!a.ok() || a.positional().size() != 5) {
-        std::fprintf(io.err, "sepal eval: %s\nusage: sepal eval SPEC theta_i phi_i theta_o phi_o   (degrees)\n",
-                     a.ok() ? "expected a spec and four angles" : a.error().c_str());
+        std::fprintf(
+            io.err,
+            "sepal eval: %s\nusage: sepal eval SPEC theta_i phi_i theta_o phi_o   (degrees)\n",
+            a.ok() ? "expected a spec and four angles" : a.error().c_str());
         return kExitBadInput;
     }
     const std::vector<std::string>& p = a.positional();
@@ -18,8 +20,8 @@ int cmd_eval(const std::vector<std::string>& args, const CommandIO& io) {
     double ang[4];
     for (int k = 0; k < 4; ++k) {
         if (!parse_finite(p[k + 1], &ang[k])) {
-            std::fprintf(io.err, "sepal eval: %s '%s' is not a finite number (degrees)\n",
-                         names[k], p[k + 1].c_str());
+            std::fprintf(io.err, "sepal eval: %s '%s' is not a finite number (degrees)\n", names[k],
+                         p[k + 1].c_str());
             return kExitBadInput;
         }
         // Polar angles past 90 degrees are below the horizon, where f is 0; past 180 they

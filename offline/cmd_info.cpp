@@ -53,8 +53,7 @@ int cmd_info(const std::vector<std::string>& args, const CommandIO& io) {
     for (double phi : phis) {
         if (phi != 0.0 && f->isotropic()) break;
         for (double theta : {0.0, 30.0, 60.0, 80.0}) {
-            const glm::dvec3 v =
-                directional_albedo(*f, deg2rad(theta), int(samples), deg2rad(phi));
+            const glm::dvec3 v = directional_albedo(*f, deg2rad(theta), int(samples), deg2rad(phi));
             std::fprintf(io.out, "  theta_i %2.0f phi_i %2.0f deg: %.6f %.6f %.6f\n", theta, phi,
                          v.x, v.y, v.z);
         }
