@@ -260,7 +260,8 @@ int cmd_factor(const std::vector<std::string>& args, const CommandIO& io) {
     const std::vector<TermError> errors = measure_terms(ev, r);
 
     std::fprintf(io.out, "factor %s\n", r.factored.source.c_str());
-    std::fprintf(io.out, "  %s, %s map, %d x %d texels, %s, colour %s%s\n", param_name(o.param),
+    std::fprintf(io.out, "  %s%s, %s map, %d x %d texels, %s, colour %s%s\n", param_name(o.param),
+                 hardware_compatible(o.param) ? "" : " (per-pixel backends only)",
                  o.param == Param::ElevAzim ? "angle" : map_name(o.map), o.res, o.res,
                  method_name(o.method), colour_name(o.colour),
                  r.factored.non_negative() ? ", non-negative factors" : ", signed factors");

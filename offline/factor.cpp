@@ -743,8 +743,8 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
                             // previous term count's solution, and both update rules only
                             // lower the error from there (a full-size SVD-shaped term can
                             // start far worse than the solution it extends).
-                            for (size_t r = 0; r < size_t(m.rows); ++r) next.g[r * kk + a] *= 0.03;
-                            for (size_t c = 0; c < size_t(m.cols); ++c) next.h[c * kk + a] *= 0.03;
+                            for (size_t i = 0; i < size_t(m.rows); ++i) next.g[i * kk + a] *= 0.03;
+                            for (size_t i = 0; i < size_t(m.cols); ++i) next.h[i * kk + a] *= 0.03;
                         }
                     }
                     int it = 0;

@@ -50,6 +50,10 @@ bool nd_factor(const PairSampler& s, const FactorOptions& o, int channels,
     std::vector<std::string> errors(chunks);
     std::vector<int64_t> counted(chunks, 0);
 
+    // H of the finished terms, one contiguous plane per channel and term, [ch][j][c]: the
+    // residual below streams through it for every row of every pass.
+    std::vector<std::vector<std::vector<double>>> h_planes(
+        static_cast<size_t>(ch_n), std::vector<std::vector<double>>(static_cast<size_t>(big_k)));
     // Residual of row r after the first k terms, as ch_n planes of cols doubles.
     auto residual = [&](int r, int k, float* rgb, uint16_t* cnt, double* res, std::string* e,
                         int64_t* n_evals) {
@@ -62,7 +66,8 @@ bool nd_factor(const PairSampler& s, const FactorOptions& o, int channels,
                 const double g = l.g[size_t(r) * big_k + j];
                 if (g == 0) continue;
                 double* x = res + size_t(ch) * cols;
-                for (int c = 0; c < cols; ++c) x[c] -= g * l.h[size_t(c) * big_k + j];
+                const double* h = h_planes[size_t(ch)][size_t(j)].data();
+                for (int c = 0; c < cols; ++c) x[c] -= g * h[c];
             }
         }
         return true;
@@ -182,10 +187,11 @@ bool nd_factor(const PairSampler& s, const FactorOptions& o, int channels,
                     if (!(std::fabs(g) > thresh)) continue;
                     double* nu = &num[chunk][size_t(ch) * cols];
                     double* de = &den[chunk][size_t(ch) * cols];
+                    const double inv_g = 1.0 / g;
                     for (int c = 0; c < cols; ++c) {
                         if (!cnt[c]) continue;
                         const double w = cnt[c] * inv_pairs;
-                        nu[c] += w * x[c] / g;
+                        nu[c] += w * x[c] * inv_g;
                         de[c] += w;
                     }
                 }
@@ -193,15 +199,19 @@ bool nd_factor(const PairSampler& s, const FactorOptions& o, int channels,
             progress.advance();
         });
         if (failed()) return false;
-        for (int ch = 0; ch < ch_n; ++ch)
+        for (int ch = 0; ch < ch_n; ++ch) {
+            std::vector<double>& plane = h_planes[size_t(ch)][size_t(k)];
+            plane.assign(size_t(cols), 0.0);
             for (int c = 0; c < cols; ++c) {
                 double nu = 0, de = 0;
                 for (size_t q = 0; q < chunks; ++q) {
                     nu += num[q][size_t(ch) * cols + c];
                     de += den[q][size_t(ch) * cols + c];
                 }
-                (*out)[size_t(ch)].h[size_t(c) * big_k + k] = de > 0 ? nu / de : 0.0;
+                plane[size_t(c)] = de > 0 ? nu / de : 0.0;
+                (*out)[size_t(ch)].h[size_t(c) * big_k + k] = plane[size_t(c)];
             }
+        }
         if (k == 0) {
             for (int c = 0; c < cols; ++c) {
                 double w = 0;
