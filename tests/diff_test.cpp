@@ -22,22 +22,7 @@ struct Fixture {
     }
     // Runs `sepal diff` in-process; returns the exit code and captures stdout.
     int diff(std::vector<std::string> args, std::string* out = nullptr) {
-        std::FILE* o = std::tmpfile();
-        std::FILE* e = std::tmpfile();
-        sepal::CommandIO io;
-        io.out = o;
-        io.err = e;
-        const int code = sepal::cmd_diff(args, io);
-        std::string text;
-        for (std::FILE* f : {o, e}) {
-            std::rewind(f);
-            char buf[512];
-            size_t n;
-            while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-            std::fclose(f);
-        }
-        if (out) *out = text;
-        return code;
+        return sepal_test::run_cmd(sepal::cmd_diff, args, out);
     }
 };
 }  // namespace

@@ -59,22 +59,7 @@ ErrorOptions quick_metric() {
 }
 
 int run_factor(const std::vector<std::string>& args, std::string* out = nullptr) {
-    std::FILE* o = std::tmpfile();
-    std::FILE* e = std::tmpfile();
-    CommandIO io;
-    io.out = o;
-    io.err = e;
-    const int code = cmd_factor(args, io);
-    std::string text;
-    for (std::FILE* f : {o, e}) {
-        std::rewind(f);
-        char buf[512];
-        size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-        std::fclose(f);
-    }
-    if (out) *out = text;
-    return code;
+    return sepal_test::run_cmd(cmd_factor, args, out);
 }
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }

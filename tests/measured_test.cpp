@@ -102,25 +102,7 @@ std::string write_temp(const std::string& name, const std::string& bytes) {
     return p;
 }
 
-// Runs a subcommand in-process; returns the exit code, stdout + stderr in *out.
-int run_cmd(sepal::CommandFn fn, const std::vector<std::string>& args, std::string* out) {
-    std::FILE* o = std::tmpfile();
-    std::FILE* e = std::tmpfile();
-    sepal::CommandIO io;
-    io.out = o;
-    io.err = e;
-    const int code = fn(args, io);
-    std::string text;
-    for (std::FILE* f : {o, e}) {
-        std::rewind(f);
-        char buf[512];
-        size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-        std::fclose(f);
-    }
-    if (out) *out = text;
-    return code;
-}
+using sepal_test::run_cmd;
 
 bool file_exists(const std::string& p) {
     std::FILE* f = std::fopen(p.c_str(), "rb");

@@ -78,6 +78,25 @@ std::string check_golden(const std::string& name, const sepal::Image& actual,
                            update_goldens());
 }
 
+int run_cmd(sepal::CommandFn fn, const std::vector<std::string>& args, std::string* out) {
+    std::FILE* o = std::tmpfile();
+    std::FILE* e = std::tmpfile();
+    sepal::CommandIO io;
+    io.out = o;
+    io.err = e;
+    const int code = fn(args, io);
+    std::string text;
+    for (std::FILE* f : {o, e}) {
+        std::rewind(f);
+        char buf[512];
+        size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
+        std::fclose(f);
+    }
+    if (out) *out = text;
+    return code;
+}
+
 int run(const std::string& command, std::string* out) {
     FILE* p = popen((command + " 2>&1").c_str(), "r");
     if (!p) return -1;

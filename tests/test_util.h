@@ -8,6 +8,7 @@
 #pragma once
 #include <string>
 
+#include "cli.h"
 #include "image.h"
 
 namespace sepal_test {
@@ -29,5 +30,7 @@ bool update_goldens();
 
 // Runs a shell command; returns its exit status (or -1), output captured into *out.
 int run(const std::string& command, std::string* out = nullptr);
+// Runs a sepal subcommand in-process; returns its exit code, stdout + stderr in *out.
+int run_cmd(sepal::CommandFn fn, const std::vector<std::string>& args, std::string* out = nullptr);
 
 }  // namespace sepal_test
