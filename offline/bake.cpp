@@ -54,6 +54,21 @@ class CappedBrdf : public Brdf {
     mutable std::atomic<int64_t> calls_{0}, capped_{0};
 };
 
+FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int res, Method method, int terms) {
+    FactorOptions fo;
+    fo.param = param;
+    fo.map = map;
+    fo.res = res;
+    fo.terms = terms;
+    fo.method = method;
+    fo.colour = o.colour;
+    fo.supersample = o.supersample;
+    fo.threads = o.threads;
+    fo.max_memory_mb = o.max_memory_mb;
+    fo.svd_weighted = o.svd_weighted;
+    return fo;
+}
+
 }  // namespace
 
 std::string BakeCandidate::label() const {
@@ -206,17 +221,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         for (HemiMap map : o.maps)
             for (int res : o.resolutions)
                 for (Method method : o.methods) {
-                    FactorOptions fo;
-                    fo.param = param;
-                    fo.map = map;
-                    fo.res = res;
-                    fo.terms = max_terms;
-                    fo.method = method;
-                    fo.colour = o.colour;
-                    fo.supersample = o.supersample;
-                    fo.threads = o.threads;
-                    fo.max_memory_mb = o.max_memory_mb;
-                    fo.svd_weighted = o.svd_weighted;
+                    const FactorOptions fo = factor_options(o, param, map, res, method, max_terms);
                     ++done;
                     if (show)
                         std::fprintf(stderr, "\rbake: factoring %zu/%zu: %s/%s %d %s x%d   ", done, searches,
@@ -307,17 +312,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
                       w.label().c_str(), w.error_quantized);
     out->why = why;
     // Rebuild the winner (one more factorization: cheaper than keeping every candidate).
-    FactorOptions fo;
-    fo.param = w.param;
-    fo.map = w.map;
-    fo.res = w.res;
-    fo.terms = max_terms;
-    fo.method = w.method;
-    fo.colour = o.colour;
-    fo.supersample = o.supersample;
-    fo.threads = o.threads;
-    fo.max_memory_mb = o.max_memory_mb;
-    fo.svd_weighted = o.svd_weighted;
+    const FactorOptions fo = factor_options(o, w.param, w.map, w.res, w.method, max_terms);
     FactorResult r;
     if (!factor_brdf(source, fo, &r, err)) return false;
     const Factored& f = r.by_terms[size_t(w.terms - 1)];

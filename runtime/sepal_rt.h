@@ -11,7 +11,7 @@
 //   srt_preview_draw(&caps, &d, &err);
 //
 // Rules: C++17 inside, a C-like API outside; no exceptions, no RTTI, no iostream, no
-// std::string; the runtime allocates nothing: callers hand in all memory. Errors are
+// C++ string class; the runtime allocates nothing: callers hand in all memory. Errors are
 // return codes with a message in srt_error. The runtime never creates a window or a
 // context; ports/ do that and hand the current context in.
 // Limits: meshes use 16-bit indices (at most 65535 vertices).
