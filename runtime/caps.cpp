@@ -60,6 +60,8 @@ extern "C" srt_result srt_query_caps(int gles_version, uint32_t mask, srt_proc_l
         out->has_blend_subtract = 1;  // core in ES 2.0
         out->has_fbo = 1;             // core in ES 2.0
         out->has_npot = major >= 3 || srt::has_extension(ext, "GL_OES_texture_npot");
+        out->has_float_target = major >= 3 && (srt::has_extension(ext, "GL_EXT_color_buffer_half_float") ||
+                                               srt::has_extension(ext, "GL_EXT_color_buffer_float"));
     }
     // Subtractive blending needs its entry point too (not exported by GL ES 1.1 libraries).
     if (out->has_blend_subtract) {
@@ -76,6 +78,7 @@ extern "C" srt_result srt_query_caps(int gles_version, uint32_t mask, srt_proc_l
     if (mask & SRT_MASK_MULTITEXTURE) out->texture_units = out->texture_units > 0 ? 1 : 0;
     if (mask & SRT_MASK_FBO) out->has_fbo = 0;
     if (mask & SRT_MASK_NPOT) out->has_npot = 0;
+    if (mask & SRT_MASK_FLOAT_TARGET) out->has_float_target = 0;
     if (out->texture_units < 1)
         return srt::fail(err, SRT_ERR_UNSUPPORTED, "context reports no texture units");
     return srt::ok(err);

@@ -33,12 +33,14 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     // Exposure 2^-e: no partial sum over the lights above 1, no vertex colour above 1.
     const int plan_doublings = (int)m->plan.doublings;
     int e = -plan_doublings;
+    // A float target holds any value: no headroom, no exposure, no doublings.
+    const bool float_target = m->float_fbo != 0;
     // Only a plan that subtracts needs headroom: without subtractions a partial sum never
     // exceeds the final value, and a final value above 1 is white on screen either way.
     const float need_sum = m->has_negative_passes ? prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum : 0.0f;
     const float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
-    if (need_sum > 0.0f && (int)ceilf(log2f(need_sum)) > e) e = (int)ceilf(log2f(need_sum));
-    if (need_color > 0.0f && (int)ceilf(log2f(need_color)) > e) e = (int)ceilf(log2f(need_color));
+    if (!float_target && need_sum > 0.0f && (int)ceilf(log2f(need_sum)) > e) e = (int)ceilf(log2f(need_sum));
+    if (!float_target && need_color > 0.0f && (int)ceilf(log2f(need_color)) > e) e = (int)ceilf(log2f(need_color));
     if (e > 30)
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
                          "draw: irradiance %g at a vertex needs 2^%d doublings; lights too bright",

@@ -257,6 +257,31 @@ GLuint build(const char* name, const char* vs, const char* fs, const char* const
 namespace srt {
 
 srt_result create_gles2_programs(srt_material* m, srt_error* err) {
+    if (m->caps.use_float_target && m->caps.has_float_target) {
+        // GL ES 3 names, not in the GL ES 2 header this file includes.
+        const GLenum kRGBA16F = 0x881A, kHalfFloat = 0x140B;
+        glGenTextures(1, &m->float_color);
+        glBindTexture(GL_TEXTURE_2D, m->float_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, (GLint)kRGBA16F, m->max_width, m->max_height, 0, GL_RGBA, kHalfFloat, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glGenRenderbuffers(1, &m->float_depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, m->float_depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT16, m->max_width, m->max_height);
+        glGenFramebuffers(1, &m->float_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m->float_color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m->float_depth);
+        const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE)
+            return fail(err, SRT_ERR_UNSUPPORTED, "material: half-float target incomplete (status 0x%04x)",
+                        (unsigned)status);
+        srt_result r = gl_check("half-float target", err);
+        if (r != SRT_OK) return r;
+    }
     m->program_pass = build("pass", kPassVert, kPassFrag, kPassAttribs, 0, err);
     if (!m->program_pass) return err ? err->code : SRT_ERR_GL;
     m->program_fullscreen = build("fullscreen", kFullscreenVert, kFullscreenFrag, kFullscreenAttribs, 0, err);
@@ -273,6 +298,10 @@ srt_result create_gles2_programs(srt_material* m, srt_error* err) {
 }
 
 void destroy_gles2_programs(srt_material* m) {
+    if (m->float_fbo) glDeleteFramebuffers(1, &m->float_fbo);
+    if (m->float_depth) glDeleteRenderbuffers(1, &m->float_depth);
+    if (m->float_color) glDeleteTextures(1, &m->float_color);
+    m->float_fbo = m->float_depth = m->float_color = 0;
     const uint32_t programs[5] = {m->program_pass, m->program_fullscreen, m->program_mesh_texture,
                                   m->program_fused_vertex, m->program_fused_pixel};
     for (uint32_t p : programs)
@@ -293,6 +322,11 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     }
     Frame f = {m, d, d->scratch, {}, d->mode == SRT_MODE_MULTIPASS ? prep.exposure : prep.fused_exposure, stats};
     mat4_mul(prep.proj, prep.view, f.mvp);
+    GLint previous_fbo = 0;
+    if (m->float_fbo) {
+        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
+    }
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -350,6 +384,28 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
         glDepthFunc(GL_LEQUAL);
         fullscreen(f, 1.0f, color);
     }
+    if (m->float_fbo) {
+        // Show the float frame in the caller's framebuffer (8-bit there: clamped at 1).
+        glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous_fbo);
+        glDisable(GL_BLEND);
+        glDisable(GL_DEPTH_TEST);
+        const float sx = (float)d->width / (float)m->max_width, sy = (float)d->height / (float)m->max_height;
+        const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+        const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
+        static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+        static const float kWhite[4] = {1, 1, 1, 1};
+        const GLuint p = m->program_fullscreen;
+        glUseProgram(p);
+        glUniform4fv(loc(p, "u_color"), 1, kWhite);
+        glUniform1i(loc(p, "u_textured"), 1);
+        glUniform1i(loc(p, "u_texture"), 0);
+        bind_texture(GL_TEXTURE0, m->float_color);
+        attribs(2);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, pos);
+        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, uv);
+        glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+        ++stats->fullscreen_passes;
+    }
     attribs(0);
     glUseProgram(0);
     glDisable(GL_BLEND);
@@ -362,3 +418,17 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
 }
 
 }  // namespace srt
+
+extern "C" srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, srt_error* err) {
+    if (!m || !rgba) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "read_float: NULL argument");
+    if (!m->float_fbo) return srt::fail(err, SRT_ERR_UNSUPPORTED, "read_float: the material has no float target");
+    if (width < 1 || height < 1 || width > m->max_width || height > m->max_height)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "read_float: %dx%d outside the target", width, height);
+    GLint previous = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous);
+    glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous);
+    return srt::gl_check("read_float", err);
+}

@@ -70,7 +70,14 @@ typedef struct srt_material {
     uint32_t program_pass, program_fullscreen, program_mesh_texture;
     uint32_t program_fused_vertex, program_fused_pixel;
     int fused_group;  // terms summed per fused pass: min(terms, texture units / 2, 8)
+    // Half-float target (caps.use_float_target on GL ES 3): frames are drawn there with no
+    // exposure and no doublings, then copied to the current framebuffer for display.
+    uint32_t float_fbo, float_color, float_depth;
 } srt_material;
+
+// Reads the last frame of a float-target material as linear RGBA floats, bottom row
+// first (GL's order), width x height of the last draw. SRT_ERR_UNSUPPORTED without one.
+srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, srt_error* err);
 
 // How a material is drawn. GL ES 1.1 has only MULTIPASS.
 typedef enum srt_draw_mode {

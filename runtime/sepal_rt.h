@@ -44,6 +44,7 @@ enum {
     SRT_MASK_MULTITEXTURE = 1u << 1,    // pretend there is one texture unit
     SRT_MASK_FBO = 1u << 2,             // pretend framebuffer objects are missing
     SRT_MASK_NPOT = 1u << 3,            // pretend non-power-of-two textures are missing
+    SRT_MASK_FLOAT_TARGET = 1u << 4,    // pretend half-float render targets are missing
 };
 
 typedef struct srt_caps {
@@ -53,6 +54,12 @@ typedef struct srt_caps {
     int has_blend_subtract;  // GL_OES_blend_subtract (ES 1) or core (ES 2)
     int has_fbo;             // GL_OES_framebuffer_object (ES 1) or core (ES 2)
     int has_npot;            // full NPOT textures (GL_OES_texture_npot or ES 3)
+    // Half-float colour buffers (GL ES 3 with GL_EXT_color_buffer_half_float or _float):
+    // the GL ES 2 paths can draw into one to measure what the 8-bit framebuffer costs.
+    int has_float_target;
+    // Set by the caller before srt_material_create to get a float target (GL ES 2 only;
+    // ignored without has_float_target). 0 by default: no GPU memory spent on it.
+    int use_float_target;
     uint32_t mask;           // the mask that was applied
     // Extension entry points, from the port's loader (NULL when unavailable).
     void (*blend_equation)(unsigned int mode);  // glBlendEquationOES / glBlendEquation

@@ -111,8 +111,16 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         return false;
     }
     srt_caps caps;
-    bool ok = srt_query_caps(gles_version, mask, sh_get_proc_address, &caps, &e) == SRT_OK &&
-              srt_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SRT_OK;
+    bool ok = srt_query_caps(gles_version, mask, sh_get_proc_address, &caps, &e) == SRT_OK;
+    if (ok && options.float_target) {
+        if (!caps.has_float_target || gles_version != 2) {
+            ok = false;
+            std::snprintf(e.message, sizeof e.message, "no half-float render target here (needs GL ES 3 with "
+                                                       "GL_EXT_color_buffer_half_float; use --backend gles2*)");
+        }
+        caps.use_float_target = 1;
+    }
+    ok = ok && srt_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SRT_OK;
     if (ok) {
         std::vector<float> scratch(srt_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
         srt_draw_desc d = {};
@@ -135,6 +143,16 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         if (ok && !sh_read_rgba(ctx, rgba->data())) {
             ok = false;
             std::snprintf(e.message, sizeof e.message, "reading the framebuffer back failed");
+        }
+        if (ok && material->float_fbo) {
+            std::vector<float> f(size_t(setup.width) * setup.height * 4);
+            ok = srt_read_float(material.get(), setup.width, setup.height, f.data(), &e) == SRT_OK;
+            info->float_rgb.resize(size_t(setup.width) * setup.height * 3);
+            for (int y = 0; y < setup.height; ++y)  // GL rows go bottom up
+                for (int x = 0; x < setup.width; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        info->float_rgb[(size_t(setup.height - 1 - y) * setup.width + x) * 3 + c] =
+                            f[(size_t(y) * setup.width + x) * 4 + c];
         }
         info->device = sh_describe(ctx);
         static const char* const kModes[] = {"multipass", "fused, per-vertex coordinates", "fused, per pixel"};

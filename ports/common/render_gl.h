@@ -24,6 +24,8 @@ struct GlRenderInfo {
     std::string device;  // EGL platform, renderer and version
     std::string path;    // e.g. "two texture units, blend subtract"
     double ms = 0;       // time of srt_draw plus glFinish, one frame
+    // With options.float_target: the frame as linear RGB floats, top row first.
+    std::vector<float> float_rgb;
 };
 
 // An RGBA8 image, top row first, power-of-two sides (a diffuse texture map).
@@ -37,6 +39,7 @@ struct GlRenderOptions {
     uint32_t mask = 0;                    // SRT_MASK_* bits
     srt_draw_mode mode = SRT_MODE_MULTIPASS;
     const Rgba8Image* diffuse = nullptr;  // optional diffuse map
+    bool float_target = false;            // GL ES 2: draw into a half-float target
 };
 
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
