@@ -14,6 +14,7 @@ namespace sepal {
 int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     sepal_ports::SceneSetup setup;
     std::string backend = "exact", out_path, float_path, mask_text, diffuse_path, err;
+    bool float_target = false;
     std::vector<std::string> positional;
     std::vector<char*> argv;
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -40,6 +41,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             out_path = args[size_t(++i)];
         } else if (a == "--float") {
             float_path = args[size_t(++i)];
+        } else if (a == "--float-target") {
+            float_target = true;
         } else if (a == "--mask") {
             mask_text = args[size_t(++i)];
         } else if (a == "--diffuse") {
@@ -70,7 +73,10 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             return kExitBadInput;
         }
         opt.diffuse = diffuse_path.empty() ? nullptr : &diffuse;
-        if (!float_path.empty() && backend != "cpu") err = "--float: the GL backends render 8-bit images";
+        opt.float_target = float_target;
+        if (float_target && opt.gles_version != 2) err = "--float-target needs a gles2 backend";
+        if (!float_path.empty() && backend != "cpu" && !float_target)
+            err = "--float: the GL backends render 8-bit images (add --float-target on gles2 backends)";
         if (err.empty() && file_extension(positional[0]) != "sepal")
             err = "backend " + backend + " renders a baked asset (.sepal); '" + positional[0] + "' is not one";
         if (!err.empty() || !sepal_ports::parse_mask(mask_text, &opt.mask, &err) ||
@@ -107,7 +113,9 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             return kExitBadInput;
         }
         const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
-        if (!write_png(out_path, img, &err)) {
+        Image fimg(setup.width, setup.height, 3);
+        fimg.data = info.float_rgb;
+        if (!write_png(out_path, img, &err) || (!float_path.empty() && !write_pfm(float_path, fimg, &err))) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }

@@ -28,7 +28,7 @@ const std::vector<Command>& commands() {
         {"inspect", "FILE.sepal", "validate and print an asset", cmd_inspect},
         {"render",
          "SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu [--mask LIST] "
-         "[--diffuse PNG] [scene flags] -o out.png [--float out.pfm]",
+         "[--diffuse PNG] [--float-target] [scene flags] -o out.png [--float out.pfm]",
          "render a scene: exact (a BRDF per pixel), or a baked asset on GL ES (headless) or the CPU",
          cmd_render},
     };
