@@ -133,7 +133,8 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
     // The candidates, for people, whether or not one won.
-    std::fprintf(io.out, "%-28s %9s %9s %7s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes", "");
+    if (!r.candidates.empty())
+        std::fprintf(io.out, "%-28s %9s %9s %7s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes", "");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
         if (!c.ok) {
