@@ -76,7 +76,7 @@ RUN_BAKE     := --param gs-half --res 32 --method nmf --terms 2 --cap 2
 RUN_ASSET    := $(BUILD)/out/ward.sepal
 
 .SECONDARY:
-.PHONY: all build help deps run test test-asan test-build update-goldens bench clean check-runtime
+.PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime
 
 all: build ## the default: same as make build
 
