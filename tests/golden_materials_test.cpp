@@ -17,6 +17,60 @@
 
 namespace {
 
+// One baked material in the default scene (128x128), with its exact render as displayed.
+struct Baked {
+    std::unique_ptr<sepal::Brdf> brdf;
+    sepal::AssetData asset;
+    std::vector<uint8_t> bytes;
+    sepal_ports::SceneSetup scene;
+    sepal::Image exact;
+};
+
+sepal::Image clamp01(sepal::Image img) {
+    for (float& v : img.data) v = std::min(1.0f, std::max(0.0f, v));  // as displayed
+    return img;
+}
+
+Baked bake_scene(const std::string& spec_in, sepal::Method method, int terms, double cap, const char* mesh = "sphere") {
+    Baked b;
+    std::string err;
+    const std::string spec = spec_in[0] == 'f' ? sepal_test::source_path(spec_in) : spec_in;
+    b.brdf = sepal::make_brdf(spec, &err);
+    REQUIRE_MESSAGE(b.brdf, err);
+    sepal::BakeOptions o;
+    o.params = {sepal::Param::GsHalf};
+    o.resolutions = {32};
+    o.methods = {method};
+    o.terms = {terms};
+    o.cap = cap;
+    sepal::BakeResult r;
+    REQUIRE_MESSAGE(sepal::bake(*b.brdf, o, &r, &err), err);
+    b.asset = r.asset;
+    REQUIRE(sepal::encode_asset(b.asset, &b.bytes, &err));
+    b.scene.width = b.scene.height = 128;
+    b.scene.mesh_name = mesh;
+    REQUIRE(sepal_ports::load_scene_mesh(&b.scene, &err));
+    const sepal_ports::SceneSetup& s = b.scene;
+    REQUIRE(sepal::render_exact(*b.brdf, s.scene, s.mesh, s.width, s.height, &b.exact, nullptr, &err));
+    b.exact = clamp01(b.exact);
+    return b;
+}
+
+sepal::Image render_gl(const Baked& b, const sepal_ports::GlRenderOptions& opt, sepal_ports::GlRenderInfo* info) {
+    std::vector<uint8_t> rgba;
+    std::string err;
+    REQUIRE_MESSAGE(sepal_ports::render_asset_headless(b.bytes.data(), b.bytes.size(), b.scene, opt, &rgba, info, &err),
+                    err);
+    return sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), b.scene.width, b.scene.height));
+}
+
+sepal::Image render_cpu(const Baked& b) {
+    sepal::Image img(b.scene.width, b.scene.height, 3);
+    std::string err;
+    REQUIRE(sepal_ports::render_asset_cpu(b.bytes.data(), b.bytes.size(), b.scene, nullptr, &img.data, nullptr, &err));
+    return clamp01(img);
+}
+
 struct Case {
     const char* name;
     const char* spec;
@@ -31,33 +85,13 @@ struct Case {
 
 void run_case(const Case& c) {
     CAPTURE(std::string(c.name));
-    std::string err;
-    const std::string spec = c.spec[0] == 'f' ? sepal_test::source_path(c.spec) : c.spec;
-    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
-    REQUIRE_MESSAGE(f, err);
-    sepal::BakeOptions o;
-    o.params = {sepal::Param::GsHalf};
-    o.resolutions = {32};
-    o.methods = {c.method};
-    o.terms = {c.terms};
-    o.cap = c.cap;
-    sepal::BakeResult r;
-    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+    const Baked b = bake_scene(c.spec, c.method, c.terms, c.cap);
     bool subtracts = false;
-    for (const srt_fmt_pass& p : r.asset.passes) subtracts = subtracts || p.blend == SRT_BLEND_SUBTRACT;
+    for (const srt_fmt_pass& p : b.asset.passes) subtracts = subtracts || p.blend == SRT_BLEND_SUBTRACT;
     CHECK(subtracts == c.expect_signed);
-    std::vector<uint8_t> bytes, rgba;
-    REQUIRE(sepal::encode_asset(r.asset, &bytes, &err));
-    sepal_ports::SceneSetup s;
-    s.width = s.height = 128;
-    REQUIRE(sepal_ports::load_scene_mesh(&s, &err));
-    sepal_ports::GlRenderOptions opt;
     sepal_ports::GlRenderInfo info;
-    REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &err), err);
-    const sepal::Image gl = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
-    sepal::Image exact;
-    REQUIRE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err));
-    for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));  // as displayed
+    const sepal::Image gl = render_gl(b, sepal_ports::GlRenderOptions{}, &info);
+    const sepal::Image& exact = b.exact;
     sepal::Tolerance t;
     t.min_psnr = c.min_psnr;
     t.max_diff = c.max_diff;
@@ -100,31 +134,9 @@ TEST_CASE("golden: Cornell garnet_red on GL ES 1.1 against exact") {
 }
 
 TEST_CASE("every backend against exact, and against each other (2-term NMF ward)") {
-    std::string err;
-    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(kWard, &err);
-    REQUIRE(f);
-    sepal::BakeOptions o;
-    o.params = {sepal::Param::GsHalf};
-    o.resolutions = {32};
-    o.methods = {sepal::Method::NMF};
-    o.terms = {2};
-    o.cap = 2.0;
-    sepal::BakeResult r;
-    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
-    std::vector<uint8_t> bytes;
-    REQUIRE(sepal::encode_asset(r.asset, &bytes, &err));
-    sepal_ports::SceneSetup s;
-    s.width = s.height = 128;
-    s.mesh_name = "torus";
-    REQUIRE(sepal_ports::load_scene_mesh(&s, &err));
-    sepal::Image exact;
-    REQUIRE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err));
-    for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
-    std::vector<float> rgb;
-    REQUIRE(sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, nullptr, &err));
-    sepal::Image cpu(s.width, s.height, 3);
-    cpu.data = rgb;
-    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
+    const Baked b = bake_scene(kWard, sepal::Method::NMF, 2, 2.0, "torus");
+    const sepal::Image& exact = b.exact;
+    const sepal::Image cpu = render_cpu(b);
     const double cpu_psnr = sepal::diff_images(exact, cpu, 0).psnr;
     CAPTURE(cpu_psnr);
     CHECK(cpu_psnr > 25.0);  // measured 26.6 dB: the factorization's own error
@@ -133,9 +145,7 @@ TEST_CASE("every backend against exact, and against each other (2-term NMF ward)
         sepal_ports::GlRenderOptions opt;
         REQUIRE(sepal_ports::parse_gl_backend(backend, &opt));
         sepal_ports::GlRenderInfo info;
-        std::vector<uint8_t> rgba;
-        REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &err), err);
-        const sepal::Image gl = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+        const sepal::Image gl = render_gl(b, opt, &info);
         const sepal::ImageDiff to_exact = sepal::diff_images(exact, gl, 0);
         const sepal::ImageDiff to_cpu = sepal::diff_images(cpu, gl, 8.0);
         CAPTURE(to_exact.psnr);
@@ -150,46 +160,22 @@ TEST_CASE("every backend against exact, and against each other (2-term NMF ward)
 }
 
 TEST_CASE("half-float target: the price of the 8-bit framebuffer, measured on a signed asset") {
-    std::string err;
-    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(kWard, &err);
-    REQUIRE(f);
-    sepal::BakeOptions o;
-    o.params = {sepal::Param::GsHalf};
-    o.resolutions = {32};
-    o.methods = {sepal::Method::SVD};
-    o.terms = {3};
-    o.cap = 2.0;
-    sepal::BakeResult r;
-    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
-    std::vector<uint8_t> bytes;
-    REQUIRE(sepal::encode_asset(r.asset, &bytes, &err));
-    sepal_ports::SceneSetup s;
-    s.width = s.height = 128;
-    REQUIRE(sepal_ports::load_scene_mesh(&s, &err));
-    sepal::Image exact;
-    REQUIRE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err));
-    for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
-    std::vector<float> rgb;
-    REQUIRE(sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, nullptr, &err));
-    sepal::Image cpu(s.width, s.height, 3);
-    cpu.data = rgb;
-    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
+    const Baked b = bake_scene(kWard, sepal::Method::SVD, 3, 2.0);
+    const sepal::Image& exact = b.exact;
+    const sepal::Image cpu = render_cpu(b);
     for (const char* backend : {"gles2", "gles2-fused-pixel"}) {
         CAPTURE(std::string(backend));
         sepal_ports::GlRenderOptions opt;
         REQUIRE(sepal_ports::parse_gl_backend(backend, &opt));
         sepal_ports::GlRenderInfo eight, half;
-        std::vector<uint8_t> rgba8, rgba_half;
-        REQUIRE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba8, &eight, &err));
+        const sepal::Image e8 = render_gl(b, opt, &eight);
         opt.float_target = true;
-        REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba_half, &half, &err), err);
-        REQUIRE(half.float_rgb.size() == size_t(s.width) * s.height * 3);
+        const sepal::Image shown = render_gl(b, opt, &half);
+        REQUIRE(half.float_rgb.size() == size_t(b.scene.width) * b.scene.height * 3);
         CHECK(half.stats.doublings == 0);
-        sepal::Image fimg(s.width, s.height, 3);
+        sepal::Image fimg(b.scene.width, b.scene.height, 3);
         fimg.data = half.float_rgb;
-        for (float& v : fimg.data) v = std::min(1.0f, std::max(0.0f, v));
-        const sepal::Image e8 = sepal::to_rgb(sepal::image_from_rgba8(rgba8.data(), s.width, s.height));
-        const sepal::Image shown = sepal::to_rgb(sepal::image_from_rgba8(rgba_half.data(), s.width, s.height));
+        fimg = clamp01(fimg);
         const double p8 = sepal::diff_images(exact, e8, 0).psnr, pf = sepal::diff_images(exact, fimg, 0).psnr;
         const double to_cpu = sepal::diff_images(cpu, fimg, 0).psnr;
         CAPTURE(p8);
