@@ -23,7 +23,7 @@ struct GlRenderInfo {
     srt_draw_stats stats = {};
     std::string device;  // EGL platform, renderer and version
     std::string path;    // e.g. "two texture units, blend subtract"
-    double ms = 0;       // time of srt_draw plus glFinish, one frame
+    double ms = 0;       // time of srt_draw plus glFinish per frame (median over options.frames)
     // With options.float_target: the frame as linear RGB floats, top row first.
     std::vector<float> float_rgb;
 };
@@ -40,6 +40,9 @@ struct GlRenderOptions {
     srt_draw_mode mode = SRT_MODE_MULTIPASS;
     const Rgba8Image* diffuse = nullptr;  // optional diffuse map
     bool float_target = false;            // GL ES 2: draw into a half-float target
+    // Frames to draw: with more than 1, two extra warm-up frames come first and
+    // GlRenderInfo::ms is the median of the timed ones (benchmarks).
+    int frames = 1;
 };
 
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,

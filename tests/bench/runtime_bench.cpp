@@ -156,48 +156,18 @@ std::vector<BackendRow> backend_table() {
         sepal::Image exact;
         sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err);
         for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
-        auto asset = std::make_unique<srt_asset>();
-        srt_error e = {};
-        srt_asset_parse(bytes.data(), bytes.size(), asset.get(), &e);
         for (const char* backend : {"gles1", "gles2", "gles2-fused", "gles2-fused-pixel"}) {
             sepal_ports::GlRenderOptions opt;
             sepal_ports::parse_gl_backend(backend, &opt);
-            sh_desc hd = {};
-            hd.width = s.width;
-            hd.height = s.height;
-            hd.gles_version = opt.gles_version;
-            char msg[512];
-            sh_context* ctx = sh_create(&hd, msg, sizeof msg);
-            srt_caps caps;
-            auto mat = std::make_unique<srt_material>();
-            if (!ctx || srt_query_caps(opt.gles_version, 0, sh_get_proc_address, &caps, &e) != SRT_OK ||
-                srt_material_create(&caps, asset.get(), s.width, s.height, mat.get(), &e) != SRT_OK) {
-                std::fprintf(stderr, "bench: %s: %s\n", backend, ctx ? e.message : msg);
+            opt.frames = 7;
+            sepal_ports::GlRenderInfo info;
+            std::vector<uint8_t> px;
+            if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &px, &info, &err)) {
+                std::fprintf(stderr, "bench: %s: %s\n", backend, err.c_str());
                 std::exit(1);
             }
-            std::vector<float> scratch(srt_draw_scratch_floats(s.mesh.vertex_count, s.scene.light_count));
-            srt_draw_desc d = {};
-            d.material = mat.get();
-            d.mesh = &s.mesh;
-            d.scene = &s.scene;
-            d.width = s.width;
-            d.height = s.height;
-            d.scratch = scratch.data();
-            d.scratch_floats = scratch.size();
-            d.mode = opt.mode;
-            std::vector<double> times;
-            for (int i = 0; i < 9; ++i) {
-                const auto t = Clock::now();
-                srt_draw(&d, nullptr, &e);
-                glFinish();
-                if (i >= 2) times.push_back(ms_since(t));
-            }
-            std::vector<uint8_t> px(size_t(s.width) * s.height * 4);
-            sh_read_rgba(ctx, px.data());
-            srt_material_destroy(mat.get());
-            sh_destroy(ctx);
             const sepal::Image img = sepal::to_rgb(sepal::image_from_rgba8(px.data(), s.width, s.height));
-            rows.push_back({m.name, backend, median(times), sepal::diff_images(exact, img, 0).psnr});
+            rows.push_back({m.name, backend, info.ms, sepal::diff_images(exact, img, 0).psnr});
         }
         std::vector<float> rgb;
         std::vector<double> times;
