@@ -8,6 +8,7 @@
 #include "image.h"
 #include "io.h"
 #include "json.h"
+#include "quantize.h"
 
 namespace sepal {
 namespace {
@@ -48,11 +49,7 @@ bool export_asset(const AssetData& a, const std::string& dir, std::string* err) 
         const AssetTexture& t = a.textures[i];
         Image img(int(t.desc.width), int(t.desc.height), int(t.desc.channels));
         const size_t count = img.data.size();
-        for (size_t k = 0; k < count; ++k) {
-            const double top = double((1u << t.desc.bits) - 1);
-            const uint32_t code = t.desc.bits == 8 ? t.data[k] : uint32_t(t.data[2 * k]) | (uint32_t(t.data[2 * k + 1]) << 8);
-            img.data[k] = float(code / top);
-        }
+        for (size_t k = 0; k < count; ++k) img.data[k] = float(texel_q(t, k));
         // Image rows go top first; texture row 0 is v = 0: flip so v grows upwards.
         Image flipped = img;
         const size_t row = size_t(img.width) * img.channels;

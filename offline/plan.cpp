@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "quantize.h"
+
 namespace sepal {
 namespace {
 
@@ -17,10 +19,7 @@ struct Coef {
 namespace {
 // Decoded level-0 value of texel i, channel c.
 double texel_value(const AssetTexture& t, size_t i, int c) {
-    const size_t k = i * t.desc.channels + size_t(c);
-    const double top = double((1u << t.desc.bits) - 1);
-    const uint32_t code = t.desc.bits == 8 ? t.data[k] : uint32_t(t.data[2 * k]) | (uint32_t(t.data[2 * k + 1]) << 8);
-    return t.desc.scale[c] * (double(code) / top) + t.desc.bias[c];
+    return t.desc.scale[c] * texel_q(t, i * t.desc.channels + size_t(c)) + t.desc.bias[c];
 }
 }  // namespace
 
@@ -69,11 +68,8 @@ double partial_sum_peak(const AssetData& a) {
     size_t stride = 1;
     while ((n / stride) * (n / stride) > (size_t(1) << 22)) ++stride;
     const double margin = stride > 1 ? 1.25 : 1.0;
-    const double top8 = 255.0;
     auto q = [&](const AssetTexture& t, size_t i, int c) {
-        const size_t k = i * t.desc.channels + size_t(c < int(t.desc.channels) ? c : 0);
-        return t.desc.bits == 8 ? t.data[k] / top8
-                                : double(uint32_t(t.data[2 * k]) | (uint32_t(t.data[2 * k + 1]) << 8)) / 65535.0;
+        return texel_q(t, i * t.desc.channels + size_t(c < int(t.desc.channels) ? c : 0));
     };
     double peak = 0;
     // Every added pass reads a G texture at texel i and an H texture at texel j (or one of

@@ -77,14 +77,17 @@ bool quantize_texture(const float* values, int n, int channels, const QuantizeOp
     return true;
 }
 
+double texel_q(const AssetTexture& t, size_t k) {
+    if (t.desc.bits == 8) return t.data[k] / 255.0;
+    return double(uint32_t(t.data[2 * k]) | (uint32_t(t.data[2 * k + 1]) << 8)) / 65535.0;  // little-endian
+}
+
 std::vector<float> dequantize_level0(const AssetTexture& t) {
     const size_t count = size_t(t.desc.width) * t.desc.height * t.desc.channels;
     std::vector<float> v(count);
-    const double top = double((1u << t.desc.bits) - 1);
     for (size_t i = 0; i < count; ++i) {
         const int c = int(i % t.desc.channels);
-        const uint32_t code = t.desc.bits == 8 ? t.data[i] : uint32_t(t.data[2 * i]) | (uint32_t(t.data[2 * i + 1]) << 8);
-        v[i] = float(t.desc.scale[c] * (double(code) / top) + t.desc.bias[c]);
+        v[i] = float(t.desc.scale[c] * texel_q(t, i) + t.desc.bias[c]);
     }
     return v;
 }

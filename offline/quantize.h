@@ -33,6 +33,8 @@ struct QuantizeStats {
 
 bool quantize_texture(const float* values, int n, int channels, const QuantizeOptions& options,
                       AssetTexture* out, std::string* err, QuantizeStats* stats = nullptr);
+// The stored q in [0, 1] of value k of the level-0 data (k = texel * channels + channel).
+double texel_q(const AssetTexture& t, size_t k);
 // The level-0 values the texture stands for: scale * q + bias.
 std::vector<float> dequantize_level0(const AssetTexture& t);
 
