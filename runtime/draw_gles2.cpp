@@ -154,12 +154,9 @@ void multipass(const Frame& f) {
 // Uniforms shared by both fused programs for terms [first, first + count).
 void fused_terms(const Frame& f, GLuint p, int first, int count) {
     const srt_material* m = f.m;
-    const int group = m->fused_group;
     char name[32];
     for (int k = 0; k < count; ++k) {
-        int gi = -1, hi = -1;
-        for (uint32_t t = 0; t < m->texture_count; ++t)
-            if ((int)m->texture_term[t] == first + k) (m->texture_role[t] == SRT_ROLE_G ? gi : hi) = (int)t;
+        const int gi = (int)m->term_textures[first + k][SRT_ROLE_G], hi = (int)m->term_textures[first + k][SRT_ROLE_H];
         bind_texture(GL_TEXTURE0 + 2 * k, m->gl_textures[gi]);
         bind_texture(GL_TEXTURE0 + 2 * k + 1, m->gl_textures[hi]);
         snprintf(name, sizeof name, "u_g[%d]", k);
@@ -181,7 +178,6 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
             glUniform3fv(loc(p, name), 1, bias);
         }
     }
-    (void)group;
     glUniform1i(loc(p, "u_terms"), count);
     glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
     // The fused shaders compute f itself: scaled by the frame's fused exposure.

@@ -114,7 +114,7 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
         const srt_fmt_texture& td = asset->textures[i].desc;
         out->texture_role[i] = td.role;
-        out->texture_term[i] = td.term;
+        out->term_textures[td.term][td.role] = i;  // the reader checked one G and one H per term
         for (int c = 0; c < 3; ++c) out->texture_scale[i][c] = td.scale[c], out->texture_bias[i][c] = td.bias[c];
         const bool wrap = info.param == SRT_PARAM_ELEV_AZIM && td.role == SRT_ROLE_H;
         srt_result r = upload(asset->textures[i], out->gl_textures[i], wrap, err);

@@ -56,7 +56,7 @@ typedef struct srt_material {
     uint32_t texture_count;
     uint32_t gl_textures[SRT_FMT_MAX_TEXTURES];
     uint32_t texture_role[SRT_FMT_MAX_TEXTURES];
-    uint32_t texture_term[SRT_FMT_MAX_TEXTURES];
+    uint32_t term_textures[SRT_FMT_MAX_TERMS][2];  // per term: its G and H texture index
     float texture_scale[SRT_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
     float texture_bias[SRT_FMT_MAX_TEXTURES][3];
     float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
