@@ -25,26 +25,7 @@
 namespace sepal_ports {
 
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err) {
-    FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) {
-        *err = path + ": " + std::strerror(errno);
-        return false;
-    }
-    bytes->clear();
-    uint8_t buf[65536];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
-        bytes->insert(bytes->end(), buf, buf + n);
-        if (bytes->size() > SRT_FMT_MAX_FILE_BYTES) {
-            std::fclose(f);
-            *err = path + ": larger than the format's limit of " + std::to_string(SRT_FMT_MAX_FILE_BYTES) + " bytes";
-            return false;
-        }
-    }
-    const bool failed = std::ferror(f) != 0;
-    std::fclose(f);
-    if (failed) *err = path + ": read error";
-    return !failed;
+    return read_bounded_file(path, SRT_FMT_MAX_FILE_BYTES, bytes, err);
 }
 
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {

@@ -128,6 +128,29 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
     return 2;
 }
 
+bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<uint8_t>* out, std::string* err) {
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) {
+        *err = path + ": " + std::strerror(errno);
+        return false;
+    }
+    out->clear();
+    uint8_t buf[65536];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+        out->insert(out->end(), buf, buf + n);
+        if (out->size() > max_bytes) {
+            std::fclose(f);
+            *err = path + ": larger than the limit of " + std::to_string(max_bytes) + " bytes";
+            return false;
+        }
+    }
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) *err = path + ": read error";
+    return !failed;
+}
+
 bool load_scene_mesh(SceneSetup* s, std::string* err) {
     srt_error e = {};
     srt_result r;
@@ -140,22 +163,12 @@ bool load_scene_mesh(SceneSetup* s, std::string* err) {
             : name == "torus" ? srt_mesh_torus(0.72f, 0.3f, 96, 48, &s->mesh, &e)
                               : srt_mesh_wave(64, &s->mesh, &e);
     } else {
-        FILE* f = std::fopen(name.c_str(), "rb");
-        if (!f) {
-            *err = "--mesh '" + name + "': not sphere, torus or wave, and not a readable file: " +
-                   std::strerror(errno);
+        std::vector<uint8_t> bytes;
+        if (!read_bounded_file(name, size_t(256) << 20, &bytes, err)) {
+            *err = "--mesh: not sphere, torus or wave, and " + *err;
             return false;
         }
-        std::vector<char> text;
-        char buf[65536];
-        size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, f)) > 0 && text.size() < (size_t(256) << 20))
-            text.insert(text.end(), buf, buf + n);
-        std::fclose(f);
-        if (text.size() >= (size_t(256) << 20)) {
-            *err = name + ": larger than 256 MB";
-            return false;
-        }
+        const std::vector<char> text(bytes.begin(), bytes.end());
         srt_obj_info info;
         r = srt_obj_measure(text.data(), text.size(), &info, &e);
         if (r == SRT_OK) {

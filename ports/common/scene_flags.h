@@ -41,6 +41,8 @@ struct SceneSetup {
 int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* err);
 // Builds or loads the mesh named by mesh_name and validates the scene.
 bool load_scene_mesh(SceneSetup* s, std::string* err);
+// Reads a whole file, refusing one larger than max_bytes (used for OBJ meshes and assets).
+bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<uint8_t>* out, std::string* err);
 // One line per flag, for usage messages.
 const char* scene_flags_help();
 
