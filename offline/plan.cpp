@@ -16,48 +16,6 @@ struct Coef {
 
 }  // namespace
 
-namespace {
-// Decoded level-0 value of texel i, channel c.
-double texel_value(const AssetTexture& t, size_t i, int c) {
-    return t.desc.scale[c] * texel_q(t, i * t.desc.channels + size_t(c)) + t.desc.bias[c];
-}
-}  // namespace
-
-double reconstruction_peak(const AssetData& a) {
-    const uint32_t terms = a.material.terms;
-    std::vector<const AssetTexture*> g(terms, nullptr), h(terms, nullptr);
-    for (const AssetTexture& t : a.textures)
-        if (t.desc.term < terms) (t.desc.role == SRT_ROLE_G ? g : h)[t.desc.term] = &t;
-    for (uint32_t k = 0; k < terms; ++k)
-        if (!g[k] || !h[k] || g[k]->data.empty() || h[k]->data.empty()) return 0.0;
-    const int channels = int(a.material.channels);
-    const size_t ng = size_t(g[0]->desc.width) * g[0]->desc.height, nh = size_t(h[0]->desc.width) * h[0]->desc.height;
-    // Large factors: visit every stride-th texel of each (at most 2^24 pairs) and allow a
-    // margin for the peaks skipped.
-    size_t stride = 1;
-    while ((ng / stride) * (nh / stride) > (size_t(1) << 24)) ++stride;
-    const double margin = stride > 1 ? 1.25 : 1.0;
-    double peak = 0;
-    std::vector<double> gv(terms), hv(size_t(terms) * nh);
-    for (int c = 0; c < channels; ++c) {
-        double ratio = 0;
-        for (int r = 0; r < 3; ++r)
-            if (channels == 1 || r == c) ratio = std::max(ratio, double(a.material.ratio[r]));
-        for (uint32_t k = 0; k < terms; ++k)
-            for (size_t j = 0; j < nh; ++j) hv[k * nh + j] = texel_value(*h[k], j, c);
-        // Every pair of texel centres: O(N^4 K), 4M products for 32x32 factors.
-        for (size_t i = 0; i < ng; i += stride) {
-            for (uint32_t k = 0; k < terms; ++k) gv[k] = texel_value(*g[k], i, c);
-            for (size_t j = 0; j < nh; j += stride) {
-                double f = 0;
-                for (uint32_t k = 0; k < terms; ++k) f += gv[k] * hv[k * nh + j];
-                peak = std::max(peak, f * ratio);
-            }
-        }
-    }
-    return peak * margin;
-}
-
 double partial_sum_peak(const AssetData& a) {
     const size_t count = a.textures.size();
     if (count == 0 || a.passes.empty()) return 0.0;
@@ -183,9 +141,7 @@ bool build_plan(AssetData* a, std::string* err) {
         out.rgb_scale = 1;
         a->passes.push_back(out);
     }
-    const double peak_value = reconstruction_peak(*a);
     a->plan = srt_fmt_plan{};
-    a->plan.peak_value = float(std::max(peak_value, 1e-30));
     a->plan.pass_count = uint32_t(a->passes.size());
     a->plan.doublings = uint32_t(doublings);
     // The bound sum-of-added-colours assumes every texture at 1 at once; the real peak

@@ -28,9 +28,6 @@ namespace sepal {
 
 bool build_plan(AssetData* asset, std::string* err);
 
-// Largest f the level-0 factors reconstruct over every pair of texel centres (times the
-// colour ratio): the plan's peak_value. O(N^4 K) per channel; 0 if textures are missing.
-double reconstruction_peak(const AssetData& asset);
 // Largest partial sum of the plan (after every added pass, at unit irradiance) over every
 // pair of texel centres: the plan's peak_partial_sum. 0 if textures or passes are missing.
 double partial_sum_peak(const AssetData& asset);

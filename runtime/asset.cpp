@@ -226,9 +226,6 @@ extern "C" srt_result srt_asset_parse(const void* bytes, size_t size, srt_asset*
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
                          "asset: plan of %u passes (1..%d) in a %llu-byte chunk", plan.pass_count,
                          SRT_FMT_MAX_PASSES, (unsigned long long)plan_size);
-    if (!(plan.peak_value > 0.0f) || !isfinite(plan.peak_value))
-        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "asset: plan's peak value %g is not finite and > 0",
-                         (double)plan.peak_value);
     if (plan.doublings > SRT_FMT_MAX_DOUBLINGS || !(plan.peak_partial_sum > 0.0f) ||
         !(plan.peak_partial_sum <= 1.0f))
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,

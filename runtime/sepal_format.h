@@ -144,11 +144,7 @@ typedef struct srt_fmt_plan {
     // Largest partial sum of the plan at unit irradiance (the writer guarantees <= 1);
     // the runtime divides its per-frame exposure by it.
     float peak_partial_sum;
-    // Largest value of f the factors reconstruct (over every pair of texel centres, per
-    // channel, times the ratio): the fused shaders and the CPU compute f itself and scale
-    // their output by it instead of by the plan's coefficients. > 0.
-    float peak_value;
-    uint32_t reserved[4];
+    uint32_t reserved[5];
 } srt_fmt_plan;
 
 typedef struct srt_fmt_pass {

@@ -39,7 +39,6 @@ sepal::AssetData small_asset() {
     }
     a.plan.doublings = 2;
     a.plan.peak_partial_sum = 0.9f;
-    a.plan.peak_value = 2.0f;
     srt_fmt_pass p{};
     p.op = SRT_OP_PRODUCT;
     p.blend = SRT_BLEND_ADD;
@@ -182,7 +181,8 @@ TEST_CASE("asset: corrupt, truncated and oversized files are refused with a clea
          [plan](std::vector<uint8_t>* b) { poke<uint16_t>(b, plan + 32 + 4, 7); reseal(b); }, "texture slot 0 is 7"},
         {"pass colour above 1",
          [plan](std::vector<uint8_t>* b) { poke<float>(b, plan + 32 + 8, 3.0f); reseal(b); }, "outside [0,1]"},
-        {"NaN peak value", [plan](std::vector<uint8_t>* b) { poke<float>(b, plan + 12, NAN); reseal(b); }, "peak value"},
+        {"NaN peak partial sum", [plan](std::vector<uint8_t>* b) { poke<float>(b, plan + 8, NAN); reseal(b); },
+         "peak partial sum"},
         {"absurd doublings", [plan](std::vector<uint8_t>* b) { poke<uint32_t>(b, plan + 4, 40); reseal(b); },
          "doublings"},
         {"missing H texture", [tex_h](std::vector<uint8_t>* b) { poke<uint32_t>(b, tex_h + 20, 0); reseal(b); },

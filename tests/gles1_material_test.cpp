@@ -104,7 +104,6 @@ TEST_CASE("gles1 material: refusals") {
     a.textures.push_back(make_texture(4, SRT_ROLE_H, 0, 1, [](float, float, int) { return 1.0f; }));
     a.passes.push_back(pass(SRT_OP_PRODUCT, SRT_BLEND_ADD, 0, 1, 0.5f));
     a.plan.peak_partial_sum = 0.5f;
-    a.plan.peak_value = 1.0f;
     std::vector<uint8_t> bytes;
     std::string err;
     REQUIRE(sepal::encode_asset(a, &bytes, &err));
@@ -146,7 +145,6 @@ TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the s
     a.textures.push_back(make_texture(8, SRT_ROLE_H, 0, 1, [](float, float v, int c) { return 0.3f + 0.2f * c + 0.4f * v; }));
     a.passes.push_back(pass(SRT_OP_PRODUCT, SRT_BLEND_ADD, 0, 1, 0.4f));
     a.plan.peak_partial_sum = 0.4f;
-    a.plan.peak_value = 1.0f;
     const std::string dir = sepal_test::temp_dir();
     std::string err, out;
     REQUIRE_MESSAGE(sepal::write_asset(dir + "/m.sepal", a, &err), err);
