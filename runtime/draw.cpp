@@ -45,16 +45,10 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
         return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
                          "draw: irradiance %g at a vertex needs 2^%d doublings; lights too bright",
                          (double)prep.vertices.max_irradiance_single, e + plan_doublings);
-    prep.exposure = ldexpf(1.0f, -e);
+    // The fused shaders compute f E directly: no exposure, no doublings.
+    const bool fused = d->mode != SRT_MODE_MULTIPASS;
+    prep.exposure = fused ? 1.0f : ldexpf(1.0f, -e);
     stats->exposure = prep.exposure;
-    stats->doublings = plan_doublings + e;
-    // The fused shaders compute f E directly; the 8-bit framebuffer clamps it at 1, as
-    // the display would: no exposure, no doublings.
-    prep.fused_doublings = 0;
-    prep.fused_exposure = 1.0f;
-    if (d->mode != SRT_MODE_MULTIPASS) {
-        stats->exposure = prep.fused_exposure;
-        stats->doublings = prep.fused_doublings;
-    }
+    stats->doublings = fused ? 0 : plan_doublings + e;
     return m->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err) : srt::draw_gles2(d, prep, stats, err);
 }

@@ -316,7 +316,7 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     } else if (d->mode != SRT_MODE_FUSED_PIXEL) {
         return fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
     }
-    Frame f = {m, d, d->scratch, {}, d->mode == SRT_MODE_MULTIPASS ? prep.exposure : prep.fused_exposure, stats};
+    Frame f = {m, d, d->scratch, {}, prep.exposure, stats};
     mat4_mul(prep.proj, prep.view, f.mvp);
     GLint previous_fbo = 0;
     if (m->float_fbo) {

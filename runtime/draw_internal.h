@@ -8,11 +8,10 @@ namespace srt {
 struct FramePrep {
     float view[16], proj[16];
     VertexSetupResult vertices;
-    float exposure;  // 2^-e on the vertex colours of the plan's passes
-    // The fused shaders compute f itself: their output is scaled by 2^-fused_doublings
-    // so that peak f x irradiance stays within 1, and doubled back at the end.
-    float fused_exposure;
-    int fused_doublings;
+    // 2^-e on the vertex colours of the plan's passes; 1 for the fused modes, whose
+    // shaders compute f E directly and let the framebuffer clamp it at 1, as the display
+    // would.
+    float exposure;
 };
 
 srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err);
