@@ -156,12 +156,15 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
     for (const PlotSeries& s : p.series)
         for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
             const double x = s.x[i], y = s.y[i];
-            if (!std::isfinite(x) || !std::isfinite(y) || (p.log_y && !(y > 0))) continue;
+            if (!std::isfinite(x) || !std::isfinite(y) || (p.log_y && !(y > 0)) || (p.log_x && !(x > 0))) continue;
             xmin = std::min(xmin, x), xmax = std::max(xmax, x);
             ymin = std::min(ymin, y), ymax = std::max(ymax, y);
         }
-    if (xmin > xmax) xmin = 0, xmax = 1, ymin = p.log_y ? 0.1 : 0, ymax = 1;
-    if (xmin == xmax) xmin -= 0.5, xmax += 0.5;
+    if (xmin > xmax) xmin = p.log_x ? 0.1 : 0, xmax = 1, ymin = p.log_y ? 0.1 : 0, ymax = 1;
+    if (xmin == xmax) {
+        if (p.log_x) xmin *= 0.5, xmax *= 2;
+        else xmin -= 0.5, xmax += 0.5;
+    }
     double lo, hi;
     if (p.log_y) {
         lo = std::floor(std::log10(ymin)), hi = std::ceil(std::log10(ymax));
@@ -171,9 +174,11 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
         lo = std::floor(ymin / st) * st, hi = std::ceil(ymax / st) * st;
         if (lo == hi) hi = lo + st;
     }
-    const double xpad = 0.04 * (xmax - xmin);
-    const double xa = xmin - xpad, xb = xmax + xpad;
-    auto px = [&](double x) { return x0 + int(std::lround((x - xa) / (xb - xa) * (x1 - x0))); };
+    // On a log x axis positions are in log10 units.
+    auto xt = [&](double x) { return p.log_x ? std::log10(x) : x; };
+    const double xpad = 0.04 * (xt(xmax) - xt(xmin));
+    const double xa = xt(xmin) - xpad, xb = xt(xmax) + xpad;
+    auto px = [&](double x) { return x0 + int(std::lround((xt(x) - xa) / (xb - xa) * (x1 - x0))); };
     auto py = [&](double y) {
         const double t = p.log_y ? (std::log10(y) - lo) / (hi - lo) : (y - lo) / (hi - lo);
         return y1 - int(std::lround(t * (y1 - y0)));
@@ -205,12 +210,25 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
         }
     }
     // x ticks.
-    const double xs = std::max(nice_step(xmax - xmin, 8), 1e-12);
-    for (double v = std::ceil(xmin / xs) * xs; v <= xmax + 1e-9 * xs; v += xs) {
-        const int x = px(v);
-        line(img, x, y1, x, y1 + 5, black, 1);
-        const std::string s = number(v);
-        draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, black);
+    if (p.log_x) {
+        for (int d = int(std::floor(xa)); d <= int(std::ceil(xb)); ++d)
+            for (int m : {1, 2, 5}) {
+                const double v = m * std::pow(10.0, d), t = std::log10(v);
+                if (t < xa || t > xb) continue;
+                const int x = px(v);
+                line(img, x, y0, x, y1, m == 1 ? light : glm::dvec3(0.95), 1);
+                line(img, x, y1, x, y1 + (m == 1 ? 5 : 3), black, 1);
+                const std::string s = number(v);
+                draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, m == 1 ? black : grey);
+            }
+    } else {
+        const double xs = std::max(nice_step(xmax - xmin, 8), 1e-12);
+        for (double v = std::ceil(xmin / xs) * xs; v <= xmax + 1e-9 * xs; v += xs) {
+            const int x = px(v);
+            line(img, x, y1, x, y1 + 5, black, 1);
+            const std::string s = number(v);
+            draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, black);
+        }
     }
     // Frame, labels, title.
     line(img, x0, y0, x1, y0, black, 1);
@@ -226,13 +244,13 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
         bool have = false;
         for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
             const double x = s.x[i], y = s.y[i];
-            if (!std::isfinite(x) || !std::isfinite(y) || (p.log_y && !(y > 0))) {
+            if (!std::isfinite(x) || !std::isfinite(y) || (p.log_y && !(y > 0)) || (p.log_x && !(x > 0))) {
                 have = false;
                 continue;
             }
-            const int cx = px(x), cy = py(y);
-            if (have) line(img, lx, ly, cx, cy, s.colour, 2);
-            fill_rect(img, cx - 2, cy - 2, cx + 2, cy + 2, s.colour);
+            const int cx = px(x), cy = py(y), m = std::clamp(s.marker, 1, 6);
+            if (have && s.lines) line(img, lx, ly, cx, cy, s.colour, 2);
+            fill_rect(img, cx - m, cy - m, cx + m, cy + m, s.colour);
             lx = cx, ly = cy, have = true;
         }
     }

@@ -10,7 +10,7 @@
 // Hand-written because no plotting library is among the project's allowed dependencies
 // (Debian packages: GLM, stb, doctest, Eigen): axes with numbered ticks (a linear x axis
 // with integer-friendly steps, a log-scale y axis with decades and 2x/5x sub-ticks), one
-// polyline with square markers per series, a legend, and a title, drawn with a built-in
+// polyline (or markers only) with square markers per series, optionally a log x axis, a legend, and a title, drawn with a built-in
 // 5x7 bitmap font (ASCII 32..126; other bytes draw as '?'). Panels are laid out in a grid.
 // Limits: no anti-aliasing; non-positive or non-finite y values are skipped on log axes
 // (and non-finite ones on linear axes); panel sizes 160..2000 pixels.
@@ -28,12 +28,15 @@ struct PlotSeries {
     std::string label;
     std::vector<double> x, y;
     glm::dvec3 colour{0, 0, 0};  // linear 0..1
+    bool lines = true;  // false: markers only (a scatter)
+    int marker = 2;     // marker half-size in pixels, 1..6
 };
 
 struct PlotPanel {
     std::string title, x_label, y_label;
     std::vector<PlotSeries> series;
     bool log_y = true;
+    bool log_x = false;  // decades on x too (frame times spanning 1..100 ms)
 };
 
 // Panels left to right, top to bottom, `columns` per row; each panel_w x panel_h pixels.
