@@ -71,9 +71,46 @@ FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int
 
 }  // namespace
 
+void mark_front(std::vector<BakeCandidate>* candidates) {
+    // O(n^2): searches hold at most a few hundred candidates.
+    for (BakeCandidate& c : *candidates) {
+        c.on_front = c.ok;
+        if (!c.ok) continue;
+        for (const BakeCandidate& d : *candidates)
+            if (d.ok && d.ms <= c.ms && d.error_quantized <= c.error_quantized &&
+                (d.ms < c.ms || d.error_quantized < c.error_quantized)) {
+                c.on_front = false;
+                break;
+            }
+    }
+}
+
+int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
+    int best = -1;
+    for (size_t i = 0; i < candidates->size(); ++i) {
+        BakeCandidate& c = (*candidates)[i];
+        c.meets = c.ok && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
+                  (o.max_passes < 0 || c.passes <= o.max_passes) && (o.max_bytes < 0 || c.bytes <= o.max_bytes);
+        if (!c.meets) continue;
+        if (best < 0) {
+            best = int(i);
+            continue;
+        }
+        // With an error budget, the fastest predicted frame; without, the most accurate.
+        const BakeCandidate& b = (*candidates)[size_t(best)];
+        const bool better = o.max_error >= 0 ? std::make_tuple(c.ms, c.error_quantized, c.bytes) <
+                                                   std::make_tuple(b.ms, b.error_quantized, b.bytes)
+                                             : std::make_tuple(c.error_quantized, c.ms, c.bytes) <
+                                                   std::make_tuple(b.error_quantized, b.ms, b.bytes);
+        if (better) best = int(i);
+    }
+    return best;
+}
+
 std::string BakeCandidate::label() const {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%s/%s %d %s x%d", param_name(param), map_name(map), res, method_name(method), terms);
+    std::snprintf(buf, sizeof buf, "%s/%s %d %s x%d %db", param_name(param), map_name(map), res, method_name(method),
+                  terms, bits);
     return buf;
 }
 
@@ -199,6 +236,18 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         }
         max_terms = std::max(max_terms, k);
     }
+    for (int b : o.bits)
+        if (b != 8 && b != 16) {
+            if (err) *err = "bake: --bits " + std::to_string(b) + ": 8 or 16";
+            return false;
+        }
+    if (o.bits.empty()) {
+        if (err) *err = "bake: an empty search list";
+        return false;
+    }
+    out->cost = o.cost;
+    if (out->cost.backend.empty() && !default_cost_model("gles1", &out->cost, err)) return false;
+    const CostModel& cost = out->cost;
     for (int r : o.resolutions)
         if (r < 16 || r > 256 || (r & (r - 1))) {
             if (err) *err = "bake: --res " + std::to_string(r) + ": a power of two in 16..256 (GL ES 1.1 textures)";
@@ -212,9 +261,6 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     eo.threads = o.threads;
     ErrorEvaluator ev(brdf, eo);
     if (!ev.init(err)) return false;
-    QuantizeOptions q;
-    q.bits = o.bits;
-    q.mips = o.mips;
     const bool show = o.progress && isatty(2);
     size_t done = 0;
     for (Param param : o.params)
@@ -229,60 +275,55 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
                     FactorResult r;
                     std::string ferr;
                     const bool factored = factor_brdf(source, fo, &r, &ferr);
-                    for (int k : o.terms) {
-                        BakeCandidate c;
-                        c.param = param;
-                        c.map = map;
-                        c.res = res;
-                        c.terms = k;
-                        c.method = method;
-                        if (!factored) {
-                            c.note = ferr;
-                            out->candidates.push_back(c);
-                            continue;
+                    for (int k : o.terms)
+                        for (int bits : o.bits) {
+                            BakeCandidate c;
+                            c.param = param;
+                            c.map = map;
+                            c.res = res;
+                            c.terms = k;
+                            c.bits = bits;
+                            c.method = method;
+                            if (!factored) {
+                                c.note = ferr;
+                                out->candidates.push_back(std::move(c));
+                                continue;
+                            }
+                            const Factored& f = r.by_terms[size_t(k - 1)];
+                            c.error_float = ev.measure(f).relative;
+                            AssetData a;
+                            std::vector<uint8_t> bytes;
+                            std::string aerr;
+                            QuantizeOptions q;
+                            q.bits = bits;
+                            q.mips = o.mips;
+                            if (!make_asset(f, k, q, &a, &aerr) || !encode_asset(a, &bytes, &aerr)) {
+                                c.note = aerr;
+                                out->candidates.push_back(std::move(c));
+                                continue;
+                            }
+                            const ApproxError qe = ev.measure(dequantize(a, f));
+                            c.ok = true;
+                            c.error_quantized = qe.relative;
+                            c.rms_quantized = qe.rms;
+                            c.passes = int(a.passes.size());
+                            c.doublings = int(a.plan.doublings);
+                            c.non_negative = f.non_negative();
+                            c.bytes = int64_t(bytes.size());
+                            c.ms = cost.predict(c.passes, c.terms, c.bytes);
+                            if (o.keep_assets) {
+                                a.material.error_float = float(c.error_float * ev.reference_rms());
+                                a.material.error_quantized = float(c.rms_quantized);
+                                a.material.error_relative = float(c.error_quantized);
+                                a.meta = asset_manifest(a, brdf.spec(), method_name(method), res, o.key);
+                                c.asset = std::move(a);
+                            }
+                            out->candidates.push_back(std::move(c));
                         }
-                        const Factored& f = r.by_terms[size_t(k - 1)];
-                        c.error_float = ev.measure(f).relative;
-                        AssetData a;
-                        std::vector<uint8_t> bytes;
-                        std::string aerr;
-                        if (!make_asset(f, k, q, &a, &aerr) || !encode_asset(a, &bytes, &aerr)) {
-                            c.note = aerr;
-                            out->candidates.push_back(c);
-                            continue;
-                        }
-                        const ApproxError qe = ev.measure(dequantize(a, f));
-                        c.ok = true;
-                        c.error_quantized = qe.relative;
-                        c.rms_quantized = qe.rms;
-                        c.passes = int(a.passes.size());
-                        c.doublings = int(a.plan.doublings);
-                        c.non_negative = f.non_negative();
-                        c.bytes = int64_t(bytes.size());
-                        c.meets = (o.max_error < 0 || c.error_quantized <= o.max_error) &&
-                                  (o.max_passes < 0 || c.passes <= o.max_passes) &&
-                                  (o.max_bytes < 0 || c.bytes <= o.max_bytes);
-                        out->candidates.push_back(c);
-                    }
                 }
     if (show) std::fprintf(stderr, "\r%80s\r", "");
-    // The winner: cheapest that meets the budgets; without an error budget, most accurate.
-    int best = -1;
-    for (size_t i = 0; i < out->candidates.size(); ++i) {
-        const BakeCandidate& c = out->candidates[i];
-        if (!c.meets) continue;
-        if (best < 0) {
-            best = int(i);
-            continue;
-        }
-        const BakeCandidate& b = out->candidates[size_t(best)];
-        const bool better = o.max_error >= 0
-                                ? std::make_tuple(c.passes, c.bytes, c.error_quantized) <
-                                      std::make_tuple(b.passes, b.bytes, b.error_quantized)
-                                : std::make_tuple(c.error_quantized, c.passes, c.bytes) <
-                                      std::make_tuple(b.error_quantized, b.passes, b.bytes);
-        if (better) best = int(i);
-    }
+    const int best = choose_winner(&out->candidates, o);
+    mark_front(&out->candidates);
     out->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out->capped_share = capped.share();
     if (best < 0) {
@@ -304,18 +345,24 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     const BakeCandidate& w = out->candidates[size_t(best)];
     char why[256];
     if (o.max_error >= 0)
-        std::snprintf(why, sizeof why,
-                      "%s: the fewest passes (%d per light), then the fewest bytes (%lld), with error %.4g <= %.4g",
-                      w.label().c_str(), w.passes, (long long)w.bytes, w.error_quantized, o.max_error);
+        std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d passes per light) with error %.4g <= %.4g",
+                      w.label().c_str(), w.ms, cost.backend.c_str(), w.passes, w.error_quantized, o.max_error);
     else
         std::snprintf(why, sizeof why, "%s: the lowest error (%.4g) within the budgets (no --max-error given)",
                       w.label().c_str(), w.error_quantized);
     out->why = why;
+    if (o.keep_assets) {
+        out->asset = w.asset;
+        return true;
+    }
     // Rebuild the winner (one more factorization: cheaper than keeping every candidate).
     const FactorOptions fo = factor_options(o, w.param, w.map, w.res, w.method, max_terms);
     FactorResult r;
     if (!factor_brdf(source, fo, &r, err)) return false;
     const Factored& f = r.by_terms[size_t(w.terms - 1)];
+    QuantizeOptions q;
+    q.bits = w.bits;
+    q.mips = o.mips;
     if (!make_asset(f, w.terms, q, &out->asset, err)) return false;
     out->asset.material.error_float = float(w.error_float * ev.reference_rms());
     out->asset.material.error_quantized = float(w.rms_quantized);

@@ -12,9 +12,12 @@
 // k-term solution, for nmf and acls) is quantized (quantize.h), given a plan (plan.h),
 // encoded, and measured again with the same metric as the float factors (factor_error.h:
 // 8000 Monte Carlo pairs, fixed seed), so every candidate knows its passes, bytes, float
-// error and quantized error. The winner is the cheapest that meets every budget: fewest
-// passes (per light), then fewest bytes, then lowest error. Without --max-error the lowest
-// quantized error within the pass and byte budgets wins.
+// error, quantized error and predicted frame time (cost_model.h: a linear model of the
+// chosen backend fitted to `make bench`'s measured frames). The winner is the fastest
+// predicted frame that meets every budget, then the lowest error, then the fewest bytes;
+// it lies on the Pareto front of (predicted ms, quantized error), which every candidate is
+// marked on. Without --max-error the lowest quantized error within the pass and byte
+// budgets wins.
 // Determinism: equal inputs give byte-identical assets whatever the thread count; the
 // asset's META chunk holds no timings.
 // Limits: resolutions must be powers of two (GL ES 1.1 textures); at most 64 factorizations
@@ -26,6 +29,7 @@
 
 #include "asset_file.h"
 #include "brdf.h"
+#include "cost_model.h"
 #include "factor.h"
 #include "factored.h"
 #include "quantize.h"
@@ -40,8 +44,11 @@ struct BakeOptions {
     std::vector<int> terms = {1, 2, 3, 4};
     std::vector<Method> methods = {Method::SVD, Method::NMF};
     ColourMode colour = ColourMode::PerChannel;
-    int bits = 8;
+    std::vector<int> bits = {8};  // 8 and/or 16 per texel channel
     bool mips = true;
+    // The frame-time model the winner minimizes; an empty backend means the built-in
+    // gles1 model (cost_model.h).
+    CostModel cost;
     double max_error = -1;  // relative cosine-weighted RMS after quantization; < 0: none
     int max_passes = -1;    // plan passes per light; < 0: none
     int64_t max_bytes = -1;  // encoded asset size; < 0: none
@@ -61,12 +68,15 @@ struct BakeOptions {
     double cap = -1;
     // Stored in the asset's manifest as "bake_key" (bake-scene's up-to-date check).
     std::string key;
+    // Keep every candidate's asset in BakeCandidate::asset (sweeps; memory grows with the
+    // search), which also spares the winner's second factorization.
+    bool keep_assets = false;
 };
 
 struct BakeCandidate {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
-    int res = 0, terms = 0;
+    int res = 0, terms = 0, bits = 8;
     Method method = Method::SVD;
     bool ok = false;            // factored and encoded; else `note` says why not
     std::string note;
@@ -77,8 +87,11 @@ struct BakeCandidate {
     int doublings = 0;
     bool non_negative = false;  // no correction passes
     int64_t bytes = 0;
+    double ms = 0;              // predicted frame time (BakeOptions::cost)
+    bool on_front = false;      // no other candidate is as fast and as accurate, and better in one
     bool meets = false;         // within every budget
-    std::string label() const;  // "gs-half/xy 64 svd x2"
+    AssetData asset;            // with BakeOptions::keep_assets
+    std::string label() const;  // "gs-half/xy 64 svd x2 8b"
 };
 
 struct BakeResult {
@@ -86,11 +99,19 @@ struct BakeResult {
     double capped_share = 0;  // share of sampled f values the cap clamped
     int winner = -1;
     std::string why;  // one line: why the winner won
+    CostModel cost;   // the model the candidates' ms came from
     AssetData asset;  // the winner's
     double seconds = 0;
 };
 
 bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::string* err);
+// Sets on_front on every candidate: ok, and no ok candidate has ms and error both <= its
+// own with one of them < (the Pareto front of predicted frame time and quantized error).
+void mark_front(std::vector<BakeCandidate>* candidates);
+// Sets meets on every candidate from the options' budgets and returns the winner's index
+// (-1: none meets): with max_error, the fastest predicted frame, then the lowest error, then
+// the fewest bytes; without, the lowest error, then the fastest, then the fewest bytes.
+int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& options);
 
 // The first `terms` terms of a factorization as a quantized asset with its plan;
 // spec and method go into the META manifest. errors may be NaN when not measured.

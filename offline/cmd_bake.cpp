@@ -1,5 +1,6 @@
-// sepal bake SPEC -o out.sepal [factor options] [--bits 8|16] [--max-error E]
-//   [--max-passes P] [--max-bytes B] [--report r.json] [--export DIR] [--threads N]
+// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--max-error E]
+//   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
+//   [--report r.json] [--export DIR] [--threads N]
 #include <cmath>
 #include <cstring>
 
@@ -69,7 +70,8 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     std::vector<std::string> fixed;
     for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
     Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
-                        "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap"},
+                        "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap", "backend",
+                        "timings"},
               {"no-mips"});
     BakeOptions o;
     std::string err;
@@ -80,8 +82,9 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (!args.ok()) return bad(args.error());
     if (args.positional().size() != 1 || !args.has("o"))
         return bad("usage: sepal bake SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] "
-                   "[--method M,..] [--colour rgb|luminance] [--bits 8|16] [--max-error E] [--max-passes P] "
-                   "[--max-bytes B] [--report r.json] [--export DIR] [--threads N]");
+                   "[--method M,..] [--colour rgb|luminance] [--bits 8,16] [--max-error E] [--max-passes P] "
+                   "[--max-bytes B] [--backend gles1|gles2-fused|cpu] [--timings tradeoff.json] [--report r.json] "
+                   "[--export DIR] [--threads N]");
     if (args.has("param") && !parse_list<Param>("param", args.get("param"), parse_param, &o.params, &err)) return bad(err);
     if (args.has("map") && !parse_list<HemiMap>("map", args.get("map"), parse_map, &o.maps, &err)) return bad(err);
     if (args.has("method") && !parse_list<Method>("method", args.get("method"), parse_method, &o.methods, &err))
@@ -92,9 +95,16 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     long v = 0;
     double d = 0;
     if (args.has("bits")) {
-        if (!args.integer("bits", &v) || (v != 8 && v != 16)) return bad("--bits: 8 or 16");
-        o.bits = int(v);
+        if (!parse_list<int>("bits", args.get("bits"), parse_int, &o.bits, &err)) return bad(err);
+        for (int b : o.bits)
+            if (b != 8 && b != 16) return bad("--bits: 8, 16 or 8,16");
     }
+    // The frame-time model the winner minimizes: measured by `make bench` on the target
+    // (--timings), else the built-in one for the backend.
+    const std::string backend = args.has("backend") ? args.get("backend") : "gles1";
+    if (args.has("timings") ? !read_cost_model(args.get("timings"), backend, &o.cost, &err)
+                            : !default_cost_model(backend, &o.cost, &err))
+        return bad(err);
     if (args.has("max-error")) {
         if (!args.number("max-error", &d) || d <= 0) return bad("--max-error: a relative error > 0, e.g. 0.1");
         o.max_error = d;
@@ -131,15 +141,17 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     const bool ok = bake(*brdf, o, &r, &err);
     // The candidates, for people, whether or not one won.
     if (!r.candidates.empty())
-        std::fprintf(io.out, "%-28s %9s %9s %7s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes", "");
+        std::fprintf(io.out, "%-32s %9s %9s %7s %8s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes",
+                     "ms", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
         if (!c.ok) {
-            std::fprintf(io.out, "%-28s  skipped: %s\n", c.label().c_str(), c.note.c_str());
+            std::fprintf(io.out, "%-32s  skipped: %s\n", c.label().c_str(), c.note.c_str());
             continue;
         }
-        std::fprintf(io.out, "%-28s %9.4f %9.4f %7d %8lld %s%s\n", c.label().c_str(), c.error_float, c.error_quantized,
-                     c.passes, (long long)c.bytes, int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
+        std::fprintf(io.out, "%-32s %9.4f %9.4f %7d %8lld %8.2f %s %s%s\n", c.label().c_str(), c.error_float,
+                     c.error_quantized, c.passes, (long long)c.bytes, c.ms, c.on_front ? "*" : " ",
+                     int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
                      c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
     }
     if (args.has("report")) {
@@ -147,18 +159,23 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
         j.begin_object().key("spec").value(brdf->spec()).key("seconds").value(r.seconds);
         j.key("budgets").begin_object();
         j.key("max_error").value(o.max_error).key("max_passes").value(o.max_passes).key("max_bytes").value(o.max_bytes);
-        j.key("bits").value(o.bits).end_object();
+        j.end_object();
+        j.key("cost_model").begin_object().key("backend").value(r.cost.backend).key("device").value(r.cost.device);
+        j.key("base_ms").value(r.cost.base_ms).key("per_pass_ms").value(r.cost.per_pass_ms);
+        j.key("per_term_ms").value(r.cost.per_term_ms).key("per_kib_ms").value(r.cost.per_kib_ms);
+        j.key("fit_error").value(r.cost.fit_error).end_object();
         j.key("winner").value(r.winner).key("why").value(r.why);
         j.key("candidates").begin_array();
         for (const BakeCandidate& c : r.candidates) {
             j.begin_object().key("label").value(c.label()).key("param").value(param_name(c.param));
-            j.key("map").value(map_name(c.map)).key("res").value(c.res).key("terms").value(c.terms);
+            j.key("map").value(map_name(c.map)).key("res").value(c.res).key("terms").value(c.terms).key("bits").value(c.bits);
             j.key("method").value(method_name(c.method)).key("ok").value(c.ok);
             if (!c.ok) j.key("note").value(c.note);
             j.key("error_float_relative").value(c.error_float).key("error_quantized_relative").value(c.error_quantized);
             j.key("rms_quantized").value(c.rms_quantized).key("passes").value(c.passes);
             j.key("doublings").value(c.doublings).key("non_negative").value(c.non_negative);
-            j.key("bytes").value(c.bytes).key("meets").value(c.meets).end_object();
+            j.key("bytes").value(c.bytes).key("ms_predicted").value(c.ms).key("on_front").value(c.on_front);
+            j.key("meets").value(c.meets).end_object();
         }
         j.end_array().end_object();
         std::string werr;

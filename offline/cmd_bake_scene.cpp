@@ -165,7 +165,7 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
             if (!std::strcmp(key, "cap")) o.cap = d;
             if (!std::strcmp(key, "bits")) {
                 if (d != 8 && d != 16) ok = false, perr = "\"bits\" must be 8 or 16";
-                o.bits = int(d);
+                o.bits = {int(d)};
             }
         }
         for (const auto& member : mat.object) {
@@ -194,7 +194,7 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
         for (int t : o.terms) desc += std::to_string(t) + ",";
         char tail[160];
         std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g", o.max_error, o.max_passes, (long long)o.max_bytes,
-                      o.bits, o.cap);
+                      o.bits[0], o.cap);
         desc += tail;
         uint32_t crc = srt_crc32(0, desc.data(), desc.size());
         crc = srt_crc32(crc, measured.data(), measured.size());

@@ -77,10 +77,11 @@ TEST_CASE("bake: --max-error picks the cheapest candidate meeting it (exhaustive
         for (const sepal::BakeCandidate& c : r.candidates) {
             if (!c.ok || c.error_quantized > o.max_error) continue;
             ++meeting;
-            // Nothing that meets the budget is cheaper: fewer passes, or as few and fewer bytes.
-            CHECK(std::make_tuple(w.passes, w.bytes) <= std::make_tuple(c.passes, c.bytes));
+            // Nothing that meets the budget has a faster predicted frame, or as fast and more accurate.
+            CHECK(std::make_tuple(w.ms, w.error_quantized) <= std::make_tuple(c.ms, c.error_quantized));
         }
         CHECK(meeting >= 2);
+        CHECK(w.on_front);
         // The asset is the winner's: its plan has the winner's pass count.
         CHECK(int(r.asset.passes.size()) == w.passes);
         // A budget no candidate meets is refused, naming the closest one.
