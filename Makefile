@@ -48,6 +48,7 @@ TEST_SRC     := $(wildcard tests/*.cpp)
 # separate programs: the second links the runtime and the headless port.
 BENCH_SRC    := tests/bench/bench_main.cpp
 RUNTIME_BENCH_SRC := tests/bench/runtime_bench.cpp
+TRADEOFF_BENCH_SRC := tests/bench/tradeoff.cpp
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -66,6 +67,7 @@ BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
 BIN_BENCH    := $(BUILD)/bin/sepal-bench
 BIN_RUNTIME_BENCH := $(BUILD)/bin/sepal-bench-runtime
+BIN_TRADEOFF_BENCH := $(BUILD)/bin/sepal-bench-tradeoff
 BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
@@ -123,9 +125,10 @@ update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH)
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH) $(BIN_TRADEOFF_BENCH)
 	@$(BIN_BENCH) all --out $(BENCH_OUT)
 	@$(BIN_RUNTIME_BENCH) $(BENCH_OUT) $(BUILD)
+	@$(BIN_TRADEOFF_BENCH) --out $(BENCH_OUT)
 
 clean: ## remove build/
 	rm -rf build
@@ -178,6 +181,12 @@ $(BIN_BENCH): $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	$(Q)$(CXX) $(LDFLAGS) $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
 # sepal-bench-runtime: GL ES frame times against the fill limit (`make bench`).
 $(BIN_RUNTIME_BENCH): $(call obj,$(RUNTIME_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+
+# sepal-bench-tradeoff: the speed-accuracy sweep (`make bench`, build/bench/tradeoff.*).
+$(BIN_TRADEOFF_BENCH): $(call obj,$(TRADEOFF_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@

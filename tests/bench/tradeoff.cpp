@@ -1,0 +1,414 @@
+// sepal-bench-tradeoff: the speed-accuracy trade, measured (make bench).
+//
+//   build/bin/sepal-bench-tradeoff [--out DIR] [--quick] [--size N] [--frames N]
+//
+// For each material (anisotropic ward, cook-torrance, poulin-fournier, velvet and the three
+// Cornell measurements), gs-half parameterization, every resolution (16, 32, 64, 128),
+// method (svd, nmf), term count (1, 2, 3, 4, 6) and bits (8, 16) is baked (sepal::bake with
+// a one-configuration search, so the numbers are the bake's own), then drawn on every
+// backend (gles1 multipass, gles2-fused, cpu) in a fixed scene (the default sphere and point
+// light, NxN, default 512): image PSNR against the exact render, the bake's relative
+// cosine-weighted RMS, encoded bytes, plan passes per light, and ms/frame (GL: median of
+// --frames frames after 2 warm-up frames, each ended by glFinish; cpu: median of 3).
+// The CPU frame is rounded to 8 bits like the GL ones before comparison.
+//
+// Writes DIR/tradeoff.json (rows, the fitted cost models of cost_model.h, the Pareto
+// fronts and a check that the bake's --max-error pick lies on the measured front) and
+// DIR/tradeoff.png (image error against ms/frame per material, the front marked; the last
+// panel is the cost model's predicted against measured ms). Prints the fronts as markdown.
+// nmf at 128x128 is skipped (its sample matrix is 2.6 GB and its time ~16x the 64x64
+// one, about 17 minutes per material on 2 cores); the JSON says so per row.
+// --quick: two materials, 16 and 32, 1 and 2 terms (a smoke run, ~1 minute).
+// Ward and cook-torrance are baked with --cap 2 (as `make run` and the golden tests): their
+// grazing peaks would otherwise set the 8-bit framebuffer's step (README "Dynamic range").
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "asset_file.h"
+#include "bake.h"
+#include "cost_model.h"
+#include "image.h"
+#include "io.h"
+#include "json.h"
+#include "plot.h"
+#include "render_exact.h"
+#include "render_gl.h"
+#include "scene_flags.h"
+
+using namespace sepal;
+
+namespace {
+
+struct Material {
+    std::string name, spec;
+    double cap;
+};
+
+struct Row {
+    std::string material, backend, method;
+    int res = 0, terms = 0, bits = 0;
+    bool ok = false;
+    std::string note;
+    int passes = 0;
+    int64_t bytes = 0;
+    double err_float = NAN, err_rel = NAN, psnr = NAN, ms = NAN, ms_predicted = NAN;
+    bool on_front = false;          // per material, over every backend: ms vs image error
+    bool on_backend_front = false;  // per material and backend: ms vs relative RMS (the bake's metric)
+    double image_error() const { return std::pow(10.0, -psnr / 20.0); }  // RMS of [0,1] pixels
+};
+
+const char* kBackends[] = {"gles1", "gles2-fused", "cpu"};
+
+[[noreturn]] void die(const std::string& m) {
+    std::fprintf(stderr, "sepal-bench-tradeoff: %s\n", m.c_str());
+    std::exit(1);
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? NAN : v[v.size() / 2];
+}
+
+// Marks rows[i] (those with keep[i]) that no other kept row beats on both axes.
+template <class X, class Y>
+void mark_front(std::vector<Row>* rows, const std::vector<size_t>& idx, X x, Y y, bool Row::*flag) {
+    for (size_t i : idx) {
+        Row& r = (*rows)[i];
+        r.*flag = true;
+        for (size_t j : idx) {
+            const Row& d = (*rows)[j];
+            if (x(d) <= x(r) && y(d) <= y(r) && (x(d) < x(r) || y(d) < y(r))) {
+                r.*flag = false;
+                break;
+            }
+        }
+    }
+}
+
+std::string jstr(const std::string& s) { return "\"" + JsonWriter::escape(s) + "\""; }
+
+std::string num(double v, const char* fmt = "%.6g") {
+    if (!std::isfinite(v)) return "null";
+    char b[64];
+    std::snprintf(b, sizeof b, fmt, v);
+    return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string dir = "build/bench";
+    bool quick = false;
+    int size = 512, frames = 7;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--out" && i + 1 < argc) dir = argv[++i];
+        else if (a == "--quick") quick = true;
+        else if (a == "--size" && i + 1 < argc) size = std::atoi(argv[++i]);
+        else if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
+        else {
+            std::fprintf(stderr, "usage: sepal-bench-tradeoff [--out DIR] [--quick] [--size N] [--frames N]\n");
+            return 2;
+        }
+    }
+    if (size < 16 || size > 2048 || frames < 1 || frames > 100) die("--size 16..2048, --frames 1..100");
+    std::string err;
+    if (!make_dirs(dir, &err)) die(err);
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
+    const std::string fx = SEPAL_SOURCE_DIR "/fixtures/cornell/";
+    std::vector<Material> mats = {{"ward", "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", 2.0},
+                                  {"cook-torrance", "cook-torrance", 2.0},
+                                  {"poulin-fournier", "poulin-fournier", -1},
+                                  {"velvet", "velvet", -1},
+                                  {"cayman", fx + "cayman.brdf", -1},
+                                  {"garnet_red", fx + "garnet_red.brdf", -1},
+                                  {"krylon_blue", fx + "krylon_blue.brdf", -1}};
+    std::vector<int> resolutions = {16, 32, 64, 128}, terms = {1, 2, 3, 4, 6};
+    std::vector<Method> methods = {Method::SVD, Method::NMF};
+    if (quick) {
+        mats = {mats[0], mats[5]};
+        resolutions = {16, 32};
+        terms = {1, 2};
+    }
+    const bool tty = isatty(2) != 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<Row> rows;
+    std::string device;
+    for (const Material& m : mats) {
+        std::unique_ptr<Brdf> f = make_brdf(m.spec, &err);
+        if (!f) die(err);
+        sepal_ports::SceneSetup s;
+        s.width = s.height = size;
+        if (!sepal_ports::load_scene_mesh(&s, &err)) die(err);
+        Image exact;
+        if (!render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err)) die(err);
+        for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
+        for (int res : resolutions)
+            for (Method method : methods) {
+                if (tty)
+                    std::fprintf(stderr, "\rtradeoff: %s %d %s (%.0f s)        ", m.name.c_str(), res, method_name(method),
+                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                Row base;
+                base.material = m.name;
+                base.res = res;
+                base.method = method_name(method);
+                BakeResult r;
+                std::string berr;
+                bool baked = false;
+                if (method == Method::NMF && res >= 128) {
+                    berr = "skipped: nmf at 128x128 holds a 2.6 GB matrix and takes ~16x the 64x64 time";
+                } else {
+                    BakeOptions o;
+                    o.params = {Param::GsHalf};
+                    o.resolutions = {res};
+                    o.methods = {method};
+                    o.terms = terms;
+                    o.bits = {8, 16};
+                    o.cap = m.cap;
+                    o.keep_assets = true;
+                    o.max_memory_mb = 4096;  // svd at 128x128 holds 2.6 GB
+                    baked = bake(*f, o, &r, &berr);
+                }
+                for (int k : terms)
+                    for (int bits : {8, 16}) {
+                        const BakeCandidate* c = nullptr;
+                        for (const BakeCandidate& x : r.candidates)
+                            if (x.terms == k && x.bits == bits) c = &x;
+                        for (const char* backend : kBackends) {
+                            Row row = base;
+                            row.terms = k;
+                            row.bits = bits;
+                            row.backend = backend;
+                            if (!baked || !c || !c->ok) {
+                                row.note = !baked ? berr : c ? c->note : "no candidate";
+                                rows.push_back(row);
+                                continue;
+                            }
+                            row.passes = c->passes;
+                            row.bytes = c->bytes;
+                            row.err_float = c->error_float;
+                            row.err_rel = c->error_quantized;
+                            std::vector<uint8_t> bytes;
+                            if (!encode_asset(c->asset, &bytes, &err)) die(err);
+                            Image img;
+                            if (row.backend == "cpu") {
+                                std::vector<double> times;
+                                std::vector<float> rgb;
+                                for (int i = 0; i < 3; ++i) {
+                                    double ms = 0;
+                                    if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, &ms, &err))
+                                        die(m.name + " cpu: " + err);
+                                    times.push_back(ms);
+                                }
+                                row.ms = median(times);
+                                img = Image(s.width, s.height, 3);
+                                img.data = rgb;
+                                // What a display shows: clamped and rounded to 8 bits, like GL.
+                                for (float& v : img.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
+                            } else {
+                                sepal_ports::GlRenderOptions opt;
+                                if (!sepal_ports::parse_gl_backend(backend, &opt)) die(backend);
+                                opt.frames = frames;
+                                sepal_ports::GlRenderInfo info;
+                                std::vector<uint8_t> px;
+                                if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &px, &info, &err))
+                                    die(m.name + " " + backend + ": " + err);
+                                device = info.device;
+                                row.ms = info.ms;
+                                img = to_rgb(image_from_rgba8(px.data(), s.width, s.height));
+                            }
+                            row.psnr = diff_images(exact, img, 0).psnr;
+                            row.ok = std::isfinite(row.psnr) && std::isfinite(row.ms);
+                            if (!row.ok) row.note = "non-finite measurement";
+                            rows.push_back(row);
+                        }
+                    }
+            }
+    }
+    if (tty) std::fprintf(stderr, "\r%70s\r", "");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    // Cost models: one per backend, fitted to every material's rows.
+    std::vector<CostModel> models;
+    for (const char* backend : kBackends) {
+        std::vector<CostSample> samples;
+        for (const Row& r : rows)
+            if (r.ok && r.backend == backend) samples.push_back({r.passes, r.terms, r.bytes, r.ms});
+        CostModel cm;
+        cm.backend = backend;
+        cm.device = device;
+        cm.width = cm.height = size;
+        if (!fit_cost_model(samples, &cm, &err)) die(std::string(backend) + ": " + err);
+        models.push_back(cm);
+        for (Row& r : rows)
+            if (r.ok && r.backend == backend) r.ms_predicted = cm.predict(r.passes, r.terms, r.bytes);
+    }
+    // Fronts, and the --max-error pick checked against the measured front.
+    // Frame times of equal work differ by up to ~10% between renders on llvmpipe (the quick
+    // run's 1-pass rows: 3.1..3.6 ms): a pick counts as on the front within noise unless a
+    // row at least 10% faster is as accurate.
+    const double kNoise = 0.10;
+    int picks = 0, picks_on_front = 0, picks_within_noise = 0;
+    std::string pick_misses;
+    for (const Material& m : mats) {
+        std::vector<size_t> all;
+        for (size_t i = 0; i < rows.size(); ++i)
+            if (rows[i].ok && rows[i].material == m.name) all.push_back(i);
+        mark_front(&rows, all, [](const Row& r) { return r.ms; }, [](const Row& r) { return r.image_error(); },
+                   &Row::on_front);
+        for (const char* backend : kBackends) {
+            std::vector<size_t> idx;
+            for (size_t i : all)
+                if (rows[i].backend == backend) idx.push_back(i);
+            if (idx.empty()) continue;
+            mark_front(&rows, idx, [](const Row& r) { return r.ms; }, [](const Row& r) { return r.err_rel; },
+                       &Row::on_backend_front);
+            // Budgets at the quartiles of the errors: the bake's rule (fastest predicted frame
+            // meeting the budget, then lowest error) applied to the measured rows.
+            std::vector<double> errs;
+            for (size_t i : idx) errs.push_back(rows[i].err_rel);
+            std::sort(errs.begin(), errs.end());
+            for (double q : {0.25, 0.5, 0.75}) {
+                const double budget = errs[size_t(q * double(errs.size() - 1))];
+                size_t best = SIZE_MAX;
+                for (size_t i : idx) {
+                    if (rows[i].err_rel > budget) continue;
+                    if (best == SIZE_MAX || std::make_pair(rows[i].ms_predicted, rows[i].err_rel) <
+                                                std::make_pair(rows[best].ms_predicted, rows[best].err_rel))
+                        best = i;
+                }
+                ++picks;
+                bool beaten = false;
+                for (size_t i : idx)
+                    beaten = beaten || (rows[i].ms < rows[best].ms * (1 - kNoise) && rows[i].err_rel <= rows[best].err_rel);
+                if (!beaten) ++picks_within_noise;
+                if (rows[best].on_backend_front) ++picks_on_front;
+                else {
+                    char b[200];
+                    std::snprintf(b, sizeof b, "%s %s budget %.4g: %d %s x%d %db", m.name.c_str(), backend, budget,
+                                  rows[best].res, rows[best].method.c_str(), rows[best].terms, rows[best].bits);
+                    pick_misses += (pick_misses.empty() ? "" : "; ") + std::string(b);
+                }
+            }
+        }
+    }
+
+    // JSON: one row per line to stay small (read_cost_model reads up to 1 MB).
+    std::string j = "{\n  \"device\": " + jstr(device) + ",\n  \"size\": [" + std::to_string(size) + ", " +
+                    std::to_string(size) + "],\n  \"frames\": " + std::to_string(frames) + ",\n  \"param\": \"gs-half\",\n" +
+                    "  \"seconds\": " + num(seconds, "%.1f") + ",\n  \"cost_models\": [\n";
+    for (size_t i = 0; i < models.size(); ++i) {
+        const CostModel& c = models[i];
+        j += "    {\"backend\": " + jstr(c.backend) + ", \"base_ms\": " + num(c.base_ms) + ", \"per_pass_ms\": " +
+             num(c.per_pass_ms) + ", \"per_term_ms\": " + num(c.per_term_ms) + ", \"per_kib_ms\": " + num(c.per_kib_ms) +
+             ", \"fit_error\": " + num(c.fit_error) + ", \"rows\": " + std::to_string(c.rows) + "}" +
+             (i + 1 < models.size() ? ",\n" : "\n");
+    }
+    j += "  ],\n  \"max_error_picks\": {\"checked\": " + std::to_string(picks) + ", \"on_measured_front\": " +
+         std::to_string(picks_on_front) + ", \"within_noise\": " + std::to_string(picks_within_noise) +
+         ", \"noise\": " + num(kNoise) + ", \"misses\": " + jstr(pick_misses) + "},\n";
+    j += "  \"materials\": [";
+    for (size_t i = 0; i < mats.size(); ++i)
+        j += (i ? ", " : "") + std::string("{\"name\": ") + jstr(mats[i].name) + ", \"spec\": " + jstr(mats[i].spec) +
+             ", \"cap\": " + num(mats[i].cap) + "}";
+    j += "],\n  \"rows\": [\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        j += "    {\"material\": " + jstr(r.material) + ", \"backend\": " + jstr(r.backend) + ", \"method\": " +
+             jstr(r.method) + ", \"res\": " + std::to_string(r.res) + ", \"terms\": " + std::to_string(r.terms) +
+             ", \"bits\": " + std::to_string(r.bits) + ", \"ok\": " + (r.ok ? "true" : "false");
+        if (!r.ok) j += ", \"note\": " + jstr(r.note);
+        else
+            j += ", \"passes\": " + std::to_string(r.passes) + ", \"bytes\": " + std::to_string(r.bytes) +
+                 ", \"psnr\": " + num(r.psnr, "%.3f") + ", \"cos_rms_relative\": " + num(r.err_rel, "%.5g") +
+                 ", \"cos_rms_relative_float\": " + num(r.err_float, "%.5g") + ", \"ms\": " + num(r.ms, "%.3f") +
+                 ", \"ms_predicted\": " + num(r.ms_predicted, "%.3f") + ", \"on_front\": " +
+                 (r.on_front ? "true" : "false") + ", \"on_backend_front\": " + (r.on_backend_front ? "true" : "false");
+        j += i + 1 < rows.size() ? "},\n" : "}\n";
+    }
+    j += "  ]\n}\n";
+    if (!write_file_atomic(dir + "/tradeoff.json", j.data(), j.size(), &err)) die(err);
+
+    // The plot: a panel per material, image RMS error against ms/frame, the front joined.
+    std::vector<PlotPanel> panels;
+    for (const Material& m : mats) {
+        PlotPanel p;
+        p.title = m.name;
+        p.x_label = "ms/frame (" + std::to_string(size) + "x" + std::to_string(size) + ", log)";
+        p.y_label = "image RMS error";
+        p.log_x = true;
+        for (int b = 0; b < 3; ++b) {
+            PlotSeries sr;
+            sr.label = kBackends[b];
+            sr.colour = plot_colour(b);
+            sr.lines = false;
+            sr.marker = 1;
+            for (const Row& r : rows)
+                if (r.ok && r.material == m.name && r.backend == kBackends[b]) sr.x.push_back(r.ms), sr.y.push_back(r.image_error());
+            p.series.push_back(sr);
+        }
+        std::vector<const Row*> front;
+        for (const Row& r : rows)
+            if (r.ok && r.material == m.name && r.on_front) front.push_back(&r);
+        std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
+        PlotSeries fs;
+        fs.label = "Pareto front";
+        fs.colour = glm::dvec3(0);
+        fs.marker = 3;
+        for (const Row* r : front) fs.x.push_back(r->ms), fs.y.push_back(r->image_error());
+        p.series.push_back(fs);
+        panels.push_back(p);
+    }
+    {
+        PlotPanel p;
+        p.title = "cost model";
+        p.x_label = "measured ms/frame (log)";
+        p.y_label = "predicted ms/frame";
+        p.log_x = true;
+        for (int b = 0; b < 3; ++b) {
+            PlotSeries sr;
+            sr.label = kBackends[b];
+            sr.colour = plot_colour(b);
+            sr.lines = false;
+            sr.marker = 1;
+            for (const Row& r : rows)
+                if (r.ok && r.backend == kBackends[b]) sr.x.push_back(r.ms), sr.y.push_back(r.ms_predicted);
+            p.series.push_back(sr);
+        }
+        panels.push_back(p);
+    }
+    if (!write_png(dir + "/tradeoff.png", render_plot(panels, 4, 420, 340), &err)) die(err);
+
+    // For people: the models, the pick check, then each material's front.
+    std::printf("trade-off sweep: %zu rows, %s, %dx%d, %.0f s\n", rows.size(), device.c_str(), size, size, seconds);
+    std::printf("\ncost models (ms = base + pass * passes + term * terms + kib * KiB; median |rel. residual|):\n");
+    for (const CostModel& c : models)
+        std::printf("  %-12s base %.3f  pass %.3f  term %.3f  kib %.4f  fit %.1f%% (%d rows)\n", c.backend.c_str(),
+                    c.base_ms, c.per_pass_ms, c.per_term_ms, c.per_kib_ms, 100 * c.fit_error, c.rows);
+    std::printf("\n--max-error picks (model-ranked, budgets at error quartiles): on the measured front %d of %d, "
+                "within %.0f%% timing noise %d of %d%s%s\n",
+                picks_on_front, picks, 100 * kNoise, picks_within_noise, picks,
+                pick_misses.empty() ? "" : "\n  strictly off: ", pick_misses.c_str());
+    std::printf("\n| material | backend | res | method | terms | bits | passes | bytes | ms/frame | PSNR (dB) | cos RMS |\n");
+    std::printf("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const Material& m : mats) {
+        std::vector<const Row*> front;
+        for (const Row& r : rows)
+            if (r.ok && r.material == m.name && r.on_front) front.push_back(&r);
+        std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
+        for (const Row* r : front)
+            std::printf("| %s | %s | %d | %s | %d | %d | %d | %lld | %.2f | %.2f | %.4f |\n", m.name.c_str(),
+                        r->backend.c_str(), r->res, r->method.c_str(), r->terms, r->bits, r->passes,
+                        (long long)r->bytes, r->ms, r->psnr, r->err_rel);
+    }
+    std::printf("\nwrote %s/tradeoff.json and %s/tradeoff.png\n", dir.c_str(), dir.c_str());
+    return 0;
+}
