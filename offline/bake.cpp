@@ -345,8 +345,9 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     const BakeCandidate& w = out->candidates[size_t(best)];
     char why[256];
     if (o.max_error >= 0)
-        std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d passes per light) with error %.4g <= %.4g",
-                      w.label().c_str(), w.ms, cost.backend.c_str(), w.passes, w.error_quantized, o.max_error);
+        std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d pass%s per light) with error %.4g <= %.4g",
+                      w.label().c_str(), w.ms, cost.backend.c_str(), w.passes, w.passes == 1 ? "" : "es",
+                      w.error_quantized, o.max_error);
     else
         std::snprintf(why, sizeof why, "%s: the lowest error (%.4g) within the budgets (no --max-error given)",
                       w.label().c_str(), w.error_quantized);

@@ -153,9 +153,9 @@ int main(int argc, char** argv) {
         for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
         for (int res : resolutions)
             for (Method method : methods) {
-                if (tty)
-                    std::fprintf(stderr, "\rtradeoff: %s %d %s (%.0f s)        ", m.name.c_str(), res, method_name(method),
-                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                std::fprintf(stderr, "%stradeoff: %s %d %s (%.0f s)%s", tty ? "\r" : "", m.name.c_str(), res,
+                             method_name(method), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                             tty ? "        " : "\n");
                 Row base;
                 base.material = m.name;
                 base.res = res;
