@@ -13,7 +13,9 @@
 // The parser refuses, naming the line: a missing or non-integer count (1..1000), wavelengths
 // that are not strictly increasing within 300..1000 nm or too few or too many of them, a
 // sample line with the wrong number of values, a token that is not a number, a non-finite
-// number, theta outside [0, pi/2] or phi outside [-2 pi, 2 pi], more than kMaxSamples
+// number (the message counts every NaN and inf token in the file), theta outside [0, pi/2]
+// (beyond 1e-5 of rounding slack; inside it the angle is clamped and counted) or phi outside
+// [-2 pi, 2 pi], more than kMaxSamples
 // samples, or no sample at all. A sample with a negative spectral value is counted as missing
 // and not used.
 // Colour: each spectrum becomes linear sRGB through the CIE 1931 matching functions under
@@ -51,6 +53,7 @@ struct CornellData {
     size_t missing = 0;                   // sample lines with a negative spectral value
     size_t lines = 0;                     // sample lines read
     size_t clamped = 0;                   // negative RGB channel values set to 0
+    size_t angles_clamped = 0;            // thetas within kAngleSlack outside [0, pi/2], clamped
     double clamped_share = 0;             // their |sum| over the sum of all |RGB| values
 };
 
