@@ -77,11 +77,11 @@ class CornellBrdf : public Brdf {
     InputCounts input_counts() const override {
         InputCounts c;
         c.values = int64_t(data_.lines * data_.wavelengths.size());
-        c.negative = int64_t(data_.missing);  // lines with a negative spectral value
+        c.negative = int64_t(data_.missing - data_.huge);  // lines with a negative value
+        c.huge = int64_t(data_.huge) + int64_t(table_.rejected());  // the table's: 0 by now
         c.missing = int64_t(data_.missing);
         c.filled = int64_t(figures_.filled);
         c.clamped = int64_t(data_.clamped + data_.angles_clamped);
-        c.huge = int64_t(table_.rejected());
         return c;
     }
     bool isotropic() const override { return true; }
@@ -98,11 +98,12 @@ class CornellBrdf : public Brdf {
         s += buf;
         std::snprintf(buf, sizeof buf,
                       "samples    %zu lines, %zu used as scattered data\n"
-                      "missing    %zu samples (a negative spectral value)\n"
+                      "missing    %zu samples (a negative spectral value, or %zu beyond "
+                      "1e30)\n"
                       "clamped    %zu negative RGB channel values (colours outside sRGB) set "
                       "to 0: %.2f%% of the summed |RGB|; %zu angles within rounding of [0, "
                       "pi/2] set to it\n",
-                      data_.lines, data_.samples.size(), data_.missing, data_.clamped,
+                      data_.lines, data_.samples.size(), data_.missing, data_.huge, data_.clamped,
                       100.0 * data_.clamped_share, data_.angles_clamped);
         s += buf;
         std::snprintf(buf, sizeof buf,
@@ -221,10 +222,14 @@ bool parse_cornell(const std::string& text, const std::string& name, CornellData
                             (theta ? "[0, pi/2]" : "[-2 pi, 2 pi]") + " (radians)");
         }
         ++out->lines;
-        bool negative = false;
-        for (size_t k = 4; k < num.size(); ++k) negative = negative || num[k] < 0.0;
-        if (negative) {
+        bool negative = false, huge = false;
+        for (size_t k = 4; k < num.size(); ++k) {
+            negative = negative || num[k] < 0.0;
+            huge = huge || num[k] > kCornellHugeValue;
+        }
+        if (negative || huge) {
             ++out->missing;
+            out->huge += huge && !negative ? 1 : 0;
             continue;
         }
         CornellSample s;
@@ -251,7 +256,9 @@ bool parse_cornell(const std::string& text, const std::string& name, CornellData
                     std::to_string(out->wavelengths.size()) + " of " + std::to_string(n_wl) +
                     ")");
     if (out->lines == 0) return fail("no samples");
-    if (out->samples.empty()) return fail("every sample has a negative spectral value");
+    if (out->samples.empty())
+        return fail("every sample has a negative spectral value" +
+                    std::string(out->huge ? " or one beyond 1e30" : ""));
     out->clamped_share = abs_total > 0.0 ? clamped_total / abs_total : 0.0;
     return true;
 }
