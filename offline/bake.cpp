@@ -74,6 +74,23 @@ FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int
     return fo;
 }
 
+// Terms to factor for a search entry: the largest asked for, but no more than the sample
+// matrix's rank can hold (1 at --res 1), so small resolutions still give their candidates.
+int search_terms(Param param, HemiMap map, int res, int max_terms) {
+    FactorOptions shape;
+    shape.param = param;
+    shape.map = map;
+    shape.res = res;
+    int rows = 0, cols = 0;
+    matrix_shape(shape, &rows, &cols);
+    return std::max(1, std::min(max_terms, std::min(rows, cols)));
+}
+
+std::string rank_note(const FactorOptions& fo, int k) {
+    return "--terms " + std::to_string(k) + " exceeds the rank the sample matrix can have at --res " +
+           std::to_string(fo.res) + " (at most " + std::to_string(fo.terms) + ")";
+}
+
 // The winner's factorization counts and every note, after make_asset added its own.
 void record_counts(const FactorResult& r, int64_t capped, double reference_rms, BakeResult* out) {
     BakeCounts& c = out->counts;
@@ -267,7 +284,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         for (HemiMap map : o.maps)
             for (int res : o.resolutions)
                 for (Method method : o.methods) {
-                    const FactorOptions fo = factor_options(o, param, map, res, method, max_terms);
+                    const FactorOptions fo = factor_options(o, param, map, res, method, search_terms(param, map, res, max_terms));
                     ++done;
                     if (show)
                         std::fprintf(stderr, "\rbake: factoring %zu/%zu: %s/%s %d %s x%d   ", done, searches,
@@ -282,8 +299,8 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
                         c.res = res;
                         c.terms = k;
                         c.method = method;
-                        if (!factored) {
-                            c.note = ferr;
+                        if (!factored || k > fo.terms) {
+                            c.note = factored ? rank_note(fo, k) : ferr;
                             out->candidates.push_back(c);
                             continue;
                         }
@@ -366,7 +383,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     out->why = why;
     // Rebuild the winner (one more factorization: cheaper than keeping every candidate).
     // It runs alone, so the cap's counter moves by exactly the asset's clamps.
-    const FactorOptions fo = factor_options(o, w.param, w.map, w.res, w.method, max_terms);
+    const FactorOptions fo = factor_options(o, w.param, w.map, w.res, w.method, search_terms(w.param, w.map, w.res, max_terms));
     FactorResult r;
     const int64_t capped_before = capped.capped();
     if (!factor_brdf(source, fo, &r, err)) return false;

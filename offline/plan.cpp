@@ -148,7 +148,8 @@ bool build_plan(AssetData* a, std::string* err, bool allow_all_zero) {
     while (std::ldexp(peak, -doublings) > 1.0) ++doublings;
     if (doublings > SRT_FMT_MAX_DOUBLINGS) {
         if (err) *err = "plan: coefficients up to " + std::to_string(peak) + " need more than " +
-                        std::to_string(SRT_FMT_MAX_DOUBLINGS) + " doublings";
+                        std::to_string(SRT_FMT_MAX_DOUBLINGS) + " doublings (f beyond about " +
+                        std::to_string(1 << SRT_FMT_MAX_DOUBLINGS) + "/sr): clamp the peaks with --cap";
         return false;
     }
     a->passes.clear();
