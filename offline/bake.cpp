@@ -11,6 +11,7 @@
 #include "factor_error.h"
 #include "json.h"
 #include "plan.h"
+#include "quantize.h"
 
 namespace sepal {
 namespace {
@@ -29,7 +30,8 @@ const char* pass_op_name(uint16_t op) {
     return op == SRT_OP_PRODUCT ? "product" : op == SRT_OP_TEXTURE ? "texture" : "constant";
 }
 
-// f clamped at a cap, per channel; counts how often (thread-safe: factoring is parallel).
+// f clamped at a cap, per channel; counts how often (thread-safe: factoring is parallel;
+// integer totals do not depend on the order).
 class CappedBrdf : public Brdf {
   public:
     CappedBrdf(const Brdf& f, double cap) : f_(f), cap_(cap) {}
@@ -47,6 +49,8 @@ class CappedBrdf : public Brdf {
     std::string info() const override { return f_.info(); }
     bool isotropic() const override { return f_.isotropic(); }
     double share() const { return calls_ ? double(capped_) / double(calls_) : 0.0; }
+    int64_t capped() const { return capped_; }
+    InputCounts input_counts() const override { return f_.input_counts(); }
 
   private:
     const Brdf& f_;
@@ -66,7 +70,56 @@ FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int
     fo.threads = o.threads;
     fo.max_memory_mb = o.max_memory_mb;
     fo.svd_weighted = o.svd_weighted;
+    fo.matrix_error = false;  // unused here; for nd it would cost one more sampling pass
     return fo;
+}
+
+// Terms to factor for a search entry: the largest asked for, but no more than the sample
+// matrix's rank can hold (1 at --res 1), so small resolutions still give their candidates.
+int search_terms(Param param, HemiMap map, int res, int max_terms) {
+    FactorOptions shape;
+    shape.param = param;
+    shape.map = map;
+    shape.res = res;
+    int rows = 0, cols = 0;
+    matrix_shape(shape, &rows, &cols);
+    return std::max(1, std::min(max_terms, std::min(rows, cols)));
+}
+
+std::string rank_note(const FactorOptions& fo, int k) {
+    return "--terms " + std::to_string(k) + " exceeds the rank the sample matrix can have at --res " +
+           std::to_string(fo.res) + " (at most " + std::to_string(fo.terms) + ")";
+}
+
+// The winner's factorization counts and every note, after make_asset added its own.
+void record_counts(const FactorResult& r, int64_t capped, double reference_rms, BakeResult* out) {
+    BakeCounts& c = out->counts;
+    c.evaluations = r.evaluations;
+    c.capped = capped;
+    c.negative_clamped = r.clamped_negative;
+    c.frame_fallbacks = r.frame_fallbacks;
+    c.solver_fallbacks = r.solver_fallbacks;
+    const InputCounts& in = c.input;
+    if (in.nonfinite || in.negative || in.huge || in.missing) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "input: %lld NaN or inf, %lld negative, %lld beyond float range: %lld missing, "
+                      "%lld cells filled by push-pull",
+                      (long long)in.nonfinite, (long long)in.negative, (long long)in.huge, (long long)in.missing,
+                      (long long)in.filled);
+        out->notes.push_back(buf);
+    }
+    if (in.clamped) out->notes.push_back("input: " + std::to_string(in.clamped) + " values clamped into range");
+    for (const std::string& n : r.notes) out->notes.push_back(n);
+    if (c.all_zero)
+        out->notes.push_back(reference_rms == 0
+                                 ? "all-zero BRDF: f is 0 at every sample; the asset is one constant-zero pass "
+                                   "(renders black)"
+                                 : "the factors quantized to all zero (the BRDF is not): the asset renders black");
+    else if (c.zero_textures)
+        out->notes.push_back(std::to_string(c.zero_textures) + " textures are zero everywhere");
+    if (c.quantize_clamped)
+        out->notes.push_back(std::to_string(c.quantize_clamped) + " quantized codes clamped into range");
 }
 
 }  // namespace
@@ -114,7 +167,8 @@ std::string BakeCandidate::label() const {
     return buf;
 }
 
-bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err) {
+bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err,
+                BakeCounts* counts) {
     if (terms < 1 || terms > f.term_count() || terms > SRT_FMT_MAX_TERMS) {
         if (err) *err = "bake: " + std::to_string(terms) + " terms asked of a " + std::to_string(f.term_count()) + "-term factorization";
         return false;
@@ -132,12 +186,20 @@ bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetDat
         for (int role = 0; role < 2; ++role) {
             const FactorTexture& src = role == 0 ? f.terms[size_t(k)].g : f.terms[size_t(k)].h;
             AssetTexture t;
-            if (!quantize_texture(src.data.data(), src.n, src.channels, q, &t, err)) return false;
+            QuantizeStats qs;
+            if (!quantize_texture(src.data.data(), src.n, src.channels, q, &t, err, &qs)) return false;
             t.desc.role = uint32_t(role);
             t.desc.term = uint32_t(k);
             a.textures.push_back(std::move(t));
+            if (counts) {
+                counts->zero_textures += qs.all_zero ? 1 : 0;
+                counts->zero_scale_channels += qs.zero_scale_channels;
+                counts->quantize_clamped += qs.clamped;
+            }
         }
-    if (!build_plan(&a, err)) return false;
+    // All zero (a black material): the constant-zero plan rather than a refusal.
+    if (!build_plan(&a, err, /*allow_all_zero=*/true)) return false;
+    if (counts) counts->all_zero = plan_all_zero(a);
     *out = std::move(a);
     return true;
 }
@@ -249,10 +311,11 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     if (out->cost.backend.empty() && !default_cost_model("gles1", &out->cost, err)) return false;
     const CostModel& cost = out->cost;
     for (int r : o.resolutions)
-        if (r < 16 || r > 256 || (r & (r - 1))) {
-            if (err) *err = "bake: --res " + std::to_string(r) + ": a power of two in 16..256 (GL ES 1.1 textures)";
+        if (r < 1 || r > 256 || (r & (r - 1))) {
+            if (err) *err = "bake: --res " + std::to_string(r) + ": a power of two in 1..256 (GL ES 1.1 textures)";
             return false;
         }
+    out->counts.input = brdf.input_counts();
     // The factors see the capped BRDF; every error is measured against the original.
     const CappedBrdf capped(brdf, o.cap);
     const Brdf& source = o.cap > 0 ? static_cast<const Brdf&>(capped) : brdf;
@@ -267,7 +330,7 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         for (HemiMap map : o.maps)
             for (int res : o.resolutions)
                 for (Method method : o.methods) {
-                    const FactorOptions fo = factor_options(o, param, map, res, method, max_terms);
+                    const FactorOptions fo = factor_options(o, param, map, res, method, search_terms(param, map, res, max_terms));
                     ++done;
                     if (show)
                         std::fprintf(stderr, "\rbake: factoring %zu/%zu: %s/%s %d %s x%d   ", done, searches,
@@ -284,8 +347,8 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
                             c.terms = k;
                             c.bits = bits;
                             c.method = method;
-                            if (!factored) {
-                                c.note = ferr;
+                            if (!factored || k > fo.terms) {
+                                c.note = factored ? rank_note(fo, k) : ferr;
                                 out->candidates.push_back(std::move(c));
                                 continue;
                             }
@@ -331,7 +394,14 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         std::string label;
         for (const BakeCandidate& c : out->candidates)
             if (c.ok && c.error_quantized < closest) closest = c.error_quantized, label = c.label();
-        if (err) {
+        if (err && label.empty()) {
+            // Not one candidate could be made: say why (the first reason; all are listed).
+            for (const BakeCandidate& c : out->candidates)
+                if (!c.ok) {
+                    *err = "bake: every candidate failed; " + c.label() + ": " + c.note;
+                    break;
+                }
+        } else if (err) {
             char buf[256];
             std::snprintf(buf, sizeof buf,
                           "bake: no candidate meets the budgets (lowest error %.4g, %s); allow more terms, "
@@ -357,14 +427,17 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         return true;
     }
     // Rebuild the winner (one more factorization: cheaper than keeping every candidate).
-    const FactorOptions fo = factor_options(o, w.param, w.map, w.res, w.method, max_terms);
+    // It runs alone, so the cap's counter moves by exactly the asset's clamps.
+    const FactorOptions fo = factor_options(o, w.param, w.map, w.res, w.method, search_terms(w.param, w.map, w.res, max_terms));
     FactorResult r;
+    const int64_t capped_before = capped.capped();
     if (!factor_brdf(source, fo, &r, err)) return false;
     const Factored& f = r.by_terms[size_t(w.terms - 1)];
     QuantizeOptions q;
     q.bits = w.bits;
     q.mips = o.mips;
-    if (!make_asset(f, w.terms, q, &out->asset, err)) return false;
+    if (!make_asset(f, w.terms, q, &out->asset, err, &out->counts)) return false;
+    record_counts(r, capped.capped() - capped_before, ev.reference_rms(), out);
     out->asset.material.error_float = float(w.error_float * ev.reference_rms());
     out->asset.material.error_quantized = float(w.rms_quantized);
     out->asset.material.error_relative = float(w.error_quantized);

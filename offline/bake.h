@@ -20,8 +20,12 @@
 // budgets wins.
 // Determinism: equal inputs give byte-identical assets whatever the thread count; the
 // asset's META chunk holds no timings.
-// Limits: resolutions must be powers of two (GL ES 1.1 textures); at most 64 factorizations
+// Limits: resolutions must be powers of two in 1..256 (GL ES 1.1 textures; 1 gives constant
+// factors, 256 needs --method nd: the others refuse for memory); at most 64 factorizations
 // per search.
+// Extremes: an all-zero BRDF bakes to a valid asset that renders black (one constant-zero
+// pass, build_plan's allow_all_zero), with counts.all_zero set and a note; every clamp or
+// fallback is in BakeResult::counts (tests/extremes_test.cpp).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -69,7 +73,8 @@ struct BakeOptions {
     // Stored in the asset's manifest as "bake_key" (bake-scene's up-to-date check).
     std::string key;
     // Keep every candidate's asset in BakeCandidate::asset (sweeps; memory grows with the
-    // search), which also spares the winner's second factorization.
+    // search), which also spares the winner's second factorization; BakeResult::counts then
+    // holds the input's counts only (the factor and quantizer counts come from that rebuild).
     bool keep_assets = false;
 };
 
@@ -94,9 +99,30 @@ struct BakeCandidate {
     std::string label() const;  // "gs-half/xy 64 svd x2 8b"
 };
 
+// Every clamp, replacement and fallback behind a bake, counted (never silent): printed by
+// `sepal bake` and written to its --report as "counts". Totals are exact and do not depend
+// on the thread count.
+struct BakeCounts {
+    // The winner's factorization (the one the asset is made from):
+    int64_t evaluations = 0;       // BRDF evaluations it sampled
+    int64_t capped = 0;            // of those, values clamped at --cap
+    int64_t negative_clamped = 0;  // nmf/acls: negative matrix entries set to 0
+    int64_t frame_fallbacks = 0;   // sample pairs built with param.h's degenerate-frame fallback
+    int64_t solver_fallbacks = 0;  // solver updates set to 0 (factor_internal.h, AlsSettings)
+    // The winner's textures and plan:
+    int zero_textures = 0;         // textures that are 0 everywhere (scale 0, bias 0)
+    int zero_scale_channels = 0;   // texture channels with scale 0 (constant: the bias)
+    int64_t quantize_clamped = 0;  // codes clamped into range (0 by construction; see quantize.h)
+    bool all_zero = false;         // every plan coefficient is 0: one constant-zero pass, black
+    // The input, as its loader counted it (measured data; 0 for analytic models):
+    InputCounts input;
+};
+
 struct BakeResult {
     std::vector<BakeCandidate> candidates;
     double capped_share = 0;  // share of sampled f values the cap clamped
+    BakeCounts counts;        // filled as far as the bake got (input counts always)
+    std::vector<std::string> notes;  // one line each: what was clamped, replaced or special
     int winner = -1;
     std::string why;  // one line: why the winner won
     CostModel cost;   // the model the candidates' ms came from
@@ -115,7 +141,11 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& opt
 
 // The first `terms` terms of a factorization as a quantized asset with its plan;
 // spec and method go into the META manifest. errors may be NaN when not measured.
-bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err);
+// An all-zero factorization gives the constant-zero plan (plan.h). With counts, the
+// textures' and plan's counts (zero textures, zero-scale channels, clamped codes, all_zero)
+// are added to it.
+bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err,
+                BakeCounts* counts = nullptr);
 // The float factors an asset stands for (level 0, scale * q + bias), for measuring it.
 Factored dequantize(const AssetData& asset, const Factored& like);
 // The JSON manifest (scales, biases, parameterization, map, plan, errors).

@@ -14,12 +14,28 @@
 // SPEC is an analytic model ("model:param=value,...", see brdf_models.h) or a path to
 // measured data (.binary MERL, .brdf Cornell; see measured.h).
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 
 #include <glm/vec3.hpp>
 
 namespace sepal {
+
+// What a measured loader did to its input, for reports (bake's counts, sepal info): every
+// value it could not use as data, and what it put in its place. All 0 for analytic models.
+struct InputCounts {
+    int64_t values = 0;     // values read (MERL: 3 per cell; Cornell: the spectral values)
+    int64_t nonfinite = 0;  // NaN or inf values: treated as missing
+    // Negative values (MERL's marker for no data) or, for Cornell, sample lines holding one:
+    // treated as missing.
+    int64_t negative = 0;
+    int64_t huge = 0;       // values beyond float range: treated as missing
+    int64_t missing = 0;    // cells (MERL) or samples (Cornell) left without data by the above
+    int64_t filled = 0;     // table cells given a push-pull value, for lookups only
+    int64_t clamped = 0;    // values clamped into range (Cornell: negative RGB set to 0, and
+                            // angles within rounding slack of [0, pi/2])
+};
 
 class Brdf {
   public:
@@ -36,6 +52,8 @@ class Brdf {
     virtual bool isotropic() const = 0;
     // True when the model conserves energy at these parameters (albedo <= 1 expected).
     virtual bool energy_conserving() const { return false; }
+    // Measured data: what the loader counted (see InputCounts).
+    virtual InputCounts input_counts() const { return InputCounts{}; }
 };
 
 // Builds an analytic model from a spec string or loads a measured file. Returns null with

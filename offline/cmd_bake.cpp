@@ -63,6 +63,44 @@ bool export_asset(const AssetData& a, const std::string& dir, std::string* err) 
     return write_file_atomic(dir + "/manifest.json", a.meta.data(), a.meta.size(), err);
 }
 
+// BakeResult::counts and notes: every clamp or fallback, zeros included (never silent).
+void write_counts_json(const BakeResult& r, JsonWriter* j) {
+    const BakeCounts& c = r.counts;
+    j->key("counts").begin_object();
+    j->key("evaluations").value(c.evaluations).key("capped").value(c.capped);
+    j->key("negative_clamped").value(c.negative_clamped).key("frame_fallbacks").value(c.frame_fallbacks);
+    j->key("solver_fallbacks").value(c.solver_fallbacks).key("zero_textures").value(c.zero_textures);
+    j->key("zero_scale_channels").value(c.zero_scale_channels).key("quantize_clamped").value(c.quantize_clamped);
+    j->key("all_zero").value(c.all_zero);
+    j->key("input").begin_object();
+    j->key("values").value(c.input.values).key("nonfinite").value(c.input.nonfinite);
+    j->key("negative").value(c.input.negative).key("huge").value(c.input.huge);
+    j->key("missing").value(c.input.missing).key("filled").value(c.input.filled);
+    j->key("clamped").value(c.input.clamped).end_object();
+    j->end_object();
+    j->key("notes").begin_array();
+    for (const std::string& n : r.notes) j->value(n);
+    j->end_array();
+}
+
+void print_counts(const BakeResult& r, std::FILE* out) {
+    const BakeCounts& c = r.counts;
+    std::fprintf(out,
+                 "counts: %lld evaluations, %lld capped, %lld negative entries clamped, %lld frame fallbacks, "
+                 "%lld solver fallbacks; %d zero textures, %d zero-scale channels, %lld codes clamped%s\n",
+                 (long long)c.evaluations, (long long)c.capped, (long long)c.negative_clamped,
+                 (long long)c.frame_fallbacks, (long long)c.solver_fallbacks, c.zero_textures, c.zero_scale_channels,
+                 (long long)c.quantize_clamped, c.all_zero ? "; all zero" : "");
+    if (c.input.values)
+        std::fprintf(out,
+                     "input: %lld values; %lld NaN or inf, %lld negative, %lld beyond float range (missing: %lld); "
+                     "%lld filled, %lld clamped\n",
+                     (long long)c.input.values, (long long)c.input.nonfinite, (long long)c.input.negative,
+                     (long long)c.input.huge, (long long)c.input.missing, (long long)c.input.filled,
+                     (long long)c.input.clamped);
+    for (const std::string& n : r.notes) std::fprintf(out, "note: %s\n", n.c_str());
+}
+
 }  // namespace
 
 int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
@@ -177,7 +215,9 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
             j.key("bytes").value(c.bytes).key("ms_predicted").value(c.ms).key("on_front").value(c.on_front);
             j.key("meets").value(c.meets).end_object();
         }
-        j.end_array().end_object();
+        j.end_array();
+        write_counts_json(r, &j);
+        j.end_object();
         std::string werr;
         if (!write_file_atomic(args.get("report"), j.str().data(), j.str().size(), &werr)) return bad(werr);
     }
@@ -187,6 +227,7 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (o.cap > 0)
         std::fprintf(io.out, "cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", o.cap,
                      100.0 * r.capped_share);
+    print_counts(r, io.out);
     std::fprintf(io.out, "winner: %s\nwrote %s (%.1f s)\n", r.why.c_str(), args.get("o").c_str(), r.seconds);
     return kExitOk;
 }

@@ -215,6 +215,8 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
         std::fprintf(io.out, "%-20s baked %s: %s, error %.4g, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
                      out_path.c_str(), w.label().c_str(), w.error_quantized, w.passes, (long long)w.bytes, r.seconds);
+        // Clamps, replacements and fallbacks (bake.h, BakeCounts): never silent.
+        for (const std::string& n : r.notes) std::fprintf(io.out, "%-20s note: %s\n", "", n.c_str());
         ++baked;
     }
     std::fprintf(io.out, "%d baked, %d up to date, %d failed\n", baked, skipped, failed);

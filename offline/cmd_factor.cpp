@@ -23,7 +23,7 @@ const char* kUsage =
     "usage: sepal factor SPEC [options]\n"
     "  --param P          gs-half (default) | iv | vh | rusinkiewicz | elev-azim\n"
     "  --map M            xy (default) | parabolic\n"
-    "  --res N            texels per side of each factor, 16..256 (default 32)\n"
+    "  --res N            texels per side of each factor, 1..256 (default 32)\n"
     "  --terms K          1..16 (default 4)\n"
     "  --method M         svd (default) | nd | nmf | acls\n"
     "  --colour C         rgb (per channel, default) | luminance (+ per-channel ratio)\n"
@@ -180,6 +180,12 @@ void write_report(JsonWriter& j, const std::string& spec, const FactorOptions& o
         .key("rows").value(r.rows).key("cols").value(r.cols)
         .key("memory_mb").value(r.memory_mb)
         .key("evaluations").value(r.evaluations)
+        .end_object();
+    // Every clamp or fallback of the engine, zeros included (the notes say the same in words).
+    j.key("counts").begin_object()
+        .key("negative_clamped").value(int64_t(r.clamped_negative))
+        .key("frame_fallbacks").value(r.frame_fallbacks)
+        .key("solver_fallbacks").value(r.solver_fallbacks)
         .end_object();
     j.key("colour_ratio").begin_array().value(r.factored.ratio.x).value(r.factored.ratio.y)
         .value(r.factored.ratio.z).end_array();

@@ -44,6 +44,24 @@ std::string quoted(const std::string& t) {
     return "'" + s + "'";
 }
 
+// Tokens of the whole text that parse completely as numbers but not finite ones.
+size_t count_nonfinite(const std::string& text) {
+    size_t count = 0, pos = 0;
+    std::vector<std::string> tok;
+    while (pos < text.size()) {
+        size_t nl = text.find('\n', pos);
+        if (nl == std::string::npos) nl = text.size();
+        tokenize(text.substr(pos, nl - pos), &tok);
+        pos = nl + 1;
+        for (const std::string& t : tok) {
+            char* end = nullptr;
+            const double v = std::strtod(t.c_str(), &end);
+            if (end == t.c_str() + t.size() && !std::isfinite(v)) ++count;
+        }
+    }
+    return count;
+}
+
 class CornellBrdf : public Brdf {
   public:
     CornellBrdf(std::string path, CornellData data)
@@ -56,6 +74,16 @@ class CornellBrdf : public Brdf {
     }
     std::string spec() const override { return path_; }
     std::string model() const override { return "cornell"; }
+    InputCounts input_counts() const override {
+        InputCounts c;
+        c.values = int64_t(data_.lines * data_.wavelengths.size());
+        c.negative = int64_t(data_.missing - data_.huge);  // lines with a negative value
+        c.huge = int64_t(data_.huge) + int64_t(table_.rejected());  // the table's: 0 by now
+        c.missing = int64_t(data_.missing);
+        c.filled = int64_t(figures_.filled);
+        c.clamped = int64_t(data_.clamped + data_.angles_clamped);
+        return c;
+    }
     bool isotropic() const override { return true; }
     std::string info() const override {
         const CornellFigures& f = figures_;
@@ -70,11 +98,13 @@ class CornellBrdf : public Brdf {
         s += buf;
         std::snprintf(buf, sizeof buf,
                       "samples    %zu lines, %zu used as scattered data\n"
-                      "missing    %zu samples (a negative spectral value)\n"
+                      "missing    %zu samples (a negative spectral value, or %zu beyond "
+                      "1e30)\n"
                       "clamped    %zu negative RGB channel values (colours outside sRGB) set "
-                      "to 0: %.2f%% of the summed |RGB|\n",
-                      data_.lines, data_.samples.size(), data_.missing, data_.clamped,
-                      100.0 * data_.clamped_share);
+                      "to 0: %.2f%% of the summed |RGB|; %zu angles within rounding of [0, "
+                      "pi/2] set to it\n",
+                      data_.lines, data_.samples.size(), data_.missing, data_.huge, data_.clamped,
+                      100.0 * data_.clamped_share, data_.angles_clamped);
         s += buf;
         std::snprintf(buf, sizeof buf,
                       "table      %d x %d x %d, MERL layout (theta_h sqrt-spaced, theta_d, "
@@ -142,7 +172,15 @@ bool parse_cornell(const std::string& text, const std::string& name, CornellData
             num[k] = std::strtod(tok[k].c_str(), &end);
             if (end != tok[k].c_str() + tok[k].size() || tok[k].empty())
                 return fail(quoted(tok[k]) + " is not a number");
-            if (!std::isfinite(num[k])) return fail(quoted(tok[k]) + " is not a finite number");
+            if (!std::isfinite(num[k])) {
+                // Refused, not treated as missing: the format marks missing samples with
+                // negative values and has no other convention; NaN or inf means a broken
+                // export. The message says how many there are, so one fix covers them all.
+                const size_t n = count_nonfinite(text);
+                return fail(quoted(tok[k]) + " is not a finite number (" + std::to_string(n) +
+                            (n == 1 ? " NaN or inf value" : " NaN or inf values") +
+                            " in the file, the first here)");
+            }
         }
         if (stage == kCount) {
             if (tok.size() != 1)
@@ -184,17 +222,23 @@ bool parse_cornell(const std::string& text, const std::string& name, CornellData
                             (theta ? "[0, pi/2]" : "[-2 pi, 2 pi]") + " (radians)");
         }
         ++out->lines;
-        bool negative = false;
-        for (size_t k = 4; k < num.size(); ++k) negative = negative || num[k] < 0.0;
-        if (negative) {
+        bool negative = false, huge = false;
+        for (size_t k = 4; k < num.size(); ++k) {
+            negative = negative || num[k] < 0.0;
+            huge = huge || num[k] > kCornellHugeValue;
+        }
+        if (negative || huge) {
             ++out->missing;
+            out->huge += huge && !negative ? 1 : 0;
             continue;
         }
         CornellSample s;
+        // Inside the slack only (checked above): rounding of printed angles, counted.
         s.theta_i = std::max(0.0, std::min(kPi / 2, num[0]));
         s.phi_i = num[1];
         s.theta_s = std::max(0.0, std::min(kPi / 2, num[2]));
         s.phi_s = num[3];
+        out->angles_clamped += size_t(s.theta_i != num[0]) + size_t(s.theta_s != num[2]);
         s.rgb = conv.convert(&num[4]);
         for (int c = 0; c < 3; ++c) {
             abs_total += std::fabs(s.rgb[c]);
@@ -212,7 +256,9 @@ bool parse_cornell(const std::string& text, const std::string& name, CornellData
                     std::to_string(out->wavelengths.size()) + " of " + std::to_string(n_wl) +
                     ")");
     if (out->lines == 0) return fail("no samples");
-    if (out->samples.empty()) return fail("every sample has a negative spectral value");
+    if (out->samples.empty())
+        return fail("every sample has a negative spectral value" +
+                    std::string(out->huge ? " or one beyond 1e30" : ""));
     out->clamped_share = abs_total > 0.0 ? clamped_total / abs_total : 0.0;
     return true;
 }

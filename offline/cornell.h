@@ -13,9 +13,11 @@
 // The parser refuses, naming the line: a missing or non-integer count (1..1000), wavelengths
 // that are not strictly increasing within 300..1000 nm or too few or too many of them, a
 // sample line with the wrong number of values, a token that is not a number, a non-finite
-// number, theta outside [0, pi/2] or phi outside [-2 pi, 2 pi], more than kMaxSamples
-// samples, or no sample at all. A sample with a negative spectral value is counted as missing
-// and not used.
+// number (the message counts every NaN and inf token in the file), theta outside [0, pi/2]
+// (beyond 1e-5 of rounding slack; inside it the angle is clamped and counted) or phi outside
+// [-2 pi, 2 pi], more than kMaxSamples
+// samples, or no sample at all. A sample with a negative spectral value, or one above 1e30
+// (beyond the float table), is counted as missing and not used.
 // Colour: each spectrum becomes linear sRGB through the CIE 1931 matching functions under
 // D65, normalized so a flat spectrum of 1 gives (1, 1, 1) (cie.h); negative RGB channels
 // (colours outside the sRGB gamut; tiny in the Cornell files) are clamped to 0 and counted.
@@ -48,13 +50,18 @@ struct CornellSample {
 struct CornellData {
     std::vector<double> wavelengths;      // nm
     std::vector<CornellSample> samples;   // usable samples
-    size_t missing = 0;                   // sample lines with a negative spectral value
+    size_t missing = 0;                   // sample lines with a negative or huge value
+    size_t huge = 0;                      // of those, lines with a value beyond 1e30 (none negative)
     size_t lines = 0;                     // sample lines read
     size_t clamped = 0;                   // negative RGB channel values set to 0
+    size_t angles_clamped = 0;            // thetas within kAngleSlack outside [0, pi/2], clamped
     double clamped_share = 0;             // their |sum| over the sum of all |RGB| values
 };
 
 constexpr size_t kCornellMaxSamples = 1000000;
+// Spectral values above this are treated as missing, as MERL's reader does (merl.cpp): they
+// would not survive the float table.
+constexpr double kCornellHugeValue = 1e30;
 constexpr int kCornellMaxWavelengths = 1000;
 bool parse_cornell(const std::string& text, const std::string& name, CornellData* out,
                    std::string* err);

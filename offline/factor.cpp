@@ -58,7 +58,8 @@ bool validate_factor_options(const FactorOptions& o, std::string* err) {
         if (err) *err = why;
         return false;
     };
-    if (o.res < 16 || o.res > 256) return fail("--res must be 16..256 (texels per side)");
+    // 1 is allowed: a 1 x 1 factor is a constant (Lambert is exact at 1 term, 1 x 1).
+    if (o.res < 1 || o.res > 256) return fail("--res must be 1..256 (texels per side)");
     if (o.terms < 1 || o.terms > 16) return fail("--terms must be 1..16");
     if (o.supersample < 1 || o.supersample > 4) return fail("--supersample must be 1..4");
     if (!(o.nd_p >= 1 && o.nd_p <= 16)) return fail("--p must be 1..16");
@@ -146,6 +147,14 @@ PairSampler::PairSampler(const Brdf& brdf, const FactorOptions& o)
       pairs_(o.supersample * o.supersample * o.supersample * o.supersample) {
     prepare(0, &row_texel_, &row_points_);
     prepare(1, &col_texel_, &col_points_);
+    // The pairs each degenerate G point takes part in (rare: only at --res 1).
+    for (const Point& px : row_points_) {
+        if (!px.valid || !px.fallback) continue;
+        for (const Point& py : col_points_) {
+            glm::dvec3 wi, wo;
+            if (py.valid && combine_points(param_, px.p, py.p, &wi, &wo)) ++frame_fallback_pairs_;
+        }
+    }
 }
 
 void PairSampler::prepare(int which, std::vector<int>* texels, std::vector<Point>* points) const {
@@ -160,11 +169,10 @@ void PairSampler::prepare(int which, std::vector<int>* texels, std::vector<Point
                 Point& p = (*points)[k * s_ * s_ + size_t(b) * s_ + a];
                 const glm::dvec2 uv((i + (a + 0.5) / s_) / n_, (j + (b + 0.5) / s_) / n_);
                 p.valid = factor_point(param_, map_, which, uv, &p.p);
-                if (p.valid && param_ == Param::GsHalf && which == 0) {
-                    // eq. 6's frame depends on h only: computed once per sub-sample
-                    p.t = glm::normalize(glm::dvec3(1, 0, 0) - p.p.x * p.p);
-                    p.s = glm::cross(p.p, p.t);
-                }
+                if (!p.valid || which != 0) continue;
+                // eq. 6's frame depends on h only: computed once per sub-sample
+                if (param_ == Param::GsHalf) p.fallback = !gs_half_frame(p.p, &p.t, &p.s);
+                else p.fallback = frame_fallback(param_, p.p);
             }
     }
 }
@@ -628,7 +636,11 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
     FactorResult r;
     matrix_shape(o, &r.rows, &r.cols);
     if (o.terms > std::min(r.rows, r.cols)) {
-        if (err) *err = "--terms exceeds the rank the matrix can have";
+        if (err)
+            *err = "--terms " + std::to_string(o.terms) + " exceeds the rank the " +
+                   std::to_string(r.rows) + " x " + std::to_string(r.cols) +
+                   " sample matrix can have at --res " + std::to_string(o.res) + " (at most " +
+                   std::to_string(std::min(r.rows, r.cols)) + ")";
         return false;
     }
     r.memory_mb = estimate_memory_mb(o);
@@ -652,6 +664,11 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
     }
     const int ch = channels_of(o), k = o.terms;
     PairSampler sampler(brdf, o);
+    r.frame_fallbacks = sampler.frame_fallback_pairs();
+    if (r.frame_fallbacks)
+        r.notes.push_back(std::to_string(r.frame_fallbacks) +
+                          " sample pairs use the degenerate-frame fallback of param.h");
+    std::atomic<int64_t> solver_fallbacks{0};
     const double t0 = now_seconds();
     std::vector<LowRank> lr;
     glm::dvec3 ratio(1);
@@ -716,6 +733,7 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
             s.parent = &parent;
             s.order = &order;
             s.horizon_weight = o.horizon_weight;
+            s.fallbacks = &solver_fallbacks;
             stages.assign(size_t(k), std::vector<LowRank>(size_t(ch)));
             if (weighted_svd)
                 r.notes.push_back("weighted: entries partly or wholly below the horizon "
@@ -762,6 +780,10 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
             }
         }
         r.factor_seconds = now_seconds() - t1;
+        r.solver_fallbacks = solver_fallbacks.load();
+        if (r.solver_fallbacks)
+            r.notes.push_back(std::to_string(r.solver_fallbacks) +
+                              " solver updates fell back to 0 (a non-finite solution or no data)");
     }
 
     const Layout layout = make_layout(sampler, o.res, row_has, col_has);

@@ -31,8 +31,13 @@
 // svd, nmf and acls hold the matrix and refuse (before sampling) when their estimate
 // exceeds max_memory_mb, naming nd and a lower resolution.
 // Determinism: results do not depend on the thread count (see parallel.h).
-// Limits: res 16..256, terms 1..16, supersample 1..4. A BRDF returning NaN or inf makes the
-// call fail with the direction pair named.
+// Limits: res 1..256 (1: every factor is a constant), terms 1..16 and at most the rank the
+// sample matrix can have (1 at res 1), supersample 1..4. svd, nmf and acls at 256 need tens
+// of GB and refuse (naming nd); nd streams and takes 256 within the default memory limit.
+// A BRDF returning NaN or inf makes the call fail with the direction pair named (measured
+// loaders never do: they count such input as missing or refuse the file, see measured.h).
+// Fallbacks are counted, never silent: frame_fallbacks, solver_fallbacks and
+// clamped_negative below, each with a note when nonzero.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -51,7 +56,7 @@ bool parse_method(const std::string& name, Method* m);
 struct FactorOptions {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
-    int res = 32;        // N: texels per side of each factor texture, 16..256
+    int res = 32;        // N: texels per side of each factor texture, 1..256
     int terms = 1;       // K, 1..16
     Method method = Method::SVD;
     ColourMode colour = ColourMode::PerChannel;
@@ -98,6 +103,11 @@ struct FactorResult {
     int64_t evaluations = 0;       // BRDF evaluations while factoring
     int iterations = 0;            // nmf/acls/weighted svd: outer iterations in all
     int clamped_negative = 0;      // nmf/acls: negative matrix entries clamped to 0
+    // Sub-sample pairs of one sampling pass whose G point takes param.h's degenerate-frame
+    // fallback (rusinkiewicz at --res 1: h = n).
+    int64_t frame_fallbacks = 0;
+    // nmf/acls/weighted svd: solver updates set to 0 (see AlsSettings::fallbacks).
+    int64_t solver_fallbacks = 0;
     std::vector<std::string> notes;
 };
 

@@ -159,7 +159,8 @@ double side_error(const Normals& nm, const std::vector<double>& x, int n, int k)
     return std::max(e, 0.0);
 }
 
-void solve_least_squares(const Normals& nm, std::vector<double>* x, int n, int k, int threads) {
+void solve_least_squares(const Normals& nm, std::vector<double>* x, int n, int k, int threads,
+                         std::atomic<int64_t>* fallbacks) {
     double mean_diag = 0;
     for (int r = 0; r < n; ++r)
         for (int a = 0; a < k; ++a) mean_diag += nm.c[size_t(r) * k * k + size_t(a) * k + a];
@@ -167,22 +168,32 @@ void solve_least_squares(const Normals& nm, std::vector<double>* x, int n, int k
     const size_t chunks = size_t((n + kColChunk - 1) / kColChunk);
     parallel_for(chunks, threads, [&](size_t chunk) {
         const int r0 = int(chunk) * kColChunk, r1 = std::min(n, r0 + kColChunk);
+        int64_t fell_back = 0;
         for (int r = r0; r < r1; ++r) {
             Eigen::MatrixXd c = Eigen::Map<const Eigen::MatrixXd>(&nm.c[size_t(r) * k * k], k, k);
             const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(&nm.b[size_t(r) * k], k);
             double* g = &(*x)[size_t(r) * k];
             c.diagonal().array() += ridge;
             const Eigen::VectorXd sol = c.ldlt().solve(b);
-            for (int a = 0; a < k; ++a) g[a] = std::isfinite(sol(a)) ? sol(a) : 0.0;
+            for (int a = 0; a < k; ++a) {
+                if (std::isfinite(sol(a))) {
+                    g[a] = sol(a);
+                } else {
+                    g[a] = 0.0;
+                    ++fell_back;
+                }
+            }
         }
+        if (fell_back && fallbacks) *fallbacks += fell_back;
     });
 }
 
 void solve_multiplicative(const Normals& nm, std::vector<double>* x, int n, int k, int inner,
-                          int threads) {
+                          int threads, std::atomic<int64_t>* fallbacks) {
     const size_t chunks = size_t((n + kColChunk - 1) / kColChunk);
     parallel_for(chunks, threads, [&](size_t chunk) {
         const int r0 = int(chunk) * kColChunk, r1 = std::min(n, r0 + kColChunk);
+        int64_t fell_back = 0;
         std::vector<double> cg(size_t(k), 0.0);
         for (int r = r0; r < r1; ++r) {
             const double* c = &nm.c[size_t(r) * k * k];
@@ -196,10 +207,18 @@ void solve_multiplicative(const Normals& nm, std::vector<double>* x, int n, int 
                 }
                 for (int a = 0; a < k; ++a) {
                     const double den = cg[size_t(a)];
-                    g[a] = den > 1e-300 ? g[a] * std::max(b[a], 0.0) / den : 0.0;
+                    if (den > 1e-300) {
+                        g[a] = g[a] * std::max(b[a], 0.0) / den;
+                    } else {
+                        // No data left to scale by (0/0): the entry goes to 0, counted
+                        // unless it was 0 already (then nothing changed).
+                        if (g[a] != 0.0) ++fell_back;
+                        g[a] = 0.0;
+                    }
                 }
             }
         }
+        if (fell_back && fallbacks) *fallbacks += fell_back;
     });
 }
 
@@ -242,8 +261,10 @@ void solve_constrained(const Normals& nm, std::vector<double>* x, int n, int k, 
 void solve_side(const Normals& nm, std::vector<double>* x, int n, int k, int side,
                 const AlsSettings& s) {
     switch (s.rule) {
-        case AlsRule::LeastSquares: solve_least_squares(nm, x, n, k, s.threads); break;
-        case AlsRule::Multiplicative: solve_multiplicative(nm, x, n, k, s.inner, s.threads); break;
+        case AlsRule::LeastSquares: solve_least_squares(nm, x, n, k, s.threads, s.fallbacks); break;
+        case AlsRule::Multiplicative:
+            solve_multiplicative(nm, x, n, k, s.inner, s.threads, s.fallbacks);
+            break;
         case AlsRule::Constrained: solve_constrained(nm, x, n, k, side, s); break;
     }
 }

@@ -95,7 +95,27 @@ bool ErrorEvaluator::init(std::string* err) {
             s->ref += y * y;
         });
     if (bad) {
-        if (err) *err = "the BRDF returned a non-finite value while measuring the error";
+        // Name the first such pair (in pair order: the same one whatever the threads).
+        if (err) {
+            glm::dvec3 wi(0), wo(0);
+            for (size_t k = 0; k < mc_f_.size(); ++k)
+                if (!finite3(mc_f_[k])) {
+                    mc_pair(o_.seed, int64_t(k), &wi, &wo);
+                    break;
+                }
+            if (wi == glm::dvec3(0))
+                for (size_t k = 0; k < dense_f_.size(); ++k)
+                    if (!finite3(dense_f_[k])) {
+                        dense_pair(o_.dense, int64_t(k), &wi, &wo);
+                        break;
+                    }
+            char buf[256];
+            std::snprintf(buf, sizeof buf,
+                          "the BRDF returned a non-finite value while measuring the error, at wi = "
+                          "(%.6f, %.6f, %.6f), wo = (%.6f, %.6f, %.6f)",
+                          wi.x, wi.y, wi.z, wo.x, wo.y, wo.z);
+            *err = buf;
+        }
         return false;
     }
     ref_rms_ = std::sqrt(mc.ref / o_.mc_pairs);

@@ -1,5 +1,6 @@
 // Internals of the factorization engine shared by factor*.cpp (not a public interface).
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,6 +26,9 @@ class PairSampler {
     int pairs_per_entry() const { return pairs_; }
     const std::vector<int>& row_texels() const { return row_texel_; }
     const std::vector<int>& col_texels() const { return col_texel_; }
+    // Sub-sample pairs of one sampling pass whose G point (the half vector) has a degenerate
+    // frame and takes param.h's documented fallback: counted once, when the sampler is made.
+    int64_t frame_fallback_pairs() const { return frame_fallback_pairs_; }
     // rgb: 3 * cols() floats (averages over valid pairs, 0 where none); count: valid pairs
     // per entry. False with a message when the BRDF returns a non-finite value.
     bool sample_row(int row, float* rgb, uint16_t* count, std::string* err) const;
@@ -33,6 +37,7 @@ class PairSampler {
     struct Point {
         glm::dvec3 p, t, s;  // the factor point; t, s: gs-half's frame (t', s')
         bool valid = false;
+        bool fallback = false;  // a G point whose frame is degenerate (param.h)
     };
     void prepare(int which, std::vector<int>* texels, std::vector<Point>* points) const;
 
@@ -42,6 +47,7 @@ class PairSampler {
     int n_, s_, pairs_;
     std::vector<int> row_texel_, col_texel_;
     std::vector<Point> row_points_, col_points_;  // s^2 per texel
+    int64_t frame_fallback_pairs_ = 0;
 };
 
 // The held matrix: the weight of every entry (its share of valid sub-sample pairs, 0..1)
@@ -83,6 +89,10 @@ struct AlsSettings {
     // > 0: such entries count with this weight toward 0 instead (the anchor is unused).
     double horizon_weight = 0;
     int threads = 0;
+    // Counts updates that fell back (never silent): a least-squares solution that is not
+    // finite, or a multiplicative update whose denominator vanished while the entry was
+    // nonzero; either sets the entry to 0. Totals do not depend on the thread count.
+    std::atomic<int64_t>* fallbacks = nullptr;
 };
 // Alternating weighted least squares from the given start, in place. Returns the
 // weighted sum of squared errors; *iterations receives the outer iterations done.

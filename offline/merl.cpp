@@ -79,6 +79,16 @@ class MerlBrdf : public Brdf {
     }
     std::string spec() const override { return path_; }
     std::string model() const override { return "merl"; }
+    InputCounts input_counts() const override {
+        InputCounts c;
+        c.values = int64_t(3 * stats_.cells);
+        c.nonfinite = int64_t(stats_.nan + stats_.inf);
+        c.negative = int64_t(stats_.negative);
+        c.huge = int64_t(stats_.huge);
+        c.missing = int64_t(stats_.missing_cells);
+        c.filled = int64_t(filled_);
+        return c;
+    }
     bool isotropic() const override { return true; }
     std::string info() const override {
         char buf[512];

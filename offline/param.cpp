@@ -8,6 +8,8 @@ namespace sepal {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+// Below this sin(theta) an azimuth is not defined (see param.h, "Degenerate frames").
+constexpr double kPoleSin = 1e-12;
 
 struct NamedParam {
     Param p;
@@ -28,27 +30,57 @@ glm::dvec3 rotate_y(const glm::dvec3& v, double a) {
     return {v.x * c + v.z * s, v.y, -v.x * s + v.z * c};
 }
 
-// The Gram-Schmidt frame (t', s', h) of eq. 6. Never degenerate for h.z > 0: t' collapses
-// only when h = +-t, which needs h.z = 0.
-void gs_frame(const glm::dvec3& h, glm::dvec3* tp, glm::dvec3* sp) {
-    const glm::dvec3 t(1, 0, 0);
-    *tp = glm::normalize(t - h.x * h);
-    *sp = glm::cross(h, *tp);
-}
-
-// Angle in [0, 2 pi).
+// Angle in [0, 2 pi); 0 at the pole (param.h, "Degenerate frames").
 double azimuth(const glm::dvec3& a) {
+    if (a.x * a.x + a.y * a.y <= kPoleSin * kPoleSin) return 0.0;
     double phi = std::atan2(a.y, a.x);
     if (phi < 0) phi += 2 * kPi;
-    return phi;
+    // atan2 of a tiny negative y gives -tiny, and -tiny + 2 pi may round to 2 pi itself.
+    return phi < 2 * kPi ? phi : 0.0;
 }
 
 glm::dvec3 difference_rusinkiewicz(const glm::dvec3& h, const glm::dvec3& wi) {
     const double theta_h = std::acos(glm::clamp(h.z, -1.0, 1.0));
-    const double phi_h = std::atan2(h.y, h.x);
-    return rotate_y(rotate_z(wi, -phi_h), -theta_h);
+    return rotate_y(rotate_z(wi, -rusinkiewicz_phi_h(h)), -theta_h);
 }
 }  // namespace
+
+bool gs_half_frame(const glm::dvec3& h, glm::dvec3* tp, glm::dvec3* sp) {
+    // t - (h.t) h = (1 - hx^2, -hx hy, -hx hz) = (hy^2 + hz^2, -hx hy, -hx hz) for a unit h,
+    // of length r = sqrt(hy^2 + hz^2): written that way it keeps full precision as h nears
+    // t, where 1 - hx^2 would cancel.
+    const double r2 = h.y * h.y + h.z * h.z;
+    const double r = std::sqrt(r2);
+    if (r > kPoleSin) {
+        *tp = glm::dvec3(r2, -h.x * h.y, -h.x * h.z) / r;
+        *tp = glm::normalize(*tp);  // |h| = 1 up to rounding: renormalize the rounding away
+        *sp = glm::cross(h, *tp);
+        return true;
+    }
+    // h = +-t: t' from s instead, as the runtime does (runtime/param.cpp).
+    *tp = glm::normalize(glm::dvec3(-h.y * h.x, 1 - h.y * h.y, -h.y * h.z));
+    *sp = glm::cross(h, *tp);
+    return false;
+}
+
+double rusinkiewicz_phi_h(const glm::dvec3& h, bool* fallback) {
+    const bool pole = h.x * h.x + h.y * h.y <= kPoleSin * kPoleSin;
+    if (fallback) *fallback = pole;
+    return pole ? 0.0 : std::atan2(h.y, h.x);
+}
+
+bool frame_fallback(Param p, const glm::dvec3& point) {
+    if (p == Param::GsHalf) {
+        glm::dvec3 tp, sp;
+        return !gs_half_frame(point, &tp, &sp);
+    }
+    if (p == Param::Rusinkiewicz) {
+        bool pole = false;
+        rusinkiewicz_phi_h(point, &pole);
+        return pole;
+    }
+    return false;
+}
 
 const char* param_name(Param p) {
     for (const NamedParam& n : kParams)
@@ -110,7 +142,9 @@ bool map_inverse(HemiMap m, const glm::dvec2& uv, glm::dvec3* a) {
 
 bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& wo,
                    TexCoords* tc) {
-    if (!(wi.z > 0) || !(wo.z > 0)) return false;
+    if (!(wi.z > 0) || !(wo.z > 0)) return false;  // also NaN
+    for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(wi[c]) || !std::isfinite(wo[c])) return false;
     switch (p) {
         case Param::IncidentView:
             tc->x = map_forward(m, wi);
@@ -119,7 +153,7 @@ bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& w
         case Param::GsHalf: {
             const glm::dvec3 h = glm::normalize(wi + wo);
             glm::dvec3 tp, sp;
-            gs_frame(h, &tp, &sp);
+            gs_half_frame(h, &tp, &sp);
             tc->x = map_forward(m, h);
             tc->y = map_forward(m, {glm::dot(wi, tp), glm::dot(wi, sp), glm::dot(wi, h)});
             return true;
@@ -166,7 +200,7 @@ bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dv
             break;
         case Param::GsHalf: {
             glm::dvec3 tp, sp;
-            gs_frame(px, &tp, &sp);
+            gs_half_frame(px, &tp, &sp);
             *wi = py.x * tp + py.y * sp + py.z * px;
             *wo = 2 * glm::dot(*wi, px) * px - *wi;
             break;
@@ -180,8 +214,7 @@ bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dv
         }
         case Param::Rusinkiewicz: {
             const double theta_h = std::acos(glm::clamp(px.z, -1.0, 1.0));
-            const double phi_h = std::atan2(px.y, px.x);
-            *wi = rotate_z(rotate_y(py, theta_h), phi_h);
+            *wi = rotate_z(rotate_y(py, theta_h), rusinkiewicz_phi_h(px));
             *wo = 2 * glm::dot(*wi, px) * px - *wi;
             break;
         }

@@ -30,6 +30,24 @@
 //   parabolic  (u, v) = ((a.x/(1 + a.z) + 1)/2, (a.y/(1 + a.z) + 1)/2)
 // Both map the hemisphere onto the disk inscribed in the texture; texels whose centre lies
 // outside it are invalid (never sampled; filled from valid neighbours after factoring).
+//
+// Extremes (tests/extremes_test.cpp):
+//   - param_forward refuses (returns false, *tc untouched) a pair with a direction at or
+//     below the horizon (back-facing: the BRDF is 0 there) or with a non-finite component;
+//     for every other pair of unit vectors, grazing ones included (89.9 degrees and beyond),
+//     every coordinate is finite and inside [0, 1].
+//   - Degenerate frames get a fixed, deterministic fallback, the same as the runtime's
+//     (runtime/param.cpp) where it has one:
+//     gs-half     t' = norm(t - (h.t) h) is computed as (hy^2 + hz^2, -hx hy, -hx hz) / r,
+//                 r = sqrt(hy^2 + hz^2), exact to rounding as h nears t; only when
+//                 r <= 1e-12 (h = +-t, possible only at the horizon) t' = norm(s - (h.s) h).
+//     rusinkiewicz phi_h = atan2(h.y, h.x) is undefined at h = n: phi_h = 0 when
+//                 hx^2 + hy^2 <= 1e-24 (sin theta_h <= 1e-12), whatever the signs of zero.
+//                 An isotropic BRDF does not depend on phi_d at theta_h = 0, so nothing is
+//                 lost; the sampler counts pairs built this way (FactorResult::frame_fallbacks).
+//                 It happens at the texel centre (0.5, 0.5): only for --res 1.
+//     elev-azim   the azimuth of a direction at the pole is 0 (same threshold).
+//     frame_fallback() says whether a G point (the half vector) takes a fallback.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -64,7 +82,8 @@ bool map_inverse(HemiMap m, const glm::dvec2& uv, glm::dvec3* a);
 struct TexCoords {
     glm::dvec2 x, y;  // texture coordinates into G and H
 };
-// Forward: false when wi or wo is at or below the horizon (the BRDF is 0 there).
+// Forward: false when wi or wo is at or below the horizon (the BRDF is 0 there) or not
+// finite.
 bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& wo,
                    TexCoords* tc);
 
@@ -75,6 +94,15 @@ bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& w
 bool factor_point(Param p, HemiMap m, int which, const glm::dvec2& uv, glm::dvec3* point);
 bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dvec3* wi,
                     glm::dvec3* wo);
+
+// The Gram-Schmidt frame (t', s') of eq. 6 for a unit half vector h; false when h = +-t and
+// the fallback above was used.
+bool gs_half_frame(const glm::dvec3& h, glm::dvec3* tp, glm::dvec3* sp);
+// Rusinkiewicz's azimuth of h, 0 at the pole (*fallback, if given, says so).
+double rusinkiewicz_phi_h(const glm::dvec3& h, bool* fallback = nullptr);
+// True when the G point (the half vector of gs-half or rusinkiewicz) has a degenerate frame
+// and the fallback above applies; always false for the other parameterizations.
+bool frame_fallback(Param p, const glm::dvec3& point);
 
 // Validity of the texels of factor `which` at resolution n: 1 where the texel centre lies
 // in the factor's domain. Row-major, j * n + i.

@@ -51,7 +51,14 @@ double partial_sum_peak(const AssetData& a) {
     return peak * margin;
 }
 
-bool build_plan(AssetData* a, std::string* err) {
+bool plan_all_zero(const AssetData& a) {
+    for (const srt_fmt_pass& p : a.passes)
+        for (float c : p.color)
+            if (c != 0.0f) return false;
+    return !a.passes.empty();
+}
+
+bool build_plan(AssetData* a, std::string* err, bool allow_all_zero) {
     const uint32_t terms = a->material.terms;
     const int channels = int(a->material.channels);
     for (int c = 0; c < 3; ++c)
@@ -110,8 +117,23 @@ bool build_plan(AssetData* a, std::string* err) {
             if (any) passes.push_back({blend, part});
         }
     if (passes.empty()) {
-        if (err) *err = "plan: every coefficient is zero (an all-zero BRDF?)";
-        return false;
+        if (!allow_all_zero) {
+            if (err) *err = "plan: every coefficient is zero (an all-zero BRDF?)";
+            return false;
+        }
+        // The reader needs a pass; a constant one reads no texture and adds 0.
+        a->passes.clear();
+        srt_fmt_pass zero{};
+        zero.op = uint16_t(SRT_OP_CONSTANT);
+        zero.blend = uint16_t(SRT_BLEND_ADD);
+        zero.tex0 = zero.tex1 = SRT_FMT_NO_TEXTURE;
+        zero.rgb_scale = 1;
+        a->passes.push_back(zero);
+        a->plan = srt_fmt_plan{};
+        a->plan.pass_count = 1;
+        a->plan.doublings = 0;
+        a->plan.peak_partial_sum = 1e-30f;  // the same floor as below: (0, 1] is required
+        return true;
     }
     double added[3] = {0, 0, 0}, biggest = 0;
     for (const auto& p : passes)
@@ -126,7 +148,8 @@ bool build_plan(AssetData* a, std::string* err) {
     while (std::ldexp(peak, -doublings) > 1.0) ++doublings;
     if (doublings > SRT_FMT_MAX_DOUBLINGS) {
         if (err) *err = "plan: coefficients up to " + std::to_string(peak) + " need more than " +
-                        std::to_string(SRT_FMT_MAX_DOUBLINGS) + " doublings";
+                        std::to_string(SRT_FMT_MAX_DOUBLINGS) + " doublings (f beyond about " +
+                        std::to_string(1 << SRT_FMT_MAX_DOUBLINGS) + "/sr): clamp the peaks with --cap";
         return false;
     }
     a->passes.clear();

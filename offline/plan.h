@@ -26,7 +26,14 @@
 
 namespace sepal {
 
-bool build_plan(AssetData* asset, std::string* err);
+// Every coefficient zero (an all-zero BRDF, or factors that quantized to 0) is refused
+// unless allow_all_zero: then the plan is one CONSTANT pass of colour (0, 0, 0), added, no
+// doublings, peak_partial_sum 1e-30 (the reader wants (0, 1]; only subtracting plans use
+// it). It draws nothing: the material renders black (the reader needs at least one pass).
+// bake() allows it and reports it ("all_zero" in its counts, and a note).
+bool build_plan(AssetData* asset, std::string* err, bool allow_all_zero = false);
+// True when every pass of the plan has colour 0 (the plan above, or one like it).
+bool plan_all_zero(const AssetData& asset);
 
 // Largest partial sum of the plan (after every added pass, at unit irradiance) over every
 // pair of texel centres: the plan's peak_partial_sum. 0 if textures or passes are missing.

@@ -36,8 +36,12 @@ bool quantize_texture(const float* values, int n, int channels, const QuantizeOp
         const bool signed_channel = lo[s] < 0.0f;
         t.desc.bias[c] = signed_channel ? lo[s] : 0.0f;
         t.desc.scale[c] = signed_channel ? hi[s] - lo[s] : hi[s];
+        if (!std::isfinite(t.desc.scale[c]))
+            return fail("channel " + std::to_string(s) + " spans " + std::to_string(lo[s]) + ".." +
+                        std::to_string(hi[s]) + ", beyond float range");
     }
     const double top = double((1u << opt.bits) - 1);
+    int64_t clamped = 0;
     std::vector<float> level(values, values + count * channels);
     int side = n;
     uint32_t levels = 0;
@@ -47,6 +51,9 @@ bool quantize_texture(const float* values, int n, int channels, const QuantizeOp
             for (int c = 0; c < channels; ++c) {
                 const double scale = t.desc.scale[c];
                 const double q = scale > 0 ? (double(level[i * channels + c]) - t.desc.bias[c]) / scale : 0.0;
+                // Rounding may put q a hair outside [0, 1]; only a code outside the range counts.
+                const double x = q * top;
+                if (!(x > -0.5 && x < top + 0.5)) ++clamped;
                 const uint32_t code = uint32_t(std::lround(std::clamp(q, 0.0, 1.0) * top));
                 if (opt.bits == 8) {
                     t.data.push_back(uint8_t(code));
@@ -73,6 +80,15 @@ bool quantize_texture(const float* values, int n, int channels, const QuantizeOp
         side = half;
     }
     t.desc.levels = levels;
+    if (stats) {
+        stats->clamped = clamped;
+        stats->zero_scale_channels = 0;
+        stats->all_zero = true;
+        for (int c = 0; c < channels; ++c) {
+            if (t.desc.scale[c] == 0.0f) ++stats->zero_scale_channels;
+            if (t.desc.scale[c] != 0.0f || t.desc.bias[c] != 0.0f) stats->all_zero = false;
+        }
+    }
     *out = std::move(t);
     return true;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -111,6 +112,7 @@ bool Tabulated::init(int nh, int nd, int np, ThetaHMapping mapping, std::string*
     acc_.clear();
     hit_.clear();
     occupied_ = 0;
+    rejected_ = 0;
     return true;
 }
 
@@ -153,6 +155,15 @@ void Tabulated::coords(const HalfDiff& a, double c[3]) const {
 }
 
 void Tabulated::set(size_t i, const glm::dvec3& v, float confidence, State s) {
+    // A value that is not finite as a float would poison every lookup that blends it in:
+    // the cell stays missing instead, counted.
+    const double limit = double(std::numeric_limits<float>::max());
+    for (int c = 0; c < 3; ++c)
+        if (!(std::fabs(v[c]) <= limit)) {  // also NaN
+            ++rejected_;
+            set_missing(i);
+            return;
+        }
     val_[3 * i] = float(v.x);
     val_[3 * i + 1] = float(v.y);
     val_[3 * i + 2] = float(v.z);
@@ -240,6 +251,11 @@ glm::dvec3 Tabulated::eval(const glm::dvec3& wi, const glm::dvec3& wo) const {
 
 void Tabulated::splat(const HalfDiff& a, const glm::dvec3& v, double weight, Kernel kernel) {
     if (state_.empty() || !(weight > 0.0)) return;
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) ||
+        !std::isfinite(weight)) {
+        ++rejected_;  // dropped, counted: it would poison the cell's weighted mean
+        return;
+    }
     if (acc_.empty()) {
         acc_.assign(4 * size(), 0.0);
         hit_.assign(size(), 0);

@@ -73,8 +73,11 @@ class Tabulated {
     // The angles at a cell's centre.
     HalfDiff cell_center(size_t index) const;
 
+    // A value that is NaN, inf or beyond float range leaves the cell missing and is counted
+    // in rejected() (so does splat with such a value: the sample is dropped).
     void set(size_t i, const glm::dvec3& v, float confidence = 1.0f,
              State s = State::kMeasured);
+    size_t rejected() const { return rejected_; }
     void set_missing(size_t i);
     glm::dvec3 value(size_t i) const {
         return glm::dvec3(val_[3 * i], val_[3 * i + 1], val_[3 * i + 2]);
@@ -129,6 +132,7 @@ class Tabulated {
     std::vector<double> acc_;   // while splatting: 4 per cell (weight, weighted RGB)
     std::vector<uint8_t> hit_;  // while splatting: cell contains a sample
     size_t occupied_ = 0;
+    size_t rejected_ = 0;  // values refused by set() and splat() (not finite as floats)
 };
 
 }  // namespace sepal

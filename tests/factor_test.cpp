@@ -389,8 +389,11 @@ TEST_CASE("factor: refusals - memory limit, bad options, NaN from a BRDF") {
     CHECK_FALSE(factor_brdf(*b, o, &r, &err));
     CHECK(err.find("--method nd") != std::string::npos);
     CHECK(err.find("--res") != std::string::npos);
-    o.res = 8;
-    CHECK_FALSE(factor_brdf(*b, o, &r, &err));
+    for (int res : {0, 257}) {  // --res is 1..256 (1x1 factors: tests/extremes_test.cpp)
+        o.res = res;
+        CHECK_FALSE(factor_brdf(*b, o, &r, &err));
+        CHECK(err.find("--res") != std::string::npos);
+    }
     o.res = 16;
     o.terms = 17;
     CHECK_FALSE(factor_brdf(*b, o, &r, &err));
@@ -458,8 +461,10 @@ TEST_CASE("factor: sepal factor exits 2 on bad input and writes nothing") {
     std::string out;
     CHECK(run_factor({}, &out) == 2);
     CHECK(run_factor({"nosuchmodel", "--report", rep}, &out) == 2);
-    CHECK(run_factor({"lambert", "--res", "8", "--report", rep}, &out) == 2);
-    CHECK(out.find("--res") != std::string::npos);
+    for (const char* res : {"0", "257"}) {  // --res is 1..256
+        CHECK(run_factor({"lambert", "--res", res, "--report", rep}, &out) == 2);
+        CHECK(out.find("--res") != std::string::npos);
+    }
     CHECK(run_factor({"lambert", "--param", "foo", "--report", rep}) == 2);
     CHECK(run_factor({"lambert", "--method", "pca", "--report", rep}) == 2);
     CHECK(run_factor({"lambert", "--terms", "x", "--report", rep}) == 2);
