@@ -24,6 +24,7 @@ struct Frame {
     float exposure;
     srt_draw_stats* stats;
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
+    int bad_vertices;  // > 0: triangles touching one are skipped
 };
 
 void set_equation(const srt_material* m, GLenum eq) {
@@ -79,8 +80,11 @@ void mesh_arrays(const Frame& f, bool colors) {
     }
 }
 
+// One mesh pass: the whole index list, or the runs of it without bad vertices.
 void draw_mesh(const Frame& f) {
-    glDrawElements(GL_TRIANGLES, f.mesh->index_count, GL_UNSIGNED_SHORT, f.mesh->indices);
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
+    });
     ++f.stats->draw_calls;
 }
 
@@ -227,7 +231,8 @@ srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     srt_result r;
     const float* proj = prep.proj;
     const float* view = prep.view;
-    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false};
+    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
+               prep.vertices.bad_vertices};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);

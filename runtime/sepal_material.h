@@ -112,13 +112,46 @@ srt_result srt_texture_create_rgba8(const uint8_t* rgba, int width, int height, 
                                     srt_error* err);
 void srt_texture_destroy(uint32_t texture);
 
+// What a frame cost, and every repair, skip or clamp the runtime made on the way: nothing
+// it does to odd input is silent. Units: GL backends count per vertex (and vertex-light
+// pair) on the CPU side; the CPU backend counts vertices the same way and per pixel (and
+// pixel-light pair) where it says so. The fused-pixel shader takes the same per-pixel
+// fallbacks as the CPU backend but cannot count them: its counts are the per-vertex ones.
 typedef struct srt_draw_stats {
     int draw_calls;         // mesh passes, including the depth pre-pass
     int fullscreen_passes;  // doublings, inversions, accumulations, background
     int copies;             // framebuffer-to-texture copies
     int doublings;          // final framebuffer doublings
     float exposure;         // 2^-m applied to the vertex colours
-    int below_horizon;      // vertex-light pairs with the light or the eye below the horizon
+    // Vertex-light pairs (CPU: pixel-light pairs) with the light or the eye below the
+    // horizon of the shading frame (a back-facing frame included): that light adds 0 there.
+    int below_horizon;
+    // Vertices whose tangent was zero, parallel to the normal or not finite (xyz or the
+    // handedness w): any unit vector perpendicular to the normal is used, handedness +1.
+    int fallback_tangents;
+    // Vertices with a non-finite position or a zero or non-finite normal: they cannot be
+    // placed or shaded, and every triangle using one is skipped (skipped_triangles).
+    int bad_vertices;
+    int skipped_triangles;
+    // Triangles with repeated or collinear corners (zero area in world space). Drawn as
+    // they are: GL and the CPU rasterizer cover no pixel with them.
+    int zero_area_triangles;
+    // Direction pairs (vertex-light; CPU: pixel-light) where the parameterization's frame
+    // is undefined and a fixed one is used: gs-half with h within 1e-3 rad of the tangent,
+    // rusinkiewicz with h within 1e-6 rad of the normal, h itself when wi = -wo.
+    int param_fallbacks;
+    // 1 when the plan paths needed an exposure below 2^-30 (irradiance times the largest
+    // pass colour over 2^30): vertex colours clamp at 1 instead of the frame failing.
+    int exposure_clamped;
+    // Irradiance values (GL: vertex-light channels) or radiances (CPU: pixel channels)
+    // that overflowed float or were NaN: clamped to FLT_MAX, NaN to 0.
+    int nonfinite_clamped;
+    // CPU only: pixel-light pairs where a signed factorization summed to f < 0 in some
+    // channel, clamped to 0 as every backend does (GL cannot count them).
+    int negative_clamped;
+    // CPU only: pixels whose interpolated frame was degenerate (normals or tangents of
+    // the triangle's corners cancelling out): the fallback frame is used.
+    int pixel_frame_fallbacks;
 } srt_draw_stats;
 
 srt_result srt_draw(const srt_draw_desc* desc, srt_draw_stats* stats, srt_error* err);
@@ -144,6 +177,8 @@ typedef struct srt_cpu_desc {
     // bilinear at level 0 with repeat wrapping; NULL for none.
     const uint8_t* diffuse_rgba;
     int diffuse_width, diffuse_height;
+    // Optional: the frame's counters (draw_calls 1, the repair, skip and clamp counts).
+    srt_draw_stats* stats;
 } srt_cpu_desc;
 
 size_t srt_cpu_scratch_floats(int vertex_count);

@@ -163,7 +163,7 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
 namespace sepal_ports {
 
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
-                      std::vector<float>* rgb, double* ms, std::string* err) {
+                      std::vector<float>* rgb, double* ms, std::string* err, srt_draw_stats* stats) {
     auto asset = std::make_unique<srt_asset>();
     srt_error e = {};
     if (srt_asset_parse(bytes, size, asset.get(), &e) != SRT_OK) {
@@ -183,6 +183,7 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
     d.depth = depth.data();
     d.scratch = scratch.data();
     d.scratch_floats = scratch.size();
+    d.stats = stats;
     if (diffuse) {
         d.diffuse_rgba = diffuse->pixels.data();
         d.diffuse_width = diffuse->width;

@@ -50,9 +50,10 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
                            GlRenderInfo* info, std::string* err);
 // Reads a PNG (stb_image) as RGBA8; refuses non-power-of-two sizes.
 bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err);
-// The CPU backend: linear radiance floats (RGB, top row first), no GL.
+// The CPU backend: linear radiance floats (RGB, top row first), no GL. stats (optional)
+// receives the frame's counters.
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
-                      std::vector<float>* rgb, double* ms, std::string* err);
+                      std::vector<float>* rgb, double* ms, std::string* err, srt_draw_stats* stats = nullptr);
 // Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
 // false for others (cpu is not a GL backend).
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
