@@ -48,7 +48,12 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
     // Only a plan that subtracts needs headroom: without subtractions a partial sum never
     // exceeds the final value, and a final value above 1 is white on screen either way.
     const float need_sum = m->has_negative_passes ? prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum : 0.0f;
-    const float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
+    float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
+    // One texture unit: colour x tex0 is formed and clamped at 1 before the blend
+    // multiplies it by tex1, so it must fit too (else a product whose final value is
+    // below 1 comes out short; measured: 13.5 levels on a mirror scene).
+    if (m->single_unit && prep.vertices.max_irradiance_single * m->max_first_stage > need_color)
+        need_color = prep.vertices.max_irradiance_single * m->max_first_stage;
     // The fused shaders compute f E directly: no exposure, no doublings.
     const bool fused = d->mode != SRT_MODE_MULTIPASS;
     // Past 2^-30 (irradiance times pass colour over 2^30, infinity included) the exposure

@@ -49,6 +49,26 @@ srt_result upload(const srt_asset_texture& t, GLuint name, bool wrap, srt_error*
     return srt::gl_check("texture upload", err);
 }
 
+// Largest stored q of a texture, over every level and channel.
+float max_q(const srt_asset_texture& t) {
+    const srt_fmt_texture& d = t.desc;
+    uint32_t best = 0;
+    for (uint32_t level = 0; level < d.levels; ++level) {
+        const uint8_t* p = t.level_data[level];
+        const uint32_t values = t.level_bytes[level] / (d.bits / 8);
+        for (uint32_t i = 0; i < values; ++i) {
+            uint32_t q = p[i];
+            if (d.bits == 16) {
+                uint16_t v;
+                memcpy(&v, p + 2 * i, 2);
+                q = v;
+            }
+            if (q > best) best = q;
+        }
+    }
+    return (float)best / (d.bits == 8 ? 255.0f : 65535.0f);
+}
+
 int next_pow2(int v) {
     int p = 1;
     while (p < v) p <<= 1;
@@ -97,6 +117,15 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
             if (v > out->max_pass_color) out->max_pass_color = v;
         }
         if (pass.blend == SRT_BLEND_SUBTRACT) out->has_negative_passes = 1;
+        // One texture unit: a product pass forms colour x tex0 (x the combiner's scale)
+        // before the blend multiplies it by tex1, and GL clamps that stage at 1: its peak
+        // per unit irradiance bounds the exposure too (see srt_draw).
+        if (pass.op == SRT_OP_PRODUCT && caps->gles_version == 1 && caps->texture_units < 2) {
+            const float q = max_q(asset->textures[pass.tex0]);
+            for (int c = 0; c < 3; ++c)
+                if (pass.color[c] * q * (float)pass.rgb_scale > out->max_first_stage)
+                    out->max_first_stage = pass.color[c] * q * (float)pass.rgb_scale;
+        }
         // Adds must come before subtracts so no partial sum clamps at 0 (writer's rule).
         if (pass.blend == SRT_BLEND_ADD && p > 0 && asset->passes[p - 1].blend == SRT_BLEND_SUBTRACT)
             return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,

@@ -60,6 +60,7 @@ typedef struct srt_material {
     float texture_scale[SRT_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
     float texture_bias[SRT_FMT_MAX_TEXTURES][3];
     float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
+    float max_first_stage;    // one texture unit: largest colour x tex0 of a product pass (GL ES 1.1)
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;
