@@ -70,6 +70,33 @@ extern "C" srt_result srt_draw(const srt_draw_desc* d, srt_draw_stats* stats_out
         e = kMaxShift;
         if (!fused) stats->exposure_clamped = 1;
     }
+    // Staged exposure (GL ES 1.1, add-only plans): each pass gets the largest exposure its
+    // own colours allow; the frame's doublings are spread between the stages. Partial sums
+    // only grow, so a stage that doubles past 1 was white on screen anyway.
+    prep.staged = m->caps.gles_version == 1 && !m->has_negative_passes && !fused && !float_target;
+    stats->exposure_stages = 1;
+    if (prep.staged) {
+        int previous = e + 1;
+        stats->exposure_stages = 0;
+        for (uint32_t p = 0; p < m->plan.pass_count; ++p) {
+            const float need = prep.vertices.max_irradiance_single * m->pass_need[p];
+            int shift = -plan_doublings;
+            if (need > 0.0f) {
+                const float want = ceilf(log2f(need));
+                if (want > (float)shift) shift = want < (float)e ? (int)want : e;
+            }
+            prep.pass_shift[p] = shift;
+        }
+        // Stages are the distinct shifts (the executor draws them in falling order).
+        for (;;) {
+            int next = -plan_doublings - 1;
+            for (uint32_t p = 0; p < m->plan.pass_count; ++p)
+                if (prep.pass_shift[p] < previous && prep.pass_shift[p] > next) next = prep.pass_shift[p];
+            if (next < -plan_doublings) break;
+            ++stats->exposure_stages;
+            previous = next;
+        }
+    }
     prep.exposure = fused ? 1.0f : ldexpf(1.0f, -e);
     stats->exposure = prep.exposure;
     stats->doublings = fused ? 0 : plan_doublings + e;

@@ -115,6 +115,7 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
         for (int c = 0; c < 3; ++c) {
             const float v = caps->gles_version == 1 ? pass.color[c] / boost : 0.0f;
             if (v > out->max_pass_color) out->max_pass_color = v;
+            if (v > out->pass_need[p]) out->pass_need[p] = v;
         }
         if (pass.blend == SRT_BLEND_SUBTRACT) out->has_negative_passes = 1;
         // One texture unit: a product pass forms colour x tex0 (x the combiner's scale)
@@ -122,9 +123,11 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
         // per unit irradiance bounds the exposure too (see srt_draw).
         if (pass.op == SRT_OP_PRODUCT && caps->gles_version == 1 && caps->texture_units < 2) {
             const float q = max_q(asset->textures[pass.tex0]);
-            for (int c = 0; c < 3; ++c)
-                if (pass.color[c] * q * (float)pass.rgb_scale > out->max_first_stage)
-                    out->max_first_stage = pass.color[c] * q * (float)pass.rgb_scale;
+            for (int c = 0; c < 3; ++c) {
+                const float v = pass.color[c] * q * (float)pass.rgb_scale;
+                if (v > out->max_first_stage) out->max_first_stage = v;
+                if (v > out->pass_need[p]) out->pass_need[p] = v;
+            }
         }
         // Adds must come before subtracts so no partial sum clamps at 0 (writer's rule).
         if (pass.blend == SRT_BLEND_ADD && p > 0 && asset->passes[p - 1].blend == SRT_BLEND_SUBTRACT)

@@ -61,6 +61,9 @@ typedef struct srt_material {
     float texture_bias[SRT_FMT_MAX_TEXTURES][3];
     float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
     float max_first_stage;    // one texture unit: largest colour x tex0 of a product pass (GL ES 1.1)
+    // GL ES 1.1: per pass, the largest value GL clamps at 1 (vertex colour, or colour x tex0
+    // on one texture unit) per unit irradiance: what its exposure must keep below 1.
+    float pass_need[SRT_FMT_MAX_PASSES];
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;
@@ -123,7 +126,11 @@ typedef struct srt_draw_stats {
     int fullscreen_passes;  // doublings, inversions, accumulations, background
     int copies;             // framebuffer-to-texture copies
     int doublings;          // final framebuffer doublings
-    float exposure;         // 2^-m applied to the vertex colours
+    float exposure;         // 2^-m applied to the vertex colours (the first stage's, if staged)
+    // GL ES 1.1, add-only plans: passes are drawn in stages of falling exposure with the
+    // doublings between them, so a huge peak's pass does not push the others below one
+    // framebuffer level (same total doublings). 1 when every pass shares one exposure.
+    int exposure_stages;
     // Vertex-light pairs (CPU: pixel-light pairs) with the light or the eye below the
     // horizon of the shading frame (a back-facing frame included): that light adds 0 there.
     int below_horizon;
