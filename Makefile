@@ -48,6 +48,8 @@ TEST_SRC     := $(wildcard tests/*.cpp)
 # separate programs: the second links the runtime and the headless port.
 BENCH_SRC    := tests/bench/bench_main.cpp
 RUNTIME_BENCH_SRC := tests/bench/runtime_bench.cpp
+# sepal-bench-extremes: the runtime's extreme cases as a contact sheet (extremes.png/.json).
+EXTREMES_SHEET_SRC := tests/bench/extremes_sheet.cpp tests/extremes_runtime_cases.cpp
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -66,6 +68,7 @@ BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
 BIN_BENCH    := $(BUILD)/bin/sepal-bench
 BIN_RUNTIME_BENCH := $(BUILD)/bin/sepal-bench-runtime
+BIN_EXTREMES_SHEET := $(BUILD)/bin/sepal-bench-extremes
 BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
@@ -126,6 +129,7 @@ bench: deps ## benchmarks that produce the README figures (long sweeps live here
 	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH)
 	@$(BIN_BENCH) all --out $(BENCH_OUT)
 	@$(BIN_RUNTIME_BENCH) $(BENCH_OUT) $(BUILD)
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_EXTREMES_SHEET) && $(BIN_EXTREMES_SHEET) $(BENCH_OUT)
 
 clean: ## remove build/
 	rm -rf build
@@ -178,6 +182,12 @@ $(BIN_BENCH): $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	$(Q)$(CXX) $(LDFLAGS) $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
 # sepal-bench-runtime: GL ES frame times against the fill limit (`make bench`).
 $(BIN_RUNTIME_BENCH): $(call obj,$(RUNTIME_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+
+# sepal-bench-extremes: the runtime's extreme cases on every backend as a contact sheet.
+$(BIN_EXTREMES_SHEET): $(call obj,$(EXTREMES_SHEET_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
