@@ -71,9 +71,9 @@ bool vertex_usable(const srt_vertex& v) {
     return dot3(v.normal, v.normal) > 1e-30f;
 }
 
-bool repaired_attributes(const srt_vertex& v, float normal[3], float tangent[4]) {
+bool repaired_attributes(const srt_vertex& v, float normal[3], float tangent[4], ShadingFrame* frame) {
     for (int k = 0; k < 3; ++k) normal[k] = v.normal[k];
-    ShadingFrame fr;
+    ShadingFrame& fr = *frame;
     if (!(shading_frame(v.normal, v.tangent, &fr) & kFrameTangentFallback)) {
         for (int k = 0; k < 4; ++k) tangent[k] = v.tangent[k];
         return false;

@@ -155,7 +155,8 @@ extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
             clip[4 * (size_t)i + row] = acc;
         }
         memcpy(dst, v.position, 3 * sizeof(float));
-        if (srt::repaired_attributes(v, dst + 3, dst + 6)) ++st.fallback_tangents;
+        srt::ShadingFrame frame;
+        if (srt::repaired_attributes(v, dst + 3, dst + 6, &frame)) ++st.fallback_tangents;
         memcpy(dst + 10, v.uv, 2 * sizeof(float));
     }
     const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, st.bad_vertices);

@@ -47,8 +47,9 @@ bool vertex_usable(const srt_vertex& v);
 // The normal and tangent every backend interpolates for a usable vertex: the mesh's own,
 // except a tangent shading_frame would replace (kFrameTangentFallback), which becomes
 // that replacement (unit, perpendicular to n, w = +-1), so per-vertex and per-pixel
-// backends interpolate the same thing. Returns true when the tangent was replaced.
-bool repaired_attributes(const srt_vertex& v, float normal[3], float tangent[4]);
+// backends interpolate the same thing. Also gives the vertex's frame (one shading_frame
+// call). Returns true when the tangent was replaced.
+bool repaired_attributes(const srt_vertex& v, float normal[3], float tangent[4], ShadingFrame* frame);
 
 // Texture coordinates of a direction pair for any parameterization (param.cpp), with the
 // number of frame fallbacks taken (0 or 1) added to *fallbacks. Returns 1 above the

@@ -28,9 +28,8 @@ VertexSetupResult setup_vertices(srt_param param, srt_hemi_map map, const srt_me
             }
             continue;
         }
-        if (repaired_attributes(v, attr, attr + 3)) ++r.fallback_tangents;
         ShadingFrame fr;
-        shading_frame(attr, attr + 3, &fr);
+        if (repaired_attributes(v, attr, attr + 3, &fr)) ++r.fallback_tangents;
         float to_eye[3] = {scene.camera.eye[0] - v.position[0], scene.camera.eye[1] - v.position[1],
                            scene.camera.eye[2] - v.position[2]};
         normalize3(to_eye);
