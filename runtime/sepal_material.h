@@ -25,14 +25,18 @@
 // EQUAL: tex0 x tex1 x colour (two texture units, GL_MODULATE) added with blending, or
 // subtracted. The framebuffer holds [0,1], so the colours carry an exposure 2^-m chosen per
 // frame from the lights so that no partial sum exceeds 1; the final doublings (blend
-// GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale.
+// GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale. Plans that only add are drawn
+// in stages of falling exposure, each pass at the largest its colours allow, with the
+// doublings spread between the stages (a huge peak's pass no longer sinks the others
+// below one framebuffer level; same number of full-screen passes).
 // Fallback paths, each forced by a capability mask so tests run them on any driver:
 //   - no GL_OES_blend_subtract: the framebuffer is inverted (1 - x, a blend with
 //     GL_ONE_MINUS_DST_COLOR), the subtracted passes are added, and it is inverted back:
 //     exact in 8 bits, and 2 full-screen passes in all instead of an extension.
 //   - one texture unit: the paper's two passes per product (G x colour, then H with a
 //     multiplicative blend), the running sum kept in a texture (glCopyTexSubImage2D)
-//     and added back with a full-screen pass.
+//     and added back with a full-screen pass; the exposure also keeps colour x G below 1,
+//     where GL clamps it before the blend.
 // Framebuffer objects are not needed by any GL ES 1.1 path.
 // Limits: viewport up to the size given at creation (copy textures are sized then);
 // 16-bit assets are rounded to 8 bits at upload (GL ES 1.1 has no 16-bit textures).

@@ -1,7 +1,7 @@
 // Per-pixel evaluation of a factored material: frame, directions, factor coordinates
 // (runtime/param.cpp's maths), sum over terms and lights.
-// highp where the GPU has it: mediump (fp16 on most GPUs, and on llvmpipe for uniforms)
-// holds values up to 65504 with 3 decimal digits, and the extremes need more: a point
+// highp where the GPU has it: mediump (fp16 on most GPUs, and for part of the arithmetic
+// on llvmpipe) holds values up to 65504 with 3 decimal digits, and the extremes need more: a point
 // light bright enough to light a surface at 89.9 degrees (intensity 1.8e5 at 4 units)
 // turned the whole quad white (9.7 dB against the CPU backend), and cos(theta_i) at
 // 89.99 degrees is 1.7e-4, below the absolute error of a mediump dot product. Without
