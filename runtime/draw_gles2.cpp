@@ -428,7 +428,9 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
 
 }  // namespace srt
 
-extern "C" srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, srt_error* err) {
+extern "C" srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+                                     srt_error* err) {
+    if (nonfinite_clamped) *nonfinite_clamped = 0;
     if (!m || !rgba) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "read_float: NULL argument");
     if (!m->float_fbo) return srt::fail(err, SRT_ERR_UNSUPPORTED, "read_float: the material has no float target");
     if (width < 1 || height < 1 || width > m->max_width || height > m->max_height)
@@ -439,5 +441,14 @@ extern "C" srt_result srt_read_float(const srt_material* m, int width, int heigh
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba);
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous);
+    // A radiance over 65504 (a light of 1e12, say) is inf in a half-float target.
+    const size_t values = (size_t)width * (size_t)height * 4;
+    int clamped = 0;
+    for (size_t i = 0; i < values; ++i)
+        if (!(fabsf(rgba[i]) <= 65504.0f)) {
+            rgba[i] = isnan(rgba[i]) ? 0.0f : rgba[i] > 0.0f ? 65504.0f : -65504.0f;
+            ++clamped;
+        }
+    if (nonfinite_clamped) *nonfinite_clamped = clamped;
     return srt::gl_check("read_float", err);
 }

@@ -85,7 +85,11 @@ typedef struct srt_material {
 
 // Reads the last frame of a float-target material as linear RGBA floats, bottom row
 // first (GL's order), width x height of the last draw. SRT_ERR_UNSUPPORTED without one.
-srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, srt_error* err);
+// Values the half-float target could not hold come back clamped, never as inf or NaN:
+// overflow (inf) as 65504, the largest half float, NaN as 0; *nonfinite_clamped (may be
+// NULL) receives how many.
+srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+                          srt_error* err);
 
 // How a material is drawn. GL ES 1.1 has only MULTIPASS.
 typedef enum srt_draw_mode {
@@ -156,7 +160,8 @@ typedef struct srt_draw_stats {
     // pass colour over 2^30): vertex colours clamp at 1 instead of the frame failing.
     int exposure_clamped;
     // Irradiance values (GL: vertex-light channels) or radiances (CPU: pixel channels)
-    // that overflowed float or were NaN: clamped to FLT_MAX, NaN to 0.
+    // that overflowed float or were NaN: clamped to FLT_MAX, NaN to 0. (Values a
+    // half-float target overflowed are counted by srt_read_float.)
     int nonfinite_clamped;
     // CPU only: pixel-light pairs where a signed factorization summed to f < 0 in some
     // channel, clamped to 0 as every backend does (GL cannot count them).

@@ -93,6 +93,8 @@ std::vector<Backend> all_backends() {
     gl("gles1 -fbo -npot", 1, SRT_MODE_MULTIPASS, SRT_MASK_FBO | SRT_MASK_NPOT);
     gl("gles2", 2, SRT_MODE_MULTIPASS, 0);
     gl("gles2 -subtract", 2, SRT_MODE_MULTIPASS, SRT_MASK_BLEND_SUBTRACT);
+    gl("gles2 float-target", 2, SRT_MODE_MULTIPASS, 0);
+    b.back().float_target = true;
     gl("gles2-fused", 2, SRT_MODE_FUSED_VERTEX, 0);
     gl("gles2-fused-pixel", 2, SRT_MODE_FUSED_PIXEL, 0);
     Backend cpu;
@@ -129,13 +131,19 @@ Frame render(const Backend& b, const std::vector<uint8_t>& bytes, const sepal_po
     opt.gles_version = b.gles;
     opt.mode = b.mode;
     opt.mask = b.mask;
+    opt.float_target = b.float_target;
     sepal_ports::GlRenderInfo info;
     std::vector<uint8_t> rgba;
     f.ok = sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &f.err);
     if (!f.ok) return f;
     f.stats = info.stats;
-    f.path = info.path;
-    f.image = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+    f.path = info.path + (b.float_target ? ", half-float target" : "");
+    if (b.float_target) {
+        f.image = sepal::Image(s.width, s.height, 3);
+        f.image.data = info.float_rgb;
+    } else {
+        f.image = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+    }
     f.finite = all_finite(f.image);
     return f;
 }

@@ -25,20 +25,22 @@ struct Backend {
     int gles = 1;
     srt_draw_mode mode = SRT_MODE_MULTIPASS;
     uint32_t mask = 0;       // SRT_MASK_* bits forcing the fallback paths
+    bool float_target = false;  // GL ES 2 into a half-float target (read back as floats)
     bool per_vertex() const { return !cpu && mode != SRT_MODE_FUSED_PIXEL; }
 };
 // Every backend, and the masks that force the GL ES 1.1 / GL ES 2 fallbacks: gles1
 // (two units, blend subtract), gles1 without blend subtract (inversion), gles1 with one
 // texture unit (copy texture), both, gles1 with fbo+npot hidden, gles2 multipass with
-// and without blend subtract, gles2-fused, gles2-fused-pixel, cpu.
+// and without blend subtract, gles2 multipass into a half-float target, gles2-fused,
+// gles2-fused-pixel, cpu.
 std::vector<Backend> all_backends();
 
 struct Frame {
     bool ok = false;
     std::string err;        // why not ok (a refusal names the reason)
-    sepal::Image image;     // RGB: GL as read back (0..1); CPU linear radiance
+    sepal::Image image;     // RGB: GL as read back (0..1); float target and CPU: linear radiance
     srt_draw_stats stats{};
-    bool finite = false;    // every value finite (always true for 8-bit GL read-backs)
+    bool finite = false;    // every value finite (trivially true for 8-bit GL read-backs)
     std::string path;       // the GL path taken, as the port describes it
 };
 Frame render(const Backend& b, const std::vector<uint8_t>& asset_bytes, const sepal_ports::SceneSetup& s);

@@ -135,7 +135,9 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         }
         if (ok && material->float_fbo) {
             std::vector<float> f(size_t(setup.width) * setup.height * 4);
-            ok = srt_read_float(material.get(), setup.width, setup.height, f.data(), &e) == SRT_OK;
+            int clamped = 0;
+            ok = srt_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, &e) == SRT_OK;
+            info->stats.nonfinite_clamped += clamped;
             info->float_rgb.resize(size_t(setup.width) * setup.height * 3);
             for (int y = 0; y < setup.height; ++y)  // GL rows go bottom up
                 for (int x = 0; x < setup.width; ++x)

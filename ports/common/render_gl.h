@@ -24,7 +24,8 @@ struct GlRenderInfo {
     std::string device;  // EGL platform, renderer and version
     std::string path;    // e.g. "two texture units, blend subtract"
     double ms = 0;       // time of srt_draw plus glFinish per frame (median over options.frames)
-    // With options.float_target: the frame as linear RGB floats, top row first.
+    // With options.float_target: the frame as linear RGB floats, top row first (values the
+    // half-float target overflowed are clamped and counted in stats.nonfinite_clamped).
     std::vector<float> float_rgb;
 };
 

@@ -59,6 +59,7 @@ std::string short_label(const Backend& b) {
     std::string s;
     if (b.mode == SRT_MODE_FUSED_VERTEX) return "gles2 fused";
     if (b.mode == SRT_MODE_FUSED_PIXEL) return "gles2 fused-px";
+    if (b.float_target) return "gles2 half-float";
     s = b.gles == 1 ? "gles1" : "gles2";
     if (b.mask & SRT_MASK_BLEND_SUBTRACT) s += " -sub";
     if (b.mask & SRT_MASK_MULTITEXTURE) s += " -mtex";
