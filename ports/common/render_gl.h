@@ -60,6 +60,10 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
 // Reads a whole asset file (bounded by the format's maximum size).
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err);
+// The frame's nonzero horizon, repair, skip and clamp counters ("below_horizon 1506,
+// fallback_tangents 13, ..."), or "none": what sepal-view prints so that nothing the
+// runtime did is silent.
+std::string describe_counters(const srt_draw_stats& s);
 // Parses "subtract,multitexture,fbo,npot" into SRT_MASK_* bits.
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err);
 
