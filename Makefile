@@ -49,6 +49,8 @@ TEST_SRC     := $(wildcard tests/*.cpp)
 BENCH_SRC    := tests/bench/bench_main.cpp
 RUNTIME_BENCH_SRC := tests/bench/runtime_bench.cpp
 TRADEOFF_BENCH_SRC := tests/bench/tradeoff.cpp
+# sepal-bench-extremes: the runtime's extreme cases as a contact sheet (extremes.png/.json).
+EXTREMES_SHEET_SRC := tests/bench/extremes_sheet.cpp tests/extremes_runtime_cases.cpp
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -68,6 +70,7 @@ BIN_TESTS    := $(BUILD)/bin/sepal-tests
 BIN_BENCH    := $(BUILD)/bin/sepal-bench
 BIN_RUNTIME_BENCH := $(BUILD)/bin/sepal-bench-runtime
 BIN_TRADEOFF_BENCH := $(BUILD)/bin/sepal-bench-tradeoff
+BIN_EXTREMES_SHEET := $(BUILD)/bin/sepal-bench-extremes
 BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
@@ -125,9 +128,10 @@ update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH) $(BIN_TRADEOFF_BENCH)
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH) $(BIN_TRADEOFF_BENCH) $(BIN_EXTREMES_SHEET)
 	@$(BIN_BENCH) all --out $(BENCH_OUT)
 	@$(BIN_RUNTIME_BENCH) $(BENCH_OUT) $(BUILD)
+	@$(BIN_EXTREMES_SHEET) $(BENCH_OUT)
 	@$(BIN_TRADEOFF_BENCH) --out $(BENCH_OUT)
 
 clean: ## remove build/
@@ -187,6 +191,11 @@ $(BIN_RUNTIME_BENCH): $(call obj,$(RUNTIME_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEAD
 
 # sepal-bench-tradeoff: the speed-accuracy sweep (`make bench`, build/bench/tradeoff.*).
 $(BIN_TRADEOFF_BENCH): $(call obj,$(TRADEOFF_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+# sepal-bench-extremes: the runtime's extreme cases on every backend as a contact sheet.
+$(BIN_EXTREMES_SHEET): $(call obj,$(EXTREMES_SHEET_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@

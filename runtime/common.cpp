@@ -37,26 +37,50 @@ bool normalize3(float* v) {
     return true;
 }
 
-bool shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f) {
+int shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f) {
+    int fallbacks = 0;
     float* n = f->n;
     float* t = f->t;
     n[0] = normal[0], n[1] = normal[1], n[2] = normal[2];
-    if (!normalize3(n)) n[0] = 0, n[1] = 0, n[2] = 1;
+    if (!normalize3(n)) {
+        n[0] = 0, n[1] = 0, n[2] = 1;
+        fallbacks |= kFrameNormalFallback;
+    }
     t[0] = tangent[0], t[1] = tangent[1], t[2] = tangent[2];
     float d = dot3(t, n);
     for (int k = 0; k < 3; ++k) t[k] -= d * n[k];
-    bool ok = normalize3(t);
-    if (!ok) {
+    // Within 1e-6 of parallel (or zero, or NaN): the threshold of the exact renderer.
+    if (!(dot3(t, t) > 1e-12f) || !normalize3(t)) {
         const float axis[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
         d = dot3(axis, n);
         for (int k = 0; k < 3; ++k) t[k] = axis[k] - d * n[k];
         normalize3(t);
+        fallbacks |= kFrameTangentFallback;
     }
+    if (!isfinite(tangent[3])) fallbacks |= kFrameTangentFallback;  // handedness: +1 below
     const float hand = tangent[3] < 0.0f ? -1.0f : 1.0f;
     f->s[0] = hand * (n[1] * t[2] - n[2] * t[1]);
     f->s[1] = hand * (n[2] * t[0] - n[0] * t[2]);
     f->s[2] = hand * (n[0] * t[1] - n[1] * t[0]);
-    return ok;
+    return fallbacks;
+}
+
+bool vertex_usable(const srt_vertex& v) {
+    for (int k = 0; k < 3; ++k)
+        if (!isfinite(v.position[k]) || !isfinite(v.normal[k])) return false;
+    return dot3(v.normal, v.normal) > 1e-30f;
+}
+
+bool repaired_attributes(const srt_vertex& v, float normal[3], float tangent[4], ShadingFrame* frame) {
+    for (int k = 0; k < 3; ++k) normal[k] = v.normal[k];
+    ShadingFrame& fr = *frame;
+    if (!(shading_frame(v.normal, v.tangent, &fr) & kFrameTangentFallback)) {
+        for (int k = 0; k < 4; ++k) tangent[k] = v.tangent[k];
+        return false;
+    }
+    for (int k = 0; k < 3; ++k) tangent[k] = fr.t[k];
+    tangent[3] = v.tangent[3] < 0.0f ? -1.0f : 1.0f;
+    return true;
 }
 
 float light_direction(const srt_light& light, const float position[3], float dir[3]) {

@@ -1,10 +1,12 @@
 // The CPU backend (see srt_draw_cpu in sepal_material.h).
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "internal.h"
 #include "sepal_material.h"
 #include "sepal_raster.h"
+#include "vertex_setup.h"
 
 namespace {
 
@@ -17,13 +19,16 @@ struct Shader {
     const srt_scene* scene;
     float* color;
     int width;
-    int below_horizon;
+    srt_draw_stats st;  // per-pixel counters
     const uint8_t* diffuse;
     int diffuse_w, diffuse_h;
 };
 
 // Bilinear, repeat wrapping, level 0: the diffuse map at a mesh UV (row 0 at v = 0).
 float diffuse_sample(const Shader& s, float u, float v, int c) {
+    // Repeat wrapping first, so no coordinate (huge, or NaN from a broken UV) overflows int.
+    u = isfinite(u) ? u - floorf(u) : 0.0f;
+    v = isfinite(v) ? v - floorf(v) : 0.0f;
     const float x = u * (float)s.diffuse_w - 0.5f, y = v * (float)s.diffuse_h - 0.5f;
     const float fx = floorf(x), fy = floorf(y), ax = x - fx, ay = y - fy;
     auto wrap = [](int k, int n) { return ((k % n) + n) % n; };
@@ -67,7 +72,9 @@ void shade(void* user, int x, int y, float, const float* v) {
     Shader& s = *static_cast<Shader*>(user);
     const srt_asset& a = *s.asset;
     srt::ShadingFrame fr;
-    srt::shading_frame(v + 3, v + 6, &fr);
+    // The corners' frames are usable (bad vertices are not drawn, tangents repaired), but
+    // interpolation can still cancel them out (opposite normals or tangents).
+    if (srt::shading_frame(v + 3, v + 6, &fr)) ++s.st.pixel_frame_fallbacks;
     float to_eye[3] = {s.scene->camera.eye[0] - v[0], s.scene->camera.eye[1] - v[1], s.scene->camera.eye[2] - v[2]};
     srt::normalize3(to_eye);
     float wo[3];
@@ -81,9 +88,9 @@ void shade(void* user, int x, int y, float, const float* v) {
         const float falloff = srt::light_direction(light, v, to_light);
         fr.to_local(to_light, wi);
         float guv[2], huv[2];
-        if (srt_param_texcoords_pixel((srt_param)a.material.param, (srt_hemi_map)a.material.map, wi, wo, guv,
-                                      huv) <= 0) {
-            ++s.below_horizon;
+        if (srt::param_texcoords((srt_param)a.material.param, (srt_hemi_map)a.material.map, wi, wo, guv, huv, true,
+                                 &s.st.param_fallbacks) <= 0) {
+            ++s.st.below_horizon;
             continue;
         }
         float f[3] = {0, 0, 0};
@@ -94,12 +101,17 @@ void shade(void* user, int x, int y, float, const float* v) {
         for (int c = 0; c < 3; ++c) f[c] *= a.material.ratio[c];
         // A signed factorization can dip below 0 where f is near 0: clamp per light, as
         // the fused shaders do (a BRDF is never negative).
+        if (f[0] < 0.0f || f[1] < 0.0f || f[2] < 0.0f) ++s.st.negative_clamped;
         for (int c = 0; c < 3; ++c) sum[c] += (f[c] > 0.0f ? f[c] : 0.0f) * wi[2] * falloff * light.intensity[c];
     }
     float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;
     for (int c = 0; c < 3; ++c) {
         out[c] = sum[c];
         if (s.diffuse) out[c] *= diffuse_sample(s, v[10], v[11], c);
+        if (!(out[c] <= FLT_MAX)) {  // overflow (huge factors times a huge light) or inf * 0
+            out[c] = isnan(out[c]) ? 0.0f : FLT_MAX;
+            ++s.st.nonfinite_clamped;
+        }
     }
 }
 
@@ -121,8 +133,18 @@ extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
     const int n = d->mesh->vertex_count;
     float* clip = d->scratch;
     float* vary = d->scratch + 4 * (size_t)n;
+    srt_draw_stats st = {};
     for (int i = 0; i < n; ++i) {
         const srt_vertex& v = d->mesh->vertices[i];
+        float* dst = vary + (size_t)i * kVaryings;
+        if (!srt::vertex_usable(v)) {
+            // A NaN clip position makes the rasterizer skip every triangle using it, as the
+            // GL backends skip them.
+            ++st.bad_vertices;
+            for (int k = 0; k < 4; ++k) clip[4 * (size_t)i + k] = NAN;
+            memset(dst, 0, kVaryings * sizeof(float));
+            continue;
+        }
         for (int row = 0; row < 4; ++row) {
             float acc = 0.0f;
             for (int k = 0; k < 4; ++k) {
@@ -132,12 +154,17 @@ extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
             }
             clip[4 * (size_t)i + row] = acc;
         }
-        float* dst = vary + (size_t)i * kVaryings;
         memcpy(dst, v.position, 3 * sizeof(float));
-        memcpy(dst + 3, v.normal, 3 * sizeof(float));
-        memcpy(dst + 6, v.tangent, 4 * sizeof(float));
+        srt::ShadingFrame frame;
+        if (srt::repaired_attributes(v, dst + 3, dst + 6, &frame)) ++st.fallback_tangents;
         memcpy(dst + 10, v.uv, 2 * sizeof(float));
     }
+    const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, st.bad_vertices);
+    if (tri.bad_index >= 0)
+        return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "cpu: index %d is %u; the mesh has %d vertices", tri.bad_index,
+                         d->mesh->indices[tri.bad_index], n);
+    st.skipped_triangles = tri.skipped;
+    st.zero_area_triangles = tri.zero_area;
     const size_t pixels = (size_t)d->width * (size_t)d->height;
     for (size_t p = 0; p < pixels; ++p)
         for (int c = 0; c < 3; ++c) d->color[p * 3 + c] = d->scene->background[c];
@@ -171,5 +198,17 @@ extern "C" srt_result srt_draw_cpu(const srt_cpu_desc* d, srt_error* err) {
     rd.depth_func = SRT_DEPTH_LEQUAL;
     rd.fragment = shade;
     rd.user = &s;
-    return srt_raster_triangles(&target, &rd, err);
+    r = srt_raster_triangles(&target, &rd, err);
+    if (d->stats) {
+        srt_draw_stats& out = *d->stats;
+        out = st;
+        out.draw_calls = 1;
+        out.exposure = 1.0f;
+        out.below_horizon = s.st.below_horizon;
+        out.param_fallbacks = s.st.param_fallbacks;
+        out.negative_clamped = s.st.negative_clamped;
+        out.nonfinite_clamped = s.st.nonfinite_clamped;
+        out.pixel_frame_fallbacks = s.st.pixel_frame_fallbacks;
+    }
+    return r;
 }

@@ -24,6 +24,7 @@ struct Frame {
     float exposure;
     srt_draw_stats* stats;
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
+    int bad_vertices;  // > 0: triangles touching one are skipped
 };
 
 void set_equation(const srt_material* m, GLenum eq) {
@@ -79,8 +80,11 @@ void mesh_arrays(const Frame& f, bool colors) {
     }
 }
 
+// One mesh pass: the whole index list, or the runs of it without bad vertices.
 void draw_mesh(const Frame& f) {
-    glDrawElements(GL_TRIANGLES, f.mesh->index_count, GL_UNSIGNED_SHORT, f.mesh->indices);
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
+    });
     ++f.stats->draw_calls;
 }
 
@@ -207,6 +211,16 @@ void pass_single_unit(Frame& f, const srt_fmt_pass& pass, int light, bool invert
     copy_to_accumulator(f);
 }
 
+// Scale up: each full-screen pass with blend (GL_DST_COLOR, GL_ONE) doubles the image.
+// Leaves depth testing off.
+void doublings(Frame& f, int n) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ONE);
+    for (int i = 0; i < n; ++i) fullscreen(f, 0.0f, false, kWhite);
+}
+
 // framebuffer = 1 - framebuffer (and the running sum with it, on the single-unit path).
 void invert(Frame& f) {
     static const float kWhite[4] = {1, 1, 1, 1};
@@ -227,7 +241,8 @@ srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     srt_result r;
     const float* proj = prep.proj;
     const float* view = prep.view;
-    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false};
+    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
+               prep.vertices.bad_vertices};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -254,9 +269,29 @@ srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     glDepthFunc(GL_EQUAL);
     if ((r = srt::gl_check("depth pre-pass", err)) != SRT_OK) return r;
 
+    // The plan's order; staged (add-only plans): by falling exposure shift, stable.
+    uint16_t order[SRT_FMT_MAX_PASSES];
+    const uint32_t count = m->plan.pass_count;
+    for (uint32_t p = 0; p < count; ++p) {
+        uint32_t k = p;
+        for (; prep.staged && k > 0 && prep.pass_shift[order[k - 1]] < prep.pass_shift[p]; --k) order[k] = order[k - 1];
+        order[k] = (uint16_t)p;
+    }
+    int shift = count > 0 && prep.staged ? prep.pass_shift[order[0]] : 0;
+    int remaining = stats->doublings;  // doublings still to draw
     bool inverted = false;
-    for (uint32_t p = 0; p < m->plan.pass_count; ++p) {
-        const srt_fmt_pass& pass = m->passes[p];
+    for (uint32_t i = 0; i < count; ++i) {
+        const srt_fmt_pass& pass = m->passes[order[i]];
+        if (prep.staged && prep.pass_shift[order[i]] < shift) {
+            // Next stage: double what is drawn so far up to this stage's exposure.
+            const int n = shift - prep.pass_shift[order[i]];
+            doublings(f, n);
+            if (m->single_unit) copy_to_accumulator(f);  // the running sum, doubled
+            glEnable(GL_DEPTH_TEST);
+            remaining -= n;
+            shift = prep.pass_shift[order[i]];
+            f.exposure = ldexpf(1.0f, -shift);
+        }
         if (pass.blend == SRT_BLEND_SUBTRACT && m->subtract_by_inversion && !inverted) {
             invert(f);
             inverted = true;
@@ -271,12 +306,7 @@ srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
         }
     }
     if (inverted) invert(f);
-    // Scale up: each full-screen pass with blend (GL_DST_COLOR, GL_ONE) doubles the image.
-    static const float kWhite[4] = {1, 1, 1, 1};
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_DST_COLOR, GL_ONE);
-    for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, false, kWhite);
+    doublings(f, remaining);
     // Diffuse map (Fig. 13): one more mesh pass multiplying the framebuffer by the
     // texture at the mesh's UVs; after the doublings, so the product keeps their precision.
     if (d->diffuse_texture) {

@@ -48,6 +48,8 @@ struct Frame {
     float mvp[16];
     float exposure;
     srt_draw_stats* stats;
+    int bad_vertices;  // > 0: triangles touching one are skipped
+    bool repaired;     // some tangents were replaced: per-pixel attributes come from scratch
 };
 
 void mat4_mul(const float* a, const float* b, float* out) {
@@ -71,8 +73,11 @@ void bind_texture(GLenum unit, GLuint texture) {
     glBindTexture(GL_TEXTURE_2D, texture);
 }
 
+// One mesh pass: the whole index list, or the runs of it without bad vertices.
 void draw_mesh(const Frame& f) {
-    glDrawElements(GL_TRIANGLES, f.d->mesh->index_count, GL_UNSIGNED_SHORT, f.d->mesh->indices);
+    srt::for_each_drawable_run(*f.d->mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.d->mesh->indices + first);
+    });
     ++f.stats->draw_calls;
 }
 
@@ -219,8 +224,15 @@ void fused(const Frame& f, bool per_pixel) {
             attribs(3);
             const srt_vertex* v = f.d->mesh->vertices;
             glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(srt_vertex), v->position);
-            glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(srt_vertex), v->normal);
-            glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(srt_vertex), v->tangent);
+            if (f.repaired) {  // the normals and tangents the CPU backend interpolates too
+                const float* a = srt::vertex_frames(f.scratch, n, scene.light_count);
+                const GLsizei stride = srt::kFrameFloats * sizeof(float);
+                glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, a);
+                glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, a + 3);
+            } else {
+                glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(srt_vertex), v->normal);
+                glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(srt_vertex), v->tangent);
+            }
             draw_mesh(f);
             continue;
         }
@@ -316,7 +328,8 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
     } else if (d->mode != SRT_MODE_FUSED_PIXEL) {
         return fail(err, SRT_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
     }
-    Frame f = {m, d, d->scratch, {}, prep.exposure, stats};
+    Frame f = {m, d, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
+               prep.vertices.fallback_tangents > 0};
     mat4_mul(prep.proj, prep.view, f.mvp);
     GLint previous_fbo = 0;
     if (m->float_fbo) {
@@ -415,7 +428,9 @@ srt_result draw_gles2(const srt_draw_desc* d, const FramePrep& prep, srt_draw_st
 
 }  // namespace srt
 
-extern "C" srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, srt_error* err) {
+extern "C" srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+                                     srt_error* err) {
+    if (nonfinite_clamped) *nonfinite_clamped = 0;
     if (!m || !rgba) return srt::fail(err, SRT_ERR_INVALID_ARGUMENT, "read_float: NULL argument");
     if (!m->float_fbo) return srt::fail(err, SRT_ERR_UNSUPPORTED, "read_float: the material has no float target");
     if (width < 1 || height < 1 || width > m->max_width || height > m->max_height)
@@ -426,5 +441,14 @@ extern "C" srt_result srt_read_float(const srt_material* m, int width, int heigh
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba);
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous);
+    // A radiance over 65504 (a light of 1e12, say) is inf in a half-float target.
+    const size_t values = (size_t)width * (size_t)height * 4;
+    int clamped = 0;
+    for (size_t i = 0; i < values; ++i)
+        if (!(fabsf(rgba[i]) <= 65504.0f)) {
+            rgba[i] = isnan(rgba[i]) ? 0.0f : rgba[i] > 0.0f ? 65504.0f : -65504.0f;
+            ++clamped;
+        }
+    if (nonfinite_clamped) *nonfinite_clamped = clamped;
     return srt::gl_check("read_float", err);
 }

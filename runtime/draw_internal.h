@@ -12,6 +12,11 @@ struct FramePrep {
     // shaders compute f E directly and let the framebuffer clamp it at 1, as the display
     // would.
     float exposure;
+    // GL ES 1.1 add-only plans: each pass's own exposure shift (2^-shift), at most the
+    // frame's; passes are drawn by falling shift with doublings in between. Otherwise
+    // staged is false and every pass uses `exposure`.
+    bool staged;
+    int pass_shift[SRT_FMT_MAX_PASSES];
 };
 
 srt_result draw_gles1(const srt_draw_desc* d, const FramePrep& prep, srt_draw_stats* stats, srt_error* err);

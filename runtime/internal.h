@@ -1,6 +1,7 @@
 // Runtime internals shared by its translation units (not part of the API).
 #pragma once
 #include "sepal_rt.h"
+#include "sepal_format.h"
 #include "sepal_scene.h"
 
 namespace srt {
@@ -26,15 +27,35 @@ inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * 
 bool normalize3(float* v);
 
 // An orthonormal shading frame (t, s, n) from a (possibly interpolated) normal and a
-// tangent with handedness in w: Gram-Schmidt, with any perpendicular tangent when the
-// given one is degenerate. Returns false when that fallback was needed.
+// tangent with handedness in w: Gram-Schmidt, with fallbacks where the input cannot give
+// one. Returns the fallbacks taken (0 for none):
+//   kFrameNormalFallback: the normal is zero or not finite; n = +z (world) is used;
+//   kFrameTangentFallback: the tangent is zero, within 1e-6 of parallel to n, or not
+//     finite: t = the x (or y) axis made perpendicular to n; or its handedness w is not
+//     finite: +1. (A finite w keeps its sign, as in the exact renderer.)
+enum { kFrameNormalFallback = 1, kFrameTangentFallback = 2 };
 struct ShadingFrame {
     float t[3], s[3], n[3];
     void to_local(const float* w, float* out) const {
         out[0] = dot3(w, t), out[1] = dot3(w, s), out[2] = dot3(w, n);
     }
 };
-bool shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f);
+int shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f);
+
+// A vertex can be drawn and shaded: finite position, finite normal of non-zero length.
+bool vertex_usable(const srt_vertex& v);
+// The normal and tangent every backend interpolates for a usable vertex: the mesh's own,
+// except a tangent shading_frame would replace (kFrameTangentFallback), which becomes
+// that replacement (unit, perpendicular to n, w = +-1), so per-vertex and per-pixel
+// backends interpolate the same thing. Also gives the vertex's frame (one shading_frame
+// call). Returns true when the tangent was replaced.
+bool repaired_attributes(const srt_vertex& v, float normal[3], float tangent[4], ShadingFrame* frame);
+
+// Texture coordinates of a direction pair for any parameterization (param.cpp), with the
+// number of frame fallbacks taken (0 or 1) added to *fallbacks. Returns 1 above the
+// horizon, 0 below, -1 for a per-pixel-only parameterization when per_pixel is false.
+int param_texcoords(srt_param p, srt_hemi_map m, const float wi[3], const float wo[3], float g[2],
+                    float h[2], bool per_pixel, int* fallbacks);
 
 // Unit direction from a surface point towards a light, and the light's falloff there
 // (1/d^2 for point lights, 1 for directional ones).

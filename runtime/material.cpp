@@ -11,7 +11,7 @@ namespace {
 
 // Uploads one texture with all its levels. 16-bit data is rounded to 8 bits row by row
 // through a stack buffer (no allocation).
-srt_result upload(const srt_asset_texture& t, GLuint name, bool wrap, srt_error* err) {
+srt_result upload(const srt_asset_texture& t, GLuint name, bool wrap, bool mips, srt_error* err) {
     const srt_fmt_texture& d = t.desc;
     const GLenum format = d.channels == 1 ? GL_LUMINANCE : GL_RGB;
     glBindTexture(GL_TEXTURE_2D, name);
@@ -41,12 +41,32 @@ srt_result upload(const srt_asset_texture& t, GLuint name, bool wrap, srt_error*
         h = h > 1 ? h / 2 : 1;
     }
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                    d.levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+                    d.levels > 1 && mips ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     // Factors clamp at the hemisphere's rim; elevation/azimuth's H is periodic in phi.
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE);
     return srt::gl_check("texture upload", err);
+}
+
+// Largest stored q of a texture, over every level and channel.
+float max_q(const srt_asset_texture& t) {
+    const srt_fmt_texture& d = t.desc;
+    uint32_t best = 0;
+    for (uint32_t level = 0; level < d.levels; ++level) {
+        const uint8_t* p = t.level_data[level];
+        const uint32_t values = t.level_bytes[level] / (d.bits / 8);
+        for (uint32_t i = 0; i < values; ++i) {
+            uint32_t q = p[i];
+            if (d.bits == 16) {
+                uint16_t v;
+                memcpy(&v, p + 2 * i, 2);
+                q = v;
+            }
+            if (q > best) best = q;
+        }
+    }
+    return (float)best / (d.bits == 8 ? 255.0f : 65535.0f);
 }
 
 int next_pow2(int v) {
@@ -95,8 +115,20 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
         for (int c = 0; c < 3; ++c) {
             const float v = caps->gles_version == 1 ? pass.color[c] / boost : 0.0f;
             if (v > out->max_pass_color) out->max_pass_color = v;
+            if (v > out->pass_need[p]) out->pass_need[p] = v;
         }
         if (pass.blend == SRT_BLEND_SUBTRACT) out->has_negative_passes = 1;
+        // One texture unit: a product pass forms colour x tex0 (x the combiner's scale)
+        // before the blend multiplies it by tex1, and GL clamps that stage at 1: its peak
+        // per unit irradiance bounds the exposure too (see srt_draw).
+        if (pass.op == SRT_OP_PRODUCT && caps->gles_version == 1 && caps->texture_units < 2) {
+            const float q = max_q(asset->textures[pass.tex0]);
+            for (int c = 0; c < 3; ++c) {
+                const float v = pass.color[c] * q * (float)pass.rgb_scale;
+                if (v > out->max_first_stage) out->max_first_stage = v;
+                if (v > out->pass_need[p]) out->pass_need[p] = v;
+            }
+        }
         // Adds must come before subtracts so no partial sum clamps at 0 (writer's rule).
         if (pass.blend == SRT_BLEND_ADD && p > 0 && asset->passes[p - 1].blend == SRT_BLEND_SUBTRACT)
             return srt::fail(err, SRT_ERR_INVALID_ARGUMENT,
@@ -117,7 +149,13 @@ extern "C" srt_result srt_material_create(const srt_caps* caps, const srt_asset*
         out->term_textures[td.term][td.role] = i;  // the reader checked one G and one H per term
         for (int c = 0; c < 3; ++c) out->texture_scale[i][c] = td.scale[c], out->texture_bias[i][c] = td.bias[c];
         const bool wrap = info.param == SRT_PARAM_ELEV_AZIM && td.role == SRT_ROLE_H;
-        srt_result r = upload(asset->textures[i], out->gl_textures[i], wrap, err);
+        // The per-pixel-only parameterizations' H coordinates jump where their frame is
+        // undefined (rusinkiewicz: phi_h at h = n; elev-azim: the phi seam), so GL's
+        // derivative-based MIP selection would read the coarsest levels there (measured:
+        // 14.7 dB against the CPU backend on a mirror scene, h = n everywhere). Those H
+        // textures are sampled at level 0, as the CPU backend samples every texture.
+        const bool pixel_only = info.param == SRT_PARAM_RUSINKIEWICZ || info.param == SRT_PARAM_ELEV_AZIM;
+        srt_result r = upload(asset->textures[i], out->gl_textures[i], wrap, !(pixel_only && td.role == SRT_ROLE_H), err);
         if (r != SRT_OK) {
             srt_material_destroy(out);
             return r;

@@ -25,14 +25,18 @@
 // EQUAL: tex0 x tex1 x colour (two texture units, GL_MODULATE) added with blending, or
 // subtracted. The framebuffer holds [0,1], so the colours carry an exposure 2^-m chosen per
 // frame from the lights so that no partial sum exceeds 1; the final doublings (blend
-// GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale.
+// GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale. Plans that only add are drawn
+// in stages of falling exposure, each pass at the largest its colours allow, with the
+// doublings spread between the stages (a huge peak's pass no longer sinks the others
+// below one framebuffer level; same number of full-screen passes).
 // Fallback paths, each forced by a capability mask so tests run them on any driver:
 //   - no GL_OES_blend_subtract: the framebuffer is inverted (1 - x, a blend with
 //     GL_ONE_MINUS_DST_COLOR), the subtracted passes are added, and it is inverted back:
 //     exact in 8 bits, and 2 full-screen passes in all instead of an extension.
 //   - one texture unit: the paper's two passes per product (G x colour, then H with a
 //     multiplicative blend), the running sum kept in a texture (glCopyTexSubImage2D)
-//     and added back with a full-screen pass.
+//     and added back with a full-screen pass; the exposure also keeps colour x G below 1,
+//     where GL clamps it before the blend.
 // Framebuffer objects are not needed by any GL ES 1.1 path.
 // Limits: viewport up to the size given at creation (copy textures are sized then);
 // 16-bit assets are rounded to 8 bits at upload (GL ES 1.1 has no 16-bit textures).
@@ -60,6 +64,10 @@ typedef struct srt_material {
     float texture_scale[SRT_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
     float texture_bias[SRT_FMT_MAX_TEXTURES][3];
     float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
+    float max_first_stage;    // one texture unit: largest colour x tex0 of a product pass (GL ES 1.1)
+    // GL ES 1.1: per pass, the largest value GL clamps at 1 (vertex colour, or colour x tex0
+    // on one texture unit) per unit irradiance: what its exposure must keep below 1.
+    float pass_need[SRT_FMT_MAX_PASSES];
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;
@@ -77,7 +85,11 @@ typedef struct srt_material {
 
 // Reads the last frame of a float-target material as linear RGBA floats, bottom row
 // first (GL's order), width x height of the last draw. SRT_ERR_UNSUPPORTED without one.
-srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, srt_error* err);
+// Values the half-float target could not hold come back clamped, never as inf or NaN:
+// overflow (inf) as 65504, the largest half float, NaN as 0; *nonfinite_clamped (may be
+// NULL) receives how many.
+srt_result srt_read_float(const srt_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+                          srt_error* err);
 
 // How a material is drawn. GL ES 1.1 has only MULTIPASS.
 typedef enum srt_draw_mode {
@@ -112,13 +124,51 @@ srt_result srt_texture_create_rgba8(const uint8_t* rgba, int width, int height, 
                                     srt_error* err);
 void srt_texture_destroy(uint32_t texture);
 
+// What a frame cost, and every repair, skip or clamp the runtime made on the way: nothing
+// it does to odd input is silent. Units: GL backends count per vertex (and vertex-light
+// pair) on the CPU side; the CPU backend counts vertices the same way and per pixel (and
+// pixel-light pair) where it says so. The fused-pixel shader takes the same per-pixel
+// fallbacks as the CPU backend but cannot count them: its counts are the per-vertex ones.
 typedef struct srt_draw_stats {
     int draw_calls;         // mesh passes, including the depth pre-pass
     int fullscreen_passes;  // doublings, inversions, accumulations, background
     int copies;             // framebuffer-to-texture copies
     int doublings;          // final framebuffer doublings
-    float exposure;         // 2^-m applied to the vertex colours
-    int below_horizon;      // vertex-light pairs with the light or the eye below the horizon
+    float exposure;         // 2^-m applied to the vertex colours (the first stage's, if staged)
+    // GL ES 1.1, add-only plans: passes are drawn in stages of falling exposure with the
+    // doublings between them, so a huge peak's pass does not push the others below one
+    // framebuffer level (same total doublings). 1 when every pass shares one exposure.
+    int exposure_stages;
+    // Vertex-light pairs (CPU: pixel-light pairs) with the light or the eye below the
+    // horizon of the shading frame (a back-facing frame included): that light adds 0 there.
+    int below_horizon;
+    // Vertices whose tangent was zero, parallel to the normal or not finite (xyz or the
+    // handedness w): any unit vector perpendicular to the normal is used, handedness +1.
+    int fallback_tangents;
+    // Vertices with a non-finite position or a zero or non-finite normal: they cannot be
+    // placed or shaded, and every triangle using one is skipped (skipped_triangles).
+    int bad_vertices;
+    int skipped_triangles;
+    // Triangles with repeated or collinear corners (zero area in world space). Drawn as
+    // they are: GL and the CPU rasterizer cover no pixel with them.
+    int zero_area_triangles;
+    // Direction pairs (vertex-light; CPU: pixel-light) where the parameterization's frame
+    // is undefined and a fixed one is used: gs-half with h within 1e-3 rad of the tangent,
+    // rusinkiewicz with h within 1e-6 rad of the normal, h itself when wi = -wo.
+    int param_fallbacks;
+    // 1 when the plan paths needed an exposure below 2^-30 (irradiance times the largest
+    // pass colour over 2^30): vertex colours clamp at 1 instead of the frame failing.
+    int exposure_clamped;
+    // Irradiance values (GL: vertex-light channels) or radiances (CPU: pixel channels)
+    // that overflowed float or were NaN: clamped to FLT_MAX, NaN to 0. (Values a
+    // half-float target overflowed are counted by srt_read_float.)
+    int nonfinite_clamped;
+    // CPU only: pixel-light pairs where a signed factorization summed to f < 0 in some
+    // channel, clamped to 0 as every backend does (GL cannot count them).
+    int negative_clamped;
+    // CPU only: pixels whose interpolated frame was degenerate (normals or tangents of
+    // the triangle's corners cancelling out): the fallback frame is used.
+    int pixel_frame_fallbacks;
 } srt_draw_stats;
 
 srt_result srt_draw(const srt_draw_desc* desc, srt_draw_stats* stats, srt_error* err);
@@ -144,6 +194,8 @@ typedef struct srt_cpu_desc {
     // bilinear at level 0 with repeat wrapping; NULL for none.
     const uint8_t* diffuse_rgba;
     int diffuse_width, diffuse_height;
+    // Optional: the frame's counters (draw_calls 1, the repair, skip and clamp counts).
+    srt_draw_stats* stats;
 } srt_cpu_desc;
 
 size_t srt_cpu_scratch_floats(int vertex_count);

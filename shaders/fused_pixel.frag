@@ -1,8 +1,16 @@
 // Per-pixel evaluation of a factored material: frame, directions, factor coordinates
-// (runtime/param.cpp's maths), sum over terms and lights. Written for mediump: every
-// quantity is a direction, an angle, a texture coordinate or a radiance of modest range;
-// world positions stay within a few units of the origin in sepal's scenes.
+// (runtime/param.cpp's maths), sum over terms and lights.
+// highp where the GPU has it: mediump (fp16 on most GPUs, and for part of the arithmetic
+// on llvmpipe) holds values up to 65504 with 3 decimal digits, and the extremes need more: a point
+// light bright enough to light a surface at 89.9 degrees (intensity 1.8e5 at 4 units)
+// turned the whole quad white (9.7 dB against the CPU backend), and cos(theta_i) at
+// 89.99 degrees is 1.7e-4, below the absolute error of a mediump dot product. Without
+// highp the shader still runs, with those limits (README, "The runtime's backends").
+#ifdef GL_FRAGMENT_PRECISION_HIGH
+precision highp float;
+#else
 precision mediump float;
+#endif
 uniform sampler2D u_g[MAX_TERMS];
 uniform sampler2D u_h[MAX_TERMS];
 uniform vec3 u_g_scale[MAX_TERMS];
@@ -33,8 +41,10 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
         g = hemi(wi);
         h = hemi(wo);
     } else if (u_param == 1) {  // gs-half, Kautz-McCool eq. 6
-        vec3 tp = vec3(1.0, 0.0, 0.0) - hv.x * hv;
-        tp = dot(tp, tp) > 1e-6 ? normalize(tp) : normalize(vec3(0.0, 1.0, 0.0) - hv.y * hv);
+        // t - (h.t) h with 1 - h.x^2 written as h.y^2 + h.z^2 (no cancellation near h = t);
+        // within 1e-3 rad of t (|t'|^2 = 1 - h.x^2 <= 1e-6) Gram-Schmidt on s instead.
+        vec3 tp = vec3(hv.y * hv.y + hv.z * hv.z, -hv.x * hv.y, -hv.x * hv.z);
+        tp = tp.x > 1e-6 ? normalize(tp) : normalize(vec3(-hv.x * hv.y, hv.x * hv.x + hv.z * hv.z, -hv.y * hv.z));
         vec3 sp = cross(hv, tp);
         g = hemi(hv);
         h = hemi(vec3(dot(wi, tp), dot(wi, sp), dot(wi, hv)));
@@ -42,10 +52,13 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
         g = hemi(wo);
         h = hemi(hv);
     } else if (u_param == 3) {  // rusinkiewicz: h rotated to the pole
-        float ct = min(hv.z, 1.0);
-        float st = sqrt(max(0.0, 1.0 - ct * ct));
-        float phi = atan(hv.y, hv.x);
-        float cp = cos(phi), sn = sin(phi);
+        // cos and sin of phi_h from h itself: atan(0, 0) is undefined in GLSL, and h = n
+        // happens (light and eye in the mirror direction). At the pole phi_h = 0.
+        float ct = hv.z;
+        float st2 = dot(hv.xy, hv.xy);
+        float st = sqrt(st2);
+        vec2 cs = st2 > 1e-12 ? hv.xy / st : vec2(1.0, 0.0);
+        float cp = cs.x, sn = cs.y;
         float x1 = wi.x * cp + wi.y * sn, y1 = -wi.x * sn + wi.y * cp;
         g = hemi(hv);
         h = hemi(vec3(x1 * ct - wi.z * st, y1, x1 * st + wi.z * ct));
@@ -59,10 +72,13 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
 }
 
 void main() {
-    vec3 n = normalize(v_normal);
+    // The frame as runtime/common.cpp's shading_frame builds it, fallbacks included (a
+    // normal or tangent interpolated between opposite corners cancels out).
+    float nn = dot(v_normal, v_normal);
+    vec3 n = nn > 0.0 ? v_normal * inversesqrt(nn) : vec3(0.0, 0.0, 1.0);
     vec3 t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
-    t = dot(t, t) > 1e-8 ? normalize(t) : normalize(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) - n * n.x
-                                                                     : vec3(0.0, 1.0, 0.0) - n * n.y);
+    t = dot(t, t) > 1e-12 ? normalize(t) : normalize(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) - n * n.x
+                                                                      : vec3(0.0, 1.0, 0.0) - n * n.y);
     vec3 s = (v_tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
     vec3 e = normalize(u_eye - v_position);
     vec3 wo = vec3(dot(e, t), dot(e, s), dot(e, n));

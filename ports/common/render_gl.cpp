@@ -28,6 +28,26 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
     return read_bounded_file(path, SRT_FMT_MAX_FILE_BYTES, bytes, err);
 }
 
+std::string describe_counters(const srt_draw_stats& s) {
+    const struct {
+        const char* name;
+        int value;
+    } counters[] = {{"below_horizon", s.below_horizon},
+                    {"fallback_tangents", s.fallback_tangents},
+                    {"bad_vertices", s.bad_vertices},
+                    {"skipped_triangles", s.skipped_triangles},
+                    {"zero_area_triangles", s.zero_area_triangles},
+                    {"param_fallbacks", s.param_fallbacks},
+                    {"exposure_clamped", s.exposure_clamped},
+                    {"nonfinite_clamped", s.nonfinite_clamped},
+                    {"negative_clamped", s.negative_clamped},
+                    {"pixel_frame_fallbacks", s.pixel_frame_fallbacks}};
+    std::string out;
+    for (const auto& c : counters)
+        if (c.value != 0) out += (out.empty() ? "" : ", ") + std::string(c.name) + " " + std::to_string(c.value);
+    return out.empty() ? "none" : out;
+}
+
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
     *mask = 0;
     size_t start = 0;
@@ -135,7 +155,9 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         }
         if (ok && material->float_fbo) {
             std::vector<float> f(size_t(setup.width) * setup.height * 4);
-            ok = srt_read_float(material.get(), setup.width, setup.height, f.data(), &e) == SRT_OK;
+            int clamped = 0;
+            ok = srt_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, &e) == SRT_OK;
+            info->stats.nonfinite_clamped += clamped;
             info->float_rgb.resize(size_t(setup.width) * setup.height * 3);
             for (int y = 0; y < setup.height; ++y)  // GL rows go bottom up
                 for (int x = 0; x < setup.width; ++x)
@@ -163,7 +185,7 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
 namespace sepal_ports {
 
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
-                      std::vector<float>* rgb, double* ms, std::string* err) {
+                      std::vector<float>* rgb, double* ms, std::string* err, srt_draw_stats* stats) {
     auto asset = std::make_unique<srt_asset>();
     srt_error e = {};
     if (srt_asset_parse(bytes, size, asset.get(), &e) != SRT_OK) {
@@ -183,6 +205,7 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
     d.depth = depth.data();
     d.scratch = scratch.data();
     d.scratch_floats = scratch.size();
+    d.stats = stats;
     if (diffuse) {
         d.diffuse_rgba = diffuse->pixels.data();
         d.diffuse_width = diffuse->width;

@@ -24,7 +24,8 @@ struct GlRenderInfo {
     std::string device;  // EGL platform, renderer and version
     std::string path;    // e.g. "two texture units, blend subtract"
     double ms = 0;       // time of srt_draw plus glFinish per frame (median over options.frames)
-    // With options.float_target: the frame as linear RGB floats, top row first.
+    // With options.float_target: the frame as linear RGB floats, top row first (values the
+    // half-float target overflowed are clamped and counted in stats.nonfinite_clamped).
     std::vector<float> float_rgb;
 };
 
@@ -50,14 +51,19 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
                            GlRenderInfo* info, std::string* err);
 // Reads a PNG (stb_image) as RGBA8; refuses non-power-of-two sizes.
 bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err);
-// The CPU backend: linear radiance floats (RGB, top row first), no GL.
+// The CPU backend: linear radiance floats (RGB, top row first), no GL. stats (optional)
+// receives the frame's counters.
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
-                      std::vector<float>* rgb, double* ms, std::string* err);
+                      std::vector<float>* rgb, double* ms, std::string* err, srt_draw_stats* stats = nullptr);
 // Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
 // false for others (cpu is not a GL backend).
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
 // Reads a whole asset file (bounded by the format's maximum size).
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err);
+// The frame's nonzero horizon, repair, skip and clamp counters ("below_horizon 1506,
+// fallback_tangents 13, ..."), or "none": what sepal-view prints so that nothing the
+// runtime did is silent.
+std::string describe_counters(const srt_draw_stats& s);
 // Parses "subtract,multitexture,fbo,npot" into SRT_MASK_* bits.
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err);
 

@@ -160,8 +160,9 @@ int main(int argc, char** argv) {
         if (backend == "cpu") {
             std::vector<float> rgb;
             double ms = 0;
+            srt_draw_stats stats = {};
             if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, diffuse_path ? &diffuse : nullptr,
-                                               &rgb, &ms, &flag_err)) {
+                                               &rgb, &ms, &flag_err, &stats)) {
                 fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
                 return 1;
             }
@@ -173,7 +174,8 @@ int main(int argc, char** argv) {
                 }
                 rgba[p * 4 + 3] = 255;
             }
-            fprintf(stderr, "sepal-view: cpu backend, %.1f ms\n", ms);
+            fprintf(stderr, "sepal-view: cpu backend, %.1f ms; counters: %s\n", ms,
+                    sepal_ports::describe_counters(stats).c_str());
             if (!write_png_atomic(out, width, height, rgba.data())) {
                 fprintf(stderr, "sepal-view: could not write %s\n", out);
                 return 1;
@@ -190,9 +192,10 @@ int main(int argc, char** argv) {
             fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
             return 1;
         }
-        fprintf(stderr, "sepal-view: %s | %s | %d draws, %d full-screen passes, %d copies, %.2f ms\n",
+        fprintf(stderr, "sepal-view: %s | %s | %d draws, %d full-screen passes, %d copies, %.2f ms; counters: %s\n",
                 info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
-                info.stats.fullscreen_passes, info.stats.copies, info.ms);
+                info.stats.fullscreen_passes, info.stats.copies, info.ms,
+                sepal_ports::describe_counters(info.stats).c_str());
         if (!write_png_atomic(out, width, height, rgba.data())) {
             fprintf(stderr, "sepal-view: could not write %s\n", out);
             return 1;
