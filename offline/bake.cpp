@@ -422,6 +422,18 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         std::snprintf(why, sizeof why, "%s: the lowest error (%.4g) within the budgets (no --max-error given)",
                       w.label().c_str(), w.error_quantized);
     out->why = why;
+    // A winner that misses half of f (relative cosine-weighted RMS >= 0.5) is still the best
+    // of the search, but a user should hear it: sharp lobes below the texel size, grazing
+    // peaks, or a --cap account for it (README "Extremes").
+    if (w.error_quantized >= 0.5) {
+        char buf[320];
+        std::snprintf(buf, sizeof buf,
+                      "the winner's relative error is %.3g (>= 0.5): f has detail the factors do not hold (lobes "
+                      "narrower than a texel at %dx%d, grazing peaks%s); try a higher --res or --param iv, and look at "
+                      "a render",
+                      w.error_quantized, w.res, w.res, o.cap > 0 ? ", or the --cap" : "");
+        out->notes.push_back(buf);
+    }
     if (o.keep_assets) {
         out->asset = w.asset;
         return true;

@@ -94,10 +94,17 @@ bool render_exact(const Brdf& brdf, const srt_scene& scene, const srt_mesh& mesh
                 ++cv;
                 const float* v = &g.varyings[p * kVaryings];
                 const glm::dvec3 pos(v[0], v[1], v[2]);
-                glm::dvec3 n = glm::normalize(glm::dvec3(v[3], v[4], v[5]));
+                const glm::dvec3 n_raw(v[3], v[4], v[5]);
+                if (!(glm::dot(n_raw, n_raw) > 1e-24) || !std::isfinite(glm::dot(n_raw, n_raw))) {
+                    // A zero or non-finite normal: the runtime skips such triangles; so does this.
+                    ++dg;
+                    std::copy(scene.background, scene.background + 3, rgb);
+                    continue;
+                }
+                const glm::dvec3 n = glm::normalize(n_raw);
                 glm::dvec3 t(v[6], v[7], v[8]);
                 t -= n * glm::dot(n, t);
-                if (glm::dot(t, t) < 1e-12) {
+                if (!(glm::dot(t, t) >= 1e-12) || !std::isfinite(glm::dot(t, t))) {  // NaN tangents too
                     ++dg;  // any tangent: pick an axis not parallel to n
                     t = std::fabs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
                     t = glm::normalize(t - n * glm::dot(n, t));

@@ -25,7 +25,8 @@ namespace sepal {
 struct ExactStats {
     int64_t covered_pixels = 0;
     int64_t back_facing_pixels = 0;  // the view is below the interpolated frame's horizon
-    int64_t degenerate_frames = 0;   // tangent parallel to the normal: fallback tangent used
+    int64_t degenerate_frames = 0;   // tangent parallel to the normal or not finite: fallback tangent used;
+                                     // zero or non-finite normal: background (the runtime skips those triangles)
 };
 
 bool render_exact(const Brdf& brdf, const srt_scene& scene, const srt_mesh& mesh, int width,

@@ -1384,3 +1384,43 @@ TEST_CASE("extreme assets: the reader takes 1x1 factors with one level and 256x2
     }
 }
 }  // namespace extremes_runtime
+
+TEST_CASE("extremes: the exact renderer on a mesh with NaN and zero attributes is finite and counts them") {
+    using namespace extremes;
+    BrokenMesh m = broken_sphere(1);
+    rebind(&m.broken);
+    std::string err;
+    std::unique_ptr<sepal::Brdf> brdf = sepal::make_brdf("blinn:n=20", &err);
+    REQUIRE_MESSAGE(brdf, err);
+    sepal::Image img;
+    sepal::ExactStats stats;
+    const sepal_ports::SceneSetup& s = m.broken;
+    REQUIRE_MESSAGE(sepal::render_exact(*brdf, s.scene, s.mesh, s.width, s.height, &img, &stats, &err), err);
+    int64_t nonfinite = 0;
+    for (float v : img.data) nonfinite += !std::isfinite(v);
+    // Before: 42 NaN values from NaN normals and tangents passing a `< 1e-12` test.
+    CHECK(nonfinite == 0);
+    CHECK(stats.degenerate_frames > 0);
+}
+
+TEST_CASE("extremes: a bake whose best candidate misses half of f says so in a note") {
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("phong:n=10000", &err);
+    REQUIRE_MESSAGE(f, err);
+    sepal::BakeOptions o;
+    o.params = {sepal::Param::GsHalf};
+    o.resolutions = {16};
+    o.methods = {sepal::Method::SVD};
+    o.terms = {1};
+    sepal::BakeResult r;
+    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+    // The lobe is far narrower than a 16x16 texel: the error is ~1 and the report says it.
+    CHECK(r.candidates[size_t(r.winner)].error_quantized >= 0.5);
+    bool said = false;
+    for (const std::string& n : r.notes) said = said || n.find(">= 0.5") != std::string::npos;
+    CHECK(said);
+    // An easy BRDF gets no such note.
+    f = sepal::make_brdf("lambert", &err);
+    REQUIRE(sepal::bake(*f, o, &r, &err));
+    for (const std::string& n : r.notes) CHECK(n.find(">= 0.5") == std::string::npos);
+}
