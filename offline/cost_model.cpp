@@ -69,24 +69,24 @@ bool fit_cost_model(const std::vector<CostSample>& samples, CostModel* out, std:
 const char* cost_model_backends() { return "gles1, gles2-fused, cpu"; }
 
 bool default_cost_model(const std::string& backend, CostModel* out, std::string* err) {
-    // From `make bench` (build/bench/tradeoff.json, "cost_models"): Mesa llvmpipe on 2 cores,
-    // 256x256 frames of the default scene (sphere, one point light), 2026-11-21. Re-measure
-    // on the target and pass the file to `sepal bake --timings` for its own ranking.
+    // From `make bench` (build/bench/tradeoff.json, "cost_models"; 490 frames per backend):
+    // Mesa 22.3.6 llvmpipe on 2 cores, 512x512 frames of the default scene (sphere, one point
+    // light), 2026-11-21. Re-measure on the target and pass the file to `sepal bake --timings`.
     struct Row {
         const char* backend;
         double base, pass, term, kib, fit;
         int rows;
     } static const kRows[] = {
-        {"gles1", 1.0, 0.35, 0.0, 0.0, 0.0, 0},
-        {"gles2-fused", 1.0, 0.0, 0.3, 0.0, 0.0, 0},
-        {"cpu", 2.0, 0.0, 1.5, 0.0, 0.0, 0},
+        {"gles1", 2.66747, 1.23719, 0.695995, 0.0, 0.116259, 490},
+        {"gles2-fused", 3.86689, 0.0, 1.85882, 0.0, 0.10758, 490},
+        {"cpu", 21.8222, 0.0, 8.13874, 0.000957775, 0.0106832, 490},
     };
     for (const Row& r : kRows)
         if (backend == r.backend) {
             CostModel m;
             m.backend = r.backend;
             m.device = "Mesa llvmpipe, 2 cores (built in)";
-            m.width = m.height = 256;
+            m.width = m.height = 512;
             m.base_ms = r.base, m.per_pass_ms = r.pass, m.per_term_ms = r.term, m.per_kib_ms = r.kib;
             m.fit_error = r.fit;
             m.rows = r.rows;

@@ -15,7 +15,7 @@
 // shaders pay per pixel), KiB the textures' upload and cache footprint. It ranks assets
 // for one backend on one device at the sweep's frame size; it is not a general predictor.
 // fit_error says how well it matched the measurements (median |relative residual|).
-// Built-in models: `make bench` on Mesa llvmpipe, 2 cores, 256x256, default scene, one
+// Built-in models: `make bench` on Mesa llvmpipe, 2 cores, 512x512, default scene, one
 // light (see default_cost_model in cost_model.cpp for the run they came from).
 #pragma once
 #include <cstdint>

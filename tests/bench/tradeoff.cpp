@@ -93,7 +93,7 @@ void mark_front(std::vector<Row>* rows, const std::vector<size_t>& idx, X x, Y y
     }
 }
 
-std::string jstr(const std::string& s) { return "\"" + JsonWriter::escape(s) + "\""; }
+std::string jstr(const std::string& s) { return JsonWriter::escape(s); }  // quoted and escaped
 
 std::string num(double v, const char* fmt = "%.6g") {
     if (!std::isfinite(v)) return "null";
