@@ -51,17 +51,6 @@ sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scal
     return t;
 }
 
-sepal::AssetData base(srt_param param, uint32_t terms) {
-    sepal::AssetData a;
-    a.material.param = param;
-    a.material.map = SRT_MAP_XY;
-    a.material.terms = terms;
-    a.material.channels = 3;
-    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
-    a.material.error_quantized = a.material.error_float = a.material.error_relative = NAN;
-    return a;
-}
-
 bool planned(sepal::AssetData* a) {
     std::string err;
     return sepal::build_plan(a, &err);
@@ -336,7 +325,7 @@ BrokenMesh broken_sphere(int lights) {
 }
 
 sepal::AssetData lobe_asset(srt_param param, int side, int bits) {
-    sepal::AssetData a = base(param, 1);
+    sepal::AssetData a = test_fx::base_asset(param, 1);
     a.textures.push_back(make_texture(side, SRT_ROLE_G, 0, 1.2f, 0.0f, bits, [](double u, double v, int c) {
         const double r2 = (u - 0.5) * (u - 0.5) + (v - 0.5) * (v - 0.5);
         return 0.08 + 0.92 * std::exp(-r2 * 30.0) * (0.85 + 0.05 * c);
@@ -354,7 +343,7 @@ sepal::AssetData lobe_asset(srt_param param, int side, int bits) {
 }
 
 sepal::AssetData constant_asset(srt_param param, int side, double value) {
-    sepal::AssetData a = base(param, 1);
+    sepal::AssetData a = test_fx::base_asset(param, 1);
     // G = H = sqrt(value): stored as q = 1 with that scale, exact at 8 bits.
     const float root = float(std::sqrt(value));
     for (uint32_t role : {uint32_t(SRT_ROLE_G), uint32_t(SRT_ROLE_H)})
@@ -364,7 +353,7 @@ sepal::AssetData constant_asset(srt_param param, int side, double value) {
 }
 
 sepal::AssetData huge_peak_asset() {
-    sepal::AssetData a = base(SRT_PARAM_GS_HALF, 2);
+    sepal::AssetData a = test_fx::base_asset(SRT_PARAM_GS_HALF, 2);
     // Term 0: 0.3 everywhere. Term 1: a spike in G(h) at h = n reaching 1e4 - 0.3.
     a.textures.push_back(make_texture(32, SRT_ROLE_G, 0, 0.3f, 0.0f, 16, [](double, double, int) { return 1.0; }));
     a.textures.push_back(make_texture(32, SRT_ROLE_H, 0, 1.0f, 0.0f, 16, [](double, double, int) { return 1.0; }));
@@ -386,7 +375,7 @@ sepal::AssetData tiny_asset() {
 }
 
 sepal::AssetData zero_asset() {
-    sepal::AssetData a = base(SRT_PARAM_GS_HALF, 1);
+    sepal::AssetData a = test_fx::base_asset(SRT_PARAM_GS_HALF, 1);
     for (uint32_t role : {uint32_t(SRT_ROLE_G), uint32_t(SRT_ROLE_H)})
         a.textures.push_back(make_texture(16, role, 0, 1.0f, 0.0f, 8, [](double, double, int) { return 0.0; }));
     // The plan of f = 1 * q_G * q_H (q = 0 everywhere): one product pass.
@@ -395,7 +384,7 @@ sepal::AssetData zero_asset() {
 }
 
 sepal::AssetData signed_asset(srt_param param) {
-    sepal::AssetData a = base(param, 2);
+    sepal::AssetData a = test_fx::base_asset(param, 2);
     a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1.0f, 0.0f, 8, [](double u, double v, int c) {
         const double r2 = (u - 0.5) * (u - 0.5) + (v - 0.5) * (v - 0.5);
         return std::exp(-r2 * 12.0) * (0.8 + 0.1 * c);

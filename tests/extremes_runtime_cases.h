@@ -11,12 +11,15 @@
 #include <vector>
 
 #include "asset_file.h"
+#include "asset_fixtures.h"
 #include "brdf.h"
 #include "image.h"
 #include "scene_flags.h"
 #include "sepal_material.h"
 
 namespace extremes {
+
+using test_fx::ConstantBrdf;
 
 // ---- backends --------------------------------------------------------------------------
 struct Backend {
@@ -116,20 +119,5 @@ sepal::AssetData signed_asset(srt_param param);
 bool bake_asset(const std::string& spec, srt_param param, int res, sepal::AssetData* out, std::string* err);
 bool encode(const sepal::AssetData& a, std::vector<uint8_t>* bytes, std::string* err);
 
-// f = value above the horizon, for exact renders of constant_asset.
-class ConstantBrdf : public sepal::Brdf {
-  public:
-    explicit ConstantBrdf(double v) : v_(v) {}
-    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override {
-        return wi.z > 0 && wo.z > 0 ? glm::dvec3(v_) : glm::dvec3(0.0);
-    }
-    std::string spec() const override { return "constant"; }
-    std::string model() const override { return "constant"; }
-    std::string info() const override { return ""; }
-    bool isotropic() const override { return true; }
-
-  private:
-    double v_;
-};
 
 }  // namespace extremes

@@ -46,18 +46,6 @@ srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, flo
     return p;
 }
 
-sepal::AssetData base_asset(srt_param param, uint32_t terms) {
-    sepal::AssetData a;
-    a.material.param = param;
-    a.material.map = SRT_MAP_XY;
-    a.material.terms = terms;
-    a.material.channels = 3;
-    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
-    a.material.error_quantized = a.material.error_float = a.material.error_relative = NAN;
-    return a;
-}
-
-
 // Renders an asset through the runtime on GL ES 1.1 with a capability mask.
 Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::SceneSetup& s,
                 const sepal_ports::Rgba8Image* diffuse, int gles_version, srt_draw_mode mode) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "asset_file.h"
+#include "asset_fixtures.h"
 #include "brdf.h"
 #include "image.h"
 #include "render_gl.h"
@@ -18,7 +19,8 @@ using TexFn = std::function<float(float u, float v, int channel)>;
 sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
                                  float bias = 0.0f, int channels = 3);
 srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, float color);
-sepal::AssetData base_asset(srt_param param, uint32_t terms);
+using test_fx::base_asset;
+using test_fx::ConstantBrdf;
 
 struct Rendered {
     sepal::Image image;
@@ -37,20 +39,5 @@ sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup
 // 128x96, the named mesh, `lights` lights alternating point and directional.
 sepal_ports::SceneSetup test_scene(const char* mesh, int lights);
 
-// f = constant, for comparisons with the exact backend.
-class ConstantBrdf : public sepal::Brdf {
-  public:
-    explicit ConstantBrdf(double v) : v_(v) {}
-    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override {
-        return wi.z > 0 && wo.z > 0 ? glm::dvec3(v_) : glm::dvec3(0.0);
-    }
-    std::string spec() const override { return "constant"; }
-    std::string model() const override { return "constant"; }
-    std::string info() const override { return ""; }
-    bool isotropic() const override { return true; }
-
-  private:
-    double v_;
-};
 
 }  // namespace material_fx

@@ -93,6 +93,29 @@ void mark_front(std::vector<Row>* rows, const std::vector<size_t>& idx, X x, Y y
     }
 }
 
+// A material's front (on_front rows), fastest first.
+std::vector<const Row*> front_of(const std::vector<Row>& rows, const std::string& material) {
+    std::vector<const Row*> front;
+    for (const Row& r : rows)
+        if (r.ok && r.material == material && r.on_front) front.push_back(&r);
+    std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
+    return front;
+}
+
+// Markers of one backend's rows (of one material, or all when material is ""): x = ms.
+template <class Y>
+PlotSeries scatter(const std::vector<Row>& rows, int backend, const std::string& material, Y y) {
+    PlotSeries sr;
+    sr.label = kBackends[backend];
+    sr.colour = plot_colour(backend);
+    sr.lines = false;
+    sr.marker = 1;
+    for (const Row& r : rows)
+        if (r.ok && r.backend == kBackends[backend] && (material.empty() || r.material == material))
+            sr.x.push_back(r.ms), sr.y.push_back(y(r));
+    return sr;
+}
+
 std::string jstr(const std::string& s) { return JsonWriter::escape(s); }  // quoted and escaped
 
 std::string num(double v, const char* fmt = "%.6g") {
@@ -337,7 +360,8 @@ int main(int argc, char** argv) {
     j += "  ]\n}\n";
     if (!write_file_atomic(dir + "/tradeoff.json", j.data(), j.size(), &err)) die(err);
 
-    // The plot: a panel per material, image RMS error against ms/frame, the front joined.
+    // The plot: a panel per material, image RMS error against ms/frame, the front joined;
+    // the last panel shows the cost model's predictions against the measured frames.
     std::vector<PlotPanel> panels;
     for (const Material& m : mats) {
         PlotPanel p;
@@ -345,46 +369,23 @@ int main(int argc, char** argv) {
         p.x_label = "ms/frame (" + std::to_string(size) + "x" + std::to_string(size) + ", log)";
         p.y_label = "image RMS error";
         p.log_x = true;
-        for (int b = 0; b < 3; ++b) {
-            PlotSeries sr;
-            sr.label = kBackends[b];
-            sr.colour = plot_colour(b);
-            sr.lines = false;
-            sr.marker = 1;
-            for (const Row& r : rows)
-                if (r.ok && r.material == m.name && r.backend == kBackends[b]) sr.x.push_back(r.ms), sr.y.push_back(r.image_error());
-            p.series.push_back(sr);
-        }
-        std::vector<const Row*> front;
-        for (const Row& r : rows)
-            if (r.ok && r.material == m.name && r.on_front) front.push_back(&r);
-        std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
+        for (int b = 0; b < 3; ++b)
+            p.series.push_back(scatter(rows, b, m.name, [](const Row& r) { return r.image_error(); }));
         PlotSeries fs;
         fs.label = "Pareto front";
         fs.colour = glm::dvec3(0);
         fs.marker = 3;
-        for (const Row* r : front) fs.x.push_back(r->ms), fs.y.push_back(r->image_error());
+        for (const Row* r : front_of(rows, m.name)) fs.x.push_back(r->ms), fs.y.push_back(r->image_error());
         p.series.push_back(fs);
         panels.push_back(p);
     }
-    {
-        PlotPanel p;
-        p.title = "cost model";
-        p.x_label = "measured ms/frame (log)";
-        p.y_label = "predicted ms/frame";
-        p.log_x = true;
-        for (int b = 0; b < 3; ++b) {
-            PlotSeries sr;
-            sr.label = kBackends[b];
-            sr.colour = plot_colour(b);
-            sr.lines = false;
-            sr.marker = 1;
-            for (const Row& r : rows)
-                if (r.ok && r.backend == kBackends[b]) sr.x.push_back(r.ms), sr.y.push_back(r.ms_predicted);
-            p.series.push_back(sr);
-        }
-        panels.push_back(p);
-    }
+    PlotPanel cost;
+    cost.title = "cost model";
+    cost.x_label = "measured ms/frame (log)";
+    cost.y_label = "predicted ms/frame";
+    cost.log_x = true;
+    for (int b = 0; b < 3; ++b) cost.series.push_back(scatter(rows, b, "", [](const Row& r) { return r.ms_predicted; }));
+    panels.push_back(cost);
     if (!write_png(dir + "/tradeoff.png", render_plot(panels, 4, 420, 340), &err)) die(err);
 
     // For people: the models, the pick check, then each material's front.
@@ -399,16 +400,11 @@ int main(int argc, char** argv) {
                 pick_misses.empty() ? "" : "\n  strictly off: ", pick_misses.c_str());
     std::printf("\n| material | backend | res | method | terms | bits | passes | bytes | ms/frame | PSNR (dB) | cos RMS |\n");
     std::printf("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
-    for (const Material& m : mats) {
-        std::vector<const Row*> front;
-        for (const Row& r : rows)
-            if (r.ok && r.material == m.name && r.on_front) front.push_back(&r);
-        std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
-        for (const Row* r : front)
+    for (const Material& m : mats)
+        for (const Row* r : front_of(rows, m.name))
             std::printf("| %s | %s | %d | %s | %d | %d | %d | %lld | %.2f | %.2f | %.4f |\n", m.name.c_str(),
                         r->backend.c_str(), r->res, r->method.c_str(), r->terms, r->bits, r->passes,
                         (long long)r->bytes, r->ms, r->psnr, r->err_rel);
-    }
     std::printf("\nwrote %s/tradeoff.json and %s/tradeoff.png\n", dir.c_str(), dir.c_str());
     return 0;
 }

@@ -1,0 +1,42 @@
+// Doctest-free pieces shared by the test fixtures (material_fixtures.h, which REQUIREs) and
+// the extreme cases (extremes_runtime_cases.h, also linked into sepal-bench-extremes).
+#pragma once
+#include <cmath>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "asset_file.h"
+#include "brdf.h"
+
+namespace test_fx {
+
+// An asset with no textures or passes yet: xy map, RGB, unit colour ratio, errors unknown.
+inline sepal::AssetData base_asset(srt_param param, uint32_t terms) {
+    sepal::AssetData a;
+    a.material.param = param;
+    a.material.map = SRT_MAP_XY;
+    a.material.terms = terms;
+    a.material.channels = 3;
+    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
+    a.material.error_quantized = a.material.error_float = a.material.error_relative = NAN;
+    return a;
+}
+
+// f = v above the horizon, for exact renders of constant assets.
+class ConstantBrdf : public sepal::Brdf {
+  public:
+    explicit ConstantBrdf(double v) : v_(v) {}
+    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override {
+        return wi.z > 0 && wo.z > 0 ? glm::dvec3(v_) : glm::dvec3(0.0);
+    }
+    std::string spec() const override { return "constant"; }
+    std::string model() const override { return "constant"; }
+    std::string info() const override { return ""; }
+    bool isotropic() const override { return true; }
+
+  private:
+    double v_;
+};
+
+}  // namespace test_fx
