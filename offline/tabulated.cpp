@@ -177,15 +177,12 @@ void Tabulated::set_missing(size_t i) {
     state_[i] = State::kMissing;
 }
 
-bool Tabulated::trilinear(const HalfDiff& a, glm::dvec3* out) const {
-    if (state_.empty()) return false;
+void Tabulated::corners(const HalfDiff& a, size_t cells[8], double weights[8]) const {
     double c[3];
     coords(a, c);
     int lo[3], hi[3];
     double t[3];
     for (int k = 0; k < 3; ++k) axis_corners(c[k], n_[k], k == 2, &lo[k], &hi[k], &t[k]);
-    glm::dvec3 sum(0.0);
-    double wsum = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
         int idx[3];
         double w = 1.0;
@@ -194,7 +191,21 @@ bool Tabulated::trilinear(const HalfDiff& a, glm::dvec3* out) const {
             idx[k] = up ? hi[k] : lo[k];
             w *= up ? t[k] : 1.0 - t[k];
         }
-        const size_t i = index(idx[0], idx[1], idx[2]);
+        cells[corner] = index(idx[0], idx[1], idx[2]);
+        weights[corner] = w;
+    }
+}
+
+bool Tabulated::trilinear(const HalfDiff& a, glm::dvec3* out) const {
+    if (state_.empty()) return false;
+    size_t cells[8];
+    double ws[8];
+    corners(a, cells, ws);
+    glm::dvec3 sum(0.0);
+    double wsum = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        const size_t i = cells[corner];
+        const double w = ws[corner];
         if (w <= 0.0 || !usable(i)) continue;  // missing corners are skipped, not zero
         sum += w * value(i);
         wsum += w;
@@ -215,22 +226,14 @@ bool Tabulated::nearest(const HalfDiff& a, glm::dvec3* out) const {
         *out = value(home);
         return true;
     }
-    double c[3];
-    coords(a, c);
-    int lo[3], hi[3];
-    double t[3];
-    for (int k = 0; k < 3; ++k) axis_corners(c[k], n_[k], k == 2, &lo[k], &hi[k], &t[k]);
+    size_t cells[8];
+    double ws[8];
+    corners(a, cells, ws);
     double best_w = -1.0;
     size_t best = 0;
     for (int corner = 0; corner < 8; ++corner) {
-        int idx[3];
-        double w = 1.0;
-        for (int k = 0; k < 3; ++k) {
-            const bool up = (corner >> k) & 1;
-            idx[k] = up ? hi[k] : lo[k];
-            w *= up ? t[k] : 1.0 - t[k];
-        }
-        const size_t i = index(idx[0], idx[1], idx[2]);
+        const size_t i = cells[corner];
+        const double w = ws[corner];
         if (usable(i) && w > best_w) {
             best_w = w;
             best = i;
@@ -270,21 +273,13 @@ void Tabulated::splat(const HalfDiff& a, const glm::dvec3& v, double weight, Ker
         s[3] += weight * v.z;
         return;
     }
-    double c[3];
-    coords(a, c);
-    int lo[3], hi[3];
-    double t[3];
-    for (int k = 0; k < 3; ++k) axis_corners(c[k], n_[k], k == 2, &lo[k], &hi[k], &t[k]);
+    size_t cells[8];
+    double ws[8];
+    corners(a, cells, ws);
     for (int corner = 0; corner < 8; ++corner) {
-        int idx[3];
-        double w = weight;
-        for (int k = 0; k < 3; ++k) {
-            const bool up = (corner >> k) & 1;
-            idx[k] = up ? hi[k] : lo[k];
-            w *= up ? t[k] : 1.0 - t[k];
-        }
+        const double w = weight * ws[corner];
         if (w <= 0.0) continue;
-        double* s = &acc_[4 * index(idx[0], idx[1], idx[2])];
+        double* s = &acc_[4 * cells[corner]];
         s[0] += w;
         s[1] += w * v.x;
         s[2] += w * v.y;

@@ -123,6 +123,9 @@ class Tabulated {
     // Continuous index-space coordinates (cell centres at integers) of angles.
     void coords(const HalfDiff& a, double c[3]) const;
     double theta_h_unit(double theta_h) const;  // 0..1 along the theta_h axis
+    // The 8 cells around a point and their trilinear weights (summing to 1), shared by
+    // lookup (trilinear, nearest) and its adjoint (splat).
+    void corners(const HalfDiff& a, size_t cells[8], double weights[8]) const;
 
     int n_[3] = {0, 0, 0};
     ThetaHMapping mapping_ = ThetaHMapping::kLinear;
