@@ -8,6 +8,7 @@
 
 #include "asset_file.h"
 #include "brdf.h"
+#include "sepal_scene.h"
 
 namespace test_fx {
 
@@ -21,6 +22,20 @@ inline sepal::AssetData base_asset(srt_param param, uint32_t terms) {
     a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
     a.material.error_quantized = a.material.error_float = a.material.error_relative = NAN;
     return a;
+}
+
+// The material tests' lights: `lights` of them, alternating a point light up and to the
+// right and a dim directional light from the lower left.
+inline void test_lights(srt_scene* scene, int lights) {
+    scene->light_count = lights;
+    for (int l = 0; l < lights; ++l) {
+        srt_light& light = scene->lights[l];
+        light.type = l % 2 ? SRT_LIGHT_DIRECTIONAL : SRT_LIGHT_POINT;
+        light.position[0] = l % 2 ? -0.5f : 2.0f;
+        light.position[1] = l % 2 ? -1.0f : -2.5f;
+        light.position[2] = l % 2 ? 0.6f : 3.0f;
+        for (int c = 0; c < 3; ++c) light.intensity[c] = l % 2 ? 0.7f : 18.0f + 2.0f * c;
+    }
 }
 
 // f = v above the horizon, for exact renders of constant assets.

@@ -217,15 +217,7 @@ sepal_ports::SceneSetup sphere_scene(int lights, int width, int height) {
     s.width = width;
     s.height = height;
     s.mesh_name = "sphere";
-    s.scene.light_count = lights;
-    for (int l = 0; l < lights; ++l) {
-        srt_light& light = s.scene.lights[l];
-        light.type = l % 2 ? SRT_LIGHT_DIRECTIONAL : SRT_LIGHT_POINT;
-        light.position[0] = l % 2 ? -0.5f : 2.0f;
-        light.position[1] = l % 2 ? -1.0f : -2.5f;
-        light.position[2] = l % 2 ? 0.6f : 3.0f;
-        for (int c = 0; c < 3; ++c) light.intensity[c] = l % 2 ? 0.7f : 18.0f + 2.0f * c;
-    }
+    test_fx::test_lights(&s.scene, lights);
     std::string err;
     sepal_ports::load_scene_mesh(&s, &err);
     return s;
