@@ -30,7 +30,16 @@ ifeq ($(SAN),1)
   OPT    := -O1 -g -fno-omit-frame-pointer
   SANFLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
-CPPFLAGS := -isystem /usr/include/eigen3 -I. -Iruntime -Ioffline -Iports/headless -Iports/common -Itests -I$(BUILD)/gen -DSEPAL_SOURCE_DIR='"$(CURDIR)"' -DSEPAL_BIN_DIR='"$(CURDIR)/$(BUILD)/bin"'
+# Tests and benchmarks read ../shared (the research data beside a checkout); a worktree
+# elsewhere points SHARED at it.
+SHARED   ?= $(abspath $(CURDIR)/../shared)
+# Include roots: public runtime API as "sepal/...", offline stages as "brdf/...",
+# ports as "headless/..." and "common/...", generated shader text as "shaders/...".
+CPPFLAGS := -isystem /usr/include/eigen3 -Iruntime/include -Ioffline -Iports -I$(BUILD)/gen \
+            -DSEPAL_SOURCE_DIR='"$(CURDIR)"' -DSEPAL_BIN_DIR='"$(CURDIR)/$(BUILD)/bin"' \
+            -DSEPAL_SHARED_DIR='"$(SHARED)"'
+# Tests (only they) may reach the runtime's private headers.
+TEST_CPPFLAGS := -Itests -Iruntime/src
 CXXFLAGS_ALL := $(CXXSTD) $(OPT) $(WARN) $(SANFLAGS) -MMD -MP
 # The runtime is shipped to constrained targets: no exceptions, no RTTI.
 RUNTIME_FLAGS := -fno-exceptions -fno-rtti
@@ -38,19 +47,20 @@ LDFLAGS  := $(SANFLAGS)
 GL_LIBS  := -lEGL -lGLESv1_CM -lGLESv2
 LIBS     := $(GL_LIBS) -lpthread
 
-RUNTIME_SRC  := $(wildcard runtime/*.cpp)
-OFFLINE_SRC  := $(wildcard offline/*.cpp)
+# Sources are found by folder: a new file under runtime/src, offline/<stage> or tests/
+# joins its library or the test binary without an edit here.
+rwildcard = $(foreach d,$(wildcard $(1:=/*)),$(call rwildcard,$d,$2) $(filter $(subst *,%,$2),$d))
+RUNTIME_SRC  := $(wildcard runtime/src/*.cpp)
+SEPAL_MAIN   := offline/cli/sepal_main.cpp
+OFFLINE_SRC  := $(filter-out $(SEPAL_MAIN),$(call rwildcard,offline,*.cpp))
 HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
-SEPAL_MAIN   := offline/cmd/sepal.cpp
 VIEW_MAIN    := ports/view/sepal_view.cpp
-TEST_SRC     := $(wildcard tests/*.cpp)
-# sepal-bench (the factorization sweeps) and sepal-bench-runtime (GL frame times) are
-# separate programs: the second links the runtime and the headless port.
-BENCH_SRC    := tests/bench/bench_main.cpp
-RUNTIME_BENCH_SRC := tests/bench/runtime_bench.cpp
-TRADEOFF_BENCH_SRC := tests/bench/tradeoff.cpp
-# sepal-bench-extremes: the runtime's extreme cases as a contact sheet (extremes.png/.json).
-EXTREMES_SHEET_SRC := tests/bench/extremes_sheet.cpp tests/extremes_runtime_cases.cpp
+TEST_SRC     := $(filter-out tests/bench/%,$(call rwildcard,tests,*.cpp))
+# Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
+# doctest-free support objects below; tests/bench/run.sh is what `make bench` runs.
+BENCH_SRC    := $(wildcard tests/bench/*.cpp)
+BENCH_SUPPORT_SRC := tests/extremes_runtime_cases.cpp
+BENCH_BINS   := $(patsubst tests/bench/%.cpp,$(BUILD)/bin/sepal-bench-%,$(BENCH_SRC))
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)
 
@@ -60,6 +70,7 @@ OFFLINE_OBJ  := $(call obj,$(OFFLINE_SRC))
 HEADLESS_OBJ := $(call obj,$(HEADLESS_SRC))
 TEST_OBJ     := $(call obj,$(TEST_SRC))
 BENCH_OBJ    := $(call obj,$(BENCH_SRC))
+BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
 
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
@@ -67,10 +78,6 @@ LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
 BIN_SEPAL    := $(BUILD)/bin/sepal
 BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
-BIN_BENCH    := $(BUILD)/bin/sepal-bench
-BIN_RUNTIME_BENCH := $(BUILD)/bin/sepal-bench-runtime
-BIN_TRADEOFF_BENCH := $(BUILD)/bin/sepal-bench-tradeoff
-BIN_EXTREMES_SHEET := $(BUILD)/bin/sepal-bench-extremes
 BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
@@ -85,7 +92,7 @@ RUN_ASSET    := $(BUILD)/out/ward.sepal
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BIN_BENCH) $(BIN_RUNTIME_BENCH) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -128,11 +135,8 @@ update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_BENCH) $(BIN_RUNTIME_BENCH) $(BIN_TRADEOFF_BENCH) $(BIN_EXTREMES_SHEET)
-	@$(BIN_BENCH) all --out $(BENCH_OUT)
-	@$(BIN_RUNTIME_BENCH) $(BENCH_OUT) $(BUILD)
-	@$(BIN_EXTREMES_SHEET) $(BENCH_OUT)
-	@$(BIN_TRADEOFF_BENCH) --out $(BENCH_OUT)
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BENCH_BINS)
+	@sh tests/bench/run.sh $(BUILD) $(BENCH_OUT)
 
 clean: ## remove build/
 	rm -rf build
@@ -146,6 +150,8 @@ $(RUNTIME_OBJ): $(BUILD)/obj/%.o: %.cpp | $(SHADER_INCS)
 	@mkdir -p $(dir $@)
 	$(call say,CXX,$<)
 	$(Q)$(CXX) $(CPPFLAGS) $(CXXFLAGS_ALL) $(RUNTIME_FLAGS) -c $< -o $@
+
+$(TEST_OBJ) $(BENCH_OBJ) $(BENCH_SUPPORT_OBJ): CPPFLAGS += $(TEST_CPPFLAGS)
 
 $(BUILD)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
@@ -178,24 +184,8 @@ $(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SE
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
 
-# sepal-bench: benchmarks and the README's factorization sweeps (`make bench`).
-$(BIN_BENCH): $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
-	@mkdir -p $(dir $@)
-	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $(BENCH_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
-# sepal-bench-runtime: GL ES frame times against the fill limit (`make bench`).
-$(BIN_RUNTIME_BENCH): $(call obj,$(RUNTIME_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
-	@mkdir -p $(dir $@)
-	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
-
-# sepal-bench-tradeoff: the speed-accuracy sweep (`make bench`, build/bench/tradeoff.*).
-$(BIN_TRADEOFF_BENCH): $(call obj,$(TRADEOFF_BENCH_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
-	@mkdir -p $(dir $@)
-	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
-# sepal-bench-extremes: the runtime's extreme cases on every backend as a contact sheet.
-$(BIN_EXTREMES_SHEET): $(call obj,$(EXTREMES_SHEET_SRC)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+# sepal-bench-<name>: one program per tests/bench/<name>.cpp (`make bench`).
+$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
@@ -203,7 +193,7 @@ $(BIN_EXTREMES_SHEET): $(call obj,$(EXTREMES_SHEET_SRC)) $(LIB_OFFLINE) $(LIB_HE
 # The runtime's rules, checked on every build: no iostream, no exceptions, no RTTI use,
 # no std::string in its headers (it is also compiled with -fno-exceptions -fno-rtti).
 check-runtime: $(LIB_RUNTIME)
-	@bad=$$(grep -nE '#include *<(iostream|sstream|fstream|string)>|std::string|\bthrow\b|\bdynamic_cast\b|\btypeid\b' runtime/*.h runtime/*.cpp | grep -vE '^[^:]+:[0-9]+: *//'); \
+	@bad=$$(grep -nE '#include *<(iostream|sstream|fstream|string)>|std::string|\bthrow\b|\bdynamic_cast\b|\btypeid\b' runtime/include/sepal/*.h runtime/src/*.h runtime/src/*.cpp | grep -vE '^[^:]+:[0-9]+: *//'); \
 	if [ -n "$$bad" ]; then echo "runtime/ breaks its rules:"; echo "$$bad"; exit 1; fi
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -20,8 +20,8 @@ uniform vec3 u_h_bias[MAX_TERMS];
 uniform int u_terms;
 uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
-uniform int u_param;  // srt_param
-uniform int u_map;    // srt_hemi_map
+uniform int u_param;  // sepal_param
+uniform int u_map;    // sepal_hemi_map
 uniform vec3 u_eye;
 uniform vec4 u_light_pos[8];  // w = 1: point light at xyz; w = 0: direction towards it
 uniform vec3 u_light_intensity[8];

@@ -6,17 +6,17 @@
 
 #include <glm/vec3.hpp>
 
-#include "asset_file.h"
-#include "brdf.h"
-#include "sepal_scene.h"
+#include "bake/asset_file.h"
+#include "brdf/brdf.h"
+#include "sepal/sepal_scene.h"
 
 namespace test_fx {
 
 // An asset with no textures or passes yet: xy map, RGB, unit colour ratio, errors unknown.
-inline sepal::AssetData base_asset(srt_param param, uint32_t terms) {
+inline sepal::AssetData base_asset(sepal_param param, uint32_t terms) {
     sepal::AssetData a;
     a.material.param = param;
-    a.material.map = SRT_MAP_XY;
+    a.material.map = SEPAL_MAP_XY;
     a.material.terms = terms;
     a.material.channels = 3;
     a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
@@ -26,11 +26,11 @@ inline sepal::AssetData base_asset(srt_param param, uint32_t terms) {
 
 // The material tests' lights: `lights` of them, alternating a point light up and to the
 // right and a dim directional light from the lower left.
-inline void test_lights(srt_scene* scene, int lights) {
+inline void test_lights(sepal_scene* scene, int lights) {
     scene->light_count = lights;
     for (int l = 0; l < lights; ++l) {
-        srt_light& light = scene->lights[l];
-        light.type = l % 2 ? SRT_LIGHT_DIRECTIONAL : SRT_LIGHT_POINT;
+        sepal_light& light = scene->lights[l];
+        light.type = l % 2 ? SEPAL_LIGHT_DIRECTIONAL : SEPAL_LIGHT_POINT;
         light.position[0] = l % 2 ? -0.5f : 2.0f;
         light.position[1] = l % 2 ? -1.0f : -2.5f;
         light.position[2] = l % 2 ? 0.6f : 3.0f;

@@ -6,9 +6,9 @@
 
 #include <glm/glm.hpp>
 
-#include "bake.h"
-#include "plan.h"
-#include "render_gl.h"
+#include "bake/bake.h"
+#include "bake/plan.h"
+#include "common/render_gl.h"
 
 namespace extremes {
 namespace {
@@ -56,7 +56,7 @@ bool planned(sepal::AssetData* a) {
     return sepal::build_plan(a, &err);
 }
 
-// The runtime's tangent fallback, restated (runtime/common.cpp shading_frame): the x axis,
+// The runtime's tangent fallback, restated (runtime/src/common.cpp shading_frame): the x axis,
 // or y when |n.x| >= 0.9, made perpendicular to n.
 glm::dvec3 fallback_tangent(const glm::dvec3& n) {
     const glm::dvec3 axis = std::fabs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
@@ -67,7 +67,7 @@ glm::dvec3 fallback_tangent(const glm::dvec3& n) {
 
 std::vector<Backend> all_backends() {
     std::vector<Backend> b;
-    auto gl = [&](const char* name, int gles, srt_draw_mode mode, uint32_t mask) {
+    auto gl = [&](const char* name, int gles, sepal_draw_mode mode, uint32_t mask) {
         Backend x;
         x.name = name;
         x.gles = gles;
@@ -75,17 +75,17 @@ std::vector<Backend> all_backends() {
         x.mask = mask;
         b.push_back(x);
     };
-    gl("gles1", 1, SRT_MODE_MULTIPASS, 0);
-    gl("gles1 -subtract", 1, SRT_MODE_MULTIPASS, SRT_MASK_BLEND_SUBTRACT);
-    gl("gles1 -multitex", 1, SRT_MODE_MULTIPASS, SRT_MASK_MULTITEXTURE);
-    gl("gles1 -sub -multitex", 1, SRT_MODE_MULTIPASS, SRT_MASK_BLEND_SUBTRACT | SRT_MASK_MULTITEXTURE);
-    gl("gles1 -fbo -npot", 1, SRT_MODE_MULTIPASS, SRT_MASK_FBO | SRT_MASK_NPOT);
-    gl("gles2", 2, SRT_MODE_MULTIPASS, 0);
-    gl("gles2 -subtract", 2, SRT_MODE_MULTIPASS, SRT_MASK_BLEND_SUBTRACT);
-    gl("gles2 float-target", 2, SRT_MODE_MULTIPASS, 0);
+    gl("gles1", 1, SEPAL_MODE_MULTIPASS, 0);
+    gl("gles1 -subtract", 1, SEPAL_MODE_MULTIPASS, SEPAL_MASK_BLEND_SUBTRACT);
+    gl("gles1 -multitex", 1, SEPAL_MODE_MULTIPASS, SEPAL_MASK_MULTITEXTURE);
+    gl("gles1 -sub -multitex", 1, SEPAL_MODE_MULTIPASS, SEPAL_MASK_BLEND_SUBTRACT | SEPAL_MASK_MULTITEXTURE);
+    gl("gles1 -fbo -npot", 1, SEPAL_MODE_MULTIPASS, SEPAL_MASK_FBO | SEPAL_MASK_NPOT);
+    gl("gles2", 2, SEPAL_MODE_MULTIPASS, 0);
+    gl("gles2 -subtract", 2, SEPAL_MODE_MULTIPASS, SEPAL_MASK_BLEND_SUBTRACT);
+    gl("gles2 float-target", 2, SEPAL_MODE_MULTIPASS, 0);
     b.back().float_target = true;
-    gl("gles2-fused", 2, SRT_MODE_FUSED_VERTEX, 0);
-    gl("gles2-fused-pixel", 2, SRT_MODE_FUSED_PIXEL, 0);
+    gl("gles2-fused", 2, SEPAL_MODE_FUSED_VERTEX, 0);
+    gl("gles2-fused-pixel", 2, SEPAL_MODE_FUSED_PIXEL, 0);
     Backend cpu;
     cpu.name = "cpu";
     cpu.cpu = true;
@@ -146,7 +146,7 @@ sepal_ports::SceneSetup quad_scene(const QuadConfig& q, int width, int height, i
     sepal_ports::SceneSetup s;
     s.width = width;
     s.height = height;
-    srt_camera& cam = s.scene.camera;
+    sepal_camera& cam = s.scene.camera;
     const float eye[3] = {0, -4, 0}, up[3] = {0, 0, 1};
     std::copy(eye, eye + 3, cam.eye);
     std::fill(cam.target, cam.target + 3, 0.0f);
@@ -156,17 +156,17 @@ sepal_ports::SceneSetup quad_scene(const QuadConfig& q, int width, int height, i
     s.vertices.resize(size_t(cells + 1) * (cells + 1));
     s.indices.resize(size_t(cells) * cells * 6);
     s.mesh = {s.vertices.data(), s.indices.data(), int(s.vertices.size()), int(s.indices.size())};
-    srt_error e = {};
-    srt_mesh_grid(cells, &s.mesh, &e);
+    sepal_error e = {};
+    sepal_mesh_grid(cells, &s.mesh, &e);
     const glm::dvec3 E(eye[0], eye[1], eye[2]), Up(0, 0, 1);
     const double ti = rad(q.theta_i), to = rad(q.theta_o);
     // The light.
-    srt_light& light = s.scene.lights[0];
+    sepal_light& light = s.scene.lights[0];
     s.scene.light_count = 1;
     glm::dvec3 L(1, 0, 0);  // kDirectional: perpendicular to the view at the centre
     double intensity = 1.0;
     if (q.light == QuadLight::kAtEye) {
-        light.type = SRT_LIGHT_POINT;
+        light.type = SEPAL_LIGHT_POINT;
         put(light.position, E);
         intensity = q.irradiance * glm::dot(E, E) / std::max(std::cos(ti), 1e-6);
     } else {
@@ -174,14 +174,14 @@ sepal_ports::SceneSetup quad_scene(const QuadConfig& q, int width, int height, i
             L = glm::dvec3(std::sin(2 * ti), -std::cos(2 * ti), 0.0);
             L = glm::normalize(L);
         }
-        light.type = SRT_LIGHT_DIRECTIONAL;
+        light.type = SEPAL_LIGHT_DIRECTIONAL;
         put(light.position, L);
         intensity = q.irradiance / std::max(std::cos(ti), 1e-6);
     }
     if (!(std::cos(ti) > 0)) intensity = q.irradiance;
     for (int c = 0; c < 3; ++c) light.intensity[c] = float(intensity);
     for (int i = 0; i < s.mesh.vertex_count; ++i) {
-        srt_vertex& v = s.vertices[size_t(i)];
+        sepal_vertex& v = s.vertices[size_t(i)];
         const double x = 0.3 * v.position[0], z = 0.3 * v.position[1];
         const glm::dvec3 P(x, 0.0, z);  // the grid rotated into the x-z plane, facing -y
         put(v.position, P);
@@ -228,22 +228,22 @@ BrokenMesh broken_sphere(int lights) {
     b.broken = sphere_scene(lights);
     sepal_ports::SceneSetup& s = b.broken;
     const int slices = 64, row = slices + 1;
-    auto at = [&](int ring, int k) -> srt_vertex& { return s.vertices[size_t(ring * row + k)]; };
+    auto at = [&](int ring, int k) -> sepal_vertex& { return s.vertices[size_t(ring * row + k)]; };
     const float nan = NAN, inf = INFINITY;
     std::vector<int> repaired;  // vertices whose tangent the runtime must replace
     // Degenerate tangents, on the lit side (rings 8..14, around the light's longitude).
     for (int k = 0; k < 4; ++k) {  // zero
-        srt_vertex& v = at(10, 40 + 2 * k);
+        sepal_vertex& v = at(10, 40 + 2 * k);
         v.tangent[0] = v.tangent[1] = v.tangent[2] = 0;
         repaired.push_back(10 * row + 40 + 2 * k);
     }
     for (int k = 0; k < 4; ++k) {  // parallel to the normal (and its opposite)
-        srt_vertex& v = at(12, 40 + 2 * k);
+        sepal_vertex& v = at(12, 40 + 2 * k);
         for (int c = 0; c < 3; ++c) v.tangent[c] = (k % 2 ? -2.0f : 1.0f) * v.normal[c];
         repaired.push_back(12 * row + 40 + 2 * k);
     }
     for (int k = 0; k < 3; ++k) {  // NaN
-        srt_vertex& v = at(14, 40 + 2 * k);
+        sepal_vertex& v = at(14, 40 + 2 * k);
         v.tangent[k] = nan;
         repaired.push_back(14 * row + 40 + 2 * k);
     }
@@ -271,10 +271,10 @@ BrokenMesh broken_sphere(int lights) {
     {
         // Three new vertices on one axis-aligned line (exactly collinear in float), placed
         // inside the sphere: a zero-area triangle that also is not repeated corners.
-        const srt_vertex model = s.vertices[size_t(20 * row + 5)];
+        const sepal_vertex model = s.vertices[size_t(20 * row + 5)];
         const uint16_t first = uint16_t(s.mesh.vertex_count);
         for (int k = 0; k < 3; ++k) {
-            srt_vertex v = model;
+            sepal_vertex v = model;
             v.position[0] = 0.25f * float(k + 1), v.position[1] = -0.5f, v.position[2] = -0.5f;
             s.vertices.push_back(v);
         }
@@ -303,7 +303,7 @@ BrokenMesh broken_sphere(int lights) {
     }
     c.mesh.index_count = int(c.indices.size());
     for (int i : repaired) {
-        srt_vertex& v = c.vertices[size_t(i)];
+        sepal_vertex& v = c.vertices[size_t(i)];
         const glm::dvec3 n = glm::normalize(v3(v.normal));
         const glm::dvec3 t = v3(v.tangent);
         const bool xyz_ok = std::isfinite(t.x) && std::isfinite(t.y) && std::isfinite(t.z) &&
@@ -316,17 +316,17 @@ BrokenMesh broken_sphere(int lights) {
     return b;
 }
 
-sepal::AssetData lobe_asset(srt_param param, int side, int bits) {
+sepal::AssetData lobe_asset(sepal_param param, int side, int bits) {
     sepal::AssetData a = test_fx::base_asset(param, 1);
-    a.textures.push_back(make_texture(side, SRT_ROLE_G, 0, 1.2f, 0.0f, bits, [](double u, double v, int c) {
+    a.textures.push_back(make_texture(side, SEPAL_ROLE_G, 0, 1.2f, 0.0f, bits, [](double u, double v, int c) {
         const double r2 = (u - 0.5) * (u - 0.5) + (v - 0.5) * (v - 0.5);
         return 0.08 + 0.92 * std::exp(-r2 * 30.0) * (0.85 + 0.05 * c);
     }));
     // H: gs-half and the others get an H that depends on the azimuth (so the t' frame and
     // the tangents matter); rusinkiewicz an H symmetric about the pole, as an isotropic
     // BRDF's is (at h = n the azimuth of d is arbitrary, and f does not depend on it).
-    const bool symmetric = param == SRT_PARAM_RUSINKIEWICZ;
-    a.textures.push_back(make_texture(side, SRT_ROLE_H, 0, 0.5f, 0.0f, bits, [symmetric](double u, double v, int) {
+    const bool symmetric = param == SEPAL_PARAM_RUSINKIEWICZ;
+    a.textures.push_back(make_texture(side, SEPAL_ROLE_H, 0, 0.5f, 0.0f, bits, [symmetric](double u, double v, int) {
         const double r2 = (u - 0.5) * (u - 0.5) + (v - 0.5) * (v - 0.5);
         return symmetric ? 0.4 + 2.0 * r2 : 0.4 + 0.3 * u + 0.3 * v * v;
     }));
@@ -334,32 +334,32 @@ sepal::AssetData lobe_asset(srt_param param, int side, int bits) {
     return a;
 }
 
-sepal::AssetData constant_asset(srt_param param, int side, double value) {
+sepal::AssetData constant_asset(sepal_param param, int side, double value) {
     sepal::AssetData a = test_fx::base_asset(param, 1);
     // G = H = sqrt(value): stored as q = 1 with that scale, exact at 8 bits.
     const float root = float(std::sqrt(value));
-    for (uint32_t role : {uint32_t(SRT_ROLE_G), uint32_t(SRT_ROLE_H)})
+    for (uint32_t role : {uint32_t(SEPAL_ROLE_G), uint32_t(SEPAL_ROLE_H)})
         a.textures.push_back(make_texture(side, role, 0, root, 0.0f, 8, [](double, double, int) { return 1.0; }));
     planned(&a);
     return a;
 }
 
 sepal::AssetData huge_peak_asset() {
-    sepal::AssetData a = test_fx::base_asset(SRT_PARAM_GS_HALF, 2);
+    sepal::AssetData a = test_fx::base_asset(SEPAL_PARAM_GS_HALF, 2);
     // Term 0: 0.3 everywhere. Term 1: a spike in G(h) at h = n reaching 1e4 - 0.3.
-    a.textures.push_back(make_texture(32, SRT_ROLE_G, 0, 0.3f, 0.0f, 16, [](double, double, int) { return 1.0; }));
-    a.textures.push_back(make_texture(32, SRT_ROLE_H, 0, 1.0f, 0.0f, 16, [](double, double, int) { return 1.0; }));
-    a.textures.push_back(make_texture(32, SRT_ROLE_G, 1, 9999.7f, 0.0f, 16, [](double u, double v, int) {
+    a.textures.push_back(make_texture(32, SEPAL_ROLE_G, 0, 0.3f, 0.0f, 16, [](double, double, int) { return 1.0; }));
+    a.textures.push_back(make_texture(32, SEPAL_ROLE_H, 0, 1.0f, 0.0f, 16, [](double, double, int) { return 1.0; }));
+    a.textures.push_back(make_texture(32, SEPAL_ROLE_G, 1, 9999.7f, 0.0f, 16, [](double u, double v, int) {
         const double r2 = (u - 0.5) * (u - 0.5) + (v - 0.5) * (v - 0.5);
         return std::exp(-r2 * 2000.0);  // about 1.5 texels wide at 32x32
     }));
-    a.textures.push_back(make_texture(32, SRT_ROLE_H, 1, 1.0f, 0.0f, 16, [](double, double, int) { return 1.0; }));
+    a.textures.push_back(make_texture(32, SEPAL_ROLE_H, 1, 1.0f, 0.0f, 16, [](double, double, int) { return 1.0; }));
     planned(&a);
     return a;
 }
 
 sepal::AssetData tiny_asset() {
-    sepal::AssetData a = lobe_asset(SRT_PARAM_GS_HALF, 32);
+    sepal::AssetData a = lobe_asset(SEPAL_PARAM_GS_HALF, 32);
     for (sepal::AssetTexture& t : a.textures)
         for (int c = 0; c < 4; ++c) t.desc.scale[c] *= 1e-4f;  // f ~ 1e-8 (products of two)
     planned(&a);
@@ -367,34 +367,34 @@ sepal::AssetData tiny_asset() {
 }
 
 sepal::AssetData zero_asset() {
-    sepal::AssetData a = test_fx::base_asset(SRT_PARAM_GS_HALF, 1);
-    for (uint32_t role : {uint32_t(SRT_ROLE_G), uint32_t(SRT_ROLE_H)})
+    sepal::AssetData a = test_fx::base_asset(SEPAL_PARAM_GS_HALF, 1);
+    for (uint32_t role : {uint32_t(SEPAL_ROLE_G), uint32_t(SEPAL_ROLE_H)})
         a.textures.push_back(make_texture(16, role, 0, 1.0f, 0.0f, 8, [](double, double, int) { return 0.0; }));
     // The plan of f = 1 * q_G * q_H (q = 0 everywhere): one product pass.
     planned(&a);
     return a;
 }
 
-sepal::AssetData signed_asset(srt_param param) {
+sepal::AssetData signed_asset(sepal_param param) {
     sepal::AssetData a = test_fx::base_asset(param, 2);
-    a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1.0f, 0.0f, 8, [](double u, double v, int c) {
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_G, 0, 1.0f, 0.0f, 8, [](double u, double v, int c) {
         const double r2 = (u - 0.5) * (u - 0.5) + (v - 0.5) * (v - 0.5);
         return std::exp(-r2 * 12.0) * (0.8 + 0.1 * c);
     }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_H, 0, 0.3f, 0.0f, 8, [](double u, double v, int) { return 0.5 + 0.5 * u * v; }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_G, 1, 0.6f, -0.3f, 8, [](double u, double, int) { return u; }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_H, 1, 0.1f, -0.02f, 8, [](double, double v, int) { return v; }));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_H, 0, 0.3f, 0.0f, 8, [](double u, double v, int) { return 0.5 + 0.5 * u * v; }));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_G, 1, 0.6f, -0.3f, 8, [](double u, double, int) { return u; }));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_H, 1, 0.1f, -0.02f, 8, [](double, double v, int) { return v; }));
     planned(&a);
     return a;
 }
 
-bool bake_asset(const std::string& spec, srt_param param, int res, sepal::AssetData* out, std::string* err) {
+bool bake_asset(const std::string& spec, sepal_param param, int res, sepal::AssetData* out, std::string* err) {
     std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, err);
     if (!f) return false;
     sepal::BakeOptions o;
-    o.params = {param == SRT_PARAM_RUSINKIEWICZ ? sepal::Param::Rusinkiewicz
-                : param == SRT_PARAM_IV         ? sepal::Param::IncidentView
-                : param == SRT_PARAM_VH         ? sepal::Param::ViewHalf
+    o.params = {param == SEPAL_PARAM_RUSINKIEWICZ ? sepal::Param::Rusinkiewicz
+                : param == SEPAL_PARAM_IV         ? sepal::Param::IncidentView
+                : param == SEPAL_PARAM_VH         ? sepal::Param::ViewHalf
                                                 : sepal::Param::GsHalf};
     o.resolutions = {res};
     o.methods = {sepal::Method::NMF};

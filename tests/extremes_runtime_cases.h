@@ -1,5 +1,5 @@
 // The runtime's extreme cases, shared by tests/extremes_test.cpp (the checks) and
-// tests/bench/extremes_sheet.cpp (the contact sheet): scenes with chosen per-vertex
+// tests/bench/extremes.cpp (the contact sheet): scenes with chosen per-vertex
 // frames (grazing, below the horizon, h near t, h = n), a mesh with broken vertices,
 // assets with extreme content, and rendering on every backend and fallback mask.
 // No doctest here: the contact sheet links this file too. Failures come back as
@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "asset_file.h"
+#include "bake/asset_file.h"
 #include "asset_fixtures.h"
-#include "brdf.h"
-#include "image.h"
-#include "scene_flags.h"
-#include "sepal_material.h"
+#include "brdf/brdf.h"
+#include "util/image.h"
+#include "common/scene_flags.h"
+#include "sepal/sepal_material.h"
 
 namespace extremes {
 
@@ -26,10 +26,10 @@ struct Backend {
     std::string name;        // e.g. "gles1", "gles1 -subtract", "cpu"
     bool cpu = false;
     int gles = 1;
-    srt_draw_mode mode = SRT_MODE_MULTIPASS;
-    uint32_t mask = 0;       // SRT_MASK_* bits forcing the fallback paths
+    sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
+    uint32_t mask = 0;       // SEPAL_MASK_* bits forcing the fallback paths
     bool float_target = false;  // GL ES 2 into a half-float target (read back as floats)
-    bool per_vertex() const { return !cpu && mode != SRT_MODE_FUSED_PIXEL; }
+    bool per_vertex() const { return !cpu && mode != SEPAL_MODE_FUSED_PIXEL; }
 };
 // Every backend, and the masks that force the GL ES 1.1 / GL ES 2 fallbacks: gles1
 // (two units, blend subtract), gles1 without blend subtract (inversion), gles1 with one
@@ -42,7 +42,7 @@ struct Frame {
     bool ok = false;
     std::string err;        // why not ok (a refusal names the reason)
     sepal::Image image;     // RGB: GL as read back (0..1); float target and CPU: linear radiance
-    srt_draw_stats stats{};
+    sepal_draw_stats stats{};
     bool finite = false;    // every value finite (trivially true for 8-bit GL read-backs)
     std::string path;       // the GL path taken, as the port describes it
 };
@@ -88,7 +88,7 @@ sepal_ports::SceneSetup sphere_scene(int lights, int width = 128, int height = 9
 // The sphere with broken vertices and extra zero-area triangles, and what the runtime
 // must report for it. `clean` is the same mesh as the runtime is documented to treat it:
 // triangles touching a bad vertex removed, unusable tangents replaced by the fallback
-// (runtime/common.cpp), zero-area triangles dropped (they cover nothing anyway).
+// (runtime/src/common.cpp), zero-area triangles dropped (they cover nothing anyway).
 struct BrokenMesh {
     sepal_ports::SceneSetup broken, clean;
     int fallback_tangents = 0;  // zero (4), parallel to n (4), NaN xyz (3), NaN or inf w (2)
@@ -102,9 +102,9 @@ BrokenMesh broken_sphere(int lights);
 // A smooth specular-like lobe around h = n (G) times a gentle H, non-negative, one term,
 // side x side textures with full MIP chains: any side 1..1024 that is a power of two.
 // For rusinkiewicz, H is symmetric about the pole, as an isotropic BRDF's is.
-sepal::AssetData lobe_asset(srt_param param, int side, int bits = 8);
+sepal::AssetData lobe_asset(sepal_param param, int side, int bits = 8);
 // f = value everywhere above the horizon: G = H = const (side x side; 1 gives 1x1).
-sepal::AssetData constant_asset(srt_param param, int side, double value);
+sepal::AssetData constant_asset(sepal_param param, int side, double value);
 // f = 0.3 everywhere plus a narrow spike up to 1e4 per steradian around h = n (16-bit
 // textures; the plan needs 14 doublings).
 sepal::AssetData huge_peak_asset();
@@ -113,10 +113,10 @@ sepal::AssetData tiny_asset();
 // Every texel 0: f = 0 (hand-built: the encoder refuses an all-zero plan today).
 sepal::AssetData zero_asset();
 // A signed 2-term asset (every kind of plan pass: subtractions, constants).
-sepal::AssetData signed_asset(srt_param param);
+sepal::AssetData signed_asset(sepal_param param);
 // Bakes a spec (one term, NMF, the given parameterization and side) through the offline
 // library; false with the encoder's reason when it refuses.
-bool bake_asset(const std::string& spec, srt_param param, int res, sepal::AssetData* out, std::string* err);
+bool bake_asset(const std::string& spec, sepal_param param, int res, sepal::AssetData* out, std::string* err);
 bool encode(const sepal::AssetData& a, std::vector<uint8_t>* bytes, std::string* err);
 
 

@@ -2,7 +2,7 @@
 // sharp lobes, huge and tiny values, an all-zero BRDF, NaN and inf in measured input, 1x1
 // and 256x256 factor textures, and the bake report's counts of every clamp and fallback.
 // Every output is checked finite and, where an asset is made, valid for the runtime's own
-// reader (srt_asset_parse); every error bound is stated with the reason it holds. The
+// reader (sepal_asset_parse); every error bound is stated with the reason it holds. The
 // second half of the file tests the runtime backends at the extremes.
 // Test names contain "extreme": build/bin/sepal-tests -tc='*extreme*'.
 #include <doctest/doctest.h>
@@ -19,31 +19,31 @@
 
 #include <glm/geometric.hpp>
 
-#include "asset_file.h"
-#include "bake.h"
-#include "brdf.h"
-#include "cornell.h"
-#include "factor.h"
-#include "factor_error.h"
-#include "factor_internal.h"
-#include "factored.h"
-#include "image.h"
-#include "io.h"
-#include "json_read.h"
-#include "merl.h"
-#include "param.h"
-#include "plan.h"
-#include "quantize.h"
-#include "sepal_format.h"
-#include "tabulated.h"
+#include "bake/asset_file.h"
+#include "bake/bake.h"
+#include "brdf/brdf.h"
+#include "measured/cornell.h"
+#include "factor/factor.h"
+#include "factor/factor_error.h"
+#include "factor/factor_internal.h"
+#include "factor/factored.h"
+#include "util/image.h"
+#include "util/io.h"
+#include "util/json_read.h"
+#include "measured/merl.h"
+#include "factor/param.h"
+#include "bake/plan.h"
+#include "bake/quantize.h"
+#include "sepal/sepal_format.h"
+#include "measured/tabulated.h"
 #include "test_brdfs.h"
 #include "test_util.h"
 #include <cctype>
 #include "extremes_runtime_cases.h"
 #include "internal.h"
 #include <glm/glm.hpp>
-#include "render_exact.h"
-#include "sepal_headless.h"
+#include "reference/render_exact.h"
+#include "headless/sepal_headless.h"
 
 using namespace sepal;
 
@@ -120,11 +120,11 @@ void check_valid(const AssetData& a) {
     std::vector<uint8_t> bytes;
     std::string err;
     REQUIRE_MESSAGE(encode_asset(a, &bytes, &err), err);
-    srt_asset parsed;
-    srt_error e{};
-    REQUIRE_MESSAGE(srt_asset_parse(bytes.data(), bytes.size(), &parsed, &e) == SRT_OK, e.message);
+    sepal_asset parsed;
+    sepal_error e{};
+    REQUIRE_MESSAGE(sepal_asset_parse(bytes.data(), bytes.size(), &parsed, &e) == SEPAL_OK, e.message);
     for (uint32_t i = 0; i < parsed.texture_count; ++i) {
-        const srt_fmt_texture& d = parsed.textures[i].desc;
+        const sepal_fmt_texture& d = parsed.textures[i].desc;
         uint32_t full = 1;
         for (uint32_t s = d.width; s > 1; s /= 2) ++full;
         CHECK((d.levels == 1 || d.levels == full));
@@ -146,10 +146,10 @@ double quantization_bound(const AssetData& a, const Factored& f, double referenc
     for (int c = 0; c < 3; ++c) {
         double sum = 0;
         for (const AssetTexture& tg : a.textures) {
-            if (tg.desc.role != SRT_ROLE_G) continue;
+            if (tg.desc.role != SEPAL_ROLE_G) continue;
             const AssetTexture* th = nullptr;
             for (const AssetTexture& t : a.textures)
-                if (t.desc.role == SRT_ROLE_H && t.desc.term == tg.desc.term) th = &t;
+                if (t.desc.role == SEPAL_ROLE_H && t.desc.term == tg.desc.term) th = &t;
             REQUIRE(th);
             const int ch = int(tg.desc.channels) == 1 ? 0 : c;
             const double top = double((1u << tg.desc.bits) - 1);
@@ -582,8 +582,8 @@ TEST_CASE("extremes: an all-zero BRDF bakes to a valid asset that renders black,
     }
     // The plan draws one constant pass of colour 0: black, in one pass per light.
     REQUIRE(r.asset.passes.size() == 1u);
-    CHECK(r.asset.passes[0].op == SRT_OP_CONSTANT);
-    CHECK(r.asset.passes[0].blend == SRT_BLEND_ADD);
+    CHECK(r.asset.passes[0].op == SEPAL_OP_CONSTANT);
+    CHECK(r.asset.passes[0].blend == SEPAL_BLEND_ADD);
     for (float c : r.asset.passes[0].color) CHECK(c == 0.0f);
     CHECK(r.asset.plan.doublings == 0u);
     CHECK(plan_all_zero(r.asset));
@@ -764,7 +764,7 @@ TEST_CASE("extremes: a BRDF returning NaN is refused by the bake, naming where")
     // The first place it meets one: the error metric's pairs (before any factoring).
     CHECK_MESSAGE(contains(err, "the BRDF returned a non-finite value"), err);
     CHECK_MESSAGE(contains(err, "at wi = ("), err);
-    // The engine alone refuses too, naming its own pair (tests/factor_test.cpp has more).
+    // The engine alone refuses too, naming its own pair (tests/offline/factor/factor_test.cpp has more).
     FactorResult fr;
     CHECK_FALSE(factor_brdf(f, FactorOptions(), &fr, &err));
     CHECK_MESSAGE(contains(err, "non-finite value at wi = ("), err);
@@ -978,7 +978,7 @@ TEST_CASE("extremes: a 256x256 bake through the streaming nd method" * doctest::
 // inf in mesh attributes, zero-area triangles, very sharp lobes, huge peaks and tiny
 // values, an all-zero material, 1x1 and 256x256 factor textures, lights too bright for
 // the exposure. Every backend and fallback mask: output finite, errors inside the bounds
-// stated next to each check, every repair, skip and clamp counted in srt_draw_stats.
+// stated next to each check, every repair, skip and clamp counted in sepal_draw_stats.
 // build/bin/sepal-bench-extremes draws the same cases into a contact sheet.
 namespace extremes_runtime {
 using namespace extremes;
@@ -1009,8 +1009,8 @@ int covered_pixels(const sepal::Image& img) {
     return n;
 }
 
-bool refuses_per_pixel(const Backend& b, srt_param p) {
-    return b.per_vertex() && (p == SRT_PARAM_RUSINKIEWICZ || p == SRT_PARAM_ELEV_AZIM);
+bool refuses_per_pixel(const Backend& b, sepal_param p) {
+    return b.per_vertex() && (p == SEPAL_PARAM_RUSINKIEWICZ || p == SEPAL_PARAM_ELEV_AZIM);
 }
 
 // build/test-output/extremes_<name>.png, for a person to look at when a check fails.
@@ -1032,8 +1032,8 @@ void save(std::string name, const sepal::Image& img) {
 //   gles2-fused-pixel: one rounding, plus GL's 8-bit bilinear weights and MIP selection
 //     against the CPU's level 0: 6 levels (measured up to 5.0 near the rusinkiewicz pole).
 double level_bound(const Backend& b, const Frame& f, int passes, int lights, double geometry) {
-    if (b.mode == SRT_MODE_FUSED_PIXEL) return 6.0;
-    if (b.mode == SRT_MODE_FUSED_VERTEX) return 1.0 + geometry;
+    if (b.mode == SEPAL_MODE_FUSED_PIXEL) return 6.0;
+    if (b.mode == SEPAL_MODE_FUSED_VERTEX) return 1.0 + geometry;
     return std::ldexp(1.0, f.stats.doublings) * passes * lights + geometry;
 }
 
@@ -1041,21 +1041,21 @@ TEST_CASE("extreme frames: grazing 89.9 degrees, below the horizon, h near t, h 
     struct Case {
         const char* name;
         QuadConfig q;
-        srt_param param;
+        sepal_param param;
         bool black;  // light or eye below the horizon everywhere: the image must be 0
     };
     // Irradiance at the centre chosen so the lobe asset (f 0.02..0.6) shows mid-tones.
     const Case cases[] = {
-        {"grazing 89.9/89.9", {QuadLight::kDirectional, 89.9, 89.9, 20}, SRT_PARAM_GS_HALF, false},
-        {"grazing 89.9/89.9 rusinkiewicz", {QuadLight::kDirectional, 89.9, 89.9, 20}, SRT_PARAM_RUSINKIEWICZ, false},
-        {"retro 89.9 (h 0.1 deg from t)", {QuadLight::kAtEye, 89.9, 89.9, 20}, SRT_PARAM_GS_HALF, false},
-        {"retro 89.99 (h 0.01 deg from t)", {QuadLight::kAtEye, 89.99, 89.99, 20}, SRT_PARAM_GS_HALF, false},
-        {"normal incidence (h = n)", {QuadLight::kAtEye, 0, 0, 1.2}, SRT_PARAM_RUSINKIEWICZ, false},
-        {"normal incidence gs-half", {QuadLight::kAtEye, 0, 0, 1.2}, SRT_PARAM_GS_HALF, false},
-        {"mirror 86 (h = n)", {QuadLight::kMirror, 86, 86, 1.2}, SRT_PARAM_RUSINKIEWICZ, false},
-        {"mirror 86 gs-half", {QuadLight::kMirror, 86, 86, 1.2}, SRT_PARAM_GS_HALF, false},
-        {"light below 90.1", {QuadLight::kDirectional, 90.1, 60, 1}, SRT_PARAM_GS_HALF, true},
-        {"view below 120 (back-facing frame)", {QuadLight::kDirectional, 45, 120, 1}, SRT_PARAM_GS_HALF, true},
+        {"grazing 89.9/89.9", {QuadLight::kDirectional, 89.9, 89.9, 20}, SEPAL_PARAM_GS_HALF, false},
+        {"grazing 89.9/89.9 rusinkiewicz", {QuadLight::kDirectional, 89.9, 89.9, 20}, SEPAL_PARAM_RUSINKIEWICZ, false},
+        {"retro 89.9 (h 0.1 deg from t)", {QuadLight::kAtEye, 89.9, 89.9, 20}, SEPAL_PARAM_GS_HALF, false},
+        {"retro 89.99 (h 0.01 deg from t)", {QuadLight::kAtEye, 89.99, 89.99, 20}, SEPAL_PARAM_GS_HALF, false},
+        {"normal incidence (h = n)", {QuadLight::kAtEye, 0, 0, 1.2}, SEPAL_PARAM_RUSINKIEWICZ, false},
+        {"normal incidence gs-half", {QuadLight::kAtEye, 0, 0, 1.2}, SEPAL_PARAM_GS_HALF, false},
+        {"mirror 86 (h = n)", {QuadLight::kMirror, 86, 86, 1.2}, SEPAL_PARAM_RUSINKIEWICZ, false},
+        {"mirror 86 gs-half", {QuadLight::kMirror, 86, 86, 1.2}, SEPAL_PARAM_GS_HALF, false},
+        {"light below 90.1", {QuadLight::kDirectional, 90.1, 60, 1}, SEPAL_PARAM_GS_HALF, true},
+        {"view below 120 (back-facing frame)", {QuadLight::kDirectional, 45, 120, 1}, SEPAL_PARAM_GS_HALF, true},
     };
     for (const Case& c : cases) {
         const std::string name = c.name;
@@ -1114,7 +1114,7 @@ TEST_CASE("extreme frames: grazing 89.9 degrees, below the horizon, h near t, h 
             if (name.find("retro 89.99") == 0) CHECK(f.stats.param_fallbacks == vertices);
             if (name.find("retro 89.9 ") == 0) CHECK(f.stats.param_fallbacks == 0);
             // h = n at every vertex (to float rounding): counted per vertex.
-            if (c.param == SRT_PARAM_RUSINKIEWICZ && name.find("grazing") != 0)
+            if (c.param == SEPAL_PARAM_RUSINKIEWICZ && name.find("grazing") != 0)
                 CHECK(f.stats.param_fallbacks > vertices / 2);
             // 3 levels of geometry: per-vertex coordinates and irradiance on a 24x24 quad
             // whose frames turn by up to 12 degrees (measured: 1.4 levels where 0 doublings).
@@ -1135,7 +1135,7 @@ TEST_CASE("extreme meshes: degenerate tangents, NaN and inf attributes, zero-are
     REQUIRE(m.skipped_triangles == 24);
     REQUIRE(m.zero_area_triangles == 7);
     REQUIRE(m.fallback_tangents == 13);
-    const std::vector<uint8_t> bytes = bytes_of(signed_asset(SRT_PARAM_GS_HALF));  // anisotropic, signed
+    const std::vector<uint8_t> bytes = bytes_of(signed_asset(SEPAL_PARAM_GS_HALF));  // anisotropic, signed
     for (const Backend& b : all_backends()) {
         CAPTURE(b.name);
         const Frame broken = render(b, bytes, m.broken);
@@ -1176,7 +1176,7 @@ TEST_CASE("extreme meshes: degenerate tangents, NaN and inf attributes, zero-are
 TEST_CASE("extreme meshes: an index past the vertices is refused, not read") {
     sepal_ports::SceneSetup s = sphere_scene(1);
     s.indices[7] = uint16_t(s.mesh.vertex_count + 3);
-    const std::vector<uint8_t> bytes = bytes_of(lobe_asset(SRT_PARAM_GS_HALF, 16));
+    const std::vector<uint8_t> bytes = bytes_of(lobe_asset(SEPAL_PARAM_GS_HALF, 16));
     for (const Backend& b : all_backends()) {
         if (b.mask) continue;
         CAPTURE(b.name);
@@ -1201,9 +1201,9 @@ TEST_CASE("extreme assets: sharp lobes, huge peaks, tiny values, all zero, 1x1 a
     // selection near silhouettes against the CPU's level 0: a few pixels of the highlight
     // and rim differ by tens of levels (measured up to 0.64% of pixels over 16 levels on
     // the one-unit path with 7 doublings; 35 dB there), the rest within a few.
-    REQUIRE_MESSAGE(bake_asset("phong:n=10000", SRT_PARAM_GS_HALF, 32, &baked, &err), err);
+    REQUIRE_MESSAGE(bake_asset("phong:n=10000", SEPAL_PARAM_GS_HALF, 32, &baked, &err), err);
     cases.push_back({"phong n=1e4", baked, "phong:n=10000", 0.01, 35.0});
-    REQUIRE_MESSAGE(bake_asset("ward:ax=0.001,ay=0.001", SRT_PARAM_GS_HALF, 32, &baked, &err), err);
+    REQUIRE_MESSAGE(bake_asset("ward:ax=0.001,ay=0.001", SEPAL_PARAM_GS_HALF, 32, &baked, &err), err);
     cases.push_back({"ward alpha=1e-3", baked, "ward:ax=0.001,ay=0.001", 0.01, 35.0});
     // The spike's tails are 16-bit texels the GL backends round to 8 bits at upload (and
     // fused-pixel MIP-maps): the white highlight is smaller there, up to 2.1% of the
@@ -1211,8 +1211,8 @@ TEST_CASE("extreme assets: sharp lobes, huge peaks, tiny values, all zero, 1x1 a
     cases.push_back({"huge peaks 1e4", huge_peak_asset(), "", 0.03, 20.0});
     cases.push_back({"tiny 1e-8", tiny_asset(), "", 0.0, 100.0});
     cases.push_back({"all zero", zero_asset(), "", 0.0, 100.0});
-    cases.push_back({"1x1 textures", constant_asset(SRT_PARAM_IV, 1, 0.125), "constant", 0.01, 35.0});
-    cases.push_back({"256x256 textures", lobe_asset(SRT_PARAM_GS_HALF, 256), "", 0.01, 35.0});
+    cases.push_back({"1x1 textures", constant_asset(SEPAL_PARAM_IV, 1, 0.125), "constant", 0.01, 35.0});
+    cases.push_back({"256x256 textures", lobe_asset(SEPAL_PARAM_GS_HALF, 256), "", 0.01, 35.0});
     const sepal_ports::SceneSetup s = sphere_scene(2);
     for (const Case& c : cases) {
         CAPTURE(c.name);
@@ -1273,7 +1273,7 @@ TEST_CASE("extreme assets: sharp lobes, huge peaks, tiny values, all zero, 1x1 a
 }
 
 TEST_CASE("extreme lights: an exposure past 2^-30 and overflowing irradiance are clamped and counted") {
-    const std::vector<uint8_t> bytes = bytes_of(lobe_asset(SRT_PARAM_GS_HALF, 32));
+    const std::vector<uint8_t> bytes = bytes_of(lobe_asset(SEPAL_PARAM_GS_HALF, 32));
     // 1e12: the plan paths would need 2^37; they stop at 2^-30 and the lit side is white.
     sepal_ports::SceneSetup bright = sphere_scene(1);
     for (int c = 0; c < 3; ++c) bright.scene.lights[0].intensity[c] = 1e12f;
@@ -1287,7 +1287,7 @@ TEST_CASE("extreme lights: an exposure past 2^-30 and overflowing irradiance are
         const Frame fb = render(b, bytes, bright);
         REQUIRE_MESSAGE(fb.ok, fb.err);
         CHECK(fb.finite);
-        const bool plan = !b.cpu && b.mode == SRT_MODE_MULTIPASS;
+        const bool plan = !b.cpu && b.mode == SEPAL_MODE_MULTIPASS;
         CHECK(fb.stats.exposure_clamped == (plan && b.gles == 1 ? 1 : 0));  // GL ES 2 colours are not clamped
         CHECK(peak(display(fb.image)) == 1.0);
         // A half-float target holds up to 65504: 1e12 overflows there, clamped on read-back.
@@ -1302,17 +1302,17 @@ TEST_CASE("extreme lights: an exposure past 2^-30 and overflowing irradiance are
 }
 
 TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n against the encoder's double maths") {
-    // The encoder's param_forward (offline/param.h, double precision) is the reference.
+    // The encoder's param_forward (offline/factor/param.h, double precision) is the reference.
     auto dir = [](double theta_deg, double phi_deg) {
         const double t = theta_deg * M_PI / 180, p = phi_deg * M_PI / 180;
         return glm::dvec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
     };
-    auto check = [](srt_param p, sepal::Param op, const glm::dvec3& wi, const glm::dvec3& wo, double tol,
+    auto check = [](sepal_param p, sepal::Param op, const glm::dvec3& wi, const glm::dvec3& wo, double tol,
                     int fallbacks) {
         const float fi[3] = {float(wi.x), float(wi.y), float(wi.z)}, fo[3] = {float(wo.x), float(wo.y), float(wo.z)};
         float g[2], h[2];
         int taken = 0;
-        REQUIRE(srt::param_texcoords(p, SRT_MAP_XY, fi, fo, g, h, true, &taken) == 1);
+        REQUIRE(srt::param_texcoords(p, SEPAL_MAP_XY, fi, fo, g, h, true, &taken) == 1);
         CHECK(taken == fallbacks);  // counted exactly where documented
         // The reference from the float inputs, so only the runtime's arithmetic is measured.
         sepal::TexCoords ref;
@@ -1331,12 +1331,12 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
     // gs-half near its singularity h = t: both directions near grazing, close to t.
     // Float inputs carry 6e-8 rad of rounding, which the frame magnifies by 1/|h - t|:
     // 2e-4 in texture units at 0.1 degrees (one texel of a 32x32 map is 0.03).
-    check(SRT_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.9, 0.05), dir(89.9, -0.05), 2e-4, 0);
-    check(SRT_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.9, 0.0), dir(89.8, 0.0), 2e-4, 0);
-    check(SRT_PARAM_GS_HALF, sepal::Param::GsHalf, dir(60, 10), dir(70, 170), 1e-6, 0);
+    check(SEPAL_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.9, 0.05), dir(89.9, -0.05), 2e-4, 0);
+    check(SEPAL_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.9, 0.0), dir(89.8, 0.0), 2e-4, 0);
+    check(SEPAL_PARAM_GS_HALF, sepal::Param::GsHalf, dir(60, 10), dir(70, 170), 1e-6, 0);
     // Within 1e-3 rad of t the frame is undefined for mediump shaders; the runtime takes
     // Gram-Schmidt on s there, everywhere alike, and counts it.
-    check(SRT_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.99, 0.01), dir(89.99, -0.01), 0, 1);
+    check(SEPAL_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.99, 0.01), dir(89.99, -0.01), 0, 1);
     // rusinkiewicz near its pole h = n: mirror pairs whose half vector is tilted from n by
     // 1e-2 .. 1e-5 rad towards azimuth 50 degrees. sin(theta_h) comes from h.x, h.y (the
     // old sqrt(1 - h.z^2) gave 0 below 3e-4 rad: an error of the tilt itself, 5e-5 at 1e-4).
@@ -1348,23 +1348,23 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
     const glm::dvec3 wi0 = dir(40, 30), wo0(-wi0.x, -wi0.y, wi0.z);
     for (double tilt : {1e-2, 1e-4, 1e-5}) {
         CAPTURE(tilt);
-        check(SRT_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, rot(wi0, tilt), rot(wo0, tilt), 3e-6, 0);
+        check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, rot(wi0, tilt), rot(wo0, tilt), 3e-6, 0);
     }
     // Within 1e-6 rad of the pole phi_h is taken as 0 (the encoder's atan2(0, 0) convention)
     // and counted; the coordinates stay finite.
-    check(SRT_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, rot(wi0, 1e-7), rot(wo0, 1e-7), 0, 1);
-    check(SRT_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, wi0, wo0, 0, 1);
+    check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, rot(wi0, 1e-7), rot(wo0, 1e-7), 0, 1);
+    check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, wi0, wo0, 0, 1);
 }
 
 TEST_CASE("extreme assets: the reader takes 1x1 factors with one level and 256x256 ones; NaN is refused") {
     for (int side : {1, 256}) {
         CAPTURE(side);
-        const sepal::AssetData a = lobe_asset(SRT_PARAM_GS_HALF, side);
+        const sepal::AssetData a = lobe_asset(SEPAL_PARAM_GS_HALF, side);
         REQUIRE(a.textures[0].desc.levels == uint32_t(side == 1 ? 1 : 9));
         std::vector<uint8_t> b = bytes_of(a);
-        auto asset = std::make_unique<srt_asset>();
-        srt_error e{};
-        CHECK(srt_asset_parse(b.data(), b.size(), asset.get(), &e) == SRT_OK);
+        auto asset = std::make_unique<sepal_asset>();
+        sepal_error e{};
+        CHECK(sepal_asset_parse(b.data(), b.size(), asset.get(), &e) == SEPAL_OK);
         CHECK(asset->textures[0].desc.width == uint32_t(side));
     }
     // Scales, biases, pass colours and colour ratios are the only floats an asset carries;
@@ -1372,7 +1372,7 @@ TEST_CASE("extreme assets: the reader takes 1x1 factors with one level and 256x2
     // and inf in each, so no asset can feed one to a backend.
     for (int what = 0; what < 4; ++what) {
         CAPTURE(what);
-        sepal::AssetData a = lobe_asset(SRT_PARAM_GS_HALF, 4);
+        sepal::AssetData a = lobe_asset(SEPAL_PARAM_GS_HALF, 4);
         if (what == 0) a.textures[0].desc.scale[1] = NAN;
         if (what == 1) a.textures[1].desc.bias[0] = INFINITY;
         if (what == 2) a.passes[0].color[2] = NAN;

@@ -2,27 +2,27 @@
 
 #include <vector>
 
-#include "sepal_headless.h"
-#include "sepal_rt.h"
+#include "headless/sepal_headless.h"
+#include "sepal/sepal_rt.h"
 
 namespace sepal_test {
 
 bool render_lit_quad(int gles, int width, int height, sepal::Image* out, std::string* err) {
     char msg[512];
-    sh_desc hd = {};
+    sepal_headless_desc hd = {};
     hd.width = width;
     hd.height = height;
     hd.gles_version = gles;
-    sh_context* ctx = sh_create(&hd, msg, sizeof msg);
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
     if (!ctx) {
         *err = msg;
         return false;
     }
-    srt_error e = {};
-    srt_caps caps;
-    std::vector<srt_vertex> v(17 * 17);
+    sepal_error e = {};
+    sepal_caps caps;
+    std::vector<sepal_vertex> v(17 * 17);
     std::vector<uint16_t> idx(16 * 16 * 6);
-    srt_mesh mesh = {v.data(), idx.data(), int(v.size()), int(idx.size())};
+    sepal_mesh mesh = {v.data(), idx.data(), int(v.size()), int(idx.size())};
     std::vector<uint8_t> tex(32 * 32 * 4);
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
@@ -33,11 +33,11 @@ bool render_lit_quad(int gles, int width, int height, sepal::Image* out, std::st
             p[2] = dark ? 200 : 220;
             p[3] = 255;
         }
-    srt_preview_desc d = {};
+    sepal_preview_desc d = {};
     d.mesh = &mesh;
     const float eye[3] = {0.4f, -2.2f, 1.6f}, target[3] = {0, 0, 0}, up[3] = {0, 0, 1};
-    srt_mat4_look_at(eye, target, up, d.model_view);
-    srt_mat4_perspective(45.0f, float(width) / float(height), 0.5f, 10.0f, d.projection);
+    sepal_mat4_look_at(eye, target, up, d.model_view);
+    sepal_mat4_perspective(45.0f, float(width) / float(height), 0.5f, 10.0f, d.projection);
     d.light_dir_eye[0] = -0.3f;
     d.light_dir_eye[1] = 0.8f;
     d.light_dir_eye[2] = 0.5f;
@@ -54,15 +54,15 @@ bool render_lit_quad(int gles, int width, int height, sepal::Image* out, std::st
     d.clear_color[1] = 0.1f;
     d.clear_color[2] = 0.15f;
     d.clear_color[3] = 1.0f;
-    bool ok = srt_query_caps(gles, 0, sh_get_proc_address, &caps, &e) == SRT_OK && srt_mesh_grid(16, &mesh, &e) == SRT_OK &&
-              srt_preview_draw(&caps, &d, &e) == SRT_OK;
+    bool ok = sepal_query_caps(gles, 0, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK && sepal_mesh_grid(16, &mesh, &e) == SEPAL_OK &&
+              sepal_preview_draw(&caps, &d, &e) == SEPAL_OK;
     if (!ok) *err = e.message;
     std::vector<uint8_t> px(size_t(width) * height * 4);
-    if (ok && !sh_read_rgba(ctx, px.data())) {
+    if (ok && !sepal_headless_read_rgba(ctx, px.data())) {
         ok = false;
         *err = "glReadPixels failed";
     }
-    sh_destroy(ctx);
+    sepal_headless_destroy(ctx);
     if (ok) *out = sepal::image_from_rgba8(px.data(), width, height);
     return ok;
 }

@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "image.h"
+#include "util/image.h"
 
 namespace sepal_test {
 // A textured quad (16x16 grid, checker texture) tilted under one directional light,

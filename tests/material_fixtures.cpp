@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "plan.h"
+#include "bake/plan.h"
 
 namespace material_fx {
 
@@ -35,8 +35,8 @@ sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scal
     return t;
 }
 
-srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, float color) {
-    srt_fmt_pass p{};
+sepal_fmt_pass pass(sepal_pass_op op, sepal_blend blend, uint16_t t0, uint16_t t1, float color) {
+    sepal_fmt_pass p{};
     p.op = uint16_t(op);
     p.blend = uint16_t(blend);
     p.tex0 = t0;
@@ -48,12 +48,12 @@ srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, flo
 
 // Renders an asset through the runtime on GL ES 1.1 with a capability mask.
 Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::SceneSetup& s,
-                const sepal_ports::Rgba8Image* diffuse, int gles_version, srt_draw_mode mode) {
+                const sepal_ports::Rgba8Image* diffuse, int gles_version, sepal_draw_mode mode) {
     std::vector<uint8_t> bytes, rgba;
     std::string err;
     REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
     sepal_ports::GlRenderInfo info;
-    // Fails on any GL error: srt_draw checks after every pass.
+    // Fails on any GL error: sepal_draw checks after every pass.
     sepal_ports::GlRenderOptions opt;
     opt.mask = mask;
     opt.diffuse = diffuse;
@@ -69,15 +69,15 @@ Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::Sce
 
 // f = G0 H0 + G1 H1 with G1, H1 signed (stored with a bias): the plan needs every kind
 // of pass, subtractions included.
-sepal::AssetData signed_asset(srt_param param) {
+sepal::AssetData signed_asset(sepal_param param) {
     sepal::AssetData a = base_asset(param, 2);
-    a.textures.push_back(make_texture(16, SRT_ROLE_G, 0, 1.0f, [](float u, float v, int c) {
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_G, 0, 1.0f, [](float u, float v, int c) {
         const float r2 = (u - 0.5f) * (u - 0.5f) + (v - 0.5f) * (v - 0.5f);
         return std::exp(-r2 * 12.0f) * (0.8f + 0.1f * c);
     }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_H, 0, 0.3f, [](float u, float v, int) { return 0.5f + 0.5f * u * v; }));
-    a.textures.push_back(make_texture(16, SRT_ROLE_G, 1, 0.6f, [](float u, float, int) { return u; }, -0.3f));
-    a.textures.push_back(make_texture(16, SRT_ROLE_H, 1, 0.1f, [](float, float v, int) { return v; }, -0.02f));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_H, 0, 0.3f, [](float u, float v, int) { return 0.5f + 0.5f * u * v; }));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_G, 1, 0.6f, [](float u, float, int) { return u; }, -0.3f));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_H, 1, 0.1f, [](float, float v, int) { return v; }, -0.02f));
     std::string err;
     REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
     return a;

@@ -3,13 +3,13 @@
 #include <functional>
 #include <string>
 
-#include "asset_file.h"
+#include "bake/asset_file.h"
 #include "asset_fixtures.h"
-#include "brdf.h"
-#include "image.h"
-#include "render_gl.h"
-#include "scene_flags.h"
-#include "sepal_material.h"
+#include "brdf/brdf.h"
+#include "util/image.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
+#include "sepal/sepal_material.h"
 
 namespace material_fx {
 
@@ -18,21 +18,21 @@ using TexFn = std::function<float(float u, float v, int channel)>;
 // A texture of side n with the full MIP chain, q = fn(u, v) at texel centres.
 sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
                                  float bias = 0.0f, int channels = 3);
-srt_fmt_pass pass(srt_pass_op op, srt_blend blend, uint16_t t0, uint16_t t1, float color);
+sepal_fmt_pass pass(sepal_pass_op op, sepal_blend blend, uint16_t t0, uint16_t t1, float color);
 using test_fx::base_asset;
 using test_fx::ConstantBrdf;
 
 struct Rendered {
     sepal::Image image;
-    srt_draw_stats stats{};
+    sepal_draw_stats stats{};
     std::string path;
 };
 // Renders an asset through the runtime, headless (REQUIREs success: any GL error fails).
 Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::SceneSetup& s,
                 const sepal_ports::Rgba8Image* diffuse = nullptr, int gles_version = 1,
-                srt_draw_mode mode = SRT_MODE_MULTIPASS);
+                sepal_draw_mode mode = SEPAL_MODE_MULTIPASS);
 // f = G0 H0 + G1 H1 with G1, H1 signed (stored with a bias): every kind of pass.
-sepal::AssetData signed_asset(srt_param param = SRT_PARAM_GS_HALF);
+sepal::AssetData signed_asset(sepal_param param = SEPAL_PARAM_GS_HALF);
 // Renders an asset with the CPU backend.
 sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup& s,
                         const sepal_ports::Rgba8Image* diffuse = nullptr);

@@ -8,8 +8,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "brdf.h"
-#include "param.h"
+#include "brdf/brdf.h"
+#include "factor/param.h"
 
 namespace sepal_test {
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "io.h"
+#include "util/io.h"
 
 namespace sepal_test {
 

@@ -8,8 +8,8 @@
 #pragma once
 #include <string>
 
-#include "cli.h"
-#include "image.h"
+#include "cli/cli.h"
+#include "util/image.h"
 
 namespace sepal_test {
 

@@ -1,4 +1,4 @@
-#include "render_gl.h"
+#include "common/render_gl.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -9,7 +9,7 @@
 
 #include <GLES/gl.h>
 
-#include "sepal_headless.h"
+#include "headless/sepal_headless.h"
 
 // stb_image reads diffuse maps (the ports' PNG decoder; offline/ has its own copy).
 #define STB_IMAGE_IMPLEMENTATION
@@ -25,10 +25,10 @@
 namespace sepal_ports {
 
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err) {
-    return read_bounded_file(path, SRT_FMT_MAX_FILE_BYTES, bytes, err);
+    return read_bounded_file(path, SEPAL_FMT_MAX_FILE_BYTES, bytes, err);
 }
 
-std::string describe_counters(const srt_draw_stats& s) {
+std::string describe_counters(const sepal_draw_stats& s) {
     const struct {
         const char* name;
         int value;
@@ -54,10 +54,10 @@ bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
     while (start <= text.size()) {
         const size_t comma = text.find(',', start);
         const std::string word = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (word == "subtract") *mask |= SRT_MASK_BLEND_SUBTRACT;
-        else if (word == "multitexture") *mask |= SRT_MASK_MULTITEXTURE;
-        else if (word == "fbo") *mask |= SRT_MASK_FBO;
-        else if (word == "npot") *mask |= SRT_MASK_NPOT;
+        if (word == "subtract") *mask |= SEPAL_MASK_BLEND_SUBTRACT;
+        else if (word == "multitexture") *mask |= SEPAL_MASK_MULTITEXTURE;
+        else if (word == "fbo") *mask |= SEPAL_MASK_FBO;
+        else if (word == "npot") *mask |= SEPAL_MASK_NPOT;
         else if (!word.empty()) {
             *err = "--mask '" + text + "': use a comma-separated list of subtract, multitexture, fbo, npot";
             return false;
@@ -95,25 +95,25 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
     const uint32_t mask = options.mask;
     const Rgba8Image* diffuse = options.diffuse;
     // Large runtime structs live on the heap here: this is port code, not the runtime.
-    auto asset = std::make_unique<srt_asset>();
-    auto material = std::make_unique<srt_material>();
-    srt_error e = {};
-    if (srt_asset_parse(bytes, size, asset.get(), &e) != SRT_OK) {
+    auto asset = std::make_unique<sepal_asset>();
+    auto material = std::make_unique<sepal_material>();
+    sepal_error e = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
         *err = e.message;
         return false;
     }
-    sh_desc hd = {};
+    sepal_headless_desc hd = {};
     hd.width = setup.width;
     hd.height = setup.height;
     hd.gles_version = gles_version;
     char msg[512];
-    sh_context* ctx = sh_create(&hd, msg, sizeof msg);
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
     if (!ctx) {
         *err = msg;
         return false;
     }
-    srt_caps caps;
-    bool ok = srt_query_caps(gles_version, mask, sh_get_proc_address, &caps, &e) == SRT_OK;
+    sepal_caps caps;
+    bool ok = sepal_query_caps(gles_version, mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK;
     if (ok && options.float_target) {
         if (!caps.has_float_target || gles_version != 2) {
             ok = false;
@@ -122,10 +122,10 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         }
         caps.use_float_target = 1;
     }
-    ok = ok && srt_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SRT_OK;
+    ok = ok && sepal_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SEPAL_OK;
     if (ok) {
-        std::vector<float> scratch(srt_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
-        srt_draw_desc d = {};
+        std::vector<float> scratch(sepal_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
+        sepal_draw_desc d = {};
         d.material = material.get();
         d.mesh = &setup.mesh;
         d.scene = &setup.scene;
@@ -134,14 +134,14 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         d.scratch = scratch.data();
         d.scratch_floats = scratch.size();
         d.mode = options.mode;
-        if (diffuse && srt_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
-                                                &d.diffuse_texture, &e) != SRT_OK)
+        if (diffuse && sepal_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
+                                                &d.diffuse_texture, &e) != SEPAL_OK)
             ok = false;
         const int timed = options.frames > 1 ? options.frames : 1, warm = options.frames > 1 ? 2 : 0;
         std::vector<double> times;
         for (int i = 0; ok && i < warm + timed; ++i) {
             const auto start = std::chrono::steady_clock::now();
-            ok = srt_draw(&d, &info->stats, &e) == SRT_OK;
+            ok = sepal_draw(&d, &info->stats, &e) == SEPAL_OK;
             glFinish();  // the frame is done when the GPU is, not when the calls return
             if (i >= warm)
                 times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -149,14 +149,14 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         std::sort(times.begin(), times.end());
         info->ms = times.empty() ? 0.0 : times[times.size() / 2];
         rgba->resize(size_t(setup.width) * setup.height * 4);
-        if (ok && !sh_read_rgba(ctx, rgba->data())) {
+        if (ok && !sepal_headless_read_rgba(ctx, rgba->data())) {
             ok = false;
             std::snprintf(e.message, sizeof e.message, "reading the framebuffer back failed");
         }
         if (ok && material->float_fbo) {
             std::vector<float> f(size_t(setup.width) * setup.height * 4);
             int clamped = 0;
-            ok = srt_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, &e) == SRT_OK;
+            ok = sepal_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, &e) == SEPAL_OK;
             info->stats.nonfinite_clamped += clamped;
             info->float_rgb.resize(size_t(setup.width) * setup.height * 3);
             for (int y = 0; y < setup.height; ++y)  // GL rows go bottom up
@@ -165,17 +165,17 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
                         info->float_rgb[(size_t(setup.height - 1 - y) * setup.width + x) * 3 + c] =
                             f[(size_t(y) * setup.width + x) * 4 + c];
         }
-        info->device = sh_describe(ctx);
+        info->device = sepal_headless_describe(ctx);
         static const char* const kModes[] = {"multipass", "fused, per-vertex coordinates", "fused, per pixel"};
         info->path = std::string(gles_version == 2 ? "GL ES 2 " : "GL ES 1.1 ") + kModes[int(options.mode) % 3] + ", " +
                      std::string(material->single_unit ? "one texture unit (copy texture)" : "two texture units") +
                      (material->has_negative_passes
                           ? (material->subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
                           : ", no subtraction");
-        srt_texture_destroy(d.diffuse_texture);
-        srt_material_destroy(material.get());
+        sepal_texture_destroy(d.diffuse_texture);
+        sepal_material_destroy(material.get());
     }
-    sh_destroy(ctx);
+    sepal_headless_destroy(ctx);
     if (!ok) *err = e.message;
     return ok;
 }
@@ -185,17 +185,17 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
 namespace sepal_ports {
 
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
-                      std::vector<float>* rgb, double* ms, std::string* err, srt_draw_stats* stats) {
-    auto asset = std::make_unique<srt_asset>();
-    srt_error e = {};
-    if (srt_asset_parse(bytes, size, asset.get(), &e) != SRT_OK) {
+                      std::vector<float>* rgb, double* ms, std::string* err, sepal_draw_stats* stats) {
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
         *err = e.message;
         return false;
     }
     const size_t pixels = size_t(setup.width) * setup.height;
     rgb->assign(pixels * 3, 0.0f);
-    std::vector<float> depth(pixels), scratch(srt_cpu_scratch_floats(setup.mesh.vertex_count));
-    srt_cpu_desc d = {};
+    std::vector<float> depth(pixels), scratch(sepal_cpu_scratch_floats(setup.mesh.vertex_count));
+    sepal_cpu_desc d = {};
     d.asset = asset.get();
     d.mesh = &setup.mesh;
     d.scene = &setup.scene;
@@ -212,7 +212,7 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
         d.diffuse_height = diffuse->height;
     }
     const auto start = std::chrono::steady_clock::now();
-    const bool ok = srt_draw_cpu(&d, &e) == SRT_OK;
+    const bool ok = sepal_draw_cpu(&d, &e) == SEPAL_OK;
     if (ms) *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!ok) *err = e.message;
     return ok;
@@ -221,16 +221,16 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
 bool parse_gl_backend(const std::string& name, GlRenderOptions* o) {
     if (name == "gles1") {
         o->gles_version = 1;
-        o->mode = SRT_MODE_MULTIPASS;
+        o->mode = SEPAL_MODE_MULTIPASS;
     } else if (name == "gles2") {
         o->gles_version = 2;
-        o->mode = SRT_MODE_MULTIPASS;
+        o->mode = SEPAL_MODE_MULTIPASS;
     } else if (name == "gles2-fused") {
         o->gles_version = 2;
-        o->mode = SRT_MODE_FUSED_VERTEX;
+        o->mode = SEPAL_MODE_FUSED_VERTEX;
     } else if (name == "gles2-fused-pixel") {
         o->gles_version = 2;
-        o->mode = SRT_MODE_FUSED_PIXEL;
+        o->mode = SEPAL_MODE_FUSED_PIXEL;
     } else {
         return false;
     }

@@ -1,7 +1,7 @@
 // Rendering a .sepal asset headless on GL ES, shared by sepal-view and `sepal render`.
 //
 // Usage:
-//   std::vector<uint8_t> rgba; srt_draw_stats stats; std::string err;
+//   std::vector<uint8_t> rgba; sepal_draw_stats stats; std::string err;
 //   sepal_ports::GlRenderOptions opt;  // GL ES 1.1, no mask, multipass
 //   if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba,
 //                                          &info, &err)) ...
@@ -14,16 +14,16 @@
 #include <string>
 #include <vector>
 
-#include "scene_flags.h"
-#include "sepal_material.h"
+#include "common/scene_flags.h"
+#include "sepal/sepal_material.h"
 
 namespace sepal_ports {
 
 struct GlRenderInfo {
-    srt_draw_stats stats = {};
+    sepal_draw_stats stats = {};
     std::string device;  // EGL platform, renderer and version
     std::string path;    // e.g. "two texture units, blend subtract"
-    double ms = 0;       // time of srt_draw plus glFinish per frame (median over options.frames)
+    double ms = 0;       // time of sepal_draw plus glFinish per frame (median over options.frames)
     // With options.float_target: the frame as linear RGB floats, top row first (values the
     // half-float target overflowed are clamped and counted in stats.nonfinite_clamped).
     std::vector<float> float_rgb;
@@ -37,8 +37,8 @@ struct Rgba8Image {
 
 struct GlRenderOptions {
     int gles_version = 1;                 // 1 or 2
-    uint32_t mask = 0;                    // SRT_MASK_* bits
-    srt_draw_mode mode = SRT_MODE_MULTIPASS;
+    uint32_t mask = 0;                    // SEPAL_MASK_* bits
+    sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
     const Rgba8Image* diffuse = nullptr;  // optional diffuse map
     bool float_target = false;            // GL ES 2: draw into a half-float target
     // Frames to draw: with more than 1, two extra warm-up frames come first and
@@ -54,7 +54,7 @@ bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err
 // The CPU backend: linear radiance floats (RGB, top row first), no GL. stats (optional)
 // receives the frame's counters.
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
-                      std::vector<float>* rgb, double* ms, std::string* err, srt_draw_stats* stats = nullptr);
+                      std::vector<float>* rgb, double* ms, std::string* err, sepal_draw_stats* stats = nullptr);
 // Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
 // false for others (cpu is not a GL backend).
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
@@ -63,8 +63,8 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
 // The frame's nonzero horizon, repair, skip and clamp counters ("below_horizon 1506,
 // fallback_tangents 13, ..."), or "none": what sepal-view prints so that nothing the
 // runtime did is silent.
-std::string describe_counters(const srt_draw_stats& s);
-// Parses "subtract,multitexture,fbo,npot" into SRT_MASK_* bits.
+std::string describe_counters(const sepal_draw_stats& s);
+// Parses "subtract,multitexture,fbo,npot" into SEPAL_MASK_* bits.
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err);
 
 }  // namespace sepal_ports

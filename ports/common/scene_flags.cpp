@@ -1,4 +1,4 @@
-#include "scene_flags.h"
+#include "common/scene_flags.h"
 
 #include <cerrno>
 #include <cmath>
@@ -27,7 +27,7 @@ bool parse_floats(const std::string& text, int n, float* out) {
     return *p == '\0';
 }
 
-bool parse_light(const std::string& text, srt_light* l, std::string* err) {
+bool parse_light(const std::string& text, sepal_light* l, std::string* err) {
     const size_t c1 = text.find(':');
     if (c1 == std::string::npos) {
         *err = "--light '" + text + "': expected point:X,Y,Z[:I] or dir:X,Y,Z[:I]";
@@ -36,11 +36,11 @@ bool parse_light(const std::string& text, srt_light* l, std::string* err) {
     const std::string type = text.substr(0, c1);
     const size_t c2 = text.find(':', c1 + 1);
     const std::string pos = text.substr(c1 + 1, c2 == std::string::npos ? std::string::npos : c2 - c1 - 1);
-    *l = srt_light{};
+    *l = sepal_light{};
     if (type == "point") {
-        l->type = SRT_LIGHT_POINT;
+        l->type = SEPAL_LIGHT_POINT;
     } else if (type == "dir") {
-        l->type = SRT_LIGHT_DIRECTIONAL;
+        l->type = SEPAL_LIGHT_DIRECTIONAL;
     } else {
         *err = "--light '" + text + "': type must be point or dir";
         return false;
@@ -52,7 +52,7 @@ bool parse_light(const std::string& text, srt_light* l, std::string* err) {
     // Default intensity: irradiance about pi at distance 4.4 for points, pi for directional
     // lights (a white Lambertian surface facing the light shows as 1).
     float i3[3] = {3.14159265f, 3.14159265f, 3.14159265f};
-    if (l->type == SRT_LIGHT_POINT) i3[0] = i3[1] = i3[2] = 60.0f;
+    if (l->type == SEPAL_LIGHT_POINT) i3[0] = i3[1] = i3[2] = 60.0f;
     if (c2 != std::string::npos) {
         const std::string in = text.substr(c2 + 1);
         if (parse_floats(in, 1, i3)) {
@@ -91,7 +91,7 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
         return -1;
     }
     const std::string value = argv[i + 1];
-    srt_camera& cam = s->scene.camera;
+    sepal_camera& cam = s->scene.camera;
     if (flag == "--size") {
         int w = 0, h = 0;
         char tail = 0;
@@ -118,8 +118,8 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
     } else if (flag == "--light") {
         if (!s->lights_given) s->scene.light_count = 0;
         s->lights_given = true;
-        if (s->scene.light_count >= SRT_MAX_LIGHTS) {
-            *err = "at most " + std::to_string(SRT_MAX_LIGHTS) + " --light flags";
+        if (s->scene.light_count >= SEPAL_MAX_LIGHTS) {
+            *err = "at most " + std::to_string(SEPAL_MAX_LIGHTS) + " --light flags";
             return -1;
         }
         if (!parse_light(value, &s->scene.lights[s->scene.light_count], err)) return -1;
@@ -152,16 +152,16 @@ bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<ui
 }
 
 bool load_scene_mesh(SceneSetup* s, std::string* err) {
-    srt_error e = {};
-    srt_result r;
+    sepal_error e = {};
+    sepal_result r;
     const std::string& name = s->mesh_name;
     if (name == "sphere" || name == "torus" || name == "wave") {
         s->vertices.resize(name == "sphere" ? 65 * 33 : name == "torus" ? 97 * 49 : 65 * 65);
         s->indices.resize(name == "sphere" ? 64 * 32 * 6 : name == "torus" ? 96 * 48 * 6 : 64 * 64 * 6);
         s->mesh = {s->vertices.data(), s->indices.data(), int(s->vertices.size()), int(s->indices.size())};
-        r = name == "sphere" ? srt_mesh_sphere(64, 32, &s->mesh, &e)
-            : name == "torus" ? srt_mesh_torus(0.72f, 0.3f, 96, 48, &s->mesh, &e)
-                              : srt_mesh_wave(64, &s->mesh, &e);
+        r = name == "sphere" ? sepal_mesh_sphere(64, 32, &s->mesh, &e)
+            : name == "torus" ? sepal_mesh_torus(0.72f, 0.3f, 96, 48, &s->mesh, &e)
+                              : sepal_mesh_wave(64, &s->mesh, &e);
     } else {
         std::vector<uint8_t> bytes;
         if (!read_bounded_file(name, size_t(256) << 20, &bytes, err)) {
@@ -169,23 +169,23 @@ bool load_scene_mesh(SceneSetup* s, std::string* err) {
             return false;
         }
         const std::vector<char> text(bytes.begin(), bytes.end());
-        srt_obj_info info;
-        r = srt_obj_measure(text.data(), text.size(), &info, &e);
-        if (r == SRT_OK) {
+        sepal_obj_info info;
+        r = sepal_obj_measure(text.data(), text.size(), &info, &e);
+        if (r == SEPAL_OK) {
             s->vertices.resize(size_t(info.max_vertices));
             s->indices.resize(size_t(info.max_indices));
             std::vector<char> scratch(info.scratch_bytes);
             s->mesh = {s->vertices.data(), s->indices.data(), int(s->vertices.size()),
                        int(s->indices.size())};
-            r = srt_obj_load(text.data(), text.size(), &s->mesh, scratch.data(), scratch.size(),
+            r = sepal_obj_load(text.data(), text.size(), &s->mesh, scratch.data(), scratch.size(),
                              &s->obj_stats, &e);
         }
-        if (r != SRT_OK) {
+        if (r != SEPAL_OK) {
             *err = name + ": " + e.message;
             return false;
         }
     }
-    if (r != SRT_OK || srt_scene_validate(&s->scene, &e) != SRT_OK) {
+    if (r != SEPAL_OK || sepal_scene_validate(&s->scene, &e) != SEPAL_OK) {
         *err = e.message;
         return false;
     }

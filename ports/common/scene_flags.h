@@ -19,21 +19,21 @@
 #include <string>
 #include <vector>
 
-#include "sepal_scene.h"
+#include "sepal/sepal_scene.h"
 
 namespace sepal_ports {
 
 struct SceneSetup {
-    srt_scene scene;
+    sepal_scene scene;
     int width = 512, height = 512;
     std::string mesh_name = "sphere";
     bool lights_given = false;
     // Mesh storage, filled by load_scene_mesh; mesh points into it.
-    std::vector<srt_vertex> vertices;
+    std::vector<sepal_vertex> vertices;
     std::vector<uint16_t> indices;
-    srt_mesh mesh = {};
-    srt_obj_stats obj_stats = {};
-    SceneSetup() { srt_scene_default(&scene); }
+    sepal_mesh mesh = {};
+    sepal_obj_stats obj_stats = {};
+    SceneSetup() { sepal_scene_default(&scene); }
 };
 
 // Returns how many arguments it consumed at argv[i] (0: not a scene flag), or -1 with

@@ -1,5 +1,5 @@
 // Headless EGL port: see sepal_headless.h.
-#include "sepal_headless.h"
+#include "headless/sepal_headless.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-struct sh_context {
+struct sepal_headless_context {
     EGLDisplay display;
     EGLSurface surface;
     EGLContext context;
@@ -109,8 +109,8 @@ static EGLDisplay open_display(const char** platform, char* err, size_t n) {
     return EGL_NO_DISPLAY;
 }
 
-extern "C" sh_context* sh_create(const sh_desc* desc, char* err, size_t err_len) {
-    sh_desc d = desc ? *desc : sh_desc{};
+extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_desc* desc, char* err, size_t err_len) {
+    sepal_headless_desc d = desc ? *desc : sepal_headless_desc{};
     if (d.width == 0) d.width = 256;
     if (d.height == 0) d.height = 256;
     if (d.gles_version == 0) d.gles_version = 1;
@@ -171,7 +171,7 @@ extern "C" sh_context* sh_create(const sh_desc* desc, char* err, size_t err_len)
         eglDestroySurface(display, surface);
         return nullptr;
     }
-    sh_context* c = (sh_context*)calloc(1, sizeof(sh_context));
+    sepal_headless_context* c = (sepal_headless_context*)calloc(1, sizeof(sepal_headless_context));
     if (!c) {
         set_err(err, err_len, "out of memory");
         eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
@@ -192,11 +192,11 @@ extern "C" sh_context* sh_create(const sh_desc* desc, char* err, size_t err_len)
     return c;
 }
 
-extern "C" int sh_make_current(sh_context* c) {
+extern "C" int sepal_headless_make_current(sepal_headless_context* c) {
     return c && eglMakeCurrent(c->display, c->surface, c->surface, c->context) ? 1 : 0;
 }
 
-extern "C" int sh_read_rgba(sh_context* c, uint8_t* out) {
+extern "C" int sepal_headless_read_rgba(sepal_headless_context* c, uint8_t* out) {
     if (!c || !out) return 0;
     glFinish();
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -218,11 +218,11 @@ extern "C" int sh_read_rgba(sh_context* c, uint8_t* out) {
     return 1;
 }
 
-extern "C" int sh_width(const sh_context* c) { return c ? c->width : 0; }
-extern "C" int sh_height(const sh_context* c) { return c ? c->height : 0; }
-extern "C" const char* sh_describe(const sh_context* c) { return c ? c->description : ""; }
+extern "C" int sepal_headless_width(const sepal_headless_context* c) { return c ? c->width : 0; }
+extern "C" int sepal_headless_height(const sepal_headless_context* c) { return c ? c->height : 0; }
+extern "C" const char* sepal_headless_describe(const sepal_headless_context* c) { return c ? c->description : ""; }
 
-extern "C" void sh_destroy(sh_context* c) {
+extern "C" void sepal_headless_destroy(sepal_headless_context* c) {
     if (!c) return;
     eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(c->display, c->context);
@@ -233,6 +233,6 @@ extern "C" void sh_destroy(sh_context* c) {
     free(c);
 }
 
-extern "C" sh_proc sh_get_proc_address(const char* name) {
-    return (sh_proc)eglGetProcAddress(name);
+extern "C" sepal_headless_proc sepal_headless_get_proc_address(const char* name) {
+    return (sepal_headless_proc)eglGetProcAddress(name);
 }

@@ -1,18 +1,18 @@
 // sepal_headless.h - offscreen GL ES contexts through EGL, no display needed.
 //
 // Usage:
-//   sh_desc d = {};                 // zero means default: 256x256, GL ES 1.1
+//   sepal_headless_desc d = {};                 // zero means default: 256x256, GL ES 1.1
 //   d.width = 512; d.height = 512; d.gles_version = 2;
 //   char err[256];
-//   sh_context* c = sh_create(&d, err, sizeof err);
+//   sepal_headless_context* c = sepal_headless_create(&d, err, sizeof err);
 //   if (!c) { fprintf(stderr, "%s\n", err); return 2; }
 //   ... draw with GL ES ...
-//   sh_read_rgba(c, pixels);       // width*height*4 bytes, top row first
-//   sh_destroy(c);
+//   sepal_headless_read_rgba(c, pixels);       // width*height*4 bytes, top row first
+//   sepal_headless_destroy(c);
 //
 // Limits: one context per process at a time is what the tests use; nothing stops
 // more, but each is made current on create and callers must re-bind with
-// sh_make_current. The context draws into an EGL pbuffer (RGBA8, depth 24 or 16),
+// sepal_headless_make_current. The context draws into an EGL pbuffer (RGBA8, depth 24 or 16),
 // so no framebuffer-object extension is needed for the default target.
 // Platform order: EGL_MESA_platform_surfaceless, then EGL_EXT_platform_device, then
 // the default display. SEPAL_EGL_PLATFORM=surfaceless|device|default forces one.
@@ -25,29 +25,29 @@
 extern "C" {
 #endif
 
-typedef struct sh_desc {
+typedef struct sepal_headless_desc {
     int width;         // pixels; 0 means 256
     int height;        // pixels; 0 means 256
     int gles_version;  // 1 (GL ES 1.1 common profile) or 2 (GL ES 2.0); 0 means 1
     int depth_bits;    // minimum depth bits; 0 means 16
-} sh_desc;
+} sepal_headless_desc;
 
-typedef struct sh_context sh_context;
+typedef struct sepal_headless_context sepal_headless_context;
 
 // Creates and makes current a context. Returns NULL and writes the reason to err.
-sh_context* sh_create(const sh_desc* desc, char* err, size_t err_len);
-int sh_make_current(sh_context* c);
+sepal_headless_context* sepal_headless_create(const sepal_headless_desc* desc, char* err, size_t err_len);
+int sepal_headless_make_current(sepal_headless_context* c);
 // Reads the colour buffer as RGBA8, top row first (GL's rows are flipped here).
 // out must hold width*height*4 bytes. Returns 1 on success.
-int sh_read_rgba(sh_context* c, uint8_t* out);
-int sh_width(const sh_context* c);
-int sh_height(const sh_context* c);
+int sepal_headless_read_rgba(sepal_headless_context* c, uint8_t* out);
+int sepal_headless_width(const sepal_headless_context* c);
+int sepal_headless_height(const sepal_headless_context* c);
 // Human-readable description: platform, EGL vendor, GL renderer and version.
-const char* sh_describe(const sh_context* c);
-void sh_destroy(sh_context* c);
-// eglGetProcAddress, typed as the runtime's srt_proc_loader wants it.
-typedef void (*sh_proc)(void);
-sh_proc sh_get_proc_address(const char* name);
+const char* sepal_headless_describe(const sepal_headless_context* c);
+void sepal_headless_destroy(sepal_headless_context* c);
+// eglGetProcAddress, typed as the runtime's sepal_proc_loader wants it.
+typedef void (*sepal_headless_proc)(void);
+sepal_headless_proc sepal_headless_get_proc_address(const char* name);
 
 #ifdef __cplusplus
 }

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "render_gl.h"
-#include "scene_flags.h"
-#include "sepal_headless.h"
-#include "sepal_rt.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
+#include "headless/sepal_headless.h"
+#include "sepal/sepal_rt.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     bool headless = false;
     int gles = 1;
     uint32_t mask = 0;
-    srt_draw_mode mode = SRT_MODE_MULTIPASS;
+    sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
     std::string backend;
     const char* out = nullptr;
     const char* asset_path = nullptr;
@@ -111,9 +111,9 @@ int main(int argc, char** argv) {
             }
         } else if (!strcmp(a, "--mode") && has_value) {
             const char* m = argv[++i];
-            if (!strcmp(m, "multipass")) mode = SRT_MODE_MULTIPASS;
-            else if (!strcmp(m, "fused")) mode = SRT_MODE_FUSED_VERTEX;
-            else if (!strcmp(m, "fused-pixel")) mode = SRT_MODE_FUSED_PIXEL;
+            if (!strcmp(m, "multipass")) mode = SEPAL_MODE_MULTIPASS;
+            else if (!strcmp(m, "fused")) mode = SEPAL_MODE_FUSED_VERTEX;
+            else if (!strcmp(m, "fused-pixel")) mode = SEPAL_MODE_FUSED_PIXEL;
             else {
                 fprintf(stderr, "sepal-view: --mode '%s': multipass, fused or fused-pixel\n", m);
                 return 2;
@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
         if (backend == "cpu") {
             std::vector<float> rgb;
             double ms = 0;
-            srt_draw_stats stats = {};
+            sepal_draw_stats stats = {};
             if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, diffuse_path ? &diffuse : nullptr,
                                                &rgb, &ms, &flag_err, &stats)) {
                 fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
@@ -205,20 +205,20 @@ int main(int argc, char** argv) {
     }
 
     char msg[512];
-    sh_desc hd = {};
+    sepal_headless_desc hd = {};
     hd.width = width;
     hd.height = height;
     hd.gles_version = gles;
-    sh_context* ctx = sh_create(&hd, msg, sizeof msg);
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
     if (!ctx) {
         fprintf(stderr, "sepal-view: %s\n", msg);
         return 1;
     }
-    srt_error err = {};
-    srt_caps caps;
-    if (srt_query_caps(gles, 0, sh_get_proc_address, &caps, &err) != SRT_OK) {
+    sepal_error err = {};
+    sepal_caps caps;
+    if (sepal_query_caps(gles, 0, sepal_headless_get_proc_address, &caps, &err) != SEPAL_OK) {
         fprintf(stderr, "sepal-view: %s\n", err.message);
-        sh_destroy(ctx);
+        sepal_headless_destroy(ctx);
         return 1;
     }
     // Textures are made once, before drawing; nothing is allocated after.
@@ -232,16 +232,16 @@ int main(int argc, char** argv) {
             p[2] = dark ? 190 : 240;
             p[3] = 255;
         }
-    srt_preview_desc d = {};
+    sepal_preview_desc d = {};
     d.mesh = &setup.mesh;
-    if (srt_scene_matrices(&setup.scene, width, height, d.model_view, d.projection, &err) != SRT_OK) {
+    if (sepal_scene_matrices(&setup.scene, width, height, d.model_view, d.projection, &err) != SEPAL_OK) {
         fprintf(stderr, "sepal-view: %s\n", err.message);
-        sh_destroy(ctx);
+        sepal_headless_destroy(ctx);
         return 2;
     }
     // The preview has one directional light: the first light's direction seen from the
     // origin, in eye space.
-    const srt_light& light = setup.scene.lights[0];
+    const sepal_light& light = setup.scene.lights[0];
     for (int r = 0; r < 3; ++r)
         d.light_dir_eye[r] = d.model_view[r] * light.position[0] +
                              d.model_view[4 + r] * light.position[1] +
@@ -254,15 +254,15 @@ int main(int argc, char** argv) {
     d.texture_width = d.texture_height = 64;
     for (int c = 0; c < 3; ++c) d.clear_color[c] = setup.scene.background[c];
     d.clear_color[3] = 1.0f;
-    if (srt_preview_draw(&caps, &d, &err) != SRT_OK) {
+    if (sepal_preview_draw(&caps, &d, &err) != SEPAL_OK) {
         fprintf(stderr, "sepal-view: %s\n", err.message);
-        sh_destroy(ctx);
+        sepal_headless_destroy(ctx);
         return 1;
     }
     std::vector<uint8_t> pixels((size_t)width * height * 4);
-    const bool read = sh_read_rgba(ctx, pixels.data()) != 0;
-    fprintf(stderr, "sepal-view: %s\n", sh_describe(ctx));
-    sh_destroy(ctx);
+    const bool read = sepal_headless_read_rgba(ctx, pixels.data()) != 0;
+    fprintf(stderr, "sepal-view: %s\n", sepal_headless_describe(ctx));
+    sepal_headless_destroy(ctx);
     if (!read || !write_png_atomic(out, width, height, pixels.data())) {
         fprintf(stderr, "sepal-view: could not read back or write %s\n", out);
         return 1;

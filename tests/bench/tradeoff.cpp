@@ -32,16 +32,16 @@
 #include <unistd.h>
 #include <vector>
 
-#include "asset_file.h"
-#include "bake.h"
-#include "cost_model.h"
-#include "image.h"
-#include "io.h"
-#include "json.h"
-#include "plot.h"
-#include "render_exact.h"
-#include "render_gl.h"
-#include "scene_flags.h"
+#include "bake/asset_file.h"
+#include "bake/bake.h"
+#include "bake/cost_model.h"
+#include "util/image.h"
+#include "util/io.h"
+#include "util/json.h"
+#include "util/plot.h"
+#include "reference/render_exact.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
 
 using namespace sepal;
 

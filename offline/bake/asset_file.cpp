@@ -1,0 +1,99 @@
+#include "bake/asset_file.h"
+
+#include <cstring>
+#include <memory>
+
+#include "util/io.h"
+
+namespace sepal {
+namespace {
+
+void append(std::vector<uint8_t>* v, const void* p, size_t n) {
+    const uint8_t* b = static_cast<const uint8_t*>(p);
+    v->insert(v->end(), b, b + n);
+}
+
+void pad8(std::vector<uint8_t>* v) {
+    while (v->size() % 8) v->push_back(0);
+}
+
+}  // namespace
+
+bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string* err) {
+    struct Payload {
+        uint32_t tag;
+        std::vector<uint8_t> bytes;
+    };
+    std::vector<Payload> chunks;
+    {
+        Payload p{SEPAL_FMT_TAG_MATERIAL, {}};
+        append(&p.bytes, &asset.material, sizeof asset.material);
+        chunks.push_back(std::move(p));
+    }
+    for (const AssetTexture& t : asset.textures) {
+        Payload p{SEPAL_FMT_TAG_TEXTURE, {}};
+        sepal_fmt_texture d = t.desc;
+        d.data_bytes = t.data.size();
+        append(&p.bytes, &d, sizeof d);
+        append(&p.bytes, t.data.data(), t.data.size());
+        chunks.push_back(std::move(p));
+    }
+    {
+        Payload p{SEPAL_FMT_TAG_PLAN, {}};
+        sepal_fmt_plan plan = asset.plan;
+        plan.pass_count = uint32_t(asset.passes.size());
+        append(&p.bytes, &plan, sizeof plan);
+        append(&p.bytes, asset.passes.data(), asset.passes.size() * sizeof(sepal_fmt_pass));
+        chunks.push_back(std::move(p));
+    }
+    if (!asset.meta.empty()) {
+        Payload p{SEPAL_FMT_TAG_META, {}};
+        append(&p.bytes, asset.meta.data(), asset.meta.size());
+        chunks.push_back(std::move(p));
+    }
+    if (chunks.size() > SEPAL_FMT_MAX_CHUNKS) {
+        if (err) *err = "asset: too many chunks (" + std::to_string(chunks.size()) + ")";
+        return false;
+    }
+    std::vector<uint8_t> file(sizeof(sepal_fmt_header) + chunks.size() * sizeof(sepal_fmt_chunk), 0);
+    pad8(&file);
+    std::vector<sepal_fmt_chunk> table;
+    for (const Payload& p : chunks) {
+        sepal_fmt_chunk c{};
+        c.tag = p.tag;
+        c.offset = file.size();
+        c.size = p.bytes.size();
+        c.crc = sepal_crc32(0, p.bytes.data(), p.bytes.size());
+        table.push_back(c);
+        append(&file, p.bytes.data(), p.bytes.size());
+        pad8(&file);
+    }
+    std::memcpy(file.data() + sizeof(sepal_fmt_header), table.data(), table.size() * sizeof(sepal_fmt_chunk));
+    sepal_fmt_header h{};
+    std::memcpy(h.magic, SEPAL_FMT_MAGIC, 8);
+    h.version_major = SEPAL_FMT_VERSION_MAJOR;
+    h.version_minor = SEPAL_FMT_VERSION_MINOR;
+    h.header_bytes = sizeof h;
+    h.file_bytes = file.size();
+    h.chunk_count = uint32_t(chunks.size());
+    // The header checksum covers the header (with this field 0) and the chunk table.
+    std::memcpy(file.data(), &h, sizeof h);
+    h.header_crc = sepal_crc32(0, file.data(), sizeof h + table.size() * sizeof(sepal_fmt_chunk));
+    std::memcpy(file.data(), &h, sizeof h);
+    // The runtime's reader is the judge of what a valid asset is.
+    auto check = std::make_unique<sepal_asset>();  // ~8 KB: not on the stack
+    sepal_error e{};
+    if (sepal_asset_parse(file.data(), file.size(), check.get(), &e) != SEPAL_OK) {
+        if (err) *err = std::string("asset encoder produced an invalid asset: ") + e.message;
+        return false;
+    }
+    *out = std::move(file);
+    return true;
+}
+
+bool write_asset(const std::string& path, const AssetData& asset, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return encode_asset(asset, &bytes, err) && write_file_atomic(path, bytes.data(), bytes.size(), err);
+}
+
+}  // namespace sepal

@@ -1,0 +1,37 @@
+// Writing .sepal assets (the format is runtime/include/sepal/sepal_format.h, shared with the reader).
+//
+// Usage:
+//   sepal::AssetData a;  a.material = ...; a.textures.push_back(...); a.plan = ...; ...
+//   std::string err;
+//   if (!sepal::write_asset("out.sepal", a, &err)) ...
+//
+// encode_asset lays out header, chunk table and chunks (MATL, TEXR..., PLAN, META) with
+// zeroed padding and reserved fields, so equal inputs give byte-identical files, then
+// parses the result with the runtime's own reader: a writer bug cannot produce a file
+// the runtime refuses. write_asset writes atomically.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sepal/sepal_format.h"
+
+namespace sepal {
+
+struct AssetTexture {
+    sepal_fmt_texture desc{};     // data_bytes is filled in by the encoder
+    std::vector<uint8_t> data;  // all MIP levels, level 0 first
+};
+
+struct AssetData {
+    sepal_fmt_material material{};
+    std::vector<AssetTexture> textures;
+    sepal_fmt_plan plan{};  // pass_count is filled in by the encoder
+    std::vector<sepal_fmt_pass> passes;
+    std::string meta;  // JSON manifest; may be empty
+};
+
+bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string* err);
+bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
+
+}  // namespace sepal

@@ -1,0 +1,145 @@
+#include "bake/cost_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "util/io.h"
+#include "util/json_read.h"
+
+namespace sepal {
+
+double CostModel::predict(int passes, int terms, int64_t bytes) const {
+    return base_ms + per_pass_ms * passes + per_term_ms * terms + per_kib_ms * (double(bytes) / 1024.0);
+}
+
+bool fit_cost_model(const std::vector<CostSample>& samples, CostModel* out, std::string* err) {
+    std::vector<CostSample> s;
+    for (const CostSample& c : samples)
+        if (std::isfinite(c.ms) && c.ms > 0) s.push_back(c);
+    if (s.size() < 2) {
+        if (err) *err = "cost model: " + std::to_string(s.size()) + " usable measurements; at least 2 needed";
+        return false;
+    }
+    const int n = int(s.size());
+    Eigen::MatrixXd X(n, 4);
+    Eigen::VectorXd y(n);
+    for (int i = 0; i < n; ++i) {
+        X(i, 0) = 1;
+        X(i, 1) = s[size_t(i)].passes;
+        X(i, 2) = s[size_t(i)].terms;
+        X(i, 3) = double(s[size_t(i)].bytes) / 1024.0;
+        y(i) = s[size_t(i)].ms;
+    }
+    // Every subset of the slopes: a non-negative least squares small enough to enumerate,
+    // and deterministic (no iteration order or tolerance to tune).
+    double best_sse = INFINITY;
+    Eigen::Vector4d best = Eigen::Vector4d::Zero();
+    for (int mask = 0; mask < 8; ++mask) {
+        std::vector<int> cols = {0};
+        for (int j = 0; j < 3; ++j)
+            if (mask & (1 << j)) cols.push_back(j + 1);
+        Eigen::MatrixXd A(n, int(cols.size()));
+        for (size_t c = 0; c < cols.size(); ++c) A.col(int(c)) = X.col(cols[c]);
+        const Eigen::VectorXd b = A.colPivHouseholderQr().solve(y);
+        if (!b.allFinite() || b.minCoeff() < 0) continue;
+        const double sse = (A * b - y).squaredNorm();
+        if (sse < best_sse * (1 - 1e-12)) {
+            best_sse = sse;
+            best.setZero();
+            for (size_t c = 0; c < cols.size(); ++c) best(cols[c]) = b(int(c));
+        }
+    }
+    if (!std::isfinite(best_sse)) {
+        if (err) *err = "cost model: no fit with non-negative coefficients";
+        return false;
+    }
+    CostModel m = *out;
+    m.base_ms = best(0), m.per_pass_ms = best(1), m.per_term_ms = best(2), m.per_kib_ms = best(3);
+    std::vector<double> rel;
+    for (const CostSample& c : s) rel.push_back(std::fabs(m.predict(c.passes, c.terms, c.bytes) - c.ms) / c.ms);
+    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+    m.fit_error = rel[rel.size() / 2];
+    m.rows = n;
+    *out = m;
+    return true;
+}
+
+const char* cost_model_backends() { return "gles1, gles2-fused, cpu"; }
+
+bool default_cost_model(const std::string& backend, CostModel* out, std::string* err) {
+    // From `make bench` (build/bench/tradeoff.json, "cost_models"; 490 frames per backend):
+    // Mesa 22.3.6 llvmpipe on 2 cores, 512x512 frames of the default scene (sphere, one point
+    // light), 2026-11-21. Re-measure on the target and pass the file to `sepal bake --timings`.
+    struct Row {
+        const char* backend;
+        double base, pass, term, kib, fit;
+        int rows;
+    } static const kRows[] = {
+        {"gles1", 2.66747, 1.23719, 0.695995, 0.0, 0.116259, 490},
+        {"gles2-fused", 3.86689, 0.0, 1.85882, 0.0, 0.10758, 490},
+        {"cpu", 21.8222, 0.0, 8.13874, 0.000957775, 0.0106832, 490},
+    };
+    for (const Row& r : kRows)
+        if (backend == r.backend) {
+            CostModel m;
+            m.backend = r.backend;
+            m.device = "Mesa llvmpipe, 2 cores (built in)";
+            m.width = m.height = 512;
+            m.base_ms = r.base, m.per_pass_ms = r.pass, m.per_term_ms = r.term, m.per_kib_ms = r.kib;
+            m.fit_error = r.fit;
+            m.rows = r.rows;
+            *out = m;
+            return true;
+        }
+    if (err) *err = "cost model: no built-in model for backend '" + backend + "' (" + cost_model_backends() + ")";
+    return false;
+}
+
+bool read_cost_model(const std::string& path, const std::string& backend, CostModel* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    if (!read_file(path, &bytes, err, uint64_t(1) << 20)) return false;  // parse_json's limit
+    JsonValue v;
+    std::string jerr;
+    if (!parse_json(std::string(bytes.begin(), bytes.end()), &v, &jerr)) {
+        if (err) *err = path + ": " + jerr;
+        return false;
+    }
+    const JsonValue* models = v.find("cost_models");
+    if (!models || models->kind != JsonValue::Array) {
+        if (err) *err = path + ": no \"cost_models\" array (write one with `make bench`)";
+        return false;
+    }
+    const JsonValue* device = v.find("device");
+    for (const JsonValue& m : models->array) {
+        const JsonValue* b = m.find("backend");
+        if (!b || b->kind != JsonValue::String || b->string != backend) continue;
+        CostModel c;
+        c.backend = backend;
+        c.device = device && device->kind == JsonValue::String ? device->string : path;
+        double* fields[] = {&c.base_ms, &c.per_pass_ms, &c.per_term_ms, &c.per_kib_ms, &c.fit_error};
+        const char* names[] = {"base_ms", "per_pass_ms", "per_term_ms", "per_kib_ms", "fit_error"};
+        for (int i = 0; i < 5; ++i) {
+            const JsonValue* f = m.find(names[i]);
+            if (!f || f->kind != JsonValue::Number || !std::isfinite(f->number) || f->number < 0) {
+                if (err) *err = path + ": cost model '" + backend + "': \"" + names[i] + "\" missing or not a number >= 0";
+                return false;
+            }
+            *fields[i] = f->number;
+        }
+        const JsonValue* rows = m.find("rows");
+        c.rows = rows && rows->kind == JsonValue::Number ? int(rows->number) : 0;
+        const JsonValue* size = v.find("size");
+        if (size && size->kind == JsonValue::Array && size->array.size() == 2) {
+            c.width = int(size->array[0].number);
+            c.height = int(size->array[1].number);
+        }
+        *out = c;
+        return true;
+    }
+    if (err) *err = path + ": no cost model for backend '" + backend + "'";
+    return false;
+}
+
+}  // namespace sepal

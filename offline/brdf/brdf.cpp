@@ -1,0 +1,17 @@
+#include "brdf/brdf.h"
+
+#include "brdf/brdf_models.h"
+#include "util/io.h"
+#include "measured/measured.h"
+
+namespace sepal {
+
+std::unique_ptr<Brdf> make_brdf(const std::string& spec, std::string* err) {
+    // A spec with a file extension of measured data is a path; anything else is a model.
+    const std::string ext = file_extension(spec);
+    if (spec.find(':') == std::string::npos && (ext == "binary" || ext == "brdf"))
+        return load_measured_brdf(spec, err);
+    return make_analytic_brdf(spec, err);
+}
+
+}  // namespace sepal

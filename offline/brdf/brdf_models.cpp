@@ -1,0 +1,479 @@
+// The analytic model registry, the shared base class, and the simple closed-form models:
+// lambert, phong, blinn, lafortune, oren-nayar, hapke-lommel.
+#include "brdf/brdf_models.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "brdf/brdf_models_impl.h"
+#include "brdf/brdf_util.h"
+
+namespace sepal {
+
+using glm::dvec3;
+
+// ---- registry ----------------------------------------------------------------------------
+
+static const std::vector<const ModelEntry*>& registry() {
+    static const std::vector<const ModelEntry*> table = {
+        &lambert_entry(),
+        &phong_entry(),
+        &blinn_entry(),
+        &lafortune_entry(),
+        &ward_entry(),
+        &cook_torrance_entry(),
+        &ashikhmin_shirley_entry(),
+        &poulin_fournier_entry(),
+        &hapke_lommel_entry(),
+        &oren_nayar_entry(),
+        &velvet_entry(),
+    };
+    return table;
+}
+
+std::vector<std::string> analytic_model_names() {
+    std::vector<std::string> names;
+    for (const ModelEntry* e : registry()) names.push_back(e->name);
+    return names;
+}
+
+static std::string param_doc(const ParamDef& d) {
+    std::string s = std::string(d.doc) + " (" + (d.kind == ParamKind::kColour ? "colour " : "") +
+                    format_range(d.lo, d.hi);
+    if (d.default_from)
+        s += std::string(", default: ") + d.default_from;
+    else
+        s += ", default " +
+             (d.kind == ParamKind::kColour ? format_colour(d.def) : format_number(d.def.x));
+    return s + ")";
+}
+
+std::string analytic_models_help() {
+    std::string s;
+    for (const ModelEntry* e : registry()) {
+        s += std::string(e->name) + ": " + e->summary + "\n  source: " + e->source + "\n";
+        for (const ParamDef& d : e->params)
+            s += "  " + std::string(d.name) + ": " + param_doc(d) + "\n";
+        for (const std::string& r : e->repeated) s += "  " + r + ": repeatable (syntax above)\n";
+    }
+    return s;
+}
+
+std::unique_ptr<Brdf> make_analytic_brdf(const std::string& spec, std::string* err) {
+    std::string model;
+    std::vector<SpecItem> items;
+    if (!split_spec(spec, &model, &items, err)) return nullptr;
+    for (const ModelEntry* e : registry()) {
+        if (model != e->name) continue;
+        ParamSet p;
+        if (!bind_spec(spec, e->name, e->params, e->repeated, &p, err)) return nullptr;
+        return e->make(*e, p, err);
+    }
+    if (err) {
+        std::string names;
+        for (const ModelEntry* e : registry())
+            names += (names.empty() ? "" : ", ") + std::string(e->name);
+        *err = "unknown BRDF model '" + model + "'; models: " + names +
+               " (or a measured file: .binary, .brdf)";
+    }
+    return nullptr;
+}
+
+// ---- base class --------------------------------------------------------------------------
+
+// Unit vector with z >= kMinCos, or false for input at/below the horizon or not finite.
+static bool prepare(const dvec3& w, dvec3* out) {
+    if (!(w.z > 0.0) || !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+        return false;
+    double len = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+    if (!(len > 0.0 && len < 1e150))  // squares over- or underflowed: the slow exact way
+        len = std::hypot(std::hypot(w.x, w.y), w.z);
+    if (!(len > 0.0) || !std::isfinite(len)) return false;
+    dvec3 u = w / len;
+    if (u.z < kMinCos) {
+        const double s = std::hypot(u.x, u.y);
+        if (!(s > 0.0)) return false;
+        const double k = std::sqrt(1.0 - kMinCos * kMinCos) / s;
+        u = dvec3(u.x * k, u.y * k, kMinCos);
+    }
+    *out = u;
+    return true;
+}
+
+dvec3 AnalyticBrdf::eval(const dvec3& wi, const dvec3& wo) const {
+    dvec3 a, b;
+    if (!prepare(wi, &a) || !prepare(wo, &b)) return dvec3(0.0);
+    return eval_above(a, b);
+}
+
+std::string AnalyticBrdf::spec() const {
+    return std::string(entry_.name) + ":" + format_params(entry_.params, p_) + extra_spec();
+}
+
+std::string AnalyticBrdf::model() const { return entry_.name; }
+
+std::string AnalyticBrdf::info() const {
+    std::string s = std::string(entry_.summary) + "\nsource: " + entry_.source + "\n";
+    for (const ParamDef& d : entry_.params) {
+        const std::string v = d.kind == ParamKind::kColour ? format_colour(p_.colour(d.name))
+                                                           : format_number(p_.scalar(d.name));
+        char line[160];
+        std::snprintf(line, sizeof line, "%-6s = %-20s ", d.name, v.c_str());
+        s += line + param_doc(d) + "\n";
+    }
+    return s + extra_info();
+}
+
+// ---- lambert -----------------------------------------------------------------------------
+
+namespace {
+
+constexpr double kInvPi = 1.0 / kPi;
+
+class Lambert final : public AnalyticBrdf {
+  public:
+    Lambert(const ModelEntry& e, const ParamSet& p) : AnalyticBrdf(e, p), rho_(colour("rho")) {}
+    bool energy_conserving() const override { return max3(rho_) <= 1.0; }
+
+  protected:
+    dvec3 eval_above(const dvec3&, const dvec3&) const override { return rho_ * kInvPi; }
+
+  private:
+    dvec3 rho_;
+};
+
+// cos(angle between wo and the mirror of wi about n); symmetric in wi, wo by construction.
+inline double mirror_cos(const dvec3& wi, const dvec3& wo) {
+    return wi.z * wo.z - wi.x * wo.x - wi.y * wo.y;
+}
+
+// max(0, c)^n with c clamped to 1 against rounding; 0 for c <= 0 (also when n = 0).
+inline double lobe_pow(double c, double n) {
+    if (!(c > 0.0)) return 0.0;
+    return std::pow(std::min(c, 1.0), n);
+}
+
+// ---- phong -------------------------------------------------------------------------------
+
+class Phong final : public AnalyticBrdf {
+  public:
+    Phong(const ModelEntry& e, const ParamSet& p)
+        : AnalyticBrdf(e, p), rd_(colour("rho_d")), rs_(colour("rho_s")), n_(scalar("n")) {}
+    bool energy_conserving() const override { return max3(rd_ + rs_) <= 1.0; }
+
+  protected:
+    dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
+        const double lobe = (n_ + 2.0) / (2.0 * kPi) * lobe_pow(mirror_cos(wi, wo), n_);
+        return rd_ * kInvPi + rs_ * lobe;
+    }
+
+  private:
+    dvec3 rd_, rs_;
+    double n_;
+};
+
+// ---- blinn -------------------------------------------------------------------------------
+
+// Largest directional albedo of the unit (n+8)/(8 pi) cos^n(theta_h) lobe: 1.0752, at
+// normal incidence and n ~ 9 (the normalization is an approximation; the excess falls to
+// 0.2% at n = 1000). Measured with directional_albedo over n in 0..1e6 and theta_i in
+// 0..89.99 degrees; tests/offline/brdf/brdf_models_test.cpp re-checks it.
+constexpr double kBlinnMaxAlbedo = 1.076;
+
+class Blinn final : public AnalyticBrdf {
+  public:
+    Blinn(const ModelEntry& e, const ParamSet& p)
+        : AnalyticBrdf(e, p), rd_(colour("rho_d")), rs_(colour("rho_s")), n_(scalar("n")) {}
+    bool energy_conserving() const override { return max3(rd_ + kBlinnMaxAlbedo * rs_) <= 1.0; }
+
+  protected:
+    dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
+        const dvec3 h = wi + wo;  // z > 0, never zero
+        const double cos_h = h.z / std::sqrt(h.x * h.x + h.y * h.y + h.z * h.z);
+        const double lobe = (n_ + 8.0) / (8.0 * kPi) * lobe_pow(cos_h, n_);
+        return rd_ * kInvPi + rs_ * lobe;
+    }
+
+  private:
+    dvec3 rd_, rs_;
+    double n_;
+};
+
+// ---- lafortune ---------------------------------------------------------------------------
+
+struct Lobe {
+    double cx, cy, cz, n;
+    dvec3 w;
+};
+
+constexpr int kMaxLobes = 16;
+constexpr double kLobeCMax = 100.0, kLobeNMax = 1e6, kLobeWMax = 1000.0;
+
+bool parse_lobe(int index, const std::string& text, Lobe* out, std::string* err) {
+    const std::string where = "lafortune: lobe " + std::to_string(index) + " = '" + text + "'";
+    std::vector<double> v;
+    size_t pos = 0;
+    while (true) {
+        const size_t slash = text.find('/', pos);
+        double x;
+        if (!parse_finite(
+                text.substr(pos, slash == std::string::npos ? std::string::npos : slash - pos),
+                &x)) {
+            if (err) *err = where + ": every field must be a finite number";
+            return false;
+        }
+        v.push_back(x);
+        if (slash == std::string::npos) break;
+        pos = slash + 1;
+    }
+    if (!(v.size() == 4 || v.size() == 5 || v.size() == 7)) {
+        if (err) *err = where + ": expected Cx/Cy/Cz/n, Cx/Cy/Cz/n/w or Cx/Cy/Cz/n/r/g/b";
+        return false;
+    }
+    for (int i = 0; i < 3; ++i)
+        if (std::fabs(v[i]) > kLobeCMax) {
+            if (err)
+                *err = where + ": Cx, Cy, Cz must lie in " + format_range(-kLobeCMax, kLobeCMax);
+            return false;
+        }
+    if (!(v[3] >= 0.0 && v[3] <= kLobeNMax)) {
+        if (err) *err = where + ": exponent n must lie in " + format_range(0, kLobeNMax);
+        return false;
+    }
+    for (size_t i = 4; i < v.size(); ++i)
+        if (!(v[i] >= 0.0 && v[i] <= kLobeWMax)) {
+            if (err) *err = where + ": weight must lie in " + format_range(0, kLobeWMax);
+            return false;
+        }
+    // |Cx x + Cy y + Cz z| <= max|C| for unit vectors, so max|C|^n bounds the lobe.
+    const double cmax = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+    if (cmax > 1.0 && v[3] * std::log10(cmax) > 200.0) {
+        if (err) *err = where + ": max(|Cx|,|Cy|,|Cz|)^n exceeds 1e200 (overflow)";
+        return false;
+    }
+    out->cx = v[0];
+    out->cy = v[1];
+    out->cz = v[2];
+    out->n = v[3];
+    out->w = v.size() == 4 ? dvec3(1.0) : v.size() == 5 ? dvec3(v[4]) : dvec3(v[4], v[5], v[6]);
+    return true;
+}
+
+class Lafortune final : public AnalyticBrdf {
+  public:
+    Lafortune(const ModelEntry& e, const ParamSet& p, std::vector<Lobe> lobes)
+        : AnalyticBrdf(e, p), rd_(colour("rho_d")), lobes_(std::move(lobes)) {}
+    bool isotropic() const override {
+        for (const Lobe& l : lobes_)
+            if (l.cx != l.cy) return false;
+        return true;
+    }
+
+  protected:
+    dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
+        dvec3 f = rd_ * kInvPi;
+        for (const Lobe& l : lobes_) {
+            const double c = l.cx * (wi.x * wo.x) + l.cy * (wi.y * wo.y) + l.cz * (wi.z * wo.z);
+            if (c > 0.0) f += l.w * std::pow(c, l.n);
+        }
+        return f;
+    }
+    std::string extra_spec() const override {
+        std::string s;
+        for (const Lobe& l : lobes_) s += ",lobe=" + lobe_text(l);
+        return s;
+    }
+    std::string extra_info() const override {
+        std::string s;
+        for (size_t i = 0; i < lobes_.size(); ++i)
+            s += "lobe " + std::to_string(i + 1) + " = " + lobe_text(lobes_[i]) + "\n";
+        return s;
+    }
+
+  private:
+    static std::string lobe_text(const Lobe& l) {
+        std::string s = format_number(l.cx) + "/" + format_number(l.cy) + "/" +
+                        format_number(l.cz) + "/" + format_number(l.n);
+        if (l.w != dvec3(1.0)) s += "/" + format_colour(l.w);
+        return s;
+    }
+    dvec3 rd_;
+    std::vector<Lobe> lobes_;
+};
+
+// ---- oren-nayar --------------------------------------------------------------------------
+
+class OrenNayar final : public AnalyticBrdf {
+  public:
+    OrenNayar(const ModelEntry& e, const ParamSet& p) : AnalyticBrdf(e, p), rho_(colour("rho")) {
+        const double s2 = scalar("sigma") * scalar("sigma");
+        a_ = 1.0 - 0.5 * s2 / (s2 + 0.33);
+        b_ = 0.45 * s2 / (s2 + 0.09);
+    }
+    // The albedo grows with theta_i; at grazing incidence it tends to rho (A + B/2) (the
+    // integral of the B term is B/2 there), which can exceed rho for small sigma.
+    bool energy_conserving() const override { return max3(rho_) * (a_ + 0.5 * b_) <= 1.0; }
+
+  protected:
+    dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
+        // sin(alpha) tan(beta) cos(phi_i - phi_o) = (xy_i . xy_o) / cos(beta), with
+        // beta = min(theta_i, theta_o): no angles, no division by a vanishing sine.
+        const double t = std::max(0.0, wi.x * wo.x + wi.y * wo.y) / std::max(wi.z, wo.z);
+        return rho_ * (kInvPi * (a_ + b_ * t));
+    }
+
+  private:
+    dvec3 rho_;
+    double a_ = 1.0, b_ = 0.0;
+};
+
+// ---- hapke-lommel ------------------------------------------------------------------------
+
+class HapkeLommel final : public AnalyticBrdf {
+  public:
+    HapkeLommel(const ModelEntry& e, const ParamSet& p)
+        : AnalyticBrdf(e, p), r_(colour("r")), g_(scalar("g")), f_(scalar("f")) {}
+
+  protected:
+    dvec3 eval_above(const dvec3& wi, const dvec3& wo) const override {
+        // Phase angle alpha between the directions to the light and to the viewer.
+        const dvec3 x(wi.y * wo.z - wi.z * wo.y, wi.z * wo.x - wi.x * wo.z,
+                      wi.x * wo.y - wi.y * wo.x);
+        const double sin_a = std::sqrt(x.x * x.x + x.y * x.y + x.z * x.z);
+        const double cos_a = std::clamp(wi.x * wo.x + wi.y * wo.y + wi.z * wo.z, -1.0, 1.0);
+        // Lambert-sphere phase function plus Hapke's forward-scattering term.
+        const double phase = lambert_sphere(sin_a, cos_a) + f_ * (1.0 - cos_a) * (1.0 - cos_a);
+        const double s = 2.0 / (3.0 * kPi) * phase;
+        return r_ * (s * retro(sin_a, cos_a) / (wi.z + wo.z));
+    }
+
+  private:
+    // (sin a + (pi - a) cos a) / pi. Near a = pi (grazing forward scattering) the two terms
+    // cancel to (pi - a)^3 / 3: there, with d = pi - a, sin d - d cos d by its series.
+    static double lambert_sphere(double sin_a, double cos_a) {
+        const double d = std::atan2(sin_a, -cos_a);  // pi - a, accurate when small
+        if (d > 0.1) return (sin_a + d * cos_a) / kPi;
+        const double d2 = d * d;
+        return d * d2 * (1.0 / 3.0 - d2 * (1.0 / 30.0 - d2 * (1.0 / 840.0 - d2 / 45360.0))) / kPi;
+    }
+    // Hapke's retrodirective function B(alpha, g): 2 at alpha = 0, falling to 1 at 90
+    // degrees and beyond. With x = g / tan(alpha):
+    //   B = 2 - (1 - e^-x)(3 - e^-x) / (2x).
+    double retro(double sin_a, double cos_a) const {
+        if (cos_a <= 0.0 || g_ <= 0.0) return 1.0;
+        if (sin_a <= 0.0) return 2.0;
+        const double x = g_ * cos_a / sin_a;
+        const double e = std::exp(-x);
+        return 2.0 - (-std::expm1(-x)) * (3.0 - e) / (2.0 * x);
+    }
+    dvec3 r_;
+    double g_, f_;
+};
+
+// ---- factories ---------------------------------------------------------------------------
+
+template <class T>
+std::unique_ptr<Brdf> make_simple(const ModelEntry& e, const ParamSet& p, std::string*) {
+    return std::make_unique<T>(e, p);
+}
+
+std::unique_ptr<Brdf> make_lafortune(const ModelEntry& e, const ParamSet& p, std::string* err) {
+    std::vector<std::string> texts = p.repeated("lobe");
+    if (texts.empty()) texts = {"-1/-1/1/20/0.5"};  // the documented default lobe
+    if (texts.size() > size_t(kMaxLobes)) {
+        if (err) *err = "lafortune: at most " + std::to_string(kMaxLobes) + " lobes";
+        return nullptr;
+    }
+    std::vector<Lobe> lobes(texts.size());
+    for (size_t i = 0; i < texts.size(); ++i)
+        if (!parse_lobe(int(i) + 1, texts[i], &lobes[i], err)) return nullptr;
+    return std::make_unique<Lafortune>(e, p, std::move(lobes));
+}
+
+}  // namespace
+
+const ModelEntry& lambert_entry() {
+    static const ModelEntry e{"lambert",
+                              "Lambertian diffuse: f = rho / pi",
+                              "Lambert 1760",
+                              {{"rho", ParamKind::kColour, 0.5, 0.0, 1.0, "albedo"}},
+                              {},
+                              make_simple<Lambert>};
+    return e;
+}
+
+const ModelEntry& phong_entry() {
+    static const ModelEntry e{
+        "phong",
+        "modified Phong, energy normalized: rho_d/pi + rho_s (n+2)/(2 pi) max(0, r.wo)^n, "
+        "r = mirror of wi",
+        "Lafortune and Willems 1994, Using the modified Phong reflectance model for "
+        "physically based rendering",
+        {{"rho_d", ParamKind::kColour, 0.3, 0.0, 1.0, "diffuse albedo"},
+         {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular albedo at normal incidence"},
+         {"n", ParamKind::kScalar, 30.0, 0.0, 1e6, "exponent"}},
+        {},
+        make_simple<Phong>};
+    return e;
+}
+
+const ModelEntry& blinn_entry() {
+    static const ModelEntry e{
+        "blinn",
+        "normalized Blinn-Phong: rho_d/pi + rho_s (n+8)/(8 pi) (n.h)^n",
+        "Blinn 1977, Models of light reflection for computer synthesized pictures; (n+8)/(8 pi) "
+        "normalization from Akenine-Moller, Haines and Hoffman, Real-Time Rendering 3rd ed. "
+        "(2008)",
+        {{"rho_d", ParamKind::kColour, 0.3, 0.0, 1.0, "diffuse albedo"},
+         {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular weight"},
+         {"n", ParamKind::kScalar, 100.0, 0.0, 1e6, "exponent"}},
+        {},
+        make_simple<Blinn>};
+    return e;
+}
+
+const ModelEntry& lafortune_entry() {
+    static const ModelEntry e{
+        "lafortune",
+        "generalized cosine lobes: rho_d/pi + sum_k w_k max(0, Cx x_i x_o + Cy y_i y_o + "
+        "Cz z_i z_o)^n_k; lobe=Cx/Cy/Cz/n, Cx/Cy/Cz/n/w or Cx/Cy/Cz/n/r/g/b, 1 to 16 lobes, "
+        "C in [-100, 100], n in [0, 1e6], w in [0, 1000] (default: one lobe -1/-1/1/20/0.5)",
+        "Lafortune, Foo, Torrance and Greenberg 1997, Non-linear approximation of "
+        "reflectance functions",
+        {{"rho_d", ParamKind::kColour, 0.2, 0.0, 1.0, "diffuse albedo"}},
+        {"lobe"},
+        make_lafortune};
+    return e;
+}
+
+const ModelEntry& oren_nayar_entry() {
+    static const ModelEntry e{
+        "oren-nayar",
+        "Oren-Nayar qualitative model: rho/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) "
+        "tan(beta))",
+        "Oren and Nayar 1994, Generalization of Lambert's reflectance model (the qualitative "
+        "model)",
+        {{"rho", ParamKind::kColour, 0.8, 0.0, 1.0, "albedo"},
+         {"sigma", ParamKind::kScalar, 0.3, 0.0, kPi / 2, "facet slope deviation (radians)"}},
+        {},
+        make_simple<OrenNayar>};
+    return e;
+}
+
+const ModelEntry& hapke_lommel_entry() {
+    static const ModelEntry e{
+        "hapke-lommel",
+        "Lommel-Seeliger law with Hapke's back-scattering: r (2/(3 pi)) [(sin a + (pi - a) "
+        "cos a)/pi + f (1 - cos a)^2] B(a, g) / (cos theta_i + cos theta_o), a = phase angle",
+        "Hapke 1963, A theoretical photometric function for the lunar surface; parameters "
+        "as in Lawrence et al. 2004, Table 1",
+        {{"g", ParamKind::kScalar, 0.6, 0.0, 100.0, "compaction (width of the back-scatter peak)"},
+         {"f", ParamKind::kScalar, 0.1, 0.0, 1.0, "forward-scattering fraction"},
+         {"r", ParamKind::kColour, 1.0, 0.0, 1.0, "single-scattering albedo (scale)"}},
+        {},
+        make_simple<HapkeLommel>};
+    return e;
+}
+
+}  // namespace sepal

@@ -1,4 +1,0 @@
-// sepal: the offline multi-tool. A thin main over the offline library (offline/cli.h).
-#include "cli.h"
-
-int main(int argc, char** argv) { return sepal::run_sepal(argc, argv); }

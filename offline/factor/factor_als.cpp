@@ -1,0 +1,376 @@
+// Weighted alternating least squares on the held matrix: NMF's multiplicative updates,
+// ACLS's constrained block updates and the weighted refinement of the SVD share it.
+//
+// With one side fixed, the weighted problem separates per row (or column) r:
+//   min_g sum_c w_rc (m_rc - g . h_c)^2  =  g^T C_r g - 2 g^T b_r + ssq_r,
+//   C_r = sum_c w_rc h_c h_c^T,  b_r = sum_c w_rc m_rc h_c,
+// so one pass over the matrix builds every C_r and b_r, and each rule works from them:
+//   least squares   g = C_r^-1 b_r
+//   multiplicative  g <- g . b_r / (C_r g)          (Lee-Seung with weights; repeated
+//                   `inner` times per pass, as in Gillis-Glineur's accelerated MU)
+//   constrained     exact per-term block updates (HALS): g_a = target given the others,
+//                   clamped to >= 0, or a tree isotonic regression over the whole column
+//                   for monotone factors; column 0 of one side may be held at 1.
+// The error g^T C g - 2 g^T b + ssq comes out of the same sums without another pass.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+#include "factor/factor_internal.h"
+#include "util/parallel.h"
+
+namespace sepal {
+namespace detail {
+
+namespace {
+// Ridge of the least-squares rule, relative to the mean diagonal of the normal equations.
+// With entries wholly below the horizon left out, a term can be non-zero on such entries
+// only, at no cost at the sample points - but bilinear lookups near the edge of the valid
+// region blend those entries in. The ridge (the factor-norm penalty that favours low-rank
+// completions) zeroes any such term in one exact solve however small it is; 1e-9 leaves
+// the fit of valid entries unchanged to float precision.
+constexpr double kRidge = 1e-9;
+
+struct Normals {
+    std::vector<double> c, b, ssq;  // n*k*k, n*k, n
+};
+
+// side 0: normals of every row given h; side 1: of every column given g.
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+double anchor_value(const LowRank& a, int r, int c) {
+    double s = 0;
+    for (int j = 0; j < a.k; ++j) s += a.g[size_t(r) * a.k + j] * a.h[size_t(c) * a.k + j];
+    return s;
+}
+
+// sum w x^2 per row and per column, entries without data counting toward the anchor.
+void sums_of_squares(const Matrix& m, int ch, const LowRank* anchor, double anchor_weight,
+                     std::vector<double>* rows_ssq, std::vector<double>* cols_ssq) {
+    rows_ssq->assign(size_t(m.rows), 0.0);
+    cols_ssq->assign(size_t(m.cols), 0.0);
+    const float* w = m.w.data();
+    const float* wv = m.wv[size_t(ch)].data();
+    for (int r = 0; r < m.rows; ++r)
+        for (int c = 0; c < m.cols; ++c) {
+            const size_t i = size_t(r) * m.cols + c;
+            double q = 0;
+            if (w[i] > 0) {
+                q = double(wv[i]) * wv[i] / w[i];
+            } else if (anchor) {
+                const double a = anchor_value(*anchor, r, c);
+                q = anchor_weight * a * a;
+            }  // else: target 0, nothing to add
+            (*rows_ssq)[size_t(r)] += q;
+            (*cols_ssq)[size_t(c)] += q;
+        }
+}
+
+// Scratch per worker thread, kept across the passes of one solve (a pass would otherwise
+// allocate and fault in megabytes per chunk).
+struct Scratch {
+    std::vector<double> w, wm, cp, bp;  // sized once for a full chunk, viewed by Maps
+};
+
+// All normal equations of one side in two matrix products per chunk of 64 rows (or
+// columns), so the work runs at GEMM speed: with P[c][ab] = h_c[a] h_c[b] (a >= b),
+//   C_r[a][b] = sum_c w_rc P[c][ab]   ->  C = W P,      b_r = (W.M) H.
+void build_normals(const Matrix& m, int ch, int side, const std::vector<double>& other, int k,
+                   const LowRank* anchor, double anchor_weight, const std::vector<double>& ssq,
+                   Normals* out, std::vector<Scratch>* scratch, int threads) {
+    const int rows = m.rows, cols = m.cols;
+    const int n = side == 0 ? rows : cols, n_other = side == 0 ? cols : rows;
+    const int kk = k * (k + 1) / 2;
+    out->c.assign(size_t(n) * k * k, 0.0);
+    out->b.assign(size_t(n) * k, 0.0);
+    out->ssq = ssq;
+    const Eigen::Map<const RowMat> o(other.data(), n_other, k);
+    RowMat p(n_other, kk);
+    for (int c = 0; c < n_other; ++c)
+        for (int a = 0, q = 0; a < k; ++a)
+            for (int bb = 0; bb <= a; ++bb, ++q) p(c, q) = o(c, a) * o(c, bb);
+    const Eigen::Map<const RowMatF> wf(m.w.data(), rows, cols);
+    const Eigen::Map<const RowMatF> wvf(m.wv[size_t(ch)].data(), rows, cols);
+    const int step = 32;
+    const size_t chunks = size_t((n + step - 1) / step);
+    scratch->resize(size_t(workers(chunks, threads)));
+    parallel_for_workers(chunks, threads, [&](size_t chunk, int worker) {
+        const int i0 = int(chunk) * step, ni = std::min(n, i0 + step) - i0;
+        // The chunk's block, rows x columns as stored: ni x cols, or rows x ni.
+        Scratch& sc = (*scratch)[size_t(worker)];
+        const size_t full = size_t(step) * n_other;
+        if (sc.w.size() < full) {
+            sc.w.resize(full), sc.wm.resize(full);
+            sc.cp.resize(size_t(step) * kk), sc.bp.resize(size_t(step) * k);
+        }
+        const int br = side == 0 ? ni : rows, bc = side == 0 ? cols : ni;
+        Eigen::Map<RowMat> w(sc.w.data(), br, bc), wm(sc.wm.data(), br, bc);
+        if (side == 0) {
+            w = wf.middleRows(i0, ni).cast<double>();
+            wm = wvf.middleRows(i0, ni).cast<double>();
+        } else {
+            w = wf.middleCols(i0, ni).cast<double>();
+            wm = wvf.middleCols(i0, ni).cast<double>();
+        }
+        if (anchor_weight > 0) {
+            for (int r = 0; r < w.rows(); ++r)
+                for (int c = 0; c < w.cols(); ++c) {
+                    if (w(r, c) > 0) continue;
+                    const int rr = side == 0 ? i0 + r : r, cc = side == 0 ? c : i0 + c;
+                    w(r, c) = anchor_weight;
+                    wm(r, c) = anchor ? anchor_weight * anchor_value(*anchor, rr, cc) : 0.0;
+                }
+        }
+        Eigen::Map<RowMat> cp(sc.cp.data(), ni, kk), bp(sc.bp.data(), ni, k);
+        if (side == 0) {
+            cp.noalias() = w * p;
+            bp.noalias() = wm * o;
+        } else {
+            cp.noalias() = w.transpose() * p;
+            bp.noalias() = wm.transpose() * o;
+        }
+        for (int line = 0; line < ni; ++line) {
+            double* cr = &out->c[size_t(i0 + line) * k * k];
+            for (int a = 0, q = 0; a < k; ++a)
+                for (int bb = 0; bb <= a; ++bb, ++q) cr[a * k + bb] = cr[bb * k + a] = cp(line, q);
+            for (int a = 0; a < k; ++a) out->b[size_t(i0 + line) * k + a] = bp(line, a);
+        }
+    });
+}
+
+// Weighted squared error of side x given the normals built from the other side.
+double side_error(const Normals& nm, const std::vector<double>& x, int n, int k) {
+    double e = 0;
+    for (int r = 0; r < n; ++r) {
+        const double* c = &nm.c[size_t(r) * k * k];
+        const double* b = &nm.b[size_t(r) * k];
+        const double* g = &x[size_t(r) * k];
+        double q = nm.ssq[size_t(r)];
+        for (int a = 0; a < k; ++a) {
+            double cg = 0;
+            for (int bb = 0; bb < k; ++bb) cg += c[a * k + bb] * g[bb];
+            q += g[a] * (cg - 2 * b[a]);
+        }
+        e += q;
+    }
+    return std::max(e, 0.0);
+}
+
+void solve_least_squares(const Normals& nm, std::vector<double>* x, int n, int k, int threads,
+                         std::atomic<int64_t>* fallbacks) {
+    double mean_diag = 0;
+    for (int r = 0; r < n; ++r)
+        for (int a = 0; a < k; ++a) mean_diag += nm.c[size_t(r) * k * k + size_t(a) * k + a];
+    const double ridge = kRidge * mean_diag / (double(n) * k) + 1e-300;
+    const size_t chunks = size_t((n + kColChunk - 1) / kColChunk);
+    parallel_for(chunks, threads, [&](size_t chunk) {
+        const int r0 = int(chunk) * kColChunk, r1 = std::min(n, r0 + kColChunk);
+        int64_t fell_back = 0;
+        for (int r = r0; r < r1; ++r) {
+            Eigen::MatrixXd c = Eigen::Map<const Eigen::MatrixXd>(&nm.c[size_t(r) * k * k], k, k);
+            const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(&nm.b[size_t(r) * k], k);
+            double* g = &(*x)[size_t(r) * k];
+            c.diagonal().array() += ridge;
+            const Eigen::VectorXd sol = c.ldlt().solve(b);
+            for (int a = 0; a < k; ++a) {
+                if (std::isfinite(sol(a))) {
+                    g[a] = sol(a);
+                } else {
+                    g[a] = 0.0;
+                    ++fell_back;
+                }
+            }
+        }
+        if (fell_back && fallbacks) *fallbacks += fell_back;
+    });
+}
+
+void solve_multiplicative(const Normals& nm, std::vector<double>* x, int n, int k, int inner,
+                          int threads, std::atomic<int64_t>* fallbacks) {
+    const size_t chunks = size_t((n + kColChunk - 1) / kColChunk);
+    parallel_for(chunks, threads, [&](size_t chunk) {
+        const int r0 = int(chunk) * kColChunk, r1 = std::min(n, r0 + kColChunk);
+        int64_t fell_back = 0;
+        std::vector<double> cg(size_t(k), 0.0);
+        for (int r = r0; r < r1; ++r) {
+            const double* c = &nm.c[size_t(r) * k * k];
+            const double* b = &nm.b[size_t(r) * k];
+            double* g = &(*x)[size_t(r) * k];
+            for (int it = 0; it < inner; ++it) {
+                for (int a = 0; a < k; ++a) {
+                    double s = 0;
+                    for (int bb = 0; bb < k; ++bb) s += c[a * k + bb] * g[bb];
+                    cg[size_t(a)] = s;
+                }
+                for (int a = 0; a < k; ++a) {
+                    const double den = cg[size_t(a)];
+                    if (den > 1e-300) {
+                        g[a] = g[a] * std::max(b[a], 0.0) / den;
+                    } else {
+                        // No data left to scale by (0/0): the entry goes to 0, counted
+                        // unless it was 0 already (then nothing changed).
+                        if (g[a] != 0.0) ++fell_back;
+                        g[a] = 0.0;
+                    }
+                }
+            }
+        }
+        if (fell_back && fallbacks) *fallbacks += fell_back;
+    });
+}
+
+void solve_constrained(const Normals& nm, std::vector<double>* x, int n, int k, int side,
+                       const AlsSettings& s) {
+    const bool monotone = s.monotone_side == side && s.parent && s.order;
+    std::vector<double> target(static_cast<size_t>(n)), weight(static_cast<size_t>(n)), iso;
+    for (int sweep = 0; sweep < s.inner; ++sweep) {
+        for (int a = 0; a < k; ++a) {
+            if (s.constant_side == side && a == 0) continue;  // held at 1
+            const bool mono_col = monotone && !(s.constant_side == side && a == 0);
+            double wmax = 0;
+            for (int r = 0; r < n; ++r) {
+                const double* c = &nm.c[size_t(r) * k * k];
+                const double* g = &(*x)[size_t(r) * k];
+                double t = nm.b[size_t(r) * k + a];
+                for (int bb = 0; bb < k; ++bb)
+                    if (bb != a) t -= c[a * k + bb] * g[bb];
+                const double caa = c[a * k + a];
+                weight[size_t(r)] = caa;
+                target[size_t(r)] = caa > 0 ? t / caa : g[a];
+                wmax = std::max(wmax, caa);
+            }
+            if (mono_col) {
+                // Rows without data still take part, with a negligible weight, so they
+                // follow their neighbours instead of breaking the order.
+                for (int r = 0; r < n; ++r)
+                    weight[size_t(r)] = std::max(weight[size_t(r)], 1e-12 * wmax + 1e-300);
+                tree_isotonic(*s.parent, *s.order, target, weight, &iso);
+                for (int r = 0; r < n; ++r) (*x)[size_t(r) * k + a] = std::max(iso[size_t(r)], 0.0);
+            } else {
+                for (int r = 0; r < n; ++r)
+                    if (weight[size_t(r)] > 0)
+                        (*x)[size_t(r) * k + a] = std::max(target[size_t(r)], 0.0);
+            }
+        }
+    }
+}
+
+void solve_side(const Normals& nm, std::vector<double>* x, int n, int k, int side,
+                const AlsSettings& s) {
+    switch (s.rule) {
+        case AlsRule::LeastSquares: solve_least_squares(nm, x, n, k, s.threads, s.fallbacks); break;
+        case AlsRule::Multiplicative:
+            solve_multiplicative(nm, x, n, k, s.inner, s.threads, s.fallbacks);
+            break;
+        case AlsRule::Constrained: solve_constrained(nm, x, n, k, side, s); break;
+    }
+}
+
+// Equal largest magnitudes for g_a and h_a: products unchanged, no drift in scale.
+void balance(LowRank* f, int rows, int cols, int skip) {
+    const int k = f->k;
+    for (int a = 0; a < k; ++a) {
+        if (a == skip) continue;
+        double mg = 0, mh = 0;
+        for (int r = 0; r < rows; ++r) mg = std::max(mg, std::fabs(f->g[size_t(r) * k + a]));
+        for (int c = 0; c < cols; ++c) mh = std::max(mh, std::fabs(f->h[size_t(c) * k + a]));
+        if (!(mg > 0) || !(mh > 0)) continue;
+        const double s = std::sqrt(mh / mg);
+        for (int r = 0; r < rows; ++r) f->g[size_t(r) * k + a] *= s;
+        for (int c = 0; c < cols; ++c) f->h[size_t(c) * k + a] /= s;
+    }
+}
+}  // namespace
+
+double als_solve(const Matrix& m, int channel, const AlsSettings& s, LowRank* f,
+                 int* iterations) {
+    const int k = f->k, rows = m.rows, cols = m.cols;
+    Normals nm;
+    double prev = std::numeric_limits<double>::infinity(), err = 0;
+    int it = 0;
+    // A column held at 1 may not be rescaled: its term is left out of the balancing.
+    const int skip = s.constant_side >= 0 ? 0 : -1;
+    // Entries without data: toward 0 with horizon_weight, or toward the anchor.
+    const LowRank* anchor = s.horizon_weight > 0 ? nullptr : s.anchor;
+    const double inv_w = s.horizon_weight > 0 ? s.horizon_weight : anchor ? s.anchor_weight : 0.0;
+    std::vector<Scratch> scratch;
+    std::vector<double> ssq_rows, ssq_cols;
+    sums_of_squares(m, channel, anchor, inv_w, &ssq_rows, &ssq_cols);
+    while (it < s.max_iters) {
+        ++it;
+        build_normals(m, channel, 0, f->h, k, anchor, inv_w, ssq_rows, &nm, &scratch, s.threads);
+        solve_side(nm, &f->g, rows, k, 0, s);
+        build_normals(m, channel, 1, f->g, k, anchor, inv_w, ssq_cols, &nm, &scratch, s.threads);
+        solve_side(nm, &f->h, cols, k, 1, s);
+        err = side_error(nm, f->h, cols, k);
+        balance(f, rows, cols, skip);
+        double total = 0;
+        for (double q : nm.ssq) total += q;
+        if (err <= 1e-24 * total) break;
+        if (std::isfinite(prev) && prev - err <= s.tolerance * prev) break;
+        prev = err;
+    }
+    if (iterations) *iterations = it;
+    return err;
+}
+
+void tree_isotonic(const std::vector<int>& parent, const std::vector<int>& order,
+                   const std::vector<double>& y, const std::vector<double>& w,
+                   std::vector<double>* x) {
+    // Bottom-up pooling (Pardalos and Xue 1999): a node starts as its own block; while the
+    // child block with the largest mean exceeds the node's block mean, the two pool.
+    // Children are processed before parents, so a child's block is final when its parent
+    // arrives, and its top node is that child.
+    const size_t n = y.size();
+    std::vector<std::vector<int>> kids(n);
+    for (size_t v = 0; v < n; ++v)
+        if (parent[v] >= 0) kids[size_t(parent[v])].push_back(int(v));
+    struct Block {
+        double sw = 0, swy = 0;
+        std::vector<int> members, kids;
+        bool alive = true;
+    };
+    std::vector<Block> blocks;
+    blocks.reserve(n);
+    std::vector<int> block_of(n, -1);
+    for (int v : order) {
+        const int b = int(blocks.size());
+        blocks.emplace_back();
+        blocks[size_t(b)].sw = w[size_t(v)];
+        blocks[size_t(b)].swy = w[size_t(v)] * y[size_t(v)];
+        blocks[size_t(b)].members.push_back(v);
+        for (int c : kids[size_t(v)]) blocks[size_t(b)].kids.push_back(block_of[size_t(c)]);
+        for (;;) {
+            Block& cur = blocks[size_t(b)];
+            int best = -1;
+            double best_mean = -std::numeric_limits<double>::infinity();
+            size_t best_pos = 0;
+            for (size_t i = 0; i < cur.kids.size(); ++i) {
+                const Block& kb = blocks[size_t(cur.kids[i])];
+                const double mean = kb.swy / kb.sw;
+                if (mean > best_mean) best = cur.kids[i], best_mean = mean, best_pos = i;
+            }
+            if (best < 0 || !(best_mean > cur.swy / cur.sw)) break;
+            Block& kb = blocks[size_t(best)];
+            cur.sw += kb.sw;
+            cur.swy += kb.swy;
+            cur.members.insert(cur.members.end(), kb.members.begin(), kb.members.end());
+            cur.kids.erase(cur.kids.begin() + long(best_pos));
+            cur.kids.insert(cur.kids.end(), kb.kids.begin(), kb.kids.end());
+            kb.alive = false;
+            kb.members.clear();
+            kb.kids.clear();
+        }
+        block_of[size_t(v)] = b;
+    }
+    x->assign(n, 0.0);
+    for (const Block& b : blocks)
+        if (b.alive)
+            for (int v : b.members) (*x)[size_t(v)] = b.swy / b.sw;
+}
+
+}  // namespace detail
+}  // namespace sepal

@@ -1,0 +1,107 @@
+#include "factor/factored.h"
+
+#include <cmath>
+
+namespace sepal {
+
+const char* colour_name(ColourMode c) { return c == ColourMode::PerChannel ? "rgb" : "luminance"; }
+
+bool parse_colour(const std::string& name, ColourMode* c) {
+    if (name == "rgb") *c = ColourMode::PerChannel;
+    else if (name == "luminance") *c = ColourMode::Luminance;
+    else return false;
+    return true;
+}
+
+bool Factored::non_negative() const {
+    for (const FactorTerm& t : terms)
+        for (const FactorTexture* tex : {&t.g, &t.h})
+            for (float v : tex->data)
+                if (v < 0) return false;
+    return true;
+}
+
+Factored Factored::prefix(int k) const {
+    Factored out = *this;
+    if (k >= 0 && k < int(out.terms.size())) out.terms.resize(size_t(k));
+    return out;
+}
+
+bool validate_factored(const Factored& f, std::string* err) {
+    auto fail = [&](const std::string& why) {
+        if (err) *err = why;
+        return false;
+    };
+    if (f.n < 1 || f.n > 4096) return fail("factor texture side out of range");
+    const int want = f.colour == ColourMode::PerChannel ? 3 : 1;
+    if (f.channels != want) return fail("channel count does not match the colour mode");
+    if (!std::isfinite(f.ratio.x) || !std::isfinite(f.ratio.y) || !std::isfinite(f.ratio.z))
+        return fail("non-finite colour ratio");
+    for (const FactorTerm& t : f.terms)
+        for (const FactorTexture* tex : {&t.g, &t.h}) {
+            if (tex->n != f.n || tex->channels != f.channels ||
+                tex->data.size() != size_t(f.n) * f.n * f.channels)
+                return fail("factor texture size does not match");
+            for (float v : tex->data)
+                if (!std::isfinite(v)) return fail("non-finite factor value");
+        }
+    return true;
+}
+
+void bilinear_lookup(const FactorTexture& t, const glm::dvec2& uv, bool wrap, double* out) {
+    const int n = t.n;
+    const double sx = uv.x * n - 0.5, sy = uv.y * n - 0.5;
+    const double fx0 = std::floor(sx), fy0 = std::floor(sy);
+    const double ax = sx - fx0, ay = sy - fy0;
+    int i0 = int(fx0), j0 = int(fy0), i1 = i0 + 1, j1 = j0 + 1;
+    auto fix = [&](int& k) {
+        if (wrap) {
+            k %= n;
+            if (k < 0) k += n;
+        } else {
+            k = k < 0 ? 0 : (k >= n ? n - 1 : k);
+        }
+    };
+    fix(i0), fix(i1), fix(j0), fix(j1);
+    const double w00 = (1 - ax) * (1 - ay), w10 = ax * (1 - ay), w01 = (1 - ax) * ay,
+                 w11 = ax * ay;
+    for (int c = 0; c < t.channels; ++c)
+        out[c] = w00 * t.at(i0, j0, c) + w10 * t.at(i1, j0, c) + w01 * t.at(i0, j1, c) +
+                 w11 * t.at(i1, j1, c);
+}
+
+namespace {
+// Sums the first k_count terms; when prefixes is given, stores every partial sum too.
+glm::dvec3 sum_terms(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo,
+                     int k_count, glm::dvec3* prefixes) {
+    TexCoords tc;
+    if (!param_forward(f.param, f.map, wi, wo, &tc)) {
+        if (prefixes)
+            for (int k = 0; k < k_count; ++k) prefixes[k] = glm::dvec3(0);
+        return glm::dvec3(0);
+    }
+    const bool wrap_g = factor_wraps(f.param, 0), wrap_h = factor_wraps(f.param, 1);
+    glm::dvec3 sum(0);
+    for (int k = 0; k < k_count; ++k) {
+        double g[3], h[3];
+        bilinear_lookup(f.terms[size_t(k)].g, tc.x, wrap_g, g);
+        bilinear_lookup(f.terms[size_t(k)].h, tc.y, wrap_h, h);
+        if (f.channels == 3) sum += glm::dvec3(g[0] * h[0], g[1] * h[1], g[2] * h[2]);
+        else sum += glm::dvec3(g[0] * h[0]);
+        if (prefixes) prefixes[k] = sum * f.ratio;
+    }
+    return sum * f.ratio;
+}
+}  // namespace
+
+void evaluate_prefixes(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo,
+                       glm::dvec3* out) {
+    sum_terms(f, wi, wo, f.term_count(), out);
+}
+
+glm::dvec3 evaluate(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo, int terms) {
+    const int k_count = terms < 0 || terms > f.term_count() ? f.term_count() : terms;
+    return sum_terms(f, wi, wo, k_count, nullptr);
+}
+
+}  // namespace sepal

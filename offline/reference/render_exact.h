@@ -1,0 +1,35 @@
+// The exact backend: a scene drawn with the original BRDF evaluated per pixel.
+//
+// Usage:
+//   sepal::Image img; std::string err;
+//   sepal::ExactStats stats;
+//   if (!sepal::render_exact(*brdf, scene, mesh, 512, 512, &img, &stats, &err)) ...
+//
+// The reference every GL and CPU image is compared with (Kautz-McCool Fig. 10, top
+// right): the mesh is rasterized by runtime/include/sepal/sepal_raster.h, so its pixels line up with
+// GL's; vertex frames (position, normal, tangent with handedness) are interpolated
+// perspective-correctly across triangles and re-orthonormalized per pixel (Gram-Schmidt);
+// radiance follows sepal_scene.h. Output: linear RGB floats, top row first, background
+// where no triangle covers the pixel. Shading runs on all cores; the result does not
+// depend on the thread count.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "brdf/brdf.h"
+#include "util/image.h"
+#include "sepal/sepal_scene.h"
+
+namespace sepal {
+
+struct ExactStats {
+    int64_t covered_pixels = 0;
+    int64_t back_facing_pixels = 0;  // the view is below the interpolated frame's horizon
+    int64_t degenerate_frames = 0;   // tangent parallel to the normal or not finite: fallback tangent used;
+                                     // zero or non-finite normal: background (the runtime skips those triangles)
+};
+
+bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
+                  int height, Image* out, ExactStats* stats, std::string* err);
+
+}  // namespace sepal

@@ -1,0 +1,276 @@
+#include "util/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include "util/io.h"
+
+// stb_image / stb_image_write are the project's PNG codec (Debian's libstb-dev); only the
+// PNG decoder is compiled in.
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_ONLY_PNG
+#define STBI_NO_STDIO
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STB_IMAGE_WRITE_STATIC
+#define STBI_WRITE_NO_STDIO
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#pragma GCC diagnostic pop
+
+namespace sepal {
+namespace {
+
+constexpr uint64_t kMaxImageFileBytes = uint64_t(1) << 32;
+
+bool fail(std::string* err, const std::string& msg) {
+    if (err) *err = msg;
+    return false;
+}
+
+bool is_png(const std::vector<uint8_t>& b) {
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    return b.size() >= 8 && std::memcmp(b.data(), sig, 8) == 0;
+}
+
+bool is_pfm(const std::vector<uint8_t>& b) {
+    return b.size() >= 3 && b[0] == 'P' && (b[1] == 'F' || b[1] == 'f') &&
+           std::isspace(b[2]);
+}
+
+bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Image* out,
+                std::string* err) {
+    if (!is_png(bytes)) return fail(err, path + ": not a PNG file (bad signature)");
+    if (bytes.size() > size_t(std::numeric_limits<int>::max()))
+        return fail(err, path + ": PNG file too large");
+    int w = 0, h = 0, c = 0;
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
+        return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": PNG size " + std::to_string(w) + "x" + std::to_string(h) +
+                             " out of range 1.." + std::to_string(kMaxImageSide));
+    const int want = (c == 2) ? 4 : c;  // grey+alpha becomes RGBA
+    uint8_t* px = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, want);
+    if (!px) return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
+    *out = Image(w, h, want);
+    for (size_t i = 0; i < out->data.size(); ++i) out->data[i] = float(px[i]) / 255.0f;
+    stbi_image_free(px);
+    return true;
+}
+
+// Reads one whitespace-delimited token from a PFM header.
+bool pfm_token(const std::vector<uint8_t>& b, size_t* pos, std::string* tok) {
+    while (*pos < b.size() && std::isspace(b[*pos])) ++*pos;
+    tok->clear();
+    while (*pos < b.size() && !std::isspace(b[*pos]) && tok->size() < 64) tok->push_back(char(b[(*pos)++]));
+    return !tok->empty() && *pos < b.size();
+}
+
+bool decode_pfm(const std::string& path, const std::vector<uint8_t>& b, Image* out,
+                std::string* err) {
+    if (!is_pfm(b)) return fail(err, path + ": not a PFM file (header must start PF or Pf)");
+    const int channels = b[1] == 'F' ? 3 : 1;
+    size_t pos = 2;
+    std::string tw, th, ts;
+    if (!pfm_token(b, &pos, &tw) || !pfm_token(b, &pos, &th) || !pfm_token(b, &pos, &ts))
+        return fail(err, path + ": truncated PFM header");
+    char* end = nullptr;
+    const long w = std::strtol(tw.c_str(), &end, 10);
+    if (*end) return fail(err, path + ": PFM width '" + tw + "' is not an integer");
+    const long h = std::strtol(th.c_str(), &end, 10);
+    if (*end) return fail(err, path + ": PFM height '" + th + "' is not an integer");
+    const double scale = std::strtod(ts.c_str(), &end);
+    if (*end || !std::isfinite(scale) || scale == 0)
+        return fail(err, path + ": PFM scale '" + ts + "' is not a non-zero number");
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": PFM size " + tw + "x" + th + " out of range 1.." +
+                             std::to_string(kMaxImageSide));
+    ++pos;  // exactly one whitespace character ends the header
+    const size_t need = size_t(w) * size_t(h) * channels * 4;
+    if (b.size() - pos != need)
+        return fail(err, path + ": PFM data is " + std::to_string(b.size() - pos) +
+                             " bytes, " + tw + "x" + th + "x" + std::to_string(channels) +
+                             " floats need " + std::to_string(need));
+    const bool little = scale < 0;
+    *out = Image(int(w), int(h), channels);
+    int64_t bad = 0;
+    const size_t row = size_t(w) * channels;
+    for (long y = 0; y < h; ++y) {
+        // PFM rows go bottom to top.
+        const uint8_t* src = b.data() + pos + size_t(h - 1 - y) * row * 4;
+        for (size_t i = 0; i < row; ++i) {
+            uint8_t q[4];
+            std::memcpy(q, src + i * 4, 4);
+            if (!little) std::swap(q[0], q[3]), std::swap(q[1], q[2]);
+            float v;
+            std::memcpy(&v, q, 4);
+            if (!std::isfinite(v)) ++bad;
+            out->data[size_t(y) * row + i] = v;
+        }
+    }
+    if (bad) return fail(err, path + ": PFM holds " + std::to_string(bad) + " NaN or inf values");
+    return true;
+}
+
+void append_to_vector(void* context, void* data, int size) {
+    auto* v = static_cast<std::vector<uint8_t>*>(context);
+    const uint8_t* p = static_cast<const uint8_t*>(data);
+    v->insert(v->end(), p, p + size);
+}
+
+}  // namespace
+
+bool read_image(const std::string& path, Image* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    if (!read_file(path, &bytes, err, kMaxImageFileBytes)) return false;
+    if (is_png(bytes)) return decode_png(path, bytes, out, err);
+    if (is_pfm(bytes)) return decode_pfm(path, bytes, out, err);
+    return fail(err, path + ": unknown image format (expected PNG or PFM)");
+}
+
+bool read_png(const std::string& path, Image* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_png(path, bytes, out, err);
+}
+
+bool read_pfm(const std::string& path, Image* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_pfm(path, bytes, out, err);
+}
+
+bool write_png(const std::string& path, const Image& img, std::string* err, int64_t* clipped) {
+    if (img.width < 1 || img.height < 1 || img.channels < 1 || img.channels > 4 ||
+        img.data.size() != size_t(img.width) * img.height * img.channels)
+        return fail(err, path + ": cannot write an empty or malformed image");
+    std::vector<uint8_t> px(img.data.size());
+    int64_t clip = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+        float v = img.data[i];
+        if (!(v >= 0.0f)) v = 0.0f, ++clip;  // also catches NaN
+        if (v > 1.0f) v = 1.0f, ++clip;
+        px[i] = uint8_t(std::lround(v * 255.0f));
+    }
+    if (clipped) *clipped = clip;
+    std::vector<uint8_t> png;
+    if (!stbi_write_png_to_func(append_to_vector, &png, img.width, img.height, img.channels,
+                                px.data(), img.width * img.channels))
+        return fail(err, path + ": PNG encoding failed");
+    return write_file_atomic(path, png.data(), png.size(), err);
+}
+
+bool write_pfm(const std::string& path, const Image& img, std::string* err) {
+    if (img.width < 1 || img.height < 1 || (img.channels != 1 && img.channels != 3) ||
+        img.data.size() != size_t(img.width) * img.height * img.channels)
+        return fail(err, path + ": PFM holds 1 or 3 channels of a non-empty image");
+    std::string header = std::string(img.channels == 3 ? "PF" : "Pf") + "\n" +
+                         std::to_string(img.width) + " " + std::to_string(img.height) +
+                         "\n-1.0\n";
+    std::vector<uint8_t> bytes(header.begin(), header.end());
+    const size_t row = size_t(img.width) * img.channels;
+    for (int y = img.height - 1; y >= 0; --y) {  // bottom row first; little-endian floats
+        const uint8_t* p = reinterpret_cast<const uint8_t*>(&img.data[size_t(y) * row]);
+        bytes.insert(bytes.end(), p, p + row * 4);
+    }
+    return write_file_atomic(path, bytes.data(), bytes.size(), err);
+}
+
+bool write_image(const std::string& path, const Image& img, std::string* err) {
+    const std::string ext = file_extension(path);
+    if (ext == "png") return write_png(path, img, err);
+    if (ext == "pfm") return write_pfm(path, img, err);
+    return fail(err, path + ": unknown image extension (use .png or .pfm)");
+}
+
+Image image_from_rgba8(const uint8_t* pixels, int width, int height) {
+    Image img(width, height, 4);
+    for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(pixels[i]) / 255.0f;
+    return img;
+}
+
+Image to_rgb(const Image& img) {
+    Image out(img.width, img.height, 3);
+    const size_t n = size_t(img.width) * img.height;
+    for (size_t p = 0; p < n; ++p)
+        for (int c = 0; c < 3; ++c)
+            out.data[p * 3 + c] = img.data[p * img.channels + (img.channels >= 3 ? c : 0)];
+    return out;
+}
+
+ImageDiff diff_images(const Image& a, const Image& b, double threshold) {
+    ImageDiff d;
+    d.threshold = threshold;
+    if (a.width != b.width || a.height != b.height) {
+        d.reason = "sizes differ: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                   " vs " + std::to_string(b.width) + "x" + std::to_string(b.height);
+        return d;
+    }
+    d.comparable = true;
+    const Image ra = to_rgb(a), rb = to_rgb(b);
+    d.pixels = int64_t(a.width) * a.height;
+    double sum = 0;
+    for (int64_t p = 0; p < d.pixels; ++p) {
+        double worst = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double diff = std::fabs(double(ra.data[p * 3 + c]) - rb.data[p * 3 + c]) * 255.0;
+            sum += diff * diff;
+            worst = std::max(worst, diff);
+        }
+        d.max_diff = std::max(d.max_diff, worst);
+        if (worst > threshold) ++d.pixels_over;
+    }
+    d.mse = sum / (3.0 * double(d.pixels));
+    d.psnr = d.mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / d.mse)
+                       : std::numeric_limits<double>::infinity();
+    d.share_over = double(d.pixels_over) / double(d.pixels);
+    return d;
+}
+
+Image diff_heatmap(const Image& a, const Image& b, double full_scale) {
+    const Image ra = to_rgb(a), rb = to_rgb(b);
+    Image out(a.width, a.height, 3);
+    const double scale = full_scale > 0 ? full_scale : 1.0;
+    for (size_t p = 0; p < size_t(a.width) * a.height; ++p) {
+        double worst = 0;
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::fabs(double(ra.data[p * 3 + c]) - rb.data[p * 3 + c]) * 255.0);
+        // black -> red -> yellow -> white over [0, 1/3, 2/3, 1] of the scale.
+        const float t = float(std::min(1.0, worst / scale)) * 3.0f;
+        out.data[p * 3 + 0] = std::min(1.0f, t);
+        out.data[p * 3 + 1] = std::clamp(t - 1.0f, 0.0f, 1.0f);
+        out.data[p * 3 + 2] = std::clamp(t - 2.0f, 0.0f, 1.0f);
+    }
+    return out;
+}
+
+double tolerance_threshold(const Tolerance& t) { return t.max_diff >= 0 ? t.max_diff : 0.0; }
+
+bool tolerance_holds(const ImageDiff& d, const Tolerance& t, std::string* why) {
+    std::string reasons;
+    auto add = [&](const std::string& s) { reasons += (reasons.empty() ? "" : "; ") + s; };
+    char buf[160];
+    if (!d.comparable) add(d.reason);
+    if (d.comparable && (t.max_diff >= 0 || t.max_share >= 0)) {
+        const double allowed = t.max_share >= 0 ? t.max_share : 0.0;
+        if (d.share_over > allowed) {
+            std::snprintf(buf, sizeof buf,
+                          "%.4f%% of pixels differ by more than %g (allowed %.4f%%; max %g)",
+                          100.0 * d.share_over, d.threshold, 100.0 * allowed, d.max_diff);
+            add(buf);
+        }
+    }
+    if (d.comparable && t.min_psnr >= 0 && d.psnr < t.min_psnr) {
+        std::snprintf(buf, sizeof buf, "PSNR %.2f dB below %.2f dB", d.psnr, t.min_psnr);
+        add(buf);
+    }
+    if (why) *why = reasons;
+    return reasons.empty();
+}
+
+}  // namespace sepal

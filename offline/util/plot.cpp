@@ -1,0 +1,314 @@
+#include "util/plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sepal {
+
+namespace {
+// 5x7 glyphs for ASCII 32..126, one byte per row (top first), bit 4 = leftmost column.
+const unsigned char kFont[95][7] = {
+    {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // ' '
+    {0x04, 0x04, 0x04, 0x04, 0x04, 0x00, 0x04},  // '!'
+    {0x0a, 0x0a, 0x00, 0x00, 0x00, 0x00, 0x00},  // '"'
+    {0x0a, 0x0a, 0x1f, 0x0a, 0x1f, 0x0a, 0x0a},  // '#'
+    {0x04, 0x0f, 0x14, 0x0e, 0x05, 0x1e, 0x04},  // '$'
+    {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03},  // '%'
+    {0x0c, 0x12, 0x14, 0x08, 0x15, 0x12, 0x0d},  // '&'
+    {0x04, 0x04, 0x00, 0x00, 0x00, 0x00, 0x00},  // quote
+    {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02},  // '('
+    {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08},  // ')'
+    {0x00, 0x04, 0x15, 0x0e, 0x15, 0x04, 0x00},  // '*'
+    {0x00, 0x04, 0x04, 0x1f, 0x04, 0x04, 0x00},  // '+'
+    {0x00, 0x00, 0x00, 0x00, 0x0c, 0x04, 0x08},  // ','
+    {0x00, 0x00, 0x00, 0x1f, 0x00, 0x00, 0x00},  // '-'
+    {0x00, 0x00, 0x00, 0x00, 0x00, 0x0c, 0x0c},  // '.'
+    {0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00},  // '/'
+    {0x0e, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0e},  // '0'
+    {0x04, 0x0c, 0x04, 0x04, 0x04, 0x04, 0x0e},  // '1'
+    {0x0e, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1f},  // '2'
+    {0x1f, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0e},  // '3'
+    {0x02, 0x06, 0x0a, 0x12, 0x1f, 0x02, 0x02},  // '4'
+    {0x1f, 0x10, 0x1e, 0x01, 0x01, 0x11, 0x0e},  // '5'
+    {0x06, 0x08, 0x10, 0x1e, 0x11, 0x11, 0x0e},  // '6'
+    {0x1f, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08},  // '7'
+    {0x0e, 0x11, 0x11, 0x0e, 0x11, 0x11, 0x0e},  // '8'
+    {0x0e, 0x11, 0x11, 0x0f, 0x01, 0x02, 0x0c},  // '9'
+    {0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x0c, 0x00},  // ':'
+    {0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x04, 0x08},  // ';'
+    {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02},  // '<'
+    {0x00, 0x00, 0x1f, 0x00, 0x1f, 0x00, 0x00},  // '='
+    {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08},  // '>'
+    {0x0e, 0x11, 0x01, 0x02, 0x04, 0x00, 0x04},  // '?'
+    {0x0e, 0x11, 0x01, 0x0d, 0x15, 0x15, 0x0e},  // '@'
+    {0x0e, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11},  // 'A'
+    {0x1e, 0x11, 0x11, 0x1e, 0x11, 0x11, 0x1e},  // 'B'
+    {0x0e, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0e},  // 'C'
+    {0x1c, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1c},  // 'D'
+    {0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x1f},  // 'E'
+    {0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x10},  // 'F'
+    {0x0e, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0f},  // 'G'
+    {0x11, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11},  // 'H'
+    {0x0e, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e},  // 'I'
+    {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0c},  // 'J'
+    {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11},  // 'K'
+    {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1f},  // 'L'
+    {0x11, 0x1b, 0x15, 0x15, 0x11, 0x11, 0x11},  // 'M'
+    {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11},  // 'N'
+    {0x0e, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e},  // 'O'
+    {0x1e, 0x11, 0x11, 0x1e, 0x10, 0x10, 0x10},  // 'P'
+    {0x0e, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0d},  // 'Q'
+    {0x1e, 0x11, 0x11, 0x1e, 0x14, 0x12, 0x11},  // 'R'
+    {0x0f, 0x10, 0x10, 0x0e, 0x01, 0x01, 0x1e},  // 'S'
+    {0x1f, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},  // 'T'
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e},  // 'U'
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x0a, 0x04},  // 'V'
+    {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0a},  // 'W'
+    {0x11, 0x11, 0x0a, 0x04, 0x0a, 0x11, 0x11},  // 'X'
+    {0x11, 0x11, 0x11, 0x0a, 0x04, 0x04, 0x04},  // 'Y'
+    {0x1f, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1f},  // 'Z'
+    {0x0e, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0e},  // '['
+    {0x00, 0x10, 0x08, 0x04, 0x02, 0x01, 0x00},  // backslash
+    {0x0e, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0e},  // ']'
+    {0x04, 0x0a, 0x11, 0x00, 0x00, 0x00, 0x00},  // '^'
+    {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1f},  // '_'
+    {0x08, 0x04, 0x00, 0x00, 0x00, 0x00, 0x00},  // '`'
+    {0x00, 0x00, 0x0e, 0x01, 0x0f, 0x11, 0x0f},  // 'a'
+    {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1e},  // 'b'
+    {0x00, 0x00, 0x0e, 0x10, 0x10, 0x11, 0x0e},  // 'c'
+    {0x01, 0x01, 0x0d, 0x13, 0x11, 0x11, 0x0f},  // 'd'
+    {0x00, 0x00, 0x0e, 0x11, 0x1f, 0x10, 0x0e},  // 'e'
+    {0x06, 0x09, 0x08, 0x1c, 0x08, 0x08, 0x08},  // 'f'
+    {0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x0e},  // 'g'
+    {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11},  // 'h'
+    {0x04, 0x00, 0x0c, 0x04, 0x04, 0x04, 0x0e},  // 'i'
+    {0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0c},  // 'j'
+    {0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12},  // 'k'
+    {0x0c, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e},  // 'l'
+    {0x00, 0x00, 0x1a, 0x15, 0x15, 0x11, 0x11},  // 'm'
+    {0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11},  // 'n'
+    {0x00, 0x00, 0x0e, 0x11, 0x11, 0x11, 0x0e},  // 'o'
+    {0x00, 0x00, 0x1e, 0x11, 0x1e, 0x10, 0x10},  // 'p'
+    {0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x01},  // 'q'
+    {0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10},  // 'r'
+    {0x00, 0x00, 0x0e, 0x10, 0x0e, 0x01, 0x1e},  // 's'
+    {0x08, 0x08, 0x1c, 0x08, 0x08, 0x09, 0x06},  // 't'
+    {0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0d},  // 'u'
+    {0x00, 0x00, 0x11, 0x11, 0x11, 0x0a, 0x04},  // 'v'
+    {0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0a},  // 'w'
+    {0x00, 0x00, 0x11, 0x0a, 0x04, 0x0a, 0x11},  // 'x'
+    {0x00, 0x00, 0x11, 0x11, 0x0f, 0x01, 0x0e},  // 'y'
+    {0x00, 0x00, 0x1f, 0x02, 0x04, 0x08, 0x1f},  // 'z'
+    {0x02, 0x04, 0x04, 0x08, 0x04, 0x04, 0x02},  // '{'
+    {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},  // '|'
+    {0x08, 0x04, 0x04, 0x02, 0x04, 0x04, 0x08},  // '}'
+    {0x00, 0x00, 0x08, 0x15, 0x02, 0x00, 0x00},  // '~'
+};
+
+void put(Image* img, int x, int y, const glm::dvec3& c) {
+    if (x < 0 || y < 0 || x >= img->width || y >= img->height) return;
+    for (int k = 0; k < 3; ++k) img->at(x, y, k) = float(c[k]);
+}
+
+void fill_rect(Image* img, int x0, int y0, int x1, int y1, const glm::dvec3& c) {
+    for (int y = std::max(0, y0); y <= std::min(img->height - 1, y1); ++y)
+        for (int x = std::max(0, x0); x <= std::min(img->width - 1, x1); ++x) put(img, x, y, c);
+}
+
+void line(Image* img, int x0, int y0, int x1, int y1, const glm::dvec3& c, int thick) {
+    // Bresenham, thickened by a square brush.
+    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+    const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+    int err = dx + dy;
+    for (int guard = 0; guard < 100000; ++guard) {
+        fill_rect(img, x0 - thick / 2, y0 - thick / 2, x0 + (thick - 1) / 2, y0 + (thick - 1) / 2, c);
+        if (x0 == x1 && y0 == y1) break;
+        const int e2 = 2 * err;
+        if (e2 >= dy) err += dy, x0 += sx;
+        if (e2 <= dx) err += dx, y0 += sy;
+    }
+}
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+int text_width(const std::string& s, int scale) { return int(s.size()) * 6 * scale; }
+
+// A step of 1, 2 or 5 times a power of ten giving at most about `target` intervals.
+double nice_step(double span, int target) {
+    if (!(span > 0)) return 1;
+    const double raw = span / target, p = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * p >= raw) return m * p;
+    return 10 * p;
+}
+
+void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
+    const glm::dvec3 black(0), grey(0.55), light(0.88);
+    const int left = 62, right = 14, top = 30, bottom = 44;
+    const int x0 = ox + left, x1 = ox + w - right, y0 = oy + top, y1 = oy + h - bottom;
+    // Data ranges.
+    double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+    for (const PlotSeries& s : p.series)
+        for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+            const double x = s.x[i], y = s.y[i];
+            if (!std::isfinite(x) || !std::isfinite(y) || (p.log_y && !(y > 0)) || (p.log_x && !(x > 0))) continue;
+            xmin = std::min(xmin, x), xmax = std::max(xmax, x);
+            ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+        }
+    if (xmin > xmax) xmin = p.log_x ? 0.1 : 0, xmax = 1, ymin = p.log_y ? 0.1 : 0, ymax = 1;
+    if (xmin == xmax) {
+        if (p.log_x) xmin *= 0.5, xmax *= 2;
+        else xmin -= 0.5, xmax += 0.5;
+    }
+    double lo, hi;
+    if (p.log_y) {
+        lo = std::floor(std::log10(ymin)), hi = std::ceil(std::log10(ymax));
+        if (lo == hi) hi += 1;
+    } else {
+        const double st = nice_step(ymax - ymin, 6);
+        lo = std::floor(ymin / st) * st, hi = std::ceil(ymax / st) * st;
+        if (lo == hi) hi = lo + st;
+    }
+    // On a log x axis positions are in log10 units.
+    auto xt = [&](double x) { return p.log_x ? std::log10(x) : x; };
+    const double xpad = 0.04 * (xt(xmax) - xt(xmin));
+    const double xa = xt(xmin) - xpad, xb = xt(xmax) + xpad;
+    auto px = [&](double x) { return x0 + int(std::lround((xt(x) - xa) / (xb - xa) * (x1 - x0))); };
+    auto py = [&](double y) {
+        const double t = p.log_y ? (std::log10(y) - lo) / (hi - lo) : (y - lo) / (hi - lo);
+        return y1 - int(std::lround(t * (y1 - y0)));
+    };
+    // Grid and y ticks.
+    if (p.log_y) {
+        const int decades = int(hi - lo);
+        for (int d = int(lo); d <= int(hi); ++d)
+            for (int m : {1, 2, 5}) {
+                const double v = m * std::pow(10.0, d);
+                if (std::log10(v) > hi + 1e-9) continue;
+                const int y = py(v);
+                const bool major = m == 1;
+                line(img, x0, y, x1, y, major ? light : glm::dvec3(0.95), 1);
+                line(img, x0 - (major ? 6 : 3), y, x0, y, black, 1);
+                if (major || decades <= 2) {
+                    const std::string s = number(v);
+                    draw_text(img, x0 - 9 - text_width(s, 1), y - 3, s, major ? black : grey);
+                }
+            }
+    } else {
+        const double st = nice_step(hi - lo, 6);
+        for (double v = lo; v <= hi + 1e-9 * st; v += st) {
+            const int y = py(v);
+            line(img, x0, y, x1, y, light, 1);
+            line(img, x0 - 6, y, x0, y, black, 1);
+            const std::string s = number(v);
+            draw_text(img, x0 - 9 - text_width(s, 1), y - 3, s, black);
+        }
+    }
+    // x ticks.
+    if (p.log_x) {
+        for (int d = int(std::floor(xa)); d <= int(std::ceil(xb)); ++d)
+            for (int m : {1, 2, 5}) {
+                const double v = m * std::pow(10.0, d), t = std::log10(v);
+                if (t < xa || t > xb) continue;
+                const int x = px(v);
+                line(img, x, y0, x, y1, m == 1 ? light : glm::dvec3(0.95), 1);
+                line(img, x, y1, x, y1 + (m == 1 ? 5 : 3), black, 1);
+                const std::string s = number(v);
+                draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, m == 1 ? black : grey);
+            }
+    } else {
+        const double xs = std::max(nice_step(xmax - xmin, 8), 1e-12);
+        for (double v = std::ceil(xmin / xs) * xs; v <= xmax + 1e-9 * xs; v += xs) {
+            const int x = px(v);
+            line(img, x, y1, x, y1 + 5, black, 1);
+            const std::string s = number(v);
+            draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, black);
+        }
+    }
+    // Frame, labels, title.
+    line(img, x0, y0, x1, y0, black, 1);
+    line(img, x0, y1, x1, y1, black, 1);
+    line(img, x0, y0, x0, y1, black, 1);
+    line(img, x1, y0, x1, y1, black, 1);
+    draw_text(img, (x0 + x1 - text_width(p.x_label, 1)) / 2, y1 + 24, p.x_label, black);
+    draw_text(img, ox + 6, oy + 18, p.y_label, grey);
+    draw_text(img, (x0 + x1 - text_width(p.title, 2)) / 2, oy + 2, p.title, black, 2);
+    // Series.
+    for (const PlotSeries& s : p.series) {
+        int lx = 0, ly = 0;
+        bool have = false;
+        for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+            const double x = s.x[i], y = s.y[i];
+            if (!std::isfinite(x) || !std::isfinite(y) || (p.log_y && !(y > 0)) || (p.log_x && !(x > 0))) {
+                have = false;
+                continue;
+            }
+            const int cx = px(x), cy = py(y), m = std::clamp(s.marker, 1, 6);
+            if (have && s.lines) line(img, lx, ly, cx, cy, s.colour, 2);
+            fill_rect(img, cx - m, cy - m, cx + m, cy + m, s.colour);
+            lx = cx, ly = cy, have = true;
+        }
+    }
+    // Legend, top right inside the frame.
+    int lw = 0;
+    for (const PlotSeries& s : p.series) lw = std::max(lw, text_width(s.label, 1));
+    if (!p.series.empty()) {
+        const int bw = lw + 34, bh = int(p.series.size()) * 12 + 6;
+        const int bx = x1 - bw - 6, by = y0 + 6;
+        fill_rect(img, bx, by, bx + bw, by + bh, glm::dvec3(1));
+        line(img, bx, by, bx + bw, by, grey, 1);
+        line(img, bx, by + bh, bx + bw, by + bh, grey, 1);
+        line(img, bx, by, bx, by + bh, grey, 1);
+        line(img, bx + bw, by, bx + bw, by + bh, grey, 1);
+        for (size_t i = 0; i < p.series.size(); ++i) {
+            const int yy = by + 6 + int(i) * 12;
+            line(img, bx + 5, yy + 3, bx + 23, yy + 3, p.series[i].colour, 2);
+            fill_rect(img, bx + 12, yy + 1, bx + 16, yy + 5, p.series[i].colour);
+            draw_text(img, bx + 28, yy, p.series[i].label, black);
+        }
+    }
+}
+}  // namespace
+
+int draw_text(Image* img, int x, int y, const std::string& text, const glm::dvec3& colour,
+              int scale) {
+    scale = std::max(1, scale);
+    int cx = x;
+    for (unsigned char ch : text) {
+        const int g = ch >= 32 && ch <= 126 ? ch - 32 : '?' - 32;
+        for (int row = 0; row < 7; ++row)
+            for (int col = 0; col < 5; ++col)
+                if (kFont[g][row] & (0x10 >> col))
+                    fill_rect(img, cx + col * scale, y + row * scale, cx + col * scale + scale - 1,
+                              y + row * scale + scale - 1, colour);
+        cx += 6 * scale;
+    }
+    return cx - x;
+}
+
+glm::dvec3 plot_colour(int index) {
+    static const glm::dvec3 palette[] = {{0.84, 0.19, 0.15}, {0.16, 0.40, 0.75}, {0.20, 0.63, 0.17},
+                                         {0.60, 0.31, 0.64}, {0.95, 0.55, 0.05}, {0.35, 0.35, 0.35},
+                                         {0.10, 0.65, 0.70}, {0.65, 0.45, 0.20}};
+    return palette[((index % 8) + 8) % 8];
+}
+
+Image render_plot(const std::vector<PlotPanel>& panels, int columns, int panel_w, int panel_h) {
+    panel_w = std::clamp(panel_w, 160, 2000);
+    panel_h = std::clamp(panel_h, 160, 2000);
+    columns = std::max(1, std::min(columns, int(std::max<size_t>(1, panels.size()))));
+    const int rows = std::max(1, int((panels.size() + size_t(columns) - 1) / size_t(columns)));
+    Image img(columns * panel_w, rows * panel_h, 3);
+    std::fill(img.data.begin(), img.data.end(), 1.0f);
+    for (size_t i = 0; i < panels.size(); ++i)
+        draw_panel(&img, int(i % size_t(columns)) * panel_w, int(i / size_t(columns)) * panel_h,
+                   panel_w, panel_h, panels[i]);
+    return img;
+}
+
+}  // namespace sepal

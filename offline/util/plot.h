@@ -1,0 +1,55 @@
+// A tiny line-plot rasterizer for error curves (README figures, `sepal factor --plot`).
+//
+// Usage:
+//   sepal::PlotPanel p;
+//   p.title = "ward"; p.x_label = "terms"; p.y_label = "cos-weighted RMS";
+//   p.series.push_back({"gs-half", {1, 2, 3}, {0.3, 0.2, 0.15}, {0.85, 0.2, 0.1}});
+//   sepal::Image img = sepal::render_plot({p}, 1);
+//   sepal::write_png("plot.png", img, &err);
+//
+// Hand-written because no plotting library is among the project's allowed dependencies
+// (Debian packages: GLM, stb, doctest, Eigen): axes with numbered ticks (a linear x axis
+// with integer-friendly steps, a log-scale y axis with decades and 2x/5x sub-ticks), one
+// polyline (or markers only) with square markers per series, optionally a log x axis, a legend, and a title, drawn with a built-in
+// 5x7 bitmap font (ASCII 32..126; other bytes draw as '?'). Panels are laid out in a grid.
+// Limits: no anti-aliasing; non-positive or non-finite y values are skipped on log axes
+// (and non-finite ones on linear axes); panel sizes 160..2000 pixels.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "util/image.h"
+
+namespace sepal {
+
+struct PlotSeries {
+    std::string label;
+    std::vector<double> x, y;
+    glm::dvec3 colour{0, 0, 0};  // linear 0..1
+    bool lines = true;  // false: markers only (a scatter)
+    int marker = 2;     // marker half-size in pixels, 1..6
+};
+
+struct PlotPanel {
+    std::string title, x_label, y_label;
+    std::vector<PlotSeries> series;
+    bool log_y = true;
+    bool log_x = false;  // decades on x too (frame times spanning 1..100 ms)
+};
+
+// Panels left to right, top to bottom, `columns` per row; each panel_w x panel_h pixels.
+// Returns an RGB image with a white background.
+Image render_plot(const std::vector<PlotPanel>& panels, int columns, int panel_w = 480,
+                  int panel_h = 360);
+
+// A palette of distinguishable series colours.
+glm::dvec3 plot_colour(int index);
+
+// Draws text with the built-in font at (x, y) = top-left corner, scale >= 1 (pixel size).
+// Exposed for tests; returns the width drawn.
+int draw_text(Image* img, int x, int y, const std::string& text, const glm::dvec3& colour,
+              int scale = 1);
+
+}  // namespace sepal

@@ -1,0 +1,204 @@
+// sepal_format.h - the .sepal asset format, defined once for the writer (offline/) and
+// the reader (runtime/). Plain C structs; every integer and float is little-endian.
+//
+// File layout (version 1):
+//   sepal_fmt_header                       64 bytes, magic "SEPALBRD"
+//   sepal_fmt_chunk[chunk_count]           24 bytes each: tag, CRC-32, offset, size
+//   chunk payloads                       each at an 8-byte-aligned offset
+// Chunks:
+//   'MATL' exactly one   sepal_fmt_material
+//   'TEXR' 1..32         sepal_fmt_texture followed by its MIP levels (level 0 first); each
+//                        level is rows of width*channels*(bits/8) bytes, row 0 first, row 0
+//                        being texture coordinate t = 0 (the order glTexImage2D takes)
+//   'PLAN' exactly one   sepal_fmt_plan followed by pass_count sepal_fmt_pass
+//   'META' optional      UTF-8 JSON for people and tools; the runtime ignores it
+//   unknown tags are skipped (forward compatibility), but still checksummed.
+// Bounds (enforced by the reader, respected by the writer): see SEPAL_FMT_MAX_*.
+//
+// Meaning: the material approximates f(wi, wo) ~= sum_k G_k(x) H_k(y) (Kautz-McCool),
+// x and y from the parameterization and hemisphere map. A texture stores q in [0,1]
+// per channel and means value = scale[c] * q + bias[c]. The pass plan adds and
+// subtracts products of those stored values, each times a constant colour, into a
+// framebuffer that holds [0,1]; the final `doublings` passes double the framebuffer.
+// See sepal_rt.h for how the runtime executes the plan.
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sepal/sepal_rt.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SEPAL_FMT_MAGIC "SEPALBRD"
+#define SEPAL_FMT_VERSION_MAJOR 1
+#define SEPAL_FMT_VERSION_MINOR 0
+
+#define SEPAL_FMT_MAX_FILE_BYTES (64u << 20)
+#define SEPAL_FMT_MAX_CHUNKS 64
+#define SEPAL_FMT_MAX_TEXTURES 32
+#define SEPAL_FMT_MAX_TERMS 16
+#define SEPAL_FMT_MAX_TEXTURE_SIDE 1024
+#define SEPAL_FMT_MAX_LEVELS 11
+#define SEPAL_FMT_MAX_PASSES 256
+#define SEPAL_FMT_MAX_DOUBLINGS 16
+#define SEPAL_FMT_MAX_META_BYTES (1u << 20)
+
+#define SEPAL_FMT_TAG(a, b, c, d) \
+    ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
+#define SEPAL_FMT_TAG_MATERIAL SEPAL_FMT_TAG('M', 'A', 'T', 'L')
+#define SEPAL_FMT_TAG_TEXTURE SEPAL_FMT_TAG('T', 'E', 'X', 'R')
+#define SEPAL_FMT_TAG_PLAN SEPAL_FMT_TAG('P', 'L', 'A', 'N')
+#define SEPAL_FMT_TAG_META SEPAL_FMT_TAG('M', 'E', 'T', 'A')
+
+// Parameterizations (NOTES.md section 1). Per-vertex (GL ES 1.1) paths can use the first
+// three; the last two need per-pixel evaluation (shaders or the CPU).
+typedef enum sepal_param {
+    SEPAL_PARAM_IV = 0,            // x = wi, y = wo
+    SEPAL_PARAM_GS_HALF = 1,       // Gram-Schmidt half/difference (Kautz-McCool eq. 6)
+    SEPAL_PARAM_VH = 2,            // x = wo, y = h (Lawrence 2004)
+    SEPAL_PARAM_RUSINKIEWICZ = 3,  // per pixel only
+    SEPAL_PARAM_ELEV_AZIM = 4,     // per pixel only
+    SEPAL_PARAM_COUNT = 5
+} sepal_param;
+
+typedef enum sepal_hemi_map { SEPAL_MAP_XY = 0, SEPAL_MAP_PARABOLIC = 1, SEPAL_MAP_COUNT = 2 } sepal_hemi_map;
+
+typedef enum sepal_color_mode {
+    SEPAL_COLOR_PER_CHANNEL = 0,  // each channel factored on its own
+    SEPAL_COLOR_LUMINANCE = 1,    // one channel (luminance), times the material's ratio per channel
+    SEPAL_COLOR_COUNT = 2
+} sepal_color_mode;
+
+typedef enum sepal_tex_role { SEPAL_ROLE_G = 0, SEPAL_ROLE_H = 1, SEPAL_ROLE_COUNT = 2 } sepal_tex_role;
+
+typedef enum sepal_pass_op {
+    SEPAL_OP_PRODUCT = 0,   // colour * tex0 * tex1
+    SEPAL_OP_TEXTURE = 1,   // colour * tex0
+    SEPAL_OP_CONSTANT = 2,  // colour
+    SEPAL_OP_COUNT = 3
+} sepal_pass_op;
+
+typedef enum sepal_blend {
+    SEPAL_BLEND_ADD = 0,       // framebuffer += source
+    SEPAL_BLEND_SUBTRACT = 1,  // framebuffer -= source (reverse subtract)
+    SEPAL_BLEND_COUNT = 2
+} sepal_blend;
+
+#define SEPAL_FMT_NO_TEXTURE 0xFFFFu
+
+typedef struct sepal_fmt_header {
+    char magic[8];           // "SEPALBRD"
+    uint16_t version_major;  // readers refuse other majors
+    uint16_t version_minor;  // readers accept any minor of their major
+    uint32_t header_bytes;   // 64
+    uint64_t file_bytes;     // the whole file
+    uint32_t chunk_count;
+    uint32_t flags;          // 0
+    uint32_t header_crc;     // CRC-32 of these 64 bytes (this field 0) and the chunk table
+    uint8_t reserved[28];    // 0
+} sepal_fmt_header;
+
+typedef struct sepal_fmt_chunk {
+    uint32_t tag;
+    uint32_t crc;     // CRC-32 (ISO-HDLC, as zlib) of the payload
+    uint64_t offset;  // from the start of the file, multiple of 8
+    uint64_t size;    // payload bytes
+} sepal_fmt_chunk;
+
+typedef struct sepal_fmt_material {
+    uint32_t param;       // sepal_param
+    uint32_t map;         // sepal_hemi_map
+    uint32_t color_mode;  // sepal_color_mode
+    uint32_t terms;       // 1..SEPAL_FMT_MAX_TERMS
+    uint32_t channels;    // 1 (achromatic) or 3
+    uint32_t reserved0;
+    // Cosine-weighted RMS radiance error of this asset (Kautz-McCool metric), of the
+    // float factors it came from, and relative to the BRDF's RMS; NaN when not measured.
+    float error_quantized;
+    float error_float;
+    float error_relative;
+    // Per-channel multiplier of f: a luminance factorization (1 channel) times its colour;
+    // (1, 1, 1) for per-channel factorizations. Finite, >= 0, not all 0.
+    float ratio[3];
+    uint32_t reserved[4];
+} sepal_fmt_material;
+
+typedef struct sepal_fmt_texture {
+    uint32_t width, height;  // powers of two, 1..SEPAL_FMT_MAX_TEXTURE_SIDE
+    uint32_t levels;         // 1, or the full MIP chain down to 1x1
+    uint32_t channels;       // 1 (luminance) or 3 (RGB)
+    uint32_t bits;           // 8 or 16 per channel (16: little-endian uint16)
+    uint32_t role;           // sepal_tex_role
+    uint32_t term;           // 0..terms-1
+    uint32_t reserved0;
+    float scale[4];          // value = scale[c] * q + bias[c], q in [0,1]
+    float bias[4];
+    uint64_t data_bytes;     // sum over levels
+} sepal_fmt_texture;
+
+typedef struct sepal_fmt_plan {
+    uint32_t pass_count;   // 1..SEPAL_FMT_MAX_PASSES
+    uint32_t doublings;    // final framebuffer doublings, 0..SEPAL_FMT_MAX_DOUBLINGS
+    // Largest partial sum of the plan at unit irradiance (the writer guarantees <= 1);
+    // the runtime divides its per-frame exposure by it.
+    float peak_partial_sum;
+    uint32_t reserved[5];
+} sepal_fmt_plan;
+
+typedef struct sepal_fmt_pass {
+    uint16_t op;         // sepal_pass_op
+    uint16_t blend;      // sepal_blend
+    uint16_t tex0;       // texture index or SEPAL_FMT_NO_TEXTURE
+    uint16_t tex1;
+    float color[3];      // per-channel constant in [0,1], times the light's irradiance
+    uint32_t rgb_scale;  // 1, 2 or 4: GL_RGB_SCALE of the pass's last combiner stage
+} sepal_fmt_pass;
+
+// ---- reading (runtime/src/asset.cpp) ------------------------------------------------------
+// A parsed asset: descriptions copied out, pixel data and META pointing into the caller's
+// buffer (which must outlive it). No allocation.
+typedef struct sepal_asset_texture {
+    sepal_fmt_texture desc;
+    const uint8_t* level_data[SEPAL_FMT_MAX_LEVELS];  // level 0 first
+    uint32_t level_bytes[SEPAL_FMT_MAX_LEVELS];
+} sepal_asset_texture;
+
+typedef struct sepal_asset {
+    sepal_fmt_header header;
+    sepal_fmt_material material;
+    sepal_fmt_plan plan;
+    sepal_asset_texture textures[SEPAL_FMT_MAX_TEXTURES];
+    uint32_t texture_count;
+    sepal_fmt_pass passes[SEPAL_FMT_MAX_PASSES];
+    const char* meta;  // not NUL-terminated; NULL when absent
+    uint32_t meta_bytes;
+} sepal_asset;
+
+// Validates everything (sizes, bounds, checksums, enums, cross references) and fills
+// out. Any failure returns a code and a message naming the problem; out is then
+// unspecified. Needs a little-endian host (every supported target is).
+sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out, sepal_error* err);
+
+// ---- parameterization (runtime/src/param.cpp) --------------------------------------------
+// Texture coordinates of the G and H factors for one direction pair in the local frame
+// (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh); the same
+// maths as offline/factor/param.h. Returns 1 when both directions are above the horizon, 0
+// otherwise (coordinates are still filled and continuous, for interpolation).
+// Returns -1 for the per-pixel-only parameterizations.
+int sepal_param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3],
+                        float g_uv[2], float h_uv[2]);
+// The same for every parameterization, including the per-pixel-only ones: rusinkiewicz
+// (G = map(h), H = map(d), d = rot_y(-theta_h) rot_z(-phi_h) wi) and elev-azim
+// (G at (theta_i, theta_o) / (pi/2), H at (phi_i, phi_o) / (2 pi), H periodic).
+int sepal_param_texcoords_pixel(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3],
+                              float g_uv[2], float h_uv[2]);
+
+// CRC-32 (polynomial 0xEDB88320, initial and final xor 0xFFFFFFFF): chain calls by
+// passing the previous result as crc, starting from 0.
+uint32_t sepal_crc32(uint32_t crc, const void* data, size_t size);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,206 @@
+// sepal_material.h - baked assets on the GPU: upload once, then draw frames.
+//
+// Usage (a port made a GL ES context current; caps from sepal_query_caps):
+//   static sepal_asset asset;                      // parsed from the file's bytes
+//   sepal_asset_parse(bytes, size, &asset, &err);
+//   static sepal_material mat;
+//   sepal_material_create(&caps, &asset, 512, 512, &mat, &err);   // textures uploaded here
+//   std::vector<float> scratch(sepal_draw_scratch_floats(mesh.vertex_count, scene.light_count));
+//   sepal_draw_desc d = {}; d.material = &mat; d.mesh = &mesh; d.scene = &scene;
+//   d.width = 512; d.height = 512; d.scratch = scratch.data(); d.scratch_floats = scratch.size();
+//   sepal_draw(&d, &stats, &err);                  // clears, draws all passes, scales up
+//   sepal_material_destroy(&mat);
+//
+// GL ES 2 (shaders/): the same plan with tiny shaders (SEPAL_MODE_MULTIPASS), or fused
+// shaders summing every term in one pass per light, with per-vertex factor coordinates
+// as in the paper (SEPAL_MODE_FUSED_VERTEX) or everything per pixel (SEPAL_MODE_FUSED_PIXEL,
+// which also takes the rusinkiewicz and elevation/azimuth parameterizations). Fused
+// passes clamp each light's f at 0, as the CPU backend does; more terms than the texture
+// units hold are drawn in groups.
+//
+// How a frame is drawn on GL ES 1.1 (Kautz-McCool section 5): per vertex, on the CPU, the
+// factors' texture coordinates from wi and wo in the vertex frame, and the light's
+// irradiance cos(theta_i) I / d^2 as the vertex colour. A depth-only pre-pass lays down
+// depth; every pass of the asset's plan is then drawn once per light with depth test
+// EQUAL: tex0 x tex1 x colour (two texture units, GL_MODULATE) added with blending, or
+// subtracted. The framebuffer holds [0,1], so the colours carry an exposure 2^-m chosen per
+// frame from the lights so that no partial sum exceeds 1; the final doublings (blend
+// GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale. Plans that only add are drawn
+// in stages of falling exposure, each pass at the largest its colours allow, with the
+// doublings spread between the stages (a huge peak's pass no longer sinks the others
+// below one framebuffer level; same number of full-screen passes).
+// Fallback paths, each forced by a capability mask so tests run them on any driver:
+//   - no GL_OES_blend_subtract: the framebuffer is inverted (1 - x, a blend with
+//     GL_ONE_MINUS_DST_COLOR), the subtracted passes are added, and it is inverted back:
+//     exact in 8 bits, and 2 full-screen passes in all instead of an extension.
+//   - one texture unit: the paper's two passes per product (G x colour, then H with a
+//     multiplicative blend), the running sum kept in a texture (glCopyTexSubImage2D)
+//     and added back with a full-screen pass; the exposure also keeps colour x G below 1,
+//     where GL clamps it before the blend.
+// Framebuffer objects are not needed by any GL ES 1.1 path.
+// Limits: viewport up to the size given at creation (copy textures are sized then);
+// 16-bit assets are rounded to 8 bits at upload (GL ES 1.1 has no 16-bit textures).
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sepal/sepal_format.h"
+#include "sepal/sepal_rt.h"
+#include "sepal/sepal_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sepal_material {
+    sepal_caps caps;
+    sepal_fmt_material info;
+    sepal_fmt_plan plan;
+    sepal_fmt_pass passes[SEPAL_FMT_MAX_PASSES];
+    uint32_t texture_count;
+    uint32_t gl_textures[SEPAL_FMT_MAX_TEXTURES];
+    uint32_t texture_role[SEPAL_FMT_MAX_TEXTURES];
+    uint32_t term_textures[SEPAL_FMT_MAX_TERMS][2];  // per term: its G and H texture index
+    float texture_scale[SEPAL_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
+    float texture_bias[SEPAL_FMT_MAX_TEXTURES][3];
+    float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
+    float max_first_stage;    // one texture unit: largest colour x tex0 of a product pass (GL ES 1.1)
+    // GL ES 1.1: per pass, the largest value GL clamps at 1 (vertex colour, or colour x tex0
+    // on one texture unit) per unit irradiance: what its exposure must keep below 1.
+    float pass_need[SEPAL_FMT_MAX_PASSES];
+    int single_unit;          // one texture unit: products through the copy texture
+    int subtract_by_inversion;  // no blend subtract: invert, add, invert back
+    int has_negative_passes;
+    uint32_t copy_texture;    // running sum (single-unit path), 0 when unused
+    int copy_width, copy_height;  // power-of-two size of the copy texture
+    int max_width, max_height;
+    // GL ES 2: shader programs compiled at creation (0 on GL ES 1.1).
+    uint32_t program_pass, program_fullscreen, program_mesh_texture;
+    uint32_t program_fused_vertex, program_fused_pixel;
+    int fused_group;  // terms summed per fused pass: min(terms, texture units / 2, 8)
+    // Half-float target (caps.use_float_target on GL ES 3): frames are drawn there with no
+    // exposure and no doublings, then copied to the current framebuffer for display.
+    uint32_t float_fbo, float_color, float_depth;
+} sepal_material;
+
+// Reads the last frame of a float-target material as linear RGBA floats, bottom row
+// first (GL's order), width x height of the last draw. SEPAL_ERR_UNSUPPORTED without one.
+// Values the half-float target could not hold come back clamped, never as inf or NaN:
+// overflow (inf) as 65504, the largest half float, NaN as 0; *nonfinite_clamped (may be
+// NULL) receives how many.
+sepal_result sepal_read_float(const sepal_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+                          sepal_error* err);
+
+// How a material is drawn. GL ES 1.1 has only MULTIPASS.
+typedef enum sepal_draw_mode {
+    SEPAL_MODE_MULTIPASS = 0,     // the asset's pass plan (GL ES 1.1, or GL ES 2 tiny shaders)
+    SEPAL_MODE_FUSED_VERTEX = 1,  // GL ES 2: one pass per light sums all terms; per-vertex coordinates
+    SEPAL_MODE_FUSED_PIXEL = 2,   // GL ES 2: the same with everything per pixel (any parameterization)
+} sepal_draw_mode;
+
+sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset, int max_width,
+                               int max_height, sepal_material* out, sepal_error* err);
+void sepal_material_destroy(sepal_material* m);
+
+// Floats of scratch sepal_draw needs (per-vertex texture coordinates, irradiance, colours).
+size_t sepal_draw_scratch_floats(int vertex_count, int light_count);
+
+typedef struct sepal_draw_desc {
+    const sepal_material* material;
+    const sepal_mesh* mesh;    // world space
+    const sepal_scene* scene;
+    int width, height;       // the viewport, at most the material's max size
+    float* scratch;          // sepal_draw_scratch_floats() floats
+    size_t scratch_floats;
+    // Optional diffuse texture map modulating the result per pixel at the mesh's UVs
+    // (Kautz-McCool Fig. 13): a GL texture name from sepal_texture_create_rgba8, or 0.
+    uint32_t diffuse_texture;
+    sepal_draw_mode mode;      // 0: multipass
+} sepal_draw_desc;
+
+// Uploads an RGBA8 image (top row first, power-of-two sides) with a MIP chain, for use
+// as sepal_draw_desc.diffuse_texture. Delete it with sepal_texture_destroy.
+sepal_result sepal_texture_create_rgba8(const uint8_t* rgba, int width, int height, uint32_t* out,
+                                    sepal_error* err);
+void sepal_texture_destroy(uint32_t texture);
+
+// What a frame cost, and every repair, skip or clamp the runtime made on the way: nothing
+// it does to odd input is silent. Units: GL backends count per vertex (and vertex-light
+// pair) on the CPU side; the CPU backend counts vertices the same way and per pixel (and
+// pixel-light pair) where it says so. The fused-pixel shader takes the same per-pixel
+// fallbacks as the CPU backend but cannot count them: its counts are the per-vertex ones.
+typedef struct sepal_draw_stats {
+    int draw_calls;         // mesh passes, including the depth pre-pass
+    int fullscreen_passes;  // doublings, inversions, accumulations, background
+    int copies;             // framebuffer-to-texture copies
+    int doublings;          // final framebuffer doublings
+    float exposure;         // 2^-m applied to the vertex colours (the first stage's, if staged)
+    // GL ES 1.1, add-only plans: passes are drawn in stages of falling exposure with the
+    // doublings between them, so a huge peak's pass does not push the others below one
+    // framebuffer level (same total doublings). 1 when every pass shares one exposure.
+    int exposure_stages;
+    // Vertex-light pairs (CPU: pixel-light pairs) with the light or the eye below the
+    // horizon of the shading frame (a back-facing frame included): that light adds 0 there.
+    int below_horizon;
+    // Vertices whose tangent was zero, parallel to the normal or not finite (xyz or the
+    // handedness w): any unit vector perpendicular to the normal is used, handedness +1.
+    int fallback_tangents;
+    // Vertices with a non-finite position or a zero or non-finite normal: they cannot be
+    // placed or shaded, and every triangle using one is skipped (skipped_triangles).
+    int bad_vertices;
+    int skipped_triangles;
+    // Triangles with repeated or collinear corners (zero area in world space). Drawn as
+    // they are: GL and the CPU rasterizer cover no pixel with them.
+    int zero_area_triangles;
+    // Direction pairs (vertex-light; CPU: pixel-light) where the parameterization's frame
+    // is undefined and a fixed one is used: gs-half with h within 1e-3 rad of the tangent,
+    // rusinkiewicz with h within 1e-6 rad of the normal, h itself when wi = -wo.
+    int param_fallbacks;
+    // 1 when the plan paths needed an exposure below 2^-30 (irradiance times the largest
+    // pass colour over 2^30): vertex colours clamp at 1 instead of the frame failing.
+    int exposure_clamped;
+    // Irradiance values (GL: vertex-light channels) or radiances (CPU: pixel channels)
+    // that overflowed float or were NaN: clamped to FLT_MAX, NaN to 0. (Values a
+    // half-float target overflowed are counted by sepal_read_float.)
+    int nonfinite_clamped;
+    // CPU only: pixel-light pairs where a signed factorization summed to f < 0 in some
+    // channel, clamped to 0 as every backend does (GL cannot count them).
+    int negative_clamped;
+    // CPU only: pixels whose interpolated frame was degenerate (normals or tangents of
+    // the triangle's corners cancelling out): the fallback frame is used.
+    int pixel_frame_fallbacks;
+} sepal_draw_stats;
+
+sepal_result sepal_draw(const sepal_draw_desc* desc, sepal_draw_stats* stats, sepal_error* err);
+
+// ---- the CPU backend -------------------------------------------------------------------
+// Renders the same scene from the asset in float with no GL: the software rasterizer
+// (sepal_raster.h, pixel-aligned with GL), frames interpolated per pixel, the factors'
+// coordinates per pixel (every parameterization), textures decoded as scale * q + bias
+// and sampled bilinearly at level 0, f = sum_k G_k H_k evaluated directly (not through
+// the pass plan) and clamped at 0 per light, radiance as in sepal_scene.h. For devices without a GPU and as the
+// precise reference of the factored BRDF. No allocation: callers hand in the buffers;
+// the asset's bytes must stay alive.
+typedef struct sepal_cpu_desc {
+    const sepal_asset* asset;
+    const sepal_mesh* mesh;   // world space
+    const sepal_scene* scene;
+    int width, height;
+    float* color;           // width * height * 3 floats out: linear radiance, top row first
+    float* depth;           // width * height floats of scratch
+    float* scratch;         // sepal_cpu_scratch_floats() floats
+    size_t scratch_floats;
+    // Optional diffuse map, as sepal_draw_desc.diffuse_texture: RGBA8, top row first,
+    // bilinear at level 0 with repeat wrapping; NULL for none.
+    const uint8_t* diffuse_rgba;
+    int diffuse_width, diffuse_height;
+    // Optional: the frame's counters (draw_calls 1, the repair, skip and clamp counts).
+    sepal_draw_stats* stats;
+} sepal_cpu_desc;
+
+size_t sepal_cpu_scratch_floats(int vertex_count);
+sepal_result sepal_draw_cpu(const sepal_cpu_desc* desc, sepal_error* err);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,259 @@
+// .sepal asset parsing and validation (see sepal_format.h). Zero-copy, no allocation.
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal/sepal_format.h"
+
+static_assert(sizeof(sepal_fmt_header) == 64, "header layout");
+static_assert(sizeof(sepal_fmt_chunk) == 24, "chunk layout");
+static_assert(sizeof(sepal_fmt_material) == 64, "material layout");
+static_assert(sizeof(sepal_fmt_texture) == 72, "texture layout");
+static_assert(sizeof(sepal_fmt_plan) == 32, "plan layout");
+static_assert(sizeof(sepal_fmt_pass) == 24, "pass layout");
+
+namespace {
+
+bool is_pow2(uint32_t v) { return v && !(v & (v - 1)); }
+
+uint32_t mip_levels(uint32_t w, uint32_t h) {
+    uint32_t n = 1;
+    while (w > 1 || h > 1) w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1, ++n;
+    return n;
+}
+
+const char* tag_name(uint32_t tag, char buf[5]) {
+    for (int i = 0; i < 4; ++i) {
+        const char c = (char)((tag >> (8 * i)) & 0xFF);
+        buf[i] = (c >= 32 && c < 127) ? c : '?';
+    }
+    buf[4] = '\0';
+    return buf;
+}
+
+sepal_result parse_texture(const uint8_t* p, uint64_t size, uint32_t index, sepal_asset_texture* t,
+                         sepal_error* err) {
+    if (size < sizeof(sepal_fmt_texture))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: texture %u chunk too small", index);
+    memcpy(&t->desc, p, sizeof t->desc);
+    const sepal_fmt_texture& d = t->desc;
+    if (!is_pow2(d.width) || !is_pow2(d.height) || d.width > SEPAL_FMT_MAX_TEXTURE_SIDE ||
+        d.height > SEPAL_FMT_MAX_TEXTURE_SIDE)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: texture %u is %ux%u; sides must be powers of two up to %d", index,
+                         d.width, d.height, SEPAL_FMT_MAX_TEXTURE_SIDE);
+    const uint32_t full = mip_levels(d.width, d.height);
+    if (d.levels != 1 && d.levels != full)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: texture %u has %u MIP levels; 1 or the full chain (%u)", index,
+                         d.levels, full);
+    if ((d.channels != 1 && d.channels != 3) || (d.bits != 8 && d.bits != 16))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: texture %u has %u channels of %u bits; 1 or 3 channels of 8 or 16",
+                         index, d.channels, d.bits);
+    if (d.role >= SEPAL_ROLE_COUNT)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: texture %u role %u unknown", index, d.role);
+    for (int c = 0; c < 4; ++c)
+        if (!isfinite(d.scale[c]) || !isfinite(d.bias[c]))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: texture %u scale or bias is not finite", index);
+    uint64_t offset = sizeof(sepal_fmt_texture);
+    uint32_t w = d.width, h = d.height;
+    for (uint32_t l = 0; l < d.levels; ++l) {
+        const uint64_t bytes = (uint64_t)w * h * d.channels * (d.bits / 8);
+        if (offset + bytes > size)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: texture %u level %u runs past its chunk", index, l);
+        t->level_data[l] = p + offset;
+        t->level_bytes[l] = (uint32_t)bytes;
+        offset += bytes;
+        w = w > 1 ? w / 2 : 1;
+        h = h > 1 ? h / 2 : 1;
+    }
+    if (offset != size || d.data_bytes != offset - sizeof(sepal_fmt_texture))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: texture %u data is %llu bytes, its levels need %llu", index,
+                         (unsigned long long)(size - sizeof(sepal_fmt_texture)),
+                         (unsigned long long)(offset - sizeof(sepal_fmt_texture)));
+    return SEPAL_OK;
+}
+
+}  // namespace
+
+extern "C" uint32_t sepal_crc32(uint32_t crc, const void* data, size_t size) {
+    // Bitwise with a 16-entry table: small code, fast enough for assets of a few MB.
+    static const uint32_t kTable[16] = {
+        0x00000000u, 0x1DB71064u, 0x3B6E20C8u, 0x26D930ACu, 0x76DC4190u, 0x6B6B51F4u,
+        0x4DB26158u, 0x5005713Cu, 0xEDB88320u, 0xF00F9344u, 0xD6D6A3E8u, 0xCB61B38Cu,
+        0x9B64C2B0u, 0x86D3D2D4u, 0xA00AE278u, 0xBDBDF21Cu};
+    const uint8_t* p = (const uint8_t*)data;
+    crc = ~crc;
+    for (size_t i = 0; i < size; ++i) {
+        crc = (crc >> 4) ^ kTable[(crc ^ p[i]) & 0x0F];
+        crc = (crc >> 4) ^ kTable[(crc ^ (p[i] >> 4)) & 0x0F];
+    }
+    return ~crc;
+}
+
+extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
+                                      sepal_error* err) {
+    const uint16_t probe = 1;
+    if (*(const uint8_t*)&probe != 1)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "asset: big-endian hosts are not supported");
+    if (!out) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: NULL argument");
+    memset(out, 0, sizeof *out);
+    if (size < sizeof(sepal_fmt_header))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: %zu bytes is too short for the 64-byte header (truncated?)", size);
+    if (!bytes) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: NULL bytes");
+    const uint8_t* base = (const uint8_t*)bytes;
+    sepal_fmt_header& h = out->header;
+    memcpy(&h, base, sizeof h);
+    if (memcmp(h.magic, SEPAL_FMT_MAGIC, 8) != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: bad magic (not a .sepal file)");
+    if (h.version_major != SEPAL_FMT_VERSION_MAJOR)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "asset: format version %u.%u; this runtime reads version %d.x",
+                         h.version_major, h.version_minor, SEPAL_FMT_VERSION_MAJOR);
+    if (h.file_bytes != size)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: header says %llu bytes, the buffer holds %zu (truncated or padded)",
+                         (unsigned long long)h.file_bytes, size);
+    if (size > SEPAL_FMT_MAX_FILE_BYTES)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %zu bytes is over the %u-byte limit",
+                         size, SEPAL_FMT_MAX_FILE_BYTES);
+    if (h.chunk_count < 1 || h.chunk_count > SEPAL_FMT_MAX_CHUNKS)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u chunks (1..%d)", h.chunk_count,
+                         SEPAL_FMT_MAX_CHUNKS);
+    const uint64_t table_end = sizeof(sepal_fmt_header) + (uint64_t)h.chunk_count * sizeof(sepal_fmt_chunk);
+    if (table_end > size)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: chunk table runs past the end of the file");
+    // The header checksum covers the header (with the checksum field 0) and the table.
+    sepal_fmt_header zeroed = h;
+    zeroed.header_crc = 0;
+    uint32_t crc = sepal_crc32(0, &zeroed, sizeof zeroed);
+    crc = sepal_crc32(crc, base + sizeof(sepal_fmt_header), (size_t)(table_end - sizeof(sepal_fmt_header)));
+    if (h.header_bytes != sizeof(sepal_fmt_header) || crc != h.header_crc)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: header checksum mismatch (corrupt header or chunk table)");
+    bool have_material = false, have_plan = false;
+    const uint8_t* plan_payload = nullptr;
+    uint64_t plan_size = 0;
+    char name[5];
+    for (uint32_t i = 0; i < h.chunk_count; ++i) {
+        sepal_fmt_chunk c;
+        memcpy(&c, base + sizeof(sepal_fmt_header) + (size_t)i * sizeof c, sizeof c);
+        if (c.offset % 8 != 0 || c.offset < table_end || c.offset > size || c.size > size - c.offset)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: chunk %u ('%s') at offset %llu size %llu lies outside the file",
+                             i, tag_name(c.tag, name), (unsigned long long)c.offset,
+                             (unsigned long long)c.size);
+        const uint8_t* p = base + c.offset;
+        if (sepal_crc32(0, p, (size_t)c.size) != c.crc)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: chunk %u ('%s') checksum mismatch",
+                             i, tag_name(c.tag, name));
+        if (c.tag == SEPAL_FMT_TAG_MATERIAL) {
+            if (have_material || c.size != sizeof(sepal_fmt_material))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: MATL chunk duplicated or of size %llu (expected %zu)",
+                                 (unsigned long long)c.size, sizeof(sepal_fmt_material));
+            memcpy(&out->material, p, sizeof out->material);
+            have_material = true;
+        } else if (c.tag == SEPAL_FMT_TAG_TEXTURE) {
+            if (out->texture_count >= SEPAL_FMT_MAX_TEXTURES)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: more than %d textures",
+                                 SEPAL_FMT_MAX_TEXTURES);
+            sepal_result r = parse_texture(p, c.size, out->texture_count,
+                                         &out->textures[out->texture_count], err);
+            if (r != SEPAL_OK) return r;
+            ++out->texture_count;
+        } else if (c.tag == SEPAL_FMT_TAG_PLAN) {
+            if (have_plan)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: PLAN chunk duplicated");
+            plan_payload = p;
+            plan_size = c.size;
+            have_plan = true;
+        } else if (c.tag == SEPAL_FMT_TAG_META) {
+            if (c.size > SEPAL_FMT_MAX_META_BYTES)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: META over %u bytes",
+                                 SEPAL_FMT_MAX_META_BYTES);
+            out->meta = (const char*)p;
+            out->meta_bytes = (uint32_t)c.size;
+        }
+    }
+    if (!have_material || !have_plan || out->texture_count == 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: missing %s chunk",
+                         !have_material ? "MATL" : !have_plan ? "PLAN" : "TEXR");
+    const sepal_fmt_material& m = out->material;
+    if (m.param >= SEPAL_PARAM_COUNT || m.map >= SEPAL_MAP_COUNT || m.color_mode >= SEPAL_COLOR_COUNT)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: unknown parameterization %u, map %u or colour mode %u", m.param,
+                         m.map, m.color_mode);
+    for (int c = 0; c < 3; ++c)
+        if (!(m.ratio[c] >= 0.0f) || !isfinite(m.ratio[c]))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio %g is not finite and >= 0",
+                             (double)m.ratio[c]);
+    if (!(m.ratio[0] + m.ratio[1] + m.ratio[2] > 0.0f))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio is all zero");
+    if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
+                         m.channels, m.color_mode);
+    if (m.terms < 1 || m.terms > SEPAL_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u terms (1..%d), %u channels (1 or 3)",
+                         m.terms, SEPAL_FMT_MAX_TERMS, m.channels);
+    // Every term has exactly one G and one H texture, with the material's channels.
+    uint32_t seen[SEPAL_FMT_MAX_TERMS][SEPAL_ROLE_COUNT] = {};
+    for (uint32_t i = 0; i < out->texture_count; ++i) {
+        const sepal_fmt_texture& d = out->textures[i].desc;
+        if (d.term >= m.terms || d.channels != m.channels)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: texture %u belongs to term %u with %u channels; the material "
+                             "has %u terms of %u channels",
+                             i, d.term, d.channels, m.terms, m.channels);
+        ++seen[d.term][d.role];
+    }
+    for (uint32_t k = 0; k < m.terms; ++k)
+        if (seen[k][SEPAL_ROLE_G] != 1 || seen[k][SEPAL_ROLE_H] != 1)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: term %u needs one G and one H texture (has %u and %u)", k,
+                             seen[k][SEPAL_ROLE_G], seen[k][SEPAL_ROLE_H]);
+    if (plan_size < sizeof(sepal_fmt_plan))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: PLAN chunk too small");
+    memcpy(&out->plan, plan_payload, sizeof out->plan);
+    const sepal_fmt_plan& plan = out->plan;
+    if (plan.pass_count < 1 || plan.pass_count > SEPAL_FMT_MAX_PASSES ||
+        plan_size != sizeof(sepal_fmt_plan) + (uint64_t)plan.pass_count * sizeof(sepal_fmt_pass))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: plan of %u passes (1..%d) in a %llu-byte chunk", plan.pass_count,
+                         SEPAL_FMT_MAX_PASSES, (unsigned long long)plan_size);
+    if (plan.doublings > SEPAL_FMT_MAX_DOUBLINGS || !(plan.peak_partial_sum > 0.0f) ||
+        !(plan.peak_partial_sum <= 1.0f))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: plan has %u doublings (0..%d) or peak partial sum %g (0..1]",
+                         plan.doublings, SEPAL_FMT_MAX_DOUBLINGS, (double)plan.peak_partial_sum);
+    memcpy(out->passes, plan_payload + sizeof(sepal_fmt_plan), plan.pass_count * sizeof(sepal_fmt_pass));
+    for (uint32_t i = 0; i < plan.pass_count; ++i) {
+        const sepal_fmt_pass& p = out->passes[i];
+        const int needs = p.op == SEPAL_OP_PRODUCT ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
+        if (p.op >= SEPAL_OP_COUNT || p.blend >= SEPAL_BLEND_COUNT)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has unknown op %u or blend %u",
+                             i, p.op, p.blend);
+        const uint16_t tex[2] = {p.tex0, p.tex1};
+        for (int k = 0; k < 2; ++k) {
+            const bool used = k < needs;
+            if (used ? tex[k] >= out->texture_count : tex[k] != SEPAL_FMT_NO_TEXTURE)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: pass %u texture slot %d is %u (%u textures; unused slots "
+                                 "must be 0xFFFF)",
+                                 i, k, tex[k], out->texture_count);
+        }
+        for (int c = 0; c < 3; ++c)
+            if (!(p.color[c] >= 0.0f && p.color[c] <= 1.0f))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: pass %u colour %g outside [0,1]", i, (double)p.color[c]);
+        if (p.rgb_scale != 1 && p.rgb_scale != 2 && p.rgb_scale != 4)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
+                             p.rgb_scale);
+    }
+    return srt::ok(err);
+}

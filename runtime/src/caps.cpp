@@ -1,0 +1,85 @@
+// GL capability detection, shared by the GL ES 1.1 and GL ES 2 paths.
+#include "internal.h"
+
+#include <GLES2/gl2.h>
+#include <stdio.h>
+#include <string.h>
+
+namespace {
+// GL ES 1.1's GL_MAX_TEXTURE_UNITS; not in the ES 2 header this file includes.
+constexpr GLenum kMaxTextureUnitsES1 = 0x84E2;
+}  // namespace
+
+namespace srt {
+sepal_result gl_check(const char* what, sepal_error* err) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) return SEPAL_OK;
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    return fail(err, SEPAL_ERR_GL, "GL error 0x%04x after %s", (unsigned)e, what);
+}
+}  // namespace srt
+
+extern "C" sepal_result sepal_query_caps(int gles_version, uint32_t mask, sepal_proc_loader get_proc,
+                                     sepal_caps* out, sepal_error* err) {
+    if (!out) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sepal_query_caps: out is NULL");
+    if (gles_version != 1 && gles_version != 2)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "sepal_query_caps: gles_version %d is not 1 or 2", gles_version);
+    memset(out, 0, sizeof *out);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    const char* version = (const char*)glGetString(GL_VERSION);
+    const char* renderer = (const char*)glGetString(GL_RENDERER);
+    const char* ext = (const char*)glGetString(GL_EXTENSIONS);
+    if (!version)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "no current GL context (glGetString(GL_VERSION) returned NULL)");
+    snprintf(out->version, sizeof out->version, "%s", version);
+    snprintf(out->renderer, sizeof out->renderer, "%s", renderer ? renderer : "?");
+    // "OpenGL ES-CM 1.1 ..." or "OpenGL ES 2.0 ..." / "OpenGL ES 3.2 ...".
+    const bool is_es1 = strstr(version, "ES-CM") || strstr(version, "ES-CL");
+    int major = 0;
+    const char* digits = strpbrk(version, "0123456789");
+    if (digits) major = digits[0] - '0';
+    if ((gles_version == 1) != is_es1)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "asked for GL ES %d paths but the current context is '%s'",
+                         gles_version, version);
+    out->gles_version = gles_version;
+    GLint units = 0, max_size = 0;
+    glGetIntegerv(gles_version == 1 ? kMaxTextureUnitsES1 : GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    out->texture_units = units;
+    out->max_texture_size = max_size;
+    if (gles_version == 1) {
+        out->has_blend_subtract = srt::has_extension(ext, "GL_OES_blend_subtract");
+        out->has_fbo = srt::has_extension(ext, "GL_OES_framebuffer_object");
+        out->has_npot = srt::has_extension(ext, "GL_OES_texture_npot");
+    } else {
+        out->has_blend_subtract = 1;  // core in ES 2.0
+        out->has_fbo = 1;             // core in ES 2.0
+        out->has_npot = major >= 3 || srt::has_extension(ext, "GL_OES_texture_npot");
+        out->has_float_target = major >= 3 && (srt::has_extension(ext, "GL_EXT_color_buffer_half_float") ||
+                                               srt::has_extension(ext, "GL_EXT_color_buffer_float"));
+    }
+    // Subtractive blending needs its entry point too (not exported by GL ES 1.1 libraries).
+    if (out->has_blend_subtract) {
+        sepal_gl_proc f = nullptr;
+        if (get_proc) f = get_proc(gles_version == 1 ? "glBlendEquationOES" : "glBlendEquation");
+        if (!f && gles_version == 2) f = (sepal_gl_proc)&glBlendEquation;  // core: linked directly
+        out->blend_equation = (void (*)(unsigned int))f;
+        if (!f) out->has_blend_subtract = 0;
+    }
+    if (glGetError() != GL_NO_ERROR)
+        return srt::fail(err, SEPAL_ERR_GL, "GL error while querying capabilities");
+    out->mask = mask;
+    if (mask & SEPAL_MASK_BLEND_SUBTRACT) out->has_blend_subtract = 0, out->blend_equation = nullptr;
+    if (mask & SEPAL_MASK_MULTITEXTURE) out->texture_units = out->texture_units > 0 ? 1 : 0;
+    if (mask & SEPAL_MASK_FBO) out->has_fbo = 0;
+    if (mask & SEPAL_MASK_NPOT) out->has_npot = 0;
+    if (mask & SEPAL_MASK_FLOAT_TARGET) out->has_float_target = 0;
+    if (out->texture_units < 1)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "context reports no texture units");
+    return srt::ok(err);
+}

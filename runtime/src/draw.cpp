@@ -1,0 +1,104 @@
+// sepal_draw: validation, per-vertex set-up and exposure shared by the GL backends, then
+// dispatch to the GL ES 1.1 or GL ES 2 executor.
+#include <math.h>
+#include <string.h>
+
+#include "draw_internal.h"
+
+extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* stats_out, sepal_error* err) {
+    if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
+    const sepal_material* m = d->material;
+    if (m->texture_count == 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
+    if (d->width < 1 || d->height < 1 || d->width > m->max_width || d->height > m->max_height)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "draw: viewport %dx%d outside 1x1..%dx%d (the size given at creation)",
+                         d->width, d->height, m->max_width, m->max_height);
+    if (!d->mesh->vertices || !d->mesh->indices || d->mesh->vertex_count < 1 || d->mesh->index_count % 3)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: empty or malformed mesh");
+    const size_t need = sepal_draw_scratch_floats(d->mesh->vertex_count, d->scene->light_count);
+    if (d->scratch_floats < need)
+        return srt::fail(err, SEPAL_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
+                         d->scratch_floats, need);
+    srt::FramePrep prep;
+    sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, prep.view, prep.proj, err);
+    if (r != SEPAL_OK) return r;
+    sepal_draw_stats local_stats;
+    sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;
+    memset(stats, 0, sizeof *stats);
+    prep.vertices = srt::setup_vertices((sepal_param)m->info.param, (sepal_hemi_map)m->info.map, *d->mesh,
+                                        *d->scene, d->scratch);
+    const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, prep.vertices.bad_vertices);
+    if (tri.bad_index >= 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: index %d is %u; the mesh has %d vertices",
+                         tri.bad_index, d->mesh->indices[tri.bad_index], d->mesh->vertex_count);
+    stats->below_horizon = prep.vertices.below_horizon;
+    stats->fallback_tangents = prep.vertices.fallback_tangents;
+    stats->bad_vertices = prep.vertices.bad_vertices;
+    stats->skipped_triangles = tri.skipped;
+    stats->zero_area_triangles = tri.zero_area;
+    stats->param_fallbacks = prep.vertices.param_fallbacks;
+    stats->nonfinite_clamped = prep.vertices.nonfinite_clamped;
+    // Exposure 2^-e: no partial sum over the lights above 1, no vertex colour above 1.
+    const int plan_doublings = (int)m->plan.doublings;
+    int e = -plan_doublings;
+    // A float target holds any value: no headroom, no exposure, no doublings.
+    const bool float_target = m->float_fbo != 0;
+    // Only a plan that subtracts needs headroom: without subtractions a partial sum never
+    // exceeds the final value, and a final value above 1 is white on screen either way.
+    const float need_sum = m->has_negative_passes ? prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum : 0.0f;
+    float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
+    // One texture unit: colour x tex0 is formed and clamped at 1 before the blend
+    // multiplies it by tex1, so it must fit too (else a product whose final value is
+    // below 1 comes out short; measured: 13.5 levels on a mirror scene).
+    if (m->single_unit && prep.vertices.max_irradiance_single * m->max_first_stage > need_color)
+        need_color = prep.vertices.max_irradiance_single * m->max_first_stage;
+    // The fused shaders compute f E directly: no exposure, no doublings.
+    const bool fused = d->mode != SEPAL_MODE_MULTIPASS;
+    // Past 2^-30 (irradiance times pass colour over 2^30, infinity included) the exposure
+    // stops: vertex colours clamp at 1, the lit surface shows white, and it is counted.
+    const int kMaxShift = 30;
+    const float needs[2] = {need_sum, need_color};
+    for (float need : needs) {
+        if (float_target || !(need > 0.0f)) continue;
+        const float shift = ceilf(log2f(need));
+        const int want = shift < (float)kMaxShift ? (int)shift : kMaxShift + 1;
+        if (want > e) e = want;
+    }
+    if (e > kMaxShift) {
+        e = kMaxShift;
+        if (!fused) stats->exposure_clamped = 1;
+    }
+    // Staged exposure (GL ES 1.1, add-only plans): each pass gets the largest exposure its
+    // own colours allow; the frame's doublings are spread between the stages. Partial sums
+    // only grow, so a stage that doubles past 1 was white on screen anyway.
+    prep.staged = m->caps.gles_version == 1 && !m->has_negative_passes && !fused && !float_target;
+    stats->exposure_stages = 1;
+    if (prep.staged) {
+        int previous = e + 1;
+        stats->exposure_stages = 0;
+        for (uint32_t p = 0; p < m->plan.pass_count; ++p) {
+            const float need = prep.vertices.max_irradiance_single * m->pass_need[p];
+            int shift = -plan_doublings;
+            if (need > 0.0f) {
+                const float want = ceilf(log2f(need));
+                if (want > (float)shift) shift = want < (float)e ? (int)want : e;
+            }
+            prep.pass_shift[p] = shift;
+        }
+        // Stages are the distinct shifts (the executor draws them in falling order).
+        for (;;) {
+            int next = -plan_doublings - 1;
+            for (uint32_t p = 0; p < m->plan.pass_count; ++p)
+                if (prep.pass_shift[p] < previous && prep.pass_shift[p] > next) next = prep.pass_shift[p];
+            if (next < -plan_doublings) break;
+            ++stats->exposure_stages;
+            previous = next;
+        }
+    }
+    prep.exposure = fused ? 1.0f : ldexpf(1.0f, -e);
+    stats->exposure = prep.exposure;
+    stats->doublings = fused ? 0 : plan_doublings + e;
+    return m->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err) : srt::draw_gles2(d, prep, stats, err);
+}

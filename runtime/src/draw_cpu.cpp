@@ -1,0 +1,214 @@
+// The CPU backend (see sepal_draw_cpu in sepal_material.h).
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal/sepal_material.h"
+#include "sepal/sepal_raster.h"
+#include "vertex_setup.h"
+
+namespace {
+
+constexpr int kVaryings = 12;  // world position 3, normal 3, tangent 4, uv 2
+
+struct Shader {
+    const sepal_asset* asset;
+    const sepal_asset_texture* g[SEPAL_FMT_MAX_TERMS];  // per term, found once per frame
+    const sepal_asset_texture* h[SEPAL_FMT_MAX_TERMS];
+    const sepal_scene* scene;
+    float* color;
+    int width;
+    sepal_draw_stats st;  // per-pixel counters
+    const uint8_t* diffuse;
+    int diffuse_w, diffuse_h;
+};
+
+// Bilinear, repeat wrapping, level 0: the diffuse map at a mesh UV (row 0 at v = 0).
+float diffuse_sample(const Shader& s, float u, float v, int c) {
+    // Repeat wrapping first, so no coordinate (huge, or NaN from a broken UV) overflows int.
+    u = isfinite(u) ? u - floorf(u) : 0.0f;
+    v = isfinite(v) ? v - floorf(v) : 0.0f;
+    const float x = u * (float)s.diffuse_w - 0.5f, y = v * (float)s.diffuse_h - 0.5f;
+    const float fx = floorf(x), fy = floorf(y), ax = x - fx, ay = y - fy;
+    auto wrap = [](int k, int n) { return ((k % n) + n) % n; };
+    const int x0 = wrap((int)fx, s.diffuse_w), x1 = wrap((int)fx + 1, s.diffuse_w);
+    const int y0 = wrap((int)fy, s.diffuse_h), y1 = wrap((int)fy + 1, s.diffuse_h);
+    auto at = [&](int i, int j) { return (float)s.diffuse[((size_t)j * s.diffuse_w + i) * 4 + c] / 255.0f; };
+    return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+}
+
+float texel(const sepal_asset_texture& t, int i, int j, int c) {
+    const sepal_fmt_texture& d = t.desc;
+    const size_t idx = ((size_t)j * d.width + (size_t)i) * d.channels + (size_t)c;
+    float q;
+    if (d.bits == 8) {
+        q = (float)t.level_data[0][idx] / 255.0f;
+    } else {
+        uint16_t v;
+        memcpy(&v, t.level_data[0] + 2 * idx, 2);
+        q = (float)v / 65535.0f;
+    }
+    return d.scale[c] * q + d.bias[c];
+}
+
+// GL_LINEAR at level 0: texel centres at (i + 0.5) / N, clamped or wrapped at the edges.
+float sample(const sepal_asset_texture& t, float u, float v, int c, bool wrap) {
+    const int w = (int)t.desc.width, h = (int)t.desc.height;
+    const float x = u * (float)w - 0.5f, y = v * (float)h - 0.5f;
+    const float fx = floorf(x), fy = floorf(y);
+    const float ax = x - fx, ay = y - fy;
+    int x0 = (int)fx, y0 = (int)fy, x1 = x0 + 1, y1 = y0 + 1;
+    auto fix = [wrap](int k, int n) {
+        if (wrap) return ((k % n) + n) % n;
+        return k < 0 ? 0 : k >= n ? n - 1 : k;
+    };
+    x0 = fix(x0, w), x1 = fix(x1, w), y0 = fix(y0, h), y1 = fix(y1, h);
+    return (1 - ay) * ((1 - ax) * texel(t, x0, y0, c) + ax * texel(t, x1, y0, c)) +
+           ay * ((1 - ax) * texel(t, x0, y1, c) + ax * texel(t, x1, y1, c));
+}
+
+void shade(void* user, int x, int y, float, const float* v) {
+    Shader& s = *static_cast<Shader*>(user);
+    const sepal_asset& a = *s.asset;
+    srt::ShadingFrame fr;
+    // The corners' frames are usable (bad vertices are not drawn, tangents repaired), but
+    // interpolation can still cancel them out (opposite normals or tangents).
+    if (srt::shading_frame(v + 3, v + 6, &fr)) ++s.st.pixel_frame_fallbacks;
+    float to_eye[3] = {s.scene->camera.eye[0] - v[0], s.scene->camera.eye[1] - v[1], s.scene->camera.eye[2] - v[2]};
+    srt::normalize3(to_eye);
+    float wo[3];
+    fr.to_local(to_eye, wo);
+    const bool wraps_h = a.material.param == SEPAL_PARAM_ELEV_AZIM;
+    const int channels = (int)a.material.channels;
+    float sum[3] = {0, 0, 0};
+    for (int l = 0; l < s.scene->light_count; ++l) {
+        const sepal_light& light = s.scene->lights[l];
+        float to_light[3], wi[3];
+        const float falloff = srt::light_direction(light, v, to_light);
+        fr.to_local(to_light, wi);
+        float guv[2], huv[2];
+        if (srt::param_texcoords((sepal_param)a.material.param, (sepal_hemi_map)a.material.map, wi, wo, guv, huv, true,
+                                 &s.st.param_fallbacks) <= 0) {
+            ++s.st.below_horizon;
+            continue;
+        }
+        float f[3] = {0, 0, 0};
+        for (uint32_t k = 0; k < a.material.terms; ++k)
+            for (int c = 0; c < channels; ++c)
+                f[c] += sample(*s.g[k], guv[0], guv[1], c, false) * sample(*s.h[k], huv[0], huv[1], c, wraps_h);
+        if (channels == 1) f[1] = f[2] = f[0];
+        for (int c = 0; c < 3; ++c) f[c] *= a.material.ratio[c];
+        // A signed factorization can dip below 0 where f is near 0: clamp per light, as
+        // the fused shaders do (a BRDF is never negative).
+        if (f[0] < 0.0f || f[1] < 0.0f || f[2] < 0.0f) ++s.st.negative_clamped;
+        for (int c = 0; c < 3; ++c) sum[c] += (f[c] > 0.0f ? f[c] : 0.0f) * wi[2] * falloff * light.intensity[c];
+    }
+    float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;
+    for (int c = 0; c < 3; ++c) {
+        out[c] = sum[c];
+        if (s.diffuse) out[c] *= diffuse_sample(s, v[10], v[11], c);
+        if (!(out[c] <= FLT_MAX)) {  // overflow (huge factors times a huge light) or inf * 0
+            out[c] = isnan(out[c]) ? 0.0f : FLT_MAX;
+            ++s.st.nonfinite_clamped;
+        }
+    }
+}
+
+}  // namespace
+
+extern "C" size_t sepal_cpu_scratch_floats(int vertex_count) {
+    return (size_t)(vertex_count > 0 ? vertex_count : 0) * (4 + kVaryings);
+}
+
+extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err) {
+    if (!d || !d->asset || !d->mesh || !d->scene || !d->color || !d->depth || !d->scratch)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
+    if (d->scratch_floats < sepal_cpu_scratch_floats(d->mesh->vertex_count))
+        return srt::fail(err, SEPAL_ERR_CAPACITY, "cpu: scratch holds %zu floats, needs %zu", d->scratch_floats,
+                         sepal_cpu_scratch_floats(d->mesh->vertex_count));
+    float view[16], proj[16];
+    sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, view, proj, err);
+    if (r != SEPAL_OK) return r;
+    const int n = d->mesh->vertex_count;
+    float* clip = d->scratch;
+    float* vary = d->scratch + 4 * (size_t)n;
+    sepal_draw_stats st = {};
+    for (int i = 0; i < n; ++i) {
+        const sepal_vertex& v = d->mesh->vertices[i];
+        float* dst = vary + (size_t)i * kVaryings;
+        if (!srt::vertex_usable(v)) {
+            // A NaN clip position makes the rasterizer skip every triangle using it, as the
+            // GL backends skip them.
+            ++st.bad_vertices;
+            for (int k = 0; k < 4; ++k) clip[4 * (size_t)i + k] = NAN;
+            memset(dst, 0, kVaryings * sizeof(float));
+            continue;
+        }
+        for (int row = 0; row < 4; ++row) {
+            float acc = 0.0f;
+            for (int k = 0; k < 4; ++k) {
+                float m = 0.0f;  // (proj * view)[row][k], column-major
+                for (int j = 0; j < 4; ++j) m += proj[j * 4 + row] * view[k * 4 + j];
+                acc += m * (k < 3 ? v.position[k] : 1.0f);
+            }
+            clip[4 * (size_t)i + row] = acc;
+        }
+        memcpy(dst, v.position, 3 * sizeof(float));
+        srt::ShadingFrame frame;
+        if (srt::repaired_attributes(v, dst + 3, dst + 6, &frame)) ++st.fallback_tangents;
+        memcpy(dst + 10, v.uv, 2 * sizeof(float));
+    }
+    const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, st.bad_vertices);
+    if (tri.bad_index >= 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: index %d is %u; the mesh has %d vertices", tri.bad_index,
+                         d->mesh->indices[tri.bad_index], n);
+    st.skipped_triangles = tri.skipped;
+    st.zero_area_triangles = tri.zero_area;
+    const size_t pixels = (size_t)d->width * (size_t)d->height;
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c) d->color[p * 3 + c] = d->scene->background[c];
+    sepal_raster_target target = {d->width, d->height, d->depth};
+    sepal_raster_clear_depth(&target);
+    // The rasterizer calls the shader for every fragment passing LEQUAL; the last one
+    // written per pixel is the front surface, as GL's depth test gives.
+    Shader s = {};
+    s.asset = d->asset;
+    s.scene = d->scene;
+    s.color = d->color;
+    s.width = d->width;
+    if (d->diffuse_rgba && d->diffuse_width > 0 && d->diffuse_height > 0) {
+        s.diffuse = d->diffuse_rgba;
+        s.diffuse_w = d->diffuse_width;
+        s.diffuse_h = d->diffuse_height;
+    }
+    for (uint32_t i = 0; i < d->asset->texture_count; ++i) {
+        const sepal_fmt_texture& t = d->asset->textures[i].desc;
+        (t.role == SEPAL_ROLE_G ? s.g : s.h)[t.term] = &d->asset->textures[i];
+    }
+    sepal_raster_desc rd = {};
+    rd.clip = clip;
+    rd.vertex_count = n;
+    rd.varyings = vary;
+    rd.varying_count = kVaryings;
+    rd.varying_stride = kVaryings;
+    rd.indices = d->mesh->indices;
+    rd.index_count = d->mesh->index_count;
+    rd.cull = SEPAL_CULL_BACK;
+    rd.depth_func = SEPAL_DEPTH_LEQUAL;
+    rd.fragment = shade;
+    rd.user = &s;
+    r = sepal_raster_triangles(&target, &rd, err);
+    if (d->stats) {
+        sepal_draw_stats& out = *d->stats;
+        out = st;
+        out.draw_calls = 1;
+        out.exposure = 1.0f;
+        out.below_horizon = s.st.below_horizon;
+        out.param_fallbacks = s.st.param_fallbacks;
+        out.negative_clamped = s.st.negative_clamped;
+        out.nonfinite_clamped = s.st.nonfinite_clamped;
+        out.pixel_frame_fallbacks = s.st.pixel_frame_fallbacks;
+    }
+    return r;
+}

@@ -1,0 +1,379 @@
+// The GL ES 1.1 fixed-function executor of a material's pass plan (see sepal_material.h).
+#include <GLES/gl.h>
+#include <GLES/glext.h>
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal/sepal_material.h"
+#include "draw_internal.h"
+#include "vertex_setup.h"
+
+namespace {
+
+constexpr GLenum kFuncAdd = 0x8006;             // GL_FUNC_ADD(_OES)
+constexpr GLenum kFuncSubtract = 0x800A;        // GL_FUNC_SUBTRACT(_OES): src - dst
+constexpr GLenum kFuncReverseSubtract = 0x800B;  // GL_FUNC_REVERSE_SUBTRACT(_OES): dst - src
+
+struct Frame {
+    const sepal_material* m;
+    const sepal_mesh* mesh;
+    const sepal_scene* scene;
+    float* scratch;
+    int width, height;
+    float exposure;
+    sepal_draw_stats* stats;
+    bool acc_valid;  // single-unit path: the copy texture holds the running sum
+    int bad_vertices;  // > 0: triangles touching one are skipped
+};
+
+void set_equation(const sepal_material* m, GLenum eq) {
+    // Without the extension only GL_FUNC_ADD exists, which is GL's fixed behaviour.
+    if (m->caps.blend_equation) m->caps.blend_equation(eq);
+}
+
+void bind_unit(GLenum unit, GLuint texture, const float* uv) {
+    glActiveTexture(unit);
+    glClientActiveTexture(unit);
+    if (texture) {
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, texture);
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+        glTexCoordPointer(2, GL_FLOAT, 0, uv);
+    } else {
+        glDisable(GL_TEXTURE_2D);
+        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+}
+
+// texture env: out = arg0 (x arg1) times scale, RGB; alpha passes through.
+void set_env_modulate(GLenum arg0, GLenum arg1, GLint scale) {
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, arg1 ? GL_MODULATE : GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_RGB, (GLint)arg0);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+    if (arg1) {
+        glTexEnvi(GL_TEXTURE_ENV, GL_SRC1_RGB, (GLint)arg1);
+        glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+    }
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_ALPHA, GL_PRIMARY_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, scale);
+}
+
+const float* factor_uv(const Frame& f, uint16_t tex, int light) {
+    const int n = f.mesh->vertex_count;
+    return f.m->texture_role[tex] == SEPAL_ROLE_G ? srt::light_g_uv(f.scratch, n, light)
+                                                 : srt::light_h_uv(f.scratch, n, light);
+}
+
+void mesh_arrays(const Frame& f, bool colors) {
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), f.mesh->vertices[0].position);
+    if (colors) {
+        glEnableClientState(GL_COLOR_ARRAY);
+        glColorPointer(4, GL_FLOAT, 0, srt::pass_colors(f.scratch, f.mesh->vertex_count, f.scene->light_count));
+    } else {
+        glDisableClientState(GL_COLOR_ARRAY);
+        glColor4f(1, 1, 1, 1);
+    }
+}
+
+// One mesh pass: the whole index list, or the runs of it without bad vertices.
+void draw_mesh(const Frame& f) {
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
+    });
+    ++f.stats->draw_calls;
+}
+
+// A quad over the whole viewport at NDC depth z, optionally textured with the copy
+// texture (texel centres line up with pixel centres), in the given constant colour.
+void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
+    const float sx = (float)f.width / (float)(f.m->copy_width ? f.m->copy_width : 1);
+    const float sy = (float)f.height / (float)(f.m->copy_height ? f.m->copy_height : 1);
+    const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
+    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+    glMatrixMode(GL_PROJECTION);
+    glPushMatrix();
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glLoadIdentity();
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, pos);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glColor4f(color[0], color[1], color[2], color[3]);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, textured ? f.m->copy_texture : 0, uv);
+    if (textured) set_env_modulate(GL_TEXTURE, 0, 1);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+    ++f.stats->fullscreen_passes;
+    glMatrixMode(GL_PROJECTION);
+    glPopMatrix();
+    glMatrixMode(GL_MODELVIEW);
+    glPopMatrix();
+}
+
+// Textured passes send colour / boost and scale by 4 in their last combiner stage
+// (GL_RGB_SCALE accepts 1, 2 or 4): vertex colours stay below 1 at a 4x higher exposure.
+float color_boost(const sepal_fmt_pass& pass) {
+    return pass.op == SEPAL_OP_CONSTANT ? 1.0f : 4.0f / (float)pass.rgb_scale;
+}
+
+// Fills the colour array for one pass and light: pass colour x irradiance x exposure.
+void fill_colors(const Frame& f, const sepal_fmt_pass& pass, int light) {
+    const int n = f.mesh->vertex_count;
+    const float scale = f.exposure / color_boost(pass);
+    const float* e = srt::light_irradiance(f.scratch, n, light);
+    float* c = srt::pass_colors(f.scratch, n, f.scene->light_count);
+    for (int i = 0; i < n; ++i) {
+        // Per channel: a luminance material's colour ratio is in the pass colour.
+        for (int k = 0; k < 3; ++k) c[4 * i + k] = pass.color[k] * e[3 * i + k] * scale;
+        c[4 * i + 3] = 1.0f;
+    }
+}
+
+// Two texture units: tex0 x tex1 x colour, added or subtracted by blending.
+void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inverted) {
+    const GLint scale = (GLint)(pass.rgb_scale * color_boost(pass));
+    mesh_arrays(f, true);
+    if (pass.op == SEPAL_OP_CONSTANT) {
+        bind_unit(GL_TEXTURE1, 0, nullptr);
+        bind_unit(GL_TEXTURE0, 0, nullptr);
+    } else {
+        bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, pass.op == SEPAL_OP_TEXTURE ? scale : 1);
+        if (pass.op == SEPAL_OP_PRODUCT) {
+            bind_unit(GL_TEXTURE1, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
+            set_env_modulate(GL_PREVIOUS, GL_TEXTURE, scale);
+        } else {
+            bind_unit(GL_TEXTURE1, 0, nullptr);
+        }
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    // Subtracting: dst - src with the extension; in the inverted framebuffer, an add.
+    const bool subtract = pass.blend == SEPAL_BLEND_SUBTRACT && !inverted;
+    set_equation(f.m, subtract ? kFuncReverseSubtract : kFuncAdd);
+    draw_mesh(f);
+    set_equation(f.m, kFuncAdd);
+}
+
+void copy_to_accumulator(Frame& f) {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, f.m->copy_texture);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, f.width, f.height);
+    ++f.stats->copies;
+    f.acc_valid = true;
+}
+
+// One texture unit (Kautz-McCool's two passes per product): the pass's contribution P is
+// drawn alone into the colour buffer, the running sum (copy texture) is blended onto it,
+// and the result is copied back.
+void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inverted) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glClear(GL_COLOR_BUFFER_BIT);  // depth stays: EQUAL keeps testing against the pre-pass
+    glDisable(GL_BLEND);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    if (pass.op == SEPAL_OP_PRODUCT) {
+        // The second factor first, alone: its 8-bit texels land in the framebuffer
+        // exactly. Then first factor x colour through a multiplicative blend: the product
+        // is rounded once, as on the two-unit path (colour x G first would round the
+        // small intermediate G x colour to 8 bits and lose several levels).
+        mesh_arrays(f, false);
+        bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
+        set_env_modulate(GL_TEXTURE, 0, 1);
+        draw_mesh(f);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+    }
+    mesh_arrays(f, true);
+    if (pass.op == SEPAL_OP_CONSTANT) {
+        bind_unit(GL_TEXTURE0, 0, nullptr);
+    } else {
+        bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)(pass.rgb_scale * color_boost(pass)));
+    }
+    draw_mesh(f);
+    if (f.acc_valid) {
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        const bool subtract = pass.blend == SEPAL_BLEND_SUBTRACT && !inverted;
+        set_equation(f.m, subtract ? kFuncSubtract : kFuncAdd);  // acc - P, or acc + P
+        fullscreen(f, 0.0f, true, kWhite);
+        set_equation(f.m, kFuncAdd);
+        glEnable(GL_DEPTH_TEST);
+    }
+    copy_to_accumulator(f);
+}
+
+// Scale up: each full-screen pass with blend (GL_DST_COLOR, GL_ONE) doubles the image.
+// Leaves depth testing off.
+void doublings(Frame& f, int n) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ONE);
+    for (int i = 0; i < n; ++i) fullscreen(f, 0.0f, false, kWhite);
+}
+
+// framebuffer = 1 - framebuffer (and the running sum with it, on the single-unit path).
+void invert(Frame& f) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE_MINUS_DST_COLOR, GL_ZERO);
+    fullscreen(f, 0.0f, false, kWhite);
+    if (f.m->single_unit) copy_to_accumulator(f);
+    glEnable(GL_DEPTH_TEST);
+}
+
+}  // namespace
+
+namespace srt {
+
+sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
+    const sepal_material* m = d->material;
+    sepal_result r;
+    const float* proj = prep.proj;
+    const float* view = prep.view;
+    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
+               prep.vertices.bad_vertices};
+    glViewport(0, 0, d->width, d->height);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(view);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
+    glShadeModel(GL_SMOOTH);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    // Depth pre-pass: later passes test EQUAL, so each pixel's front surface is shaded once.
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, 0, nullptr);
+    mesh_arrays(f, false);
+    draw_mesh(f);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_EQUAL);
+    if ((r = srt::gl_check("depth pre-pass", err)) != SEPAL_OK) return r;
+
+    // The plan's order; staged (add-only plans): by falling exposure shift, stable.
+    uint16_t order[SEPAL_FMT_MAX_PASSES];
+    const uint32_t count = m->plan.pass_count;
+    for (uint32_t p = 0; p < count; ++p) {
+        uint32_t k = p;
+        for (; prep.staged && k > 0 && prep.pass_shift[order[k - 1]] < prep.pass_shift[p]; --k) order[k] = order[k - 1];
+        order[k] = (uint16_t)p;
+    }
+    int shift = count > 0 && prep.staged ? prep.pass_shift[order[0]] : 0;
+    int remaining = stats->doublings;  // doublings still to draw
+    bool inverted = false;
+    for (uint32_t i = 0; i < count; ++i) {
+        const sepal_fmt_pass& pass = m->passes[order[i]];
+        if (prep.staged && prep.pass_shift[order[i]] < shift) {
+            // Next stage: double what is drawn so far up to this stage's exposure.
+            const int n = shift - prep.pass_shift[order[i]];
+            doublings(f, n);
+            if (m->single_unit) copy_to_accumulator(f);  // the running sum, doubled
+            glEnable(GL_DEPTH_TEST);
+            remaining -= n;
+            shift = prep.pass_shift[order[i]];
+            f.exposure = ldexpf(1.0f, -shift);
+        }
+        if (pass.blend == SEPAL_BLEND_SUBTRACT && m->subtract_by_inversion && !inverted) {
+            invert(f);
+            inverted = true;
+        }
+        for (int l = 0; l < d->scene->light_count; ++l) {
+            fill_colors(f, pass, l);
+            if (m->single_unit)
+                pass_single_unit(f, pass, l, inverted);
+            else
+                pass_multitexture(f, pass, l, inverted);
+            if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
+        }
+    }
+    if (inverted) invert(f);
+    doublings(f, remaining);
+    // Diffuse map (Fig. 13): one more mesh pass multiplying the framebuffer by the
+    // texture at the mesh's UVs; after the doublings, so the product keeps their precision.
+    if (d->diffuse_texture) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_EQUAL);
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+        mesh_arrays(f, false);
+        bind_unit(GL_TEXTURE1, 0, nullptr);
+        glActiveTexture(GL_TEXTURE0);
+        glClientActiveTexture(GL_TEXTURE0);
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, d->diffuse_texture);
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+        glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), d->mesh->vertices[0].uv);
+        set_env_modulate(GL_TEXTURE, 0, 1);
+        draw_mesh(f);
+        glDisable(GL_DEPTH_TEST);
+    }
+    // Background where no surface is: a quad at the far plane passes LEQUAL only there.
+    const float* bg = d->scene->background;
+    if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
+        const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
+        glDisable(GL_BLEND);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        fullscreen(f, 1.0f, false, color);
+    }
+    // Leave GL in its default state for whoever draws next.
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_DITHER);
+    glDisable(GL_CULL_FACE);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, 0, nullptr);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    return srt::gl_check("the final passes", err);
+}
+
+}  // namespace srt
+
+extern "C" sepal_result sepal_texture_create_rgba8(const uint8_t* rgba, int width, int height, uint32_t* out,
+                                               sepal_error* err) {
+    if (!rgba || !out || width < 1 || height < 1 || (width & (width - 1)) || (height & (height - 1)))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "texture: NULL pixels or %dx%d is not a power-of-two size", width, height);
+    GLuint name = 0;
+    glGenTextures(1, &name);
+    glBindTexture(GL_TEXTURE_2D, name);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexParameteri(GL_TEXTURE_2D, GL_GENERATE_MIPMAP, GL_TRUE);  // core in GL ES 1.1
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    sepal_result r = srt::gl_check("diffuse texture upload", err);
+    if (r != SEPAL_OK) {
+        glDeleteTextures(1, &name);
+        return r;
+    }
+    *out = name;
+    return srt::ok(err);
+}
+
+extern "C" void sepal_texture_destroy(uint32_t texture) {
+    if (texture) glDeleteTextures(1, &texture);
+}

@@ -1,0 +1,454 @@
+// The GL ES 2 executor: the plan with tiny shaders, or fused shaders (see sepal_material.h).
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "draw_internal.h"
+#include "gles2_util.h"
+
+namespace {
+
+const char kPassVert[] =
+#include "shaders/pass.vert.inc"
+    ;
+const char kPassFrag[] =
+#include "shaders/pass.frag.inc"
+    ;
+const char kFullscreenVert[] =
+#include "shaders/fullscreen.vert.inc"
+    ;
+const char kFullscreenFrag[] =
+#include "shaders/fullscreen.frag.inc"
+    ;
+const char kMeshTextureFrag[] =
+#include "shaders/mesh_texture.frag.inc"
+    ;
+const char kFusedVertexVert[] =
+#include "shaders/fused_vertex.vert.inc"
+    ;
+const char kFusedVertexFrag[] =
+#include "shaders/fused_vertex.frag.inc"
+    ;
+const char kFusedPixelVert[] =
+#include "shaders/fused_pixel.vert.inc"
+    ;
+const char kFusedPixelFrag[] =
+#include "shaders/fused_pixel.frag.inc"
+    ;
+
+const char* const kPassAttribs[] = {"a_position", "a_color", "a_uv0", "a_uv1", nullptr};
+const char* const kFullscreenAttribs[] = {"a_position", "a_uv", nullptr};
+const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g", "a_uv_h", "a_irradiance", nullptr};
+const char* const kFusedPixelAttribs[] = {"a_position", "a_normal", "a_tangent", nullptr};
+
+struct Frame {
+    const sepal_material* m;
+    const sepal_draw_desc* d;
+    float* scratch;
+    float mvp[16];
+    float exposure;
+    sepal_draw_stats* stats;
+    int bad_vertices;  // > 0: triangles touching one are skipped
+    bool repaired;     // some tangents were replaced: per-pixel attributes come from scratch
+};
+
+void mat4_mul(const float* a, const float* b, float* out) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            float s = 0.0f;
+            for (int k = 0; k < 4; ++k) s += a[k * 4 + r] * b[c * 4 + k];
+            out[c * 4 + r] = s;
+        }
+}
+
+// Enables attribute arrays 0..count-1 and disables the rest of the 4 the programs use.
+void attribs(int count) {
+    for (GLuint i = 0; i < 4; ++i) (int)i < count ? glEnableVertexAttribArray(i) : glDisableVertexAttribArray(i);
+}
+
+GLint loc(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
+void bind_texture(GLenum unit, GLuint texture) {
+    glActiveTexture(unit);
+    glBindTexture(GL_TEXTURE_2D, texture);
+}
+
+// One mesh pass: the whole index list, or the runs of it without bad vertices.
+void draw_mesh(const Frame& f) {
+    srt::for_each_drawable_run(*f.d->mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.d->mesh->indices + first);
+    });
+    ++f.stats->draw_calls;
+}
+
+void fullscreen(const Frame& f, float z, const float color[4]) {
+    const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+    const GLuint p = f.m->program_fullscreen;
+    glUseProgram(p);
+    glUniform4fv(loc(p, "u_color"), 1, color);
+    glUniform1i(loc(p, "u_textured"), 0);
+    attribs(1);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, pos);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+    ++f.stats->fullscreen_passes;
+}
+
+void invert(const Frame& f) {
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE_MINUS_DST_COLOR, GL_ZERO);
+    fullscreen(f, 0.0f, kWhite);
+    glEnable(GL_DEPTH_TEST);
+}
+
+const float* positions(const Frame& f) { return f.d->mesh->vertices[0].position; }
+
+void multipass(const Frame& f) {
+    const sepal_material* m = f.m;
+    const int n = f.d->mesh->vertex_count, lights = f.d->scene->light_count;
+    const GLuint p = m->program_pass;
+    glUseProgram(p);
+    glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
+    glUniform1i(loc(p, "u_tex0"), 0);
+    glUniform1i(loc(p, "u_tex1"), 1);
+    const GLint op_loc = loc(p, "u_op"), scale_loc = loc(p, "u_scale");
+    float* colors = srt::pass_colors(f.scratch, n, lights);
+    bool inverted = false;
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    for (uint32_t i = 0; i < m->plan.pass_count; ++i) {
+        const sepal_fmt_pass& pass = m->passes[i];
+        if (pass.blend == SEPAL_BLEND_SUBTRACT && m->subtract_by_inversion && !inverted) {
+            invert(f);
+            inverted = true;
+            glUseProgram(p);
+            glBlendFunc(GL_ONE, GL_ONE);
+        }
+        glBlendEquation(pass.blend == SEPAL_BLEND_SUBTRACT && !inverted ? GL_FUNC_REVERSE_SUBTRACT : GL_FUNC_ADD);
+        glUniform1i(op_loc, pass.op == SEPAL_OP_PRODUCT ? 2 : pass.op == SEPAL_OP_TEXTURE ? 1 : 0);
+        glUniform1f(scale_loc, (float)pass.rgb_scale);
+        if (pass.op != SEPAL_OP_CONSTANT) bind_texture(GL_TEXTURE0, m->gl_textures[pass.tex0]);
+        if (pass.op == SEPAL_OP_PRODUCT) bind_texture(GL_TEXTURE1, m->gl_textures[pass.tex1]);
+        for (int l = 0; l < lights; ++l) {
+            const float* e = srt::light_irradiance(f.scratch, n, l);
+            for (int v = 0; v < n; ++v) {
+                for (int k = 0; k < 3; ++k) colors[4 * v + k] = pass.color[k] * e[3 * v + k] * f.exposure;
+                colors[4 * v + 3] = 1.0f;
+            }
+            auto uv = [&](uint16_t tex) {
+                return m->texture_role[tex] == SEPAL_ROLE_G ? srt::light_g_uv(f.scratch, n, l) : srt::light_h_uv(f.scratch, n, l);
+            };
+            attribs(4);
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+            glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, colors);
+            // Unused coordinates still need a valid array: point them at the G ones.
+            glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0,
+                                  pass.op != SEPAL_OP_CONSTANT ? uv(pass.tex0) : srt::light_g_uv(f.scratch, n, l));
+            glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0,
+                                  pass.op == SEPAL_OP_PRODUCT ? uv(pass.tex1) : srt::light_g_uv(f.scratch, n, l));
+            draw_mesh(f);
+        }
+    }
+    glBlendEquation(GL_FUNC_ADD);
+    if (inverted) invert(f);
+}
+
+// Uniforms shared by both fused programs for terms [first, first + count).
+void fused_terms(const Frame& f, GLuint p, int first, int count) {
+    const sepal_material* m = f.m;
+    char name[32];
+    for (int k = 0; k < count; ++k) {
+        const int gi = (int)m->term_textures[first + k][SEPAL_ROLE_G], hi = (int)m->term_textures[first + k][SEPAL_ROLE_H];
+        bind_texture(GL_TEXTURE0 + 2 * k, m->gl_textures[gi]);
+        bind_texture(GL_TEXTURE0 + 2 * k + 1, m->gl_textures[hi]);
+        snprintf(name, sizeof name, "u_g[%d]", k);
+        glUniform1i(loc(p, name), 2 * k);
+        snprintf(name, sizeof name, "u_h[%d]", k);
+        glUniform1i(loc(p, name), 2 * k + 1);
+        const int idx[2] = {gi, hi};
+        const char* prefix[2] = {"u_g", "u_h"};
+        for (int r = 0; r < 2; ++r) {
+            float scale[3], bias[3];
+            for (int c = 0; c < 3; ++c) {
+                const int cc = m->info.channels == 1 ? 0 : c;
+                scale[c] = m->texture_scale[idx[r]][cc];
+                bias[c] = m->texture_bias[idx[r]][cc];
+            }
+            snprintf(name, sizeof name, "%s_scale[%d]", prefix[r], k);
+            glUniform3fv(loc(p, name), 1, scale);
+            snprintf(name, sizeof name, "%s_bias[%d]", prefix[r], k);
+            glUniform3fv(loc(p, name), 1, bias);
+        }
+    }
+    glUniform1i(loc(p, "u_terms"), count);
+    glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
+    // The fused shaders compute f itself: scaled by the frame's fused exposure.
+    glUniform1f(loc(p, "u_out_scale"), f.exposure);
+    glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
+}
+
+void fused(const Frame& f, bool per_pixel) {
+    const sepal_material* m = f.m;
+    const int n = f.d->mesh->vertex_count;
+    const sepal_scene& scene = *f.d->scene;
+    const GLuint p = per_pixel ? m->program_fused_pixel : m->program_fused_vertex;
+    glUseProgram(p);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE);
+    if (per_pixel) {
+        float pos[4 * SEPAL_MAX_LIGHTS] = {}, intensity[3 * SEPAL_MAX_LIGHTS] = {};
+        for (int l = 0; l < scene.light_count; ++l) {
+            const sepal_light& light = scene.lights[l];
+            float len = 1.0f;
+            if (light.type == SEPAL_LIGHT_DIRECTIONAL)
+                len = sqrtf(light.position[0] * light.position[0] + light.position[1] * light.position[1] +
+                            light.position[2] * light.position[2]);
+            for (int k = 0; k < 3; ++k) pos[4 * l + k] = light.position[k] / len, intensity[3 * l + k] = light.intensity[k];
+            pos[4 * l + 3] = light.type == SEPAL_LIGHT_POINT ? 1.0f : 0.0f;
+        }
+        glUniform4fv(loc(p, "u_light_pos"), SEPAL_MAX_LIGHTS, pos);
+        glUniform3fv(loc(p, "u_light_intensity"), SEPAL_MAX_LIGHTS, intensity);
+        glUniform1i(loc(p, "u_light_count"), scene.light_count);
+        glUniform3fv(loc(p, "u_eye"), 1, scene.camera.eye);
+        glUniform1i(loc(p, "u_param"), (int)m->info.param);
+        glUniform1i(loc(p, "u_map"), (int)m->info.map);
+    }
+    for (int first = 0; first < (int)m->info.terms; first += m->fused_group) {
+        const int count = (int)m->info.terms - first < m->fused_group ? (int)m->info.terms - first : m->fused_group;
+        fused_terms(f, p, first, count);
+        if (per_pixel) {
+            attribs(3);
+            const sepal_vertex* v = f.d->mesh->vertices;
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->position);
+            if (f.repaired) {  // the normals and tangents the CPU backend interpolates too
+                const float* a = srt::vertex_frames(f.scratch, n, scene.light_count);
+                const GLsizei stride = srt::kFrameFloats * sizeof(float);
+                glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, a);
+                glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, a + 3);
+            } else {
+                glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->normal);
+                glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->tangent);
+            }
+            draw_mesh(f);
+            continue;
+        }
+        for (int l = 0; l < scene.light_count; ++l) {
+            attribs(4);
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+            glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, srt::light_g_uv(f.scratch, n, l));
+            glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, srt::light_h_uv(f.scratch, n, l));
+            glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, 0, srt::light_irradiance(f.scratch, n, l));
+            draw_mesh(f);
+        }
+    }
+}
+
+// Compiles one program; the fused ones get "#define MAX_TERMS n" in front.
+GLuint build(const char* name, const char* vs, const char* fs, const char* const* attributes, int max_terms,
+             sepal_error* err) {
+    if (max_terms <= 0) return srt::gles2_program(name, vs, fs, attributes, err);
+    static char source[16384];  // creation is single-threaded per context (GL's own rule)
+    const int n = snprintf(source, sizeof source, "#define MAX_TERMS %d\n%s", max_terms, fs);
+    if (n < 0 || n >= (int)sizeof source) {
+        srt::fail(err, SEPAL_ERR_CAPACITY, "shader '%s' source too long", name);
+        return 0;
+    }
+    return srt::gles2_program(name, vs, source, attributes, err);
+}
+
+}  // namespace
+
+namespace srt {
+
+sepal_result create_gles2_programs(sepal_material* m, sepal_error* err) {
+    if (m->caps.use_float_target && m->caps.has_float_target) {
+        // GL ES 3 names, not in the GL ES 2 header this file includes.
+        const GLenum kRGBA16F = 0x881A, kHalfFloat = 0x140B;
+        glGenTextures(1, &m->float_color);
+        glBindTexture(GL_TEXTURE_2D, m->float_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, (GLint)kRGBA16F, m->max_width, m->max_height, 0, GL_RGBA, kHalfFloat, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glGenRenderbuffers(1, &m->float_depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, m->float_depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT16, m->max_width, m->max_height);
+        glGenFramebuffers(1, &m->float_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m->float_color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m->float_depth);
+        const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE)
+            return fail(err, SEPAL_ERR_UNSUPPORTED, "material: half-float target incomplete (status 0x%04x)",
+                        (unsigned)status);
+        sepal_result r = gl_check("half-float target", err);
+        if (r != SEPAL_OK) return r;
+    }
+    m->program_pass = build("pass", kPassVert, kPassFrag, kPassAttribs, 0, err);
+    if (!m->program_pass) return err ? err->code : SEPAL_ERR_GL;
+    m->program_fullscreen = build("fullscreen", kFullscreenVert, kFullscreenFrag, kFullscreenAttribs, 0, err);
+    if (!m->program_fullscreen) return err ? err->code : SEPAL_ERR_GL;
+    m->program_mesh_texture = build("mesh_texture", kPassVert, kMeshTextureFrag, kPassAttribs, 0, err);
+    if (!m->program_mesh_texture) return err ? err->code : SEPAL_ERR_GL;
+    m->program_fused_vertex =
+        build("fused_vertex", kFusedVertexVert, kFusedVertexFrag, kFusedVertexAttribs, m->fused_group, err);
+    if (!m->program_fused_vertex) return err ? err->code : SEPAL_ERR_GL;
+    m->program_fused_pixel =
+        build("fused_pixel", kFusedPixelVert, kFusedPixelFrag, kFusedPixelAttribs, m->fused_group, err);
+    if (!m->program_fused_pixel) return err ? err->code : SEPAL_ERR_GL;
+    return ok(err);
+}
+
+void destroy_gles2_programs(sepal_material* m) {
+    if (m->float_fbo) glDeleteFramebuffers(1, &m->float_fbo);
+    if (m->float_depth) glDeleteRenderbuffers(1, &m->float_depth);
+    if (m->float_color) glDeleteTextures(1, &m->float_color);
+    m->float_fbo = m->float_depth = m->float_color = 0;
+    const uint32_t programs[5] = {m->program_pass, m->program_fullscreen, m->program_mesh_texture,
+                                  m->program_fused_vertex, m->program_fused_pixel};
+    for (uint32_t p : programs)
+        if (p) glDeleteProgram(p);
+    m->program_pass = m->program_fullscreen = m->program_mesh_texture = 0;
+    m->program_fused_vertex = m->program_fused_pixel = 0;
+}
+
+sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
+    const sepal_material* m = d->material;
+    if (d->mode == SEPAL_MODE_FUSED_VERTEX || d->mode == SEPAL_MODE_MULTIPASS) {
+        if (m->info.param != SEPAL_PARAM_IV && m->info.param != SEPAL_PARAM_GS_HALF && m->info.param != SEPAL_PARAM_VH)
+            return fail(err, SEPAL_ERR_UNSUPPORTED,
+                        "draw: parameterization %u needs per-pixel coordinates (SEPAL_MODE_FUSED_PIXEL)",
+                        m->info.param);
+    } else if (d->mode != SEPAL_MODE_FUSED_PIXEL) {
+        return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
+    }
+    Frame f = {m, d, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
+               prep.vertices.fallback_tangents > 0};
+    mat4_mul(prep.proj, prep.view, f.mvp);
+    GLint previous_fbo = 0;
+    if (m->float_fbo) {
+        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
+    }
+    glViewport(0, 0, d->width, d->height);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_DITHER);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glUseProgram(m->program_pass);
+    glUniformMatrix4fv(loc(m->program_pass, "u_mvp"), 1, GL_FALSE, f.mvp);
+    attribs(1);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+    draw_mesh(f);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_EQUAL);
+    sepal_result r = gl_check("depth pre-pass", err);
+    if (r != SEPAL_OK) return r;
+    if (d->mode == SEPAL_MODE_MULTIPASS)
+        multipass(f);
+    else
+        fused(f, d->mode == SEPAL_MODE_FUSED_PIXEL);
+    if ((r = gl_check("the material's passes", err)) != SEPAL_OK) return r;
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ONE);
+    for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, kWhite);
+    if (d->diffuse_texture) {
+        const GLuint p = m->program_mesh_texture;
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_EQUAL);
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+        glUseProgram(p);
+        glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
+        glUniform1i(loc(p, "u_tex0"), 0);
+        bind_texture(GL_TEXTURE0, d->diffuse_texture);
+        attribs(3);
+        const sepal_vertex* v = d->mesh->vertices;
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->position);
+        glVertexAttrib4f(1, 1, 1, 1, 1);
+        glDisableVertexAttribArray(1);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->uv);
+        glEnableVertexAttribArray(2);
+        draw_mesh(f);
+        glDisable(GL_DEPTH_TEST);
+    }
+    const float* bg = d->scene->background;
+    if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
+        const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
+        glDisable(GL_BLEND);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        fullscreen(f, 1.0f, color);
+    }
+    if (m->float_fbo) {
+        // Show the float frame in the caller's framebuffer (8-bit there: clamped at 1).
+        glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous_fbo);
+        glDisable(GL_BLEND);
+        glDisable(GL_DEPTH_TEST);
+        const float sx = (float)d->width / (float)m->max_width, sy = (float)d->height / (float)m->max_height;
+        const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+        const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
+        static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+        static const float kWhite[4] = {1, 1, 1, 1};
+        const GLuint p = m->program_fullscreen;
+        glUseProgram(p);
+        glUniform4fv(loc(p, "u_color"), 1, kWhite);
+        glUniform1i(loc(p, "u_textured"), 1);
+        glUniform1i(loc(p, "u_texture"), 0);
+        bind_texture(GL_TEXTURE0, m->float_color);
+        attribs(2);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, pos);
+        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, uv);
+        glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+        ++stats->fullscreen_passes;
+    }
+    attribs(0);
+    glUseProgram(0);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_DITHER);
+    glActiveTexture(GL_TEXTURE0);
+    return gl_check("the final passes", err);
+}
+
+}  // namespace srt
+
+extern "C" sepal_result sepal_read_float(const sepal_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+                                     sepal_error* err) {
+    if (nonfinite_clamped) *nonfinite_clamped = 0;
+    if (!m || !rgba) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "read_float: NULL argument");
+    if (!m->float_fbo) return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "read_float: the material has no float target");
+    if (width < 1 || height < 1 || width > m->max_width || height > m->max_height)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "read_float: %dx%d outside the target", width, height);
+    GLint previous = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous);
+    glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous);
+    // A radiance over 65504 (a light of 1e12, say) is inf in a half-float target.
+    const size_t values = (size_t)width * (size_t)height * 4;
+    int clamped = 0;
+    for (size_t i = 0; i < values; ++i)
+        if (!(fabsf(rgba[i]) <= 65504.0f)) {
+            rgba[i] = isnan(rgba[i]) ? 0.0f : rgba[i] > 0.0f ? 65504.0f : -65504.0f;
+            ++clamped;
+        }
+    if (nonfinite_clamped) *nonfinite_clamped = clamped;
+    return srt::gl_check("read_float", err);
+}

@@ -1,0 +1,68 @@
+// Runtime internals shared by its translation units (not part of the API).
+#pragma once
+#include "sepal/sepal_rt.h"
+#include "sepal/sepal_format.h"
+#include "sepal/sepal_scene.h"
+
+namespace srt {
+
+// Fills err (may be NULL) and returns code: `return fail(err, SEPAL_ERR_GL, "...", ...);`
+sepal_result fail(sepal_error* err, sepal_result code, const char* fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+inline sepal_result ok(sepal_error* err) {
+    if (err) {
+        err->code = SEPAL_OK;
+        err->message[0] = '\0';
+    }
+    return SEPAL_OK;
+}
+
+// Whole-word search in a space-separated GL extension string.
+bool has_extension(const char* list, const char* name);
+
+// ---- small vector maths shared by the backends ----
+inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+// Normalizes v in place; false (v unchanged) when it is too short to have a direction.
+bool normalize3(float* v);
+
+// An orthonormal shading frame (t, s, n) from a (possibly interpolated) normal and a
+// tangent with handedness in w: Gram-Schmidt, with fallbacks where the input cannot give
+// one. Returns the fallbacks taken (0 for none):
+//   kFrameNormalFallback: the normal is zero or not finite; n = +z (world) is used;
+//   kFrameTangentFallback: the tangent is zero, within 1e-6 of parallel to n, or not
+//     finite: t = the x (or y) axis made perpendicular to n; or its handedness w is not
+//     finite: +1. (A finite w keeps its sign, as in the exact renderer.)
+enum { kFrameNormalFallback = 1, kFrameTangentFallback = 2 };
+struct ShadingFrame {
+    float t[3], s[3], n[3];
+    void to_local(const float* w, float* out) const {
+        out[0] = dot3(w, t), out[1] = dot3(w, s), out[2] = dot3(w, n);
+    }
+};
+int shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f);
+
+// A vertex can be drawn and shaded: finite position, finite normal of non-zero length.
+bool vertex_usable(const sepal_vertex& v);
+// The normal and tangent every backend interpolates for a usable vertex: the mesh's own,
+// except a tangent shading_frame would replace (kFrameTangentFallback), which becomes
+// that replacement (unit, perpendicular to n, w = +-1), so per-vertex and per-pixel
+// backends interpolate the same thing. Also gives the vertex's frame (one shading_frame
+// call). Returns true when the tangent was replaced.
+bool repaired_attributes(const sepal_vertex& v, float normal[3], float tangent[4], ShadingFrame* frame);
+
+// Texture coordinates of a direction pair for any parameterization (param.cpp), with the
+// number of frame fallbacks taken (0 or 1) added to *fallbacks. Returns 1 above the
+// horizon, 0 below, -1 for a per-pixel-only parameterization when per_pixel is false.
+int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3], float g[2],
+                    float h[2], bool per_pixel, int* fallbacks);
+
+// Unit direction from a surface point towards a light, and the light's falloff there
+// (1/d^2 for point lights, 1 for directional ones).
+float light_direction(const struct sepal_light& light, const float position[3], float dir[3]);
+
+// Returns SEPAL_OK, or drains GL's error flags and fills err naming `what`. Works on
+// either GL ES version (glGetError is common to both).
+sepal_result gl_check(const char* what, sepal_error* err);
+
+}  // namespace srt

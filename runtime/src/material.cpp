@@ -1,0 +1,210 @@
+// Material creation: validation against the context's capabilities, texture upload.
+#include <GLES/gl.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal/sepal_material.h"
+#include "draw_internal.h"
+#include "vertex_setup.h"
+
+namespace {
+
+// Uploads one texture with all its levels. 16-bit data is rounded to 8 bits row by row
+// through a stack buffer (no allocation).
+sepal_result upload(const sepal_asset_texture& t, GLuint name, bool wrap, bool mips, sepal_error* err) {
+    const sepal_fmt_texture& d = t.desc;
+    const GLenum format = d.channels == 1 ? GL_LUMINANCE : GL_RGB;
+    glBindTexture(GL_TEXTURE_2D, name);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    uint32_t w = d.width, h = d.height;
+    for (uint32_t level = 0; level < d.levels; ++level) {
+        const uint8_t* src = t.level_data[level];
+        if (d.bits == 8) {
+            glTexImage2D(GL_TEXTURE_2D, (GLint)level, (GLint)format, (GLsizei)w, (GLsizei)h, 0, format,
+                         GL_UNSIGNED_BYTE, src);
+        } else {
+            glTexImage2D(GL_TEXTURE_2D, (GLint)level, (GLint)format, (GLsizei)w, (GLsizei)h, 0, format,
+                         GL_UNSIGNED_BYTE, nullptr);
+            uint8_t row[SEPAL_FMT_MAX_TEXTURE_SIDE * 3];
+            const size_t values = (size_t)w * d.channels;
+            for (uint32_t y = 0; y < h; ++y) {
+                for (size_t i = 0; i < values; ++i) {
+                    uint16_t q;
+                    memcpy(&q, src + (y * values + i) * 2, 2);
+                    row[i] = (uint8_t)((q * 255u + 32767u) / 65535u);
+                }
+                glTexSubImage2D(GL_TEXTURE_2D, (GLint)level, 0, (GLint)y, (GLsizei)w, 1, format,
+                                GL_UNSIGNED_BYTE, row);
+            }
+        }
+        w = w > 1 ? w / 2 : 1;
+        h = h > 1 ? h / 2 : 1;
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    d.levels > 1 && mips ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    // Factors clamp at the hemisphere's rim; elevation/azimuth's H is periodic in phi.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    return srt::gl_check("texture upload", err);
+}
+
+// Largest stored q of a texture, over every level and channel.
+float max_q(const sepal_asset_texture& t) {
+    const sepal_fmt_texture& d = t.desc;
+    uint32_t best = 0;
+    for (uint32_t level = 0; level < d.levels; ++level) {
+        const uint8_t* p = t.level_data[level];
+        const uint32_t values = t.level_bytes[level] / (d.bits / 8);
+        for (uint32_t i = 0; i < values; ++i) {
+            uint32_t q = p[i];
+            if (d.bits == 16) {
+                uint16_t v;
+                memcpy(&v, p + 2 * i, 2);
+                q = v;
+            }
+            if (q > best) best = q;
+        }
+    }
+    return (float)best / (d.bits == 8 ? 255.0f : 65535.0f);
+}
+
+int next_pow2(int v) {
+    int p = 1;
+    while (p < v) p <<= 1;
+    return p;
+}
+
+}  // namespace
+
+extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset,
+                                          int max_width, int max_height, sepal_material* out,
+                                          sepal_error* err) {
+    if (!caps || !asset || !out)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: NULL argument");
+    memset(out, 0, sizeof *out);
+    if (max_width < 1 || max_height < 1 || max_width > caps->max_texture_size ||
+        max_height > caps->max_texture_size)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: viewport %dx%d out of 1..%d",
+                         max_width, max_height, caps->max_texture_size);
+    const sepal_fmt_material& info = asset->material;
+    if (caps->gles_version == 1 && info.param != SEPAL_PARAM_IV && info.param != SEPAL_PARAM_GS_HALF &&
+        info.param != SEPAL_PARAM_VH)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "material: parameterization %u needs per-pixel evaluation (GL ES 2 or "
+                         "CPU); GL ES 1.1 takes iv, gs-half or vh",
+                         info.param);
+    for (uint32_t i = 0; i < asset->texture_count; ++i) {
+        const sepal_fmt_texture& d = asset->textures[i].desc;
+        if ((int)d.width > caps->max_texture_size || (int)d.height > caps->max_texture_size)
+            return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "material: texture %u is %ux%u, the GPU's limit is %d",
+                             i, d.width, d.height, caps->max_texture_size);
+    }
+    out->caps = *caps;
+    out->info = info;
+    out->plan = asset->plan;
+    memcpy(out->passes, asset->passes, asset->plan.pass_count * sizeof(sepal_fmt_pass));
+    out->max_width = max_width;
+    out->max_height = max_height;
+    for (uint32_t p = 0; p < asset->plan.pass_count; ++p) {
+        const sepal_fmt_pass& pass = asset->passes[p];
+        // GL ES 1.1 clamps vertex colours at 1: textured passes send colour / 4 and scale
+        // by 4 in the combiner (GL_RGB_SCALE), which buys two doublings of framebuffer
+        // precision; constant passes have no combiner. GL ES 2 attributes are not clamped.
+        const float boost = pass.op == SEPAL_OP_CONSTANT ? 1.0f : 4.0f / (float)pass.rgb_scale;
+        for (int c = 0; c < 3; ++c) {
+            const float v = caps->gles_version == 1 ? pass.color[c] / boost : 0.0f;
+            if (v > out->max_pass_color) out->max_pass_color = v;
+            if (v > out->pass_need[p]) out->pass_need[p] = v;
+        }
+        if (pass.blend == SEPAL_BLEND_SUBTRACT) out->has_negative_passes = 1;
+        // One texture unit: a product pass forms colour x tex0 (x the combiner's scale)
+        // before the blend multiplies it by tex1, and GL clamps that stage at 1: its peak
+        // per unit irradiance bounds the exposure too (see sepal_draw).
+        if (pass.op == SEPAL_OP_PRODUCT && caps->gles_version == 1 && caps->texture_units < 2) {
+            const float q = max_q(asset->textures[pass.tex0]);
+            for (int c = 0; c < 3; ++c) {
+                const float v = pass.color[c] * q * (float)pass.rgb_scale;
+                if (v > out->max_first_stage) out->max_first_stage = v;
+                if (v > out->pass_need[p]) out->pass_need[p] = v;
+            }
+        }
+        // Adds must come before subtracts so no partial sum clamps at 0 (writer's rule).
+        if (pass.blend == SEPAL_BLEND_ADD && p > 0 && asset->passes[p - 1].blend == SEPAL_BLEND_SUBTRACT)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "material: plan adds after subtracting (pass %u); partial sums could clamp", p);
+    }
+    // GL ES 2 guarantees 8 texture units; the one-unit path exists for GL ES 1.1.
+    out->single_unit = caps->gles_version == 1 && caps->texture_units < 2;
+    int group = caps->texture_units / 2;
+    if (group > 8) group = 8;
+    if (group > (int)info.terms) group = (int)info.terms;
+    out->fused_group = group > 0 ? group : 1;
+    out->subtract_by_inversion = out->has_negative_passes && !caps->has_blend_subtract;
+    out->texture_count = asset->texture_count;
+    glGenTextures((GLsizei)asset->texture_count, out->gl_textures);
+    for (uint32_t i = 0; i < asset->texture_count; ++i) {
+        const sepal_fmt_texture& td = asset->textures[i].desc;
+        out->texture_role[i] = td.role;
+        out->term_textures[td.term][td.role] = i;  // the reader checked one G and one H per term
+        for (int c = 0; c < 3; ++c) out->texture_scale[i][c] = td.scale[c], out->texture_bias[i][c] = td.bias[c];
+        const bool wrap = info.param == SEPAL_PARAM_ELEV_AZIM && td.role == SEPAL_ROLE_H;
+        // The per-pixel-only parameterizations' H coordinates jump where their frame is
+        // undefined (rusinkiewicz: phi_h at h = n; elev-azim: the phi seam), so GL's
+        // derivative-based MIP selection would read the coarsest levels there (measured:
+        // 14.7 dB against the CPU backend on a mirror scene, h = n everywhere). Those H
+        // textures are sampled at level 0, as the CPU backend samples every texture.
+        const bool pixel_only = info.param == SEPAL_PARAM_RUSINKIEWICZ || info.param == SEPAL_PARAM_ELEV_AZIM;
+        sepal_result r = upload(asset->textures[i], out->gl_textures[i], wrap, !(pixel_only && td.role == SEPAL_ROLE_H), err);
+        if (r != SEPAL_OK) {
+            sepal_material_destroy(out);
+            return r;
+        }
+    }
+    if (caps->gles_version == 2) {
+        sepal_result r = srt::create_gles2_programs(out, err);
+        if (r != SEPAL_OK) {
+            sepal_material_destroy(out);
+            return r;
+        }
+    }
+    if (out->single_unit) {
+        out->copy_width = next_pow2(max_width);
+        out->copy_height = next_pow2(max_height);
+        if (out->copy_width > caps->max_texture_size || out->copy_height > caps->max_texture_size) {
+            sepal_material_destroy(out);
+            return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                             "material: the one-texture-unit path needs a %dx%d copy texture; the "
+                             "GPU's limit is %d",
+                             out->copy_width, out->copy_height, caps->max_texture_size);
+        }
+        glGenTextures(1, &out->copy_texture);
+        glBindTexture(GL_TEXTURE_2D, out->copy_texture);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, out->copy_width, out->copy_height, 0, GL_RGB,
+                     GL_UNSIGNED_BYTE, nullptr);
+        // Nearest: full-screen passes sample the copy exactly at texel centres.
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        sepal_result r = srt::gl_check("copy texture", err);
+        if (r != SEPAL_OK) {
+            sepal_material_destroy(out);
+            return r;
+        }
+    }
+    return srt::ok(err);
+}
+
+extern "C" void sepal_material_destroy(sepal_material* m) {
+    if (!m) return;
+    if (m->texture_count) glDeleteTextures((GLsizei)m->texture_count, m->gl_textures);
+    if (m->copy_texture) glDeleteTextures(1, &m->copy_texture);
+    srt::destroy_gles2_programs(m);
+    m->texture_count = 0;
+    m->copy_texture = 0;
+}
+
+extern "C" size_t sepal_draw_scratch_floats(int vertex_count, int light_count) {
+    return srt::scratch_floats(vertex_count, light_count);
+}

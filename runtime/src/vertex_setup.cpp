@@ -1,0 +1,95 @@
+// Per-vertex frames, factor texture coordinates and irradiance (see vertex_setup.h).
+#include "vertex_setup.h"
+
+#include <float.h>
+#include <math.h>
+
+namespace srt {
+
+VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+                                 const sepal_scene& scene, float* scratch) {
+    VertexSetupResult r = {0.0f, 0.0f, 0, 0, 0, 0, 0};
+    const int n = mesh.vertex_count;
+    float* frames = vertex_frames(scratch, n, scene.light_count);
+    for (int i = 0; i < n; ++i) {
+        const sepal_vertex& v = mesh.vertices[i];
+        float* attr = frames + (size_t)kFrameFloats * i;
+        if (!vertex_usable(v)) {
+            // Never drawn (its triangles are skipped): finite placeholders only.
+            ++r.bad_vertices;
+            static const float kAttr[kFrameFloats] = {0, 0, 1, 1, 0, 0, 1};
+            for (int k = 0; k < kFrameFloats; ++k) attr[k] = kAttr[k];
+            for (int l = 0; l < scene.light_count; ++l) {
+                float* g = light_g_uv(scratch, n, l) + 2 * (size_t)i;
+                float* h = light_h_uv(scratch, n, l) + 2 * (size_t)i;
+                float* e = light_irradiance(scratch, n, l) + 3 * (size_t)i;
+                g[0] = g[1] = h[0] = h[1] = 0.5f;
+                e[0] = e[1] = e[2] = 0.0f;
+            }
+            continue;
+        }
+        ShadingFrame fr;
+        if (repaired_attributes(v, attr, attr + 3, &fr)) ++r.fallback_tangents;
+        float to_eye[3] = {scene.camera.eye[0] - v.position[0], scene.camera.eye[1] - v.position[1],
+                           scene.camera.eye[2] - v.position[2]};
+        normalize3(to_eye);
+        float wo[3];
+        fr.to_local(to_eye, wo);
+        float sum = 0.0f;
+        for (int l = 0; l < scene.light_count; ++l) {
+            const sepal_light& light = scene.lights[l];
+            float to_light[3];
+            const float falloff = light_direction(light, v.position, to_light);
+            float wi[3];
+            fr.to_local(to_light, wi);
+            float* g = light_g_uv(scratch, n, l) + 2 * (size_t)i;
+            float* h = light_h_uv(scratch, n, l) + 2 * (size_t)i;
+            float* e = light_irradiance(scratch, n, l) + 3 * (size_t)i;
+            // Every parameterization: the per-pixel-only ones' coordinates go unused, but
+            // their horizon test and fallbacks count (the fused-pixel path's stats).
+            const int above = param_texcoords(param, map, wi, wo, g, h, true, &r.param_fallbacks);
+            const float cosine = above > 0 ? wi[2] : 0.0f;
+            if (above <= 0) ++r.below_horizon;
+            float peak = 0.0f;
+            for (int k = 0; k < 3; ++k) {
+                e[k] = light.intensity[k] * cosine * falloff;
+                if (!(e[k] <= FLT_MAX)) {  // overflow (a huge intensity over a tiny distance)
+                    e[k] = isnan(e[k]) ? 0.0f : FLT_MAX;
+                    ++r.nonfinite_clamped;
+                }
+                if (e[k] > peak) peak = e[k];
+            }
+            sum += peak;
+            if (!(sum <= FLT_MAX)) sum = FLT_MAX;
+            if (peak > r.max_irradiance_single) r.max_irradiance_single = peak;
+        }
+        if (sum > r.max_irradiance_sum) r.max_irradiance_sum = sum;
+    }
+    return r;
+}
+
+TriangleCheck check_triangles(const sepal_mesh& mesh, int bad_vertices) {
+    TriangleCheck c = {0, 0, -1};
+    for (int i = 0; i < mesh.index_count; ++i)
+        if (mesh.indices[i] >= mesh.vertex_count) {
+            c.bad_index = i;
+            return c;
+        }
+    for (int t = 0; t + 2 < mesh.index_count; t += 3) {
+        const sepal_vertex* v[3] = {&mesh.vertices[mesh.indices[t]], &mesh.vertices[mesh.indices[t + 1]],
+                                  &mesh.vertices[mesh.indices[t + 2]]};
+        if (bad_vertices > 0 && (!vertex_usable(*v[0]) || !vertex_usable(*v[1]) || !vertex_usable(*v[2]))) {
+            ++c.skipped;
+            continue;
+        }
+        float e1[3], e2[3];
+        for (int k = 0; k < 3; ++k)
+            e1[k] = v[1]->position[k] - v[0]->position[k], e2[k] = v[2]->position[k] - v[0]->position[k];
+        const float cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                             e1[0] * e2[1] - e1[1] * e2[0]};
+        if (!(dot3(cr, cr) > 0.0f)) ++c.zero_area;  // as sepal_obj_load counts them
+    }
+    return c;
+}
+
+}  // namespace srt

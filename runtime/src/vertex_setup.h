@@ -1,0 +1,69 @@
+// Per-vertex work shared by the material backends (internal): frames, directions,
+// texture coordinates of the factors and irradiance per light, and the checks that keep
+// odd meshes (degenerate tangents, NaN attributes, zero-area triangles) from drawing
+// garbage, each counted.
+#pragma once
+#include "internal.h"
+#include "sepal/sepal_format.h"
+#include "sepal/sepal_scene.h"
+
+namespace srt {
+
+// Scratch layout for N vertices and L lights: per light l, at l * 7N: G uv (2N), H uv
+// (2N), irradiance RGB (3N); then 4N floats of colours for the pass being drawn; then
+// 7N floats of per-vertex attributes as the per-pixel paths interpolate them (normal 3,
+// tangent 4: the mesh's, with unusable tangents replaced; see repaired_attributes).
+inline size_t scratch_floats(int vertices, int lights) {
+    return (size_t)vertices * (7 * (size_t)lights + 4 + 7);
+}
+inline float* light_g_uv(float* s, int n, int l) { return s + (size_t)l * 7 * n; }
+inline float* light_h_uv(float* s, int n, int l) { return s + (size_t)l * 7 * n + 2 * (size_t)n; }
+inline float* light_irradiance(float* s, int n, int l) { return s + (size_t)l * 7 * n + 4 * (size_t)n; }
+inline float* pass_colors(float* s, int n, int lights) { return s + (size_t)lights * 7 * n; }
+inline float* vertex_frames(float* s, int n, int lights) { return s + (size_t)lights * 7 * n + 4 * (size_t)n; }
+constexpr int kFrameFloats = 7;
+
+struct VertexSetupResult {
+    float max_irradiance_sum;     // max over vertices of sum over lights of the max channel
+    float max_irradiance_single;  // max over vertices, lights and channels
+    int below_horizon;            // vertex-light pairs with light or eye below the horizon
+    int fallback_tangents;        // vertices whose tangent was replaced
+    int bad_vertices;             // vertices that cannot be drawn (see vertex_usable)
+    int param_fallbacks;          // vertex-light pairs whose parameterization frame was undefined
+    int nonfinite_clamped;        // irradiance channels that overflowed (or were NaN)
+};
+
+// Bad vertices get zero irradiance and finite coordinates; the draws skip their triangles.
+VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+                                 const sepal_scene& scene, float* scratch);
+
+struct TriangleCheck {
+    int skipped;    // triangles with a bad vertex (not drawn)
+    int zero_area;  // triangles with repeated or collinear corners (drawn; they cover nothing)
+    int bad_index;  // the first index at or past vertex_count, or -1
+};
+// bad_vertices: from setup_vertices (0 skips the per-corner test).
+TriangleCheck check_triangles(const sepal_mesh& mesh, int bad_vertices);
+
+// Calls draw(first_index, index_count) for each run of consecutive triangles whose
+// vertices are all usable: one call for the whole mesh when bad_vertices is 0.
+template <typename Draw>
+void for_each_drawable_run(const sepal_mesh& mesh, int bad_vertices, Draw draw) {
+    if (bad_vertices == 0) {
+        draw(0, mesh.index_count);
+        return;
+    }
+    int start = 0;
+    for (int t = 0; t < mesh.index_count; t += 3) {
+        const bool ok = vertex_usable(mesh.vertices[mesh.indices[t]]) &&
+                        vertex_usable(mesh.vertices[mesh.indices[t + 1]]) &&
+                        vertex_usable(mesh.vertices[mesh.indices[t + 2]]);
+        if (!ok) {
+            if (t > start) draw(start, t - start);
+            start = t + 3;
+        }
+    }
+    if (mesh.index_count > start) draw(start, mesh.index_count - start);
+}
+
+}  // namespace srt

@@ -1,0 +1,328 @@
+// Runtime benchmarks (make bench): GL ES 1.1 ms per frame against the fill limit, the CPU
+// cost of per-vertex set-up, and the stripped sizes of what ships.
+//
+// Timings are medians of several frames, each ended by glFinish, measured in one run next
+// to their baseline, and reported as ratios: absolute milliseconds on llvmpipe say little
+// about a phone, ratios say how far from the fill limit the multipass method is.
+// Writes build/bench/runtime.json and prints a table.
+#include <GLES/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bake/asset_file.h"
+#include "bake/bake.h"
+#include "util/image.h"
+#include "reference/render_exact.h"
+#include "common/render_gl.h"
+#include "util/io.h"
+#include "bake/plan.h"
+#include "common/scene_flags.h"
+#include "headless/sepal_headless.h"
+#include "sepal/sepal_material.h"
+#include "vertex_setup.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// k non-negative terms, 64x64 RGB factors with MIP chains: the plan is k product passes.
+sepal::AssetData synthetic_asset(int terms) {
+    sepal::AssetData a;
+    a.material.param = SEPAL_PARAM_GS_HALF;
+    a.material.map = SEPAL_MAP_XY;
+    a.material.terms = uint32_t(terms);
+    a.material.channels = 3;
+    a.material.ratio[0] = a.material.ratio[1] = a.material.ratio[2] = 1.0f;
+    for (int k = 0; k < terms; ++k)
+        for (uint32_t role = 0; role < 2; ++role) {
+            sepal::AssetTexture t;
+            t.desc.width = t.desc.height = 64;
+            t.desc.channels = 3;
+            t.desc.bits = 8;
+            t.desc.role = role;
+            t.desc.term = uint32_t(k);
+            for (int c = 0; c < 4; ++c) t.desc.scale[c] = 0.5f / float(terms);
+            uint32_t levels = 0;
+            for (int n = 64; n >= 1; n /= 2, ++levels)
+                for (int j = 0; j < n; ++j)
+                    for (int i = 0; i < n; ++i)
+                        for (int c = 0; c < 3; ++c) t.data.push_back(uint8_t((i * 4 + j * 2 + c * 40 + k * 17) & 255));
+            t.desc.levels = levels;
+            a.textures.push_back(t);
+        }
+    std::string err;
+    if (!sepal::build_plan(&a, &err)) {
+        std::fprintf(stderr, "bench: %s\n", err.c_str());
+        std::exit(1);
+    }
+    return a;
+}
+
+// The fill limit: `passes` bare textured full-screen quads, additively blended.
+double fill_limit_ms(int passes, GLuint texture, int frames) {
+    const float pos[8] = {-1, -1, 1, -1, 1, 1, -1, 1}, uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glVertexPointer(2, GL_FLOAT, 0, pos);
+    glTexCoordPointer(2, GL_FLOAT, 0, uv);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    std::vector<double> times;
+    for (int f = 0; f < frames + 2; ++f) {
+        const auto t = Clock::now();
+        glClear(GL_COLOR_BUFFER_BIT);
+        for (int p = 0; p < passes; ++p) glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+        glFinish();
+        if (f >= 2) times.push_back(ms_since(t));  // the first frames warm the JIT up
+    }
+    glDisable(GL_BLEND);
+    glDisable(GL_TEXTURE_2D);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    return median(times);
+}
+
+long file_size(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return -1;
+    std::fseek(f, 0, SEEK_END);
+    const long n = std::ftell(f);
+    std::fclose(f);
+    return n;
+}
+
+long stripped_size(const std::string& path, const std::string& tmp) {
+    const std::string cmd = "strip -o '" + tmp + "' '" + path + "' 2>/dev/null";
+    if (std::system(cmd.c_str()) != 0) return -1;
+    return file_size(tmp);
+}
+
+struct BackendRow {
+    std::string material, backend;
+    double ms = 0, psnr = 0;
+};
+
+// ms/frame (median of 7 after 2 warm-up frames) and PSNR against the exact render for every
+// backend, on the golden materials of the tests at 512x512 in the default scene.
+std::vector<BackendRow> backend_table() {
+    std::vector<BackendRow> rows;
+    struct Mat {
+        const char* name;
+        const char* spec;
+        double cap;
+    } mats[] = {{"ward (make run)", "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", 2.0},
+                {"cook-torrance", "cook-torrance", 2.0},
+                {"garnet_red", SEPAL_SOURCE_DIR "/fixtures/cornell/garnet_red.brdf", -1}};
+    for (const Mat& m : mats) {
+        std::string err;
+        std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(m.spec, &err);
+        sepal::BakeOptions o;
+        o.params = {sepal::Param::GsHalf};
+        o.resolutions = {32};
+        o.methods = {sepal::Method::NMF};
+        o.terms = {2};
+        o.cap = m.cap;
+        sepal::BakeResult r;
+        std::vector<uint8_t> bytes;
+        if (!f || !sepal::bake(*f, o, &r, &err) || !sepal::encode_asset(r.asset, &bytes, &err)) {
+            std::fprintf(stderr, "bench: %s\n", err.c_str());
+            std::exit(1);
+        }
+        sepal_ports::SceneSetup s;
+        sepal_ports::load_scene_mesh(&s, &err);
+        sepal::Image exact;
+        sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err);
+        for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
+        for (const char* backend : {"gles1", "gles2", "gles2-fused", "gles2-fused-pixel"}) {
+            sepal_ports::GlRenderOptions opt;
+            sepal_ports::parse_gl_backend(backend, &opt);
+            opt.frames = 7;
+            sepal_ports::GlRenderInfo info;
+            std::vector<uint8_t> px;
+            if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &px, &info, &err)) {
+                std::fprintf(stderr, "bench: %s: %s\n", backend, err.c_str());
+                std::exit(1);
+            }
+            const sepal::Image img = sepal::to_rgb(sepal::image_from_rgba8(px.data(), s.width, s.height));
+            rows.push_back({m.name, backend, info.ms, sepal::diff_images(exact, img, 0).psnr});
+        }
+        std::vector<float> rgb;
+        std::vector<double> times;
+        for (int i = 0; i < 3; ++i) {
+            double ms = 0;
+            sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, &ms, &err);
+            times.push_back(ms);
+        }
+        sepal::Image img(s.width, s.height, 3);
+        img.data = rgb;
+        for (float& v : img.data) v = std::min(1.0f, std::max(0.0f, v));
+        rows.push_back({m.name, "cpu", median(times), sepal::diff_images(exact, img, 0).psnr});
+    }
+    return rows;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string out_dir = argc > 1 ? argv[1] : "build/bench";
+    const std::string bin_dir = argc > 2 ? argv[2] : "build";
+    const int W = 512, H = 512, frames = 7;
+    std::string err;
+    sepal::make_dirs(out_dir, &err);
+    sepal_headless_desc hd = {};
+    hd.width = W;
+    hd.height = H;
+    hd.gles_version = 1;
+    char msg[512];
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
+    if (!ctx) {
+        std::fprintf(stderr, "bench: %s\n", msg);
+        return 1;
+    }
+    sepal_error e = {};
+    sepal_caps caps;
+    if (sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &e) != SEPAL_OK) {
+        std::fprintf(stderr, "bench: %s\n", e.message);
+        return 1;
+    }
+    std::string json = "{\n  \"device\": \"" + std::string(sepal_headless_describe(ctx)) + "\",\n  \"size\": [512, 512],\n  \"frames\": [\n";
+    std::printf("GL ES 1.1 multipass, %dx%d, %s; median of %d frames\n", W, H, sepal_headless_describe(ctx), frames);
+    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s\n", "terms", "lights", "passes", "ms/frame", "fill-limit", "ratio");
+    bool first = true;
+    for (int terms : {1, 2, 4}) {
+        const sepal::AssetData a = synthetic_asset(terms);
+        std::vector<uint8_t> bytes;
+        if (!sepal::encode_asset(a, &bytes, &err)) {
+            std::fprintf(stderr, "bench: %s\n", err.c_str());
+            return 1;
+        }
+        auto asset = std::make_unique<sepal_asset>();
+        auto mat = std::make_unique<sepal_material>();
+        if (sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) != SEPAL_OK ||
+            sepal_material_create(&caps, asset.get(), W, H, mat.get(), &e) != SEPAL_OK) {
+            std::fprintf(stderr, "bench: %s\n", e.message);
+            return 1;
+        }
+        for (int lights : {1, 4}) {
+            sepal_ports::SceneSetup s;
+            s.width = W;
+            s.height = H;
+            s.scene.light_count = lights;
+            for (int l = 0; l < lights; ++l) {
+                s.scene.lights[l].type = SEPAL_LIGHT_POINT;
+                s.scene.lights[l].position[0] = 2.0f * std::cos(float(l));
+                s.scene.lights[l].position[1] = -2.5f;
+                s.scene.lights[l].position[2] = 2.0f + float(l);
+                for (int c = 0; c < 3; ++c) s.scene.lights[l].intensity[c] = 10.0f;
+            }
+            if (!sepal_ports::load_scene_mesh(&s, &err)) {
+                std::fprintf(stderr, "bench: %s\n", err.c_str());
+                return 1;
+            }
+            std::vector<float> scratch(sepal_draw_scratch_floats(s.mesh.vertex_count, lights));
+            sepal_draw_desc d = {};
+            d.material = mat.get();
+            d.mesh = &s.mesh;
+            d.scene = &s.scene;
+            d.width = W;
+            d.height = H;
+            d.scratch = scratch.data();
+            d.scratch_floats = scratch.size();
+            sepal_draw_stats stats = {};
+            std::vector<double> times;
+            for (int f = 0; f < frames + 2; ++f) {
+                const auto t = Clock::now();
+                if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
+                    std::fprintf(stderr, "bench: %s\n", e.message);
+                    return 1;
+                }
+                glFinish();
+                if (f >= 2) times.push_back(ms_since(t));
+            }
+            const int passes = stats.draw_calls + stats.fullscreen_passes;
+            const double ms = median(times), fill = fill_limit_ms(passes, mat->gl_textures[0], frames);
+            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f\n", terms, lights, passes, ms, fill, ms / fill);
+            char row[256];
+            std::snprintf(row, sizeof row,
+                          "%s    {\"terms\": %d, \"lights\": %d, \"passes\": %d, \"ms\": %.3f, \"fill_limit_ms\": %.3f, "
+                          "\"ratio\": %.3f}",
+                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill);
+            json += row;
+            first = false;
+        }
+        sepal_material_destroy(mat.get());
+    }
+    json += "\n  ],\n";
+    // Per-vertex set-up on the CPU: frames, directions, factor coordinates, irradiance.
+    {
+        sepal_ports::SceneSetup s;
+        s.scene.light_count = 4;
+        for (int l = 0; l < 4; ++l) s.scene.lights[l] = s.scene.lights[0];
+        sepal_ports::load_scene_mesh(&s, &err);
+        std::vector<float> scratch(sepal_draw_scratch_floats(s.mesh.vertex_count, 4));
+        std::vector<double> times;
+        const int reps = 50;
+        for (int r = 0; r < 7; ++r) {
+            const auto t = Clock::now();
+            for (int i = 0; i < reps; ++i)
+                srt::setup_vertices(SEPAL_PARAM_GS_HALF, SEPAL_MAP_XY, s.mesh, s.scene, scratch.data());
+            times.push_back(ms_since(t) * 1e6 / (double(reps) * s.mesh.vertex_count * 4));
+        }
+        const double ns = median(times);
+        std::printf("per-vertex set-up (gs-half, per vertex and light): %.1f ns\n", ns);
+        char row[160];
+        std::snprintf(row, sizeof row, "  \"vertex_setup_ns_per_vertex_light\": %.2f,\n", ns);
+        json += row;
+    }
+    // Every backend on the golden materials: PSNR against exact and ms/frame.
+    const std::vector<BackendRow> rows = backend_table();
+    std::printf("\nbackends, 512x512, default scene, 2-term NMF gs-half 32x32 assets; median of 7 frames (cpu: 3)\n");
+    std::printf("%-18s %-18s %9s %10s\n", "material", "backend", "ms/frame", "PSNR (dB)");
+    json += "  \"backends\": [\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        std::printf("%-18s %-18s %9.2f %10.2f\n", rows[i].material.c_str(), rows[i].backend.c_str(), rows[i].ms,
+                    rows[i].psnr);
+        char row[256];
+        std::snprintf(row, sizeof row, "    {\"material\": \"%s\", \"backend\": \"%s\", \"ms\": %.3f, \"psnr\": %.3f}%s\n",
+                      rows[i].material.c_str(), rows[i].backend.c_str(), rows[i].ms, rows[i].psnr,
+                      i + 1 < rows.size() ? "," : "");
+        json += row;
+    }
+    json += "  ],\n";
+    const long lib = stripped_size(bin_dir + "/lib/libsepal_runtime.a", out_dir + "/runtime.stripped.a");
+    const long view = stripped_size(bin_dir + "/bin/sepal-view", out_dir + "/sepal-view.stripped");
+    std::printf("stripped sizes: libsepal_runtime.a %ld bytes, sepal-view %ld bytes\n", lib, view);
+    char row[200];
+    std::snprintf(row, sizeof row, "  \"stripped_bytes\": {\"libsepal_runtime.a\": %ld, \"sepal-view\": %ld}\n}\n", lib, view);
+    json += row;
+    sepal_headless_destroy(ctx);
+    if (!sepal::write_file_atomic(out_dir + "/runtime.json", json.data(), json.size(), &err)) {
+        std::fprintf(stderr, "bench: %s\n", err.c_str());
+        return 1;
+    }
+    std::printf("wrote %s/runtime.json\n", out_dir.c_str());
+    return 0;
+}

@@ -1,0 +1,193 @@
+// Baking (offline/bake/bake.h, sepal bake, sepal inspect): determinism, the budget search
+// against an exhaustive scan of the same candidates, corrupt assets refused.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <tuple>
+
+#include "bake/bake.h"
+#include "brdf/brdf.h"
+#include "test_util.h"
+
+namespace {
+
+sepal::BakeOptions small_search() {
+    sepal::BakeOptions o;
+    o.params = {sepal::Param::GsHalf, sepal::Param::ViewHalf};
+    o.resolutions = {16};
+    o.methods = {sepal::Method::SVD, sepal::Method::NMF};
+    o.terms = {1, 2, 3};
+    return o;
+}
+
+std::vector<uint8_t> bake_bytes(const std::string& spec, sepal::BakeOptions o) {
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
+    REQUIRE_MESSAGE(f, err);
+    sepal::BakeResult r;
+    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+    std::vector<uint8_t> bytes;
+    REQUIRE_MESSAGE(sepal::encode_asset(r.asset, &bytes, &err), err);
+    return bytes;
+}
+
+}  // namespace
+
+TEST_CASE("bake: byte-identical assets from two runs and from 1 and 2 threads") {
+    sepal::BakeOptions o = small_search();
+    o.params = {sepal::Param::GsHalf};
+    o.max_error = 0.9;
+    o.threads = 1;
+    const std::vector<uint8_t> a = bake_bytes("ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", o);
+    const std::vector<uint8_t> b = bake_bytes("ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", o);
+    o.threads = 2;
+    const std::vector<uint8_t> c = bake_bytes("ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", o);
+    CHECK(a.size() > 1000);
+    CHECK(a == b);
+    CHECK(a == c);
+}
+
+TEST_CASE("bake: --max-error picks the cheapest candidate meeting it (exhaustive check)") {
+    for (const char* spec : {"ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", "fixtures/cornell/cayman.brdf",
+                             "fixtures/cornell/garnet_red.brdf", "fixtures/cornell/krylon_blue.brdf"}) {
+        const std::string s = spec[0] == 'f' ? sepal_test::source_path(spec) : spec;
+        CAPTURE(s);
+        std::string err;
+        std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(s, &err);
+        REQUIRE_MESSAGE(f, err);
+        // First without a budget: every candidate's error; then a budget between them.
+        sepal::BakeOptions o = small_search();
+        sepal::BakeResult all;
+        REQUIRE_MESSAGE(sepal::bake(*f, o, &all, &err), err);
+        std::vector<double> errors;
+        for (const sepal::BakeCandidate& c : all.candidates)
+            if (c.ok) errors.push_back(c.error_quantized);
+        REQUIRE(errors.size() >= 6);
+        std::sort(errors.begin(), errors.end());
+        o.max_error = errors[errors.size() / 3];  // a third of the candidates meet it
+        sepal::BakeResult r;
+        REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+        REQUIRE(r.winner >= 0);
+        const sepal::BakeCandidate& w = r.candidates[size_t(r.winner)];
+        CHECK(w.error_quantized <= o.max_error);
+        int meeting = 0;
+        for (const sepal::BakeCandidate& c : r.candidates) {
+            if (!c.ok || c.error_quantized > o.max_error) continue;
+            ++meeting;
+            // Nothing that meets the budget has a faster predicted frame, or as fast and more accurate.
+            CHECK(std::make_tuple(w.ms, w.error_quantized) <= std::make_tuple(c.ms, c.error_quantized));
+        }
+        CHECK(meeting >= 2);
+        CHECK(w.on_front);
+        // The asset is the winner's: its plan has the winner's pass count.
+        CHECK(int(r.asset.passes.size()) == w.passes);
+        // A budget no candidate meets is refused, naming the closest one.
+        o.max_error = errors.front() * 0.5;
+        CHECK_FALSE(sepal::bake(*f, o, &r, &err));
+        CHECK(err.find("no candidate meets") != std::string::npos);
+    }
+}
+
+TEST_CASE("sepal bake, sepal inspect: the command line, the export and refusals") {
+    const std::string dir = sepal_test::temp_dir();
+    const std::string sepal = sepal_test::bin("sepal");
+    std::string out;
+    REQUIRE(sepal_test::run(sepal + " bake 'blinn:n=20' --param gs-half --res 16 --method nmf --terms 1,2 --max-error 0.5 -o " +
+                                dir + "/b.sepal --report " + dir + "/b.json --export " + dir + "/exp",
+                            &out) == 0);
+    CHECK(out.find("<- winner") != std::string::npos);
+    CHECK(out.find("winner: gs-half/xy 16 nmf") != std::string::npos);
+    REQUIRE(sepal_test::run(sepal + " inspect " + dir + "/b.sepal", &out) == 0);
+    CHECK(out.find("checksums good") != std::string::npos);
+    CHECK(out.find("add      product") != std::string::npos);
+    sepal::Image png;
+    CHECK(sepal::read_image(dir + "/exp/term0_G.png", &png, nullptr));
+    std::ifstream manifest(dir + "/exp/manifest.json");
+    CHECK(manifest.good());
+    std::ifstream report(dir + "/b.json");
+    CHECK(report.good());
+    // Bad usage and impossible budgets: exit 2, no output file.
+    CHECK(sepal_test::run(sepal + " bake 'blinn:n=20' --res 24 -o " + dir + "/x.sepal", &out) == 2);
+    CHECK(out.find("power of two") != std::string::npos);
+    CHECK(sepal_test::run(sepal + " bake 'blinn:n=20' --res 16 --param gs-half --method svd --terms 1 --max-error 1e-9 -o " +
+                              dir + "/x.sepal",
+                          &out) == 2);
+    CHECK(out.find("no candidate meets") != std::string::npos);
+    CHECK(sepal_test::run(sepal + " bake nosuchmodel -o " + dir + "/x.sepal") == 2);
+    std::FILE* none = std::fopen((dir + "/x.sepal").c_str(), "rb");
+    CHECK(none == nullptr);
+    if (none) std::fclose(none);
+
+    // Ten kinds of damaged files, refused by sepal inspect with a reason (the runtime's
+    // reader, which inspect uses, is tested field by field in asset_test.cpp).
+    std::ifstream in(dir + "/b.sepal", std::ios::binary);
+    const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    struct Damage {
+        const char* name;
+        std::string bytes;
+        const char* expect;
+    } damages[] = {
+        {"empty", "", "too short"},
+        {"truncated header", good.substr(0, 40), "too short"},
+        {"truncated body", good.substr(0, good.size() - 10), "truncated"},
+        {"padded", good + std::string(7, '\0'), "truncated or padded"},
+        {"bad magic", "X" + good.substr(1), "bad magic"},
+        {"flipped header byte", good.substr(0, 30) + char(good[30] ^ 4) + good.substr(31), "header"},
+        {"flipped payload byte", good.substr(0, good.size() - 100) + char(good[good.size() - 100] ^ 1) +
+                                     good.substr(good.size() - 99),
+         "checksum mismatch"},
+        {"text file", "this is not an asset at all, just some text that is long enough for a header....", "bad magic"},
+        {"version 9", good.substr(0, 8) + char(9) + good.substr(9), "format version 9"},
+        {"zeros", std::string(good.size(), '\0'), "bad magic"},
+    };
+    for (const Damage& d : damages) {
+        CAPTURE(std::string(d.name));
+        const std::string path = dir + "/bad.sepal";
+        std::ofstream(path, std::ios::binary) << d.bytes;
+        CHECK(sepal_test::run(sepal + " inspect " + path, &out) == 2);
+        CHECK_MESSAGE(out.find(d.expect) != std::string::npos, out);
+    }
+}
+
+TEST_CASE("sepal bake-scene: bakes what a scene lists, skips what is up to date, reports failures") {
+    const std::string dir = sepal_test::temp_dir();
+    const std::string sepal = sepal_test::bin("sepal");
+    // A measured file relative to the scene file.
+    REQUIRE(sepal_test::run("mkdir -p " + dir + "/data && cp " + sepal_test::source_path("fixtures/cornell/garnet_red.brdf") +
+                            " " + dir + "/data/") == 0);
+    auto write_scene = [&](const std::string& budget) {
+        std::ofstream(dir + "/scene.json")
+            << "{\"materials\": [\n"
+               " {\"name\": \"shiny\", \"spec\": \"blinn:n=20\", \"param\": \"gs-half\", \"res\": [16],\n"
+               "  \"method\": [\"nmf\"], \"terms\": [1, 2], \"max_error\": " << budget << "},\n"
+               " {\"name\": \"paint\", \"spec\": \"data/garnet_red.brdf\", \"param\": [\"gs-half\"], \"res\": 16,\n"
+               "  \"method\": \"nmf\", \"terms\": [1]}\n"
+               "]}\n";
+    };
+    write_scene("0.5");
+    std::string out;
+    REQUIRE(sepal_test::run(sepal + " bake-scene " + dir + "/scene.json -o " + dir + "/assets", &out) == 0);
+    CHECK(out.find("2 baked, 0 up to date, 0 failed") != std::string::npos);
+    REQUIRE(sepal_test::run(sepal + " inspect " + dir + "/assets/paint.sepal") == 0);
+    REQUIRE(sepal_test::run(sepal + " bake-scene " + dir + "/scene.json -o " + dir + "/assets", &out) == 0);
+    CHECK(out.find("0 baked, 2 up to date, 0 failed") != std::string::npos);
+    write_scene("0.45");  // one budget changed: only that material is baked again
+    REQUIRE(sepal_test::run(sepal + " bake-scene " + dir + "/scene.json -o " + dir + "/assets", &out) == 0);
+    CHECK(out.find("1 baked, 1 up to date, 0 failed") != std::string::npos);
+    // A bad material fails alone; the exit code says so.
+    std::ofstream(dir + "/bad.json") << "{\"materials\": [{\"name\": \"ok\", \"spec\": \"lambert\", \"res\": 16, "
+                                         "\"param\": \"gs-half\", \"method\": \"svd\", \"terms\": 1},\n"
+                                         " {\"name\": \"typo\", \"spec\": \"lambert\", \"max_eror\": 0.1},\n"
+                                         " {\"name\": \"../escape\", \"spec\": \"lambert\"}]}";
+    CHECK(sepal_test::run(sepal + " bake-scene " + dir + "/bad.json -o " + dir + "/assets2", &out) == 1);
+    CHECK(out.find("unknown key \"max_eror\"") != std::string::npos);
+    CHECK(out.find("name must be") != std::string::npos);
+    CHECK(out.find("1 baked, 0 up to date, 2 failed") != std::string::npos);
+    // Malformed JSON: exit 2 with the position.
+    std::ofstream(dir + "/broken.json") << "{\"materials\": [\n  {\"name\": \"x\",, }]}";
+    CHECK(sepal_test::run(sepal + " bake-scene " + dir + "/broken.json -o " + dir + "/assets3", &out) == 2);
+    CHECK(out.find("line 2, column") != std::string::npos);
+}

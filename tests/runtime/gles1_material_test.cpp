@@ -1,0 +1,211 @@
+// GL ES 1.1 multipass rendering of baked materials (runtime/include/sepal/sepal_material.h): absolute
+// correctness against the exact backend, and every capability-masked path against the
+// full one.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "bake/asset_file.h"
+#include "material_fixtures.h"
+#include "reference/render_exact.h"
+#include "bake/plan.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
+#include "headless/sepal_headless.h"
+#include "sepal/sepal_material.h"
+#include "test_util.h"
+
+using namespace material_fx;
+
+TEST_CASE("gles1 and cpu: a constant BRDF matches the exact backend's render") {
+    // G = 0.5 q, H = 0.25 q with q = 1: f = 0.125 per steradian everywhere.
+    const double f = 0.125;
+    sepal::AssetData a = base_asset(SEPAL_PARAM_IV, 1);
+    a.textures.push_back(make_texture(8, SEPAL_ROLE_G, 0, 0.5f, [](float, float, int) { return 1.0f; }));
+    a.textures.push_back(make_texture(8, SEPAL_ROLE_H, 0, 0.25f, [](float, float, int) { return 1.0f; }));
+    std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
+    for (int lights : {1, 3}) {
+        CAPTURE(lights);
+        sepal_ports::SceneSetup s = test_scene("sphere", lights);
+        const Rendered gl = render(a, 0, s);
+        sepal::Image exact;
+        REQUIRE(sepal::render_exact(ConstantBrdf(f), s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err));
+        sepal::write_png(sepal_test::output_dir() + "/gles1_constant_" + std::to_string(lights) + ".png",
+                         gl.image, nullptr);
+        const sepal::ImageDiff diff = sepal::diff_images(exact, gl.image, 3.0);
+        CAPTURE(diff.psnr);
+        CAPTURE(diff.max_diff);
+        CAPTURE(gl.stats.doublings);
+        // Per-vertex (Gouraud) irradiance against per-pixel: a few levels on a 64x32 sphere.
+        CHECK(diff.psnr > 38.0);
+        CHECK(diff.share_over < 0.02);
+        // The CPU backend evaluates per pixel in float: it matches the exact render.
+        const sepal::Image cpu = render_cpu(a, s);
+        const sepal::ImageDiff dc = sepal::diff_images(exact, cpu, 0.01);
+        CAPTURE(dc.max_diff);
+        CHECK(dc.max_diff < 0.01);  // 8-bit units: float against double, ~1e-5 relative
+    }
+}
+
+TEST_CASE("gles1 material: every capability-masked path renders the full path's image") {
+    // Two signed terms with varying factors (biased textures), in gs-half.
+    sepal::AssetData a = signed_asset();
+    for (const char* mesh : {"sphere", "torus"}) {
+        const std::string mesh_name = mesh;
+        CAPTURE(mesh_name);
+        sepal_ports::SceneSetup s = test_scene(mesh, 2);
+        const Rendered full = render(a, 0, s);
+        CHECK(full.stats.copies == 0);
+        sepal::write_png(sepal_test::output_dir() + "/gles1_paths_full_" + mesh + ".png", full.image, nullptr);
+        double brightest = 0;
+        for (float v : full.image.data) brightest = std::max<double>(brightest, v);
+        CHECK(brightest > 0.3);  // the scene is lit: the comparison means something
+        // Against the CPU backend (per-pixel coordinates, float): the price of per-vertex
+        // coordinates and an 8-bit framebuffer.
+        const sepal::Image cpu = render_cpu(a, s);
+        sepal::write_png(sepal_test::output_dir() + "/cpu_signed_" + mesh_name + ".png", cpu, nullptr);
+        const sepal::ImageDiff dc = sepal::diff_images(cpu, full.image, 4.0);
+        CAPTURE(dc.psnr);
+        CAPTURE(dc.max_diff);
+        CAPTURE(dc.share_over);
+        CHECK(dc.psnr > 30.0);
+        const uint32_t masks[] = {SEPAL_MASK_BLEND_SUBTRACT, SEPAL_MASK_MULTITEXTURE,
+                                  SEPAL_MASK_MULTITEXTURE | SEPAL_MASK_BLEND_SUBTRACT, SEPAL_MASK_FBO | SEPAL_MASK_NPOT};
+        for (uint32_t mask : masks) {
+            CAPTURE(mask);
+            const Rendered r = render(a, mask, s);
+            if (mask & SEPAL_MASK_MULTITEXTURE) CHECK(r.stats.copies > 0);
+            // 8-bit tolerance. The blend units and the texture combiners round products
+            // differently (llvmpipe blends in 8-bit fixed point), by up to a level per
+            // pass and light in the framebuffer; 8 pass-light steps here. A framebuffer
+            // level becomes 2^doublings levels in the image. Structural mistakes (an
+            // offset copy, a wrong sign) cost tens of levels and fail this.
+            const double level = std::ldexp(1.0, full.stats.doublings);
+            const sepal::ImageDiff d = sepal::diff_images(full.image, r.image, 4 * level);
+            CAPTURE(d.max_diff);
+            CAPTURE(d.psnr);
+            CAPTURE(full.stats.doublings);
+            CHECK(d.share_over == 0.0);
+            CHECK(d.psnr > 45.0);
+            if (d.share_over > 0.0)
+                sepal::write_png(sepal_test::output_dir() + "/gles1_paths_mask" + std::to_string(mask) + ".png",
+                                 r.image, nullptr);
+        }
+    }
+}
+
+TEST_CASE("gles1 material: refusals") {
+    sepal::AssetData a = base_asset(SEPAL_PARAM_RUSINKIEWICZ, 1);
+    a.textures.push_back(make_texture(4, SEPAL_ROLE_G, 0, 1, [](float, float, int) { return 1.0f; }));
+    a.textures.push_back(make_texture(4, SEPAL_ROLE_H, 0, 1, [](float, float, int) { return 1.0f; }));
+    a.passes.push_back(pass(SEPAL_OP_PRODUCT, SEPAL_BLEND_ADD, 0, 1, 0.5f));
+    a.plan.peak_partial_sum = 0.5f;
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE(sepal::encode_asset(a, &bytes, &err));
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e{};
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SEPAL_OK);
+    sepal_headless_desc hd = {};
+    char msg[256];
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
+    REQUIRE(ctx);
+    sepal_caps caps;
+    REQUIRE(sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK);
+    auto mat = std::make_unique<sepal_material>();
+    CHECK(sepal_material_create(&caps, asset.get(), 64, 64, mat.get(), &e) == SEPAL_ERR_UNSUPPORTED);
+    CHECK(std::string(e.message).find("per-pixel") != std::string::npos);
+    // A good material, then a draw with too little scratch and too big a viewport.
+    asset->material.param = SEPAL_PARAM_IV;
+    REQUIRE(sepal_material_create(&caps, asset.get(), 64, 64, mat.get(), &e) == SEPAL_OK);
+    sepal_ports::SceneSetup s = test_scene("sphere", 1);
+    std::vector<float> scratch(10);
+    sepal_draw_desc d = {};
+    d.material = mat.get();
+    d.mesh = &s.mesh;
+    d.scene = &s.scene;
+    d.width = d.height = 64;
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    CHECK(sepal_draw(&d, nullptr, &e) == SEPAL_ERR_CAPACITY);
+    d.width = 65;
+    CHECK(sepal_draw(&d, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK(std::string(e.message).find("viewport") != std::string::npos);
+    sepal_material_destroy(mat.get());
+    sepal_headless_destroy(ctx);
+}
+
+TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the same way") {
+    sepal::AssetData a = base_asset(SEPAL_PARAM_VH, 1);
+    a.textures.push_back(make_texture(8, SEPAL_ROLE_G, 0, 1, [](float u, float, int) { return 0.2f + 0.8f * u; }));
+    a.textures.push_back(make_texture(8, SEPAL_ROLE_H, 0, 1, [](float, float v, int c) { return 0.3f + 0.2f * c + 0.4f * v; }));
+    a.passes.push_back(pass(SEPAL_OP_PRODUCT, SEPAL_BLEND_ADD, 0, 1, 0.4f));
+    a.plan.peak_partial_sum = 0.4f;
+    const std::string dir = sepal_test::temp_dir();
+    std::string err, out;
+    REQUIRE_MESSAGE(sepal::write_asset(dir + "/m.sepal", a, &err), err);
+    const std::string flags = " --size 80x60 --mesh torus --light point:1,-2,2:15 ";
+    REQUIRE(sepal_test::run(sepal_test::bin("sepal") + " render " + dir + "/m.sepal --backend gles1" + flags +
+                                "-o " + dir + "/r.png", &out) == 0);
+    CHECK(out.find("two texture units") != std::string::npos);
+    REQUIRE(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal" + flags + "-o " +
+                                dir + "/v.png", &out) == 0);
+    REQUIRE(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --mask multitexture" +
+                                flags + "-o " + dir + "/v1.png", &out) == 0);
+    CHECK(out.find("one texture unit") != std::string::npos);
+    sepal::Image r, v, v1;
+    REQUIRE(sepal::read_image(dir + "/r.png", &r, &err));
+    REQUIRE(sepal::read_image(dir + "/v.png", &v, &err));
+    REQUIRE(sepal::read_image(dir + "/v1.png", &v1, &err));
+    CHECK(sepal::diff_images(r, v, 0).max_diff == 0);
+    CHECK(sepal::diff_images(r, v1, 0).max_diff <= 4);
+    double peak = 0;
+    for (float x : r.data) peak = std::max<double>(peak, x);
+    CHECK(peak > 0.2);
+    // Refusals: not an asset, a corrupt asset, a bad mask.
+    CHECK(sepal_test::run(sepal_test::bin("sepal") + " render ward --backend gles1 -o " + dir + "/x.png", &out) == 2);
+    CHECK(out.find("baked asset") != std::string::npos);
+    std::FILE* f = std::fopen((dir + "/bad.sepal").c_str(), "wb");
+    std::fputs("SEPALBRD but not really", f);
+    std::fclose(f);
+    CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/bad.sepal -o " + dir + "/x.png",
+                          &out) == 1);
+    CHECK(out.find("too short") != std::string::npos);
+    CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --mask bogus -o " + dir +
+                              "/x.png", &out) == 2);
+    std::FILE* none = std::fopen((dir + "/x.png").c_str(), "rb");
+    CHECK(none == nullptr);  // nothing half-written
+    if (none) std::fclose(none);
+}
+
+TEST_CASE("gles1 and cpu: a diffuse texture map modulates the material (Fig. 13)") {
+    sepal::AssetData a = signed_asset();
+    sepal_ports::SceneSetup s = test_scene("sphere", 2);
+    sepal_ports::Rgba8Image grey;
+    grey.width = grey.height = 4;
+    grey.pixels.assign(4 * 4 * 4, 128);
+    const Rendered plain = render(a, 0, s), halved = render(a, 0, s, &grey);
+    sepal::Image half = plain.image;
+    for (float& v : half.data) v *= 128.0f / 255.0f;
+    const sepal::ImageDiff d = sepal::diff_images(half, halved.image, 1.0);
+    CAPTURE(d.max_diff);
+    CHECK(d.share_over == 0.0);  // within one level of x 128/255
+    // A checker on both backends: the same pattern in the same place.
+    sepal_ports::Rgba8Image checker;
+    checker.width = checker.height = 8;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            for (int c = 0; c < 4; ++c) checker.pixels.push_back(((x / 2 + y / 2) % 2) ? 255 : 40);
+    const Rendered gl = render(a, 0, s, &checker);
+    const sepal::Image cpu = render_cpu(a, s, &checker);
+    sepal::write_png(sepal_test::output_dir() + "/gles1_diffuse_checker.png", gl.image, nullptr);
+    const sepal::ImageDiff dc = sepal::diff_images(cpu, gl.image, 8.0);
+    CAPTURE(dc.psnr);
+    CHECK(dc.psnr > 30.0);
+    const sepal::ImageDiff against_plain = sepal::diff_images(plain.image, gl.image, 8.0);
+    CHECK(against_plain.share_over > 0.05);  // the map really changed the picture
+}
