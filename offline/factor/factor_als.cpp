@@ -1,5 +1,6 @@
-// Weighted alternating least squares on the held matrix: NMF's multiplicative updates,
-// ACLS's constrained block updates and the weighted refinement of the SVD share it.
+// Weighted alternating least squares on the held matrix (als.h): NMF's multiplicative
+// updates, ACLS's constrained block updates, SACLS's sparse row solves and the weighted
+// refinement of the SVD share it.
 //
 // With one side fixed, the weighted problem separates per row (or column) r:
 //   min_g sum_c w_rc (m_rc - g . h_c)^2  =  g^T C_r g - 2 g^T b_r + ssq_r,
@@ -10,7 +11,10 @@
 //                   `inner` times per pass, as in Gillis-Glineur's accelerated MU)
 //   constrained     exact per-term block updates (HALS): g_a = target given the others,
 //                   clamped to >= 0, or a tree isotonic regression over the whole column
-//                   for monotone factors; column 0 of one side may be held at 1.
+//                   for monotone factors; column 0 of one side may be held at 1; with
+//                   energy groups, the weighted projection onto each group's bound.
+//   sparse          per row, g = the non-negative minimizer of the normal equations plus
+//                   SACLS's penalties (Lawson-Hanson on k x k), best over the free term.
 // The error g^T C g - 2 g^T b + ssq comes out of the same sums without another pass.
 #include <algorithm>
 #include <cmath>
@@ -222,6 +226,39 @@ void solve_multiplicative(const Normals& nm, std::vector<double>* x, int n, int 
     });
 }
 
+// The exact weighted projection of one term's column onto {x >= 0, sum coef x <= bound}
+// per group: x_c = max(0, t_c - lambda coef_c / w_c) with the multiplier lambda >= 0 found
+// by bisection (the sum falls monotonically in lambda).
+void project_energy(const std::vector<EnergyGroup>& groups, const std::vector<double>& target,
+                    const std::vector<double>& weight, double wfloor, std::vector<double>* x,
+                    int k, int a) {
+    for (const EnergyGroup& g : groups) {
+        const size_t n = g.cols.size();
+        auto value = [&](size_t i, double lambda) {
+            const size_t c = size_t(g.cols[i]);
+            const double w = std::max(weight[c], wfloor);
+            return std::max(0.0, target[c] - lambda * g.coef[i] / w);
+        };
+        auto total = [&](double lambda) {
+            double t = 0;
+            for (size_t i = 0; i < n; ++i) t += g.coef[i] * value(i, lambda);
+            return t;
+        };
+        double lambda = 0;
+        if (total(0) > g.bound) {
+            double hi = 1;
+            for (int it = 0; it < 200 && total(hi) > g.bound; ++it) hi *= 4;
+            double lo = 0;
+            for (int it = 0; it < 100; ++it) {
+                const double mid = 0.5 * (lo + hi);
+                (total(mid) > g.bound ? lo : hi) = mid;
+            }
+            lambda = hi;  // the feasible side
+        }
+        for (size_t i = 0; i < n; ++i) (*x)[size_t(g.cols[i]) * k + a] = value(i, lambda);
+    }
+}
+
 void solve_constrained(const Normals& nm, std::vector<double>* x, int n, int k, int side,
                        const AlsSettings& s) {
     const bool monotone = s.monotone_side == side && s.parent && s.order;
@@ -253,20 +290,76 @@ void solve_constrained(const Normals& nm, std::vector<double>* x, int n, int k, 
                 for (int r = 0; r < n; ++r)
                     if (weight[size_t(r)] > 0)
                         (*x)[size_t(r) * k + a] = std::max(target[size_t(r)], 0.0);
+                if (side == 1 && s.energy)
+                    project_energy(*s.energy, target, weight, 1e-12 * wmax + 1e-300, x, k, a);
             }
         }
     }
 }
 
-void solve_side(const Normals& nm, std::vector<double>* x, int n, int k, int side,
-                const AlsSettings& s) {
+// SACLS's row solve (Lawrence et al. 2006, eq. 4-5). Returns the penalties' total.
+double solve_sparse(const Normals& nm, std::vector<double>* x, int n, int k, const AlsSettings& s) {
+    const double l = s.sparsity_l, mm = s.sparsity_m;
+    double mean_diag = 0;
+    for (int r = 0; r < n; ++r)
+        for (int a = 0; a < k; ++a) mean_diag += nm.c[size_t(r) * k * k + size_t(a) * k + a];
+    const double ridge = 1e-12 * mean_diag / (double(n) * k) + 1e-300;
+    std::vector<double> pen(size_t(n), 0.0);
+    const size_t chunks = size_t((n + kColChunk - 1) / kColChunk);
+    parallel_for(chunks, s.threads, [&](size_t chunk) {
+        const int r0 = int(chunk) * kColChunk, r1 = std::min(n, r0 + kColChunk);
+        const size_t kn = static_cast<size_t>(k);
+        std::vector<double> a(kn * kn), b(kn), xj(kn), best(kn);
+        for (int r = r0; r < r1; ++r) {
+            const double* c = &nm.c[size_t(r) * k * k];
+            const double* br = &nm.b[size_t(r) * k];
+            double best_obj = std::numeric_limits<double>::infinity(), best_pen = 0;
+            const int choices = l > 0 ? k : 1;
+            for (int j = 0; j < choices; ++j) {
+                for (int p = 0; p < k; ++p) {
+                    for (int q = 0; q < k; ++q) a[size_t(p) * k + q] = c[p * k + q] + mm;
+                    a[size_t(p) * k + p] += ridge + (p != j ? l : 0.0);
+                    b[size_t(p)] = br[p] + mm;
+                }
+                if (!nnls_gram(a.data(), b.data(), k, xj.data()) && s.fallbacks) ++*s.fallbacks;
+                double obj = 0, sum = 0, sq = 0;
+                for (int p = 0; p < k; ++p) {
+                    double ax = 0;
+                    for (int q = 0; q < k; ++q) ax += a[size_t(p) * k + q] * xj[size_t(q)];
+                    obj += xj[size_t(p)] * (ax - 2 * b[size_t(p)]);
+                    sum += xj[size_t(p)];
+                    if (p != j) sq += xj[size_t(p)] * xj[size_t(p)];
+                }
+                if (obj < best_obj) {
+                    best_obj = obj;
+                    best = xj;
+                    best_pen = (l > 0 ? l * sq : 0.0) + mm * (1 - sum) * (1 - sum);
+                }
+            }
+            std::copy(best.begin(), best.end(), x->begin() + long(size_t(r) * k));
+            pen[size_t(r)] = best_pen;
+        }
+    });
+    double total = 0;
+    for (double p : pen) total += p;
+    return total;
+}
+
+// Returns the side's penalty (the Sparse rule's, on side 0; otherwise 0).
+double solve_side(const Normals& nm, std::vector<double>* x, int n, int k, int side,
+                  const AlsSettings& s) {
     switch (s.rule) {
         case AlsRule::LeastSquares: solve_least_squares(nm, x, n, k, s.threads, s.fallbacks); break;
         case AlsRule::Multiplicative:
             solve_multiplicative(nm, x, n, k, s.inner, s.threads, s.fallbacks);
             break;
         case AlsRule::Constrained: solve_constrained(nm, x, n, k, side, s); break;
+        case AlsRule::Sparse:
+            if (side == 0) return solve_sparse(nm, x, n, k, s);
+            solve_constrained(nm, x, n, k, side, s);
+            break;
     }
+    return 0;
 }
 
 // Equal largest magnitudes for g_a and h_a: products unchanged, no drift in scale.
@@ -299,14 +392,15 @@ double als_solve(const Matrix& m, int channel, const AlsSettings& s, LowRank* f,
     std::vector<Scratch> scratch;
     std::vector<double> ssq_rows, ssq_cols;
     sums_of_squares(m, channel, anchor, inv_w, &ssq_rows, &ssq_cols);
+    const bool rescale = s.rule != AlsRule::Sparse && !s.energy;
     while (it < s.max_iters) {
         ++it;
         build_normals(m, channel, 0, f->h, k, anchor, inv_w, ssq_rows, &nm, &scratch, s.threads);
-        solve_side(nm, &f->g, rows, k, 0, s);
+        const double penalty = solve_side(nm, &f->g, rows, k, 0, s);
         build_normals(m, channel, 1, f->g, k, anchor, inv_w, ssq_cols, &nm, &scratch, s.threads);
         solve_side(nm, &f->h, cols, k, 1, s);
-        err = side_error(nm, f->h, cols, k);
-        balance(f, rows, cols, skip);
+        err = side_error(nm, f->h, cols, k) + penalty;
+        if (rescale) balance(f, rows, cols, skip);
         double total = 0;
         for (double q : nm.ssq) total += q;
         if (err <= 1e-24 * total) break;
@@ -315,6 +409,100 @@ double als_solve(const Matrix& m, int channel, const AlsSettings& s, LowRank* f,
     }
     if (iterations) *iterations = it;
     return err;
+}
+
+double als_project(const Matrix& m, int channel, const AlsSettings& s, LowRank* f) {
+    const LowRank* anchor = s.horizon_weight > 0 ? nullptr : s.anchor;
+    const double inv_w = s.horizon_weight > 0 ? s.horizon_weight : anchor ? s.anchor_weight : 0.0;
+    std::vector<double> ssq_rows, ssq_cols;
+    sums_of_squares(m, channel, anchor, inv_w, &ssq_rows, &ssq_cols);
+    Normals nm;
+    std::vector<Scratch> scratch;
+    build_normals(m, channel, 0, f->h, f->k, anchor, inv_w, ssq_rows, &nm, &scratch, s.threads);
+    const double penalty = solve_side(nm, &f->g, m.rows, f->k, 0, s);
+    return side_error(nm, f->g, m.rows, f->k) + penalty;
+}
+
+bool nnls_gram(const double* a, const double* b, int n, double* x) {
+    // Lawson and Hanson (1974), chapter 23, on the normal equations: a passive set P grows
+    // by the most promising coordinate; the unconstrained solve on P is accepted when it
+    // is positive, else the step toward it stops at the first coordinate that hits 0.
+    constexpr int kMax = 16;
+    if (n < 1 || n > kMax) return false;
+    bool passive[kMax] = {};
+    double z[kMax], l[kMax * kMax];
+    std::fill(x, x + n, 0.0);
+    double scale = 0;
+    for (int i = 0; i < n; ++i) scale = std::max({scale, std::fabs(b[i]), std::fabs(a[i * n + i])});
+    const double tol = 1e-13 * scale;
+    // Cholesky of a restricted to P, solving for z on P (0 elsewhere); false on breakdown.
+    auto solve_passive = [&]() {
+        int idx[kMax], m = 0;
+        for (int i = 0; i < n; ++i)
+            if (passive[i]) idx[m++] = i;
+        for (int p = 0; p < m; ++p)
+            for (int q = 0; q <= p; ++q) {
+                double v = a[idx[p] * n + idx[q]];
+                for (int r = 0; r < q; ++r) v -= l[p * kMax + r] * l[q * kMax + r];
+                if (p == q) {
+                    if (!(v > 1e-300)) return false;
+                    l[p * kMax + p] = std::sqrt(v);
+                } else {
+                    l[p * kMax + q] = v / l[q * kMax + q];
+                }
+            }
+        double y[kMax];
+        for (int p = 0; p < m; ++p) {
+            double v = b[idx[p]];
+            for (int r = 0; r < p; ++r) v -= l[p * kMax + r] * y[r];
+            y[p] = v / l[p * kMax + p];
+        }
+        std::fill(z, z + n, 0.0);
+        for (int p = m - 1; p >= 0; --p) {
+            double v = y[p];
+            for (int r = p + 1; r < m; ++r) v -= l[r * kMax + p] * z[idx[r]];
+            z[idx[p]] = v / l[p * kMax + p];
+        }
+        return true;
+    };
+    for (int outer = 0; outer < 3 * n; ++outer) {
+        int t = -1;
+        double best = tol;
+        for (int i = 0; i < n; ++i) {
+            if (passive[i]) continue;
+            double w = b[i];
+            for (int j = 0; j < n; ++j) w -= a[i * n + j] * x[j];
+            if (w > best) best = w, t = i;
+        }
+        if (t < 0) return true;
+        passive[t] = true;
+        for (int inner = 0; inner < 3 * n; ++inner) {
+            if (!solve_passive()) {
+                std::fill(x, x + n, 0.0);
+                return false;
+            }
+            bool positive = true;
+            for (int i = 0; i < n; ++i)
+                if (passive[i] && z[i] <= 0) positive = false;
+            if (positive) {
+                std::copy(z, z + n, x);
+                break;
+            }
+            double alpha = 1;
+            int stop = -1;  // the coordinate the step stops at: it leaves P exactly at 0
+            for (int i = 0; i < n; ++i)
+                if (passive[i] && z[i] <= 0) {
+                    const double q = x[i] / (x[i] - z[i]);
+                    if (stop < 0 || q < alpha) alpha = q, stop = i;
+                }
+            for (int i = 0; i < n; ++i) {
+                if (!passive[i]) continue;
+                x[i] += alpha * (z[i] - x[i]);
+                if (i == stop || x[i] <= 0) passive[i] = false, x[i] = 0;
+            }
+        }
+    }
+    return true;
 }
 
 void tree_isotonic(const std::vector<int>& parent, const std::vector<int>& order,

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "brdf/brdf.h"
+#include "factor/als.h"
 #include "factor/factor.h"
 
 namespace sepal {
@@ -49,61 +50,6 @@ class PairSampler {
     std::vector<Point> row_points_, col_points_;  // s^2 per texel
     int64_t frame_fallback_pairs_ = 0;
 };
-
-// The held matrix: the weight of every entry (its share of valid sub-sample pairs, 0..1)
-// and, per factored channel, weight x value - the zero-filled matrix the SVD factors and
-// the weighted data the ALS rules need, without a division or a branch per entry.
-struct Matrix {
-    int rows = 0, cols = 0, channels = 0;
-    std::vector<float> w;                // [r * cols + c]
-    std::vector<std::vector<float>> wv;  // [channel][r * cols + c]
-};
-
-// Factors of one channel: g is rows x k, h is cols x k, both row-major.
-struct LowRank {
-    int k = 0;
-    std::vector<double> g, h;
-};
-
-// svd: top-k singular triplets of the zero-filled matrix W.M (values times weights) by
-// randomized subspace iteration; g = u sqrt(sigma), h = v sqrt(sigma).
-void truncated_svd(const Matrix& m, int channel, int k, uint64_t seed, int threads,
-                   LowRank* out, std::vector<double>* sigma);
-
-enum class AlsRule { LeastSquares, Multiplicative, Constrained };
-struct AlsSettings {
-    AlsRule rule = AlsRule::LeastSquares;
-    int max_iters = 50;
-    double tolerance = 1e-6;
-    int inner = 1;            // per-row updates per half-step (multiplicative, constrained)
-    int constant_side = -1;   // 0: g column 0 held at 1; 1: h column 0 held at 1
-    int monotone_side = -1;   // side whose columns are non-increasing along `parent`
-    const std::vector<int>* parent = nullptr;  // monotone side: parent index or -1 (root)
-    const std::vector<int>* order = nullptr;   // children before parents
-    // Entries wholly below the horizon have no data; with an anchor they count with
-    // anchor_weight toward the anchor's reconstruction (the previous term count's), which
-    // keeps a new term from taking arbitrary values there (bilinear lookups near the edge
-    // of the valid region blend such entries in). Null: they are left out.
-    const LowRank* anchor = nullptr;
-    double anchor_weight = 1e-4;
-    // > 0: such entries count with this weight toward 0 instead (the anchor is unused).
-    double horizon_weight = 0;
-    int threads = 0;
-    // Counts updates that fell back (never silent): a least-squares solution that is not
-    // finite, or a multiplicative update whose denominator vanished while the entry was
-    // nonzero; either sets the entry to 0. Totals do not depend on the thread count.
-    std::atomic<int64_t>* fallbacks = nullptr;
-};
-// Alternating weighted least squares from the given start, in place. Returns the
-// weighted sum of squared errors; *iterations receives the outer iterations done.
-double als_solve(const Matrix& m, int channel, const AlsSettings& s, LowRank* f,
-                 int* iterations);
-// Weighted isotonic regression on a rooted forest (x[v] <= x[parent[v]]), exact.
-void tree_isotonic(const std::vector<int>& parent, const std::vector<int>& order,
-                   const std::vector<double>& y, const std::vector<double>& w,
-                   std::vector<double>* x);
-// Re-expresses g h^T as ordered orthogonal terms (an SVD of the product).
-void orthogonalize(LowRank* f);
 
 // Converts a sampled RGB row to the factored channels (3, or 1 = luminance) as doubles,
 // out[ch * cols + c].
