@@ -110,6 +110,11 @@ void tree_isotonic(const std::vector<int>& parent, const std::vector<int>& order
 // Re-expresses g h^T as ordered orthogonal terms (an SVD of the product).
 void orthogonalize(LowRank* f);
 
+// NNDSVD (Boutsidis and Gallopoulos 2008): column a of *out (g and h, sized) from the
+// larger of the positive and the negative part of SVD term j, a non-negative start;
+// fill_zeros starts zero entries small instead (multiplicative updates never move a 0).
+void nndsvd_column(const LowRank& svd, int j, LowRank* out, int a, bool fill_zeros);
+
 // min x^T a x - 2 b^T x over x >= 0 for a small symmetric positive semi-definite a (n x n,
 // row-major), exactly (Lawson-Hanson active set on the normal equations). Returns false
 // (x = 0) when a solve breaks down.

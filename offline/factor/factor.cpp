@@ -143,7 +143,7 @@ void detail::Progress::advance() {
 
 // ---- sampling ---------------------------------------------------------------------------
 PairSampler::PairSampler(const Brdf& brdf, const FactorOptions& o)
-    : brdf_(brdf), param_(o.param), map_(o.map), n_(o.res), s_(o.supersample),
+    : brdf_(brdf), confidence_(o.confidence), param_(o.param), map_(o.map), n_(o.res), s_(o.supersample),
       pairs_(o.supersample * o.supersample * o.supersample * o.supersample) {
     prepare(0, &row_texel_, &row_points_);
     prepare(1, &col_texel_, &col_points_);
@@ -177,12 +177,14 @@ void PairSampler::prepare(int which, std::vector<int>* texels, std::vector<Point
     }
 }
 
-bool PairSampler::sample_row(int row, float* rgb, uint16_t* count, std::string* err) const {
+bool PairSampler::sample_row(int row, float* rgb, uint16_t* count, std::string* err,
+                             float* confidence) const {
     const int s2 = s_ * s_;
     const Point* px = &row_points_[size_t(row) * s2];
     for (int c = 0; c < cols(); ++c) {
         const Point* py = &col_points_[size_t(c) * s2];
         glm::dvec3 acc(0);
+        double conf = 0;
         int n = 0;
         for (int a = 0; a < s2; ++a) {
             if (!px[a].valid) continue;
@@ -210,10 +212,12 @@ bool PairSampler::sample_row(int row, float* rgb, uint16_t* count, std::string* 
                     return false;
                 }
                 acc += f;
+                if (confidence && confidence_) conf += std::min(1.0, std::max(0.0, confidence_(wi, wo)));
                 ++n;
             }
         }
         if (n) acc /= double(n);
+        if (confidence) confidence[c] = !confidence_ ? 1.0f : n ? float(conf / n) : 0.0f;
         rgb[3 * c] = float(acc.x), rgb[3 * c + 1] = float(acc.y), rgb[3 * c + 2] = float(acc.z);
         count[c] = uint16_t(n);
     }
@@ -273,11 +277,12 @@ bool sample_matrix(const PairSampler& s, const FactorOptions& o, Matrix* m, glm:
         if (failed) return;
         std::vector<float> rgb(size_t(cols) * 3);
         std::vector<uint16_t> cnt(static_cast<size_t>(cols));
+        std::vector<float> conf(static_cast<size_t>(cols), 1.0f);
         std::vector<double> conv(size_t(cols) * ch);
         const int r0 = int(chunk) * detail::kRowChunk;
         const int r1 = std::min(rows, r0 + detail::kRowChunk);
         for (int r = r0; r < r1; ++r) {
-            if (!s.sample_row(r, rgb.data(), cnt.data(), &errors[chunk])) {
+            if (!s.sample_row(r, rgb.data(), cnt.data(), &errors[chunk], o.confidence ? conf.data() : nullptr)) {
                 failed = true;
                 return;
             }
@@ -285,7 +290,7 @@ bool sample_matrix(const PairSampler& s, const FactorOptions& o, Matrix* m, glm:
             if (ch == 1) sums[chunk].add(rgb.data(), cnt.data(), cols, inv_pairs);
             detail::row_channels(rgb.data(), cols, ch, conv.data());
             for (int c = 0; c < cols; ++c) {
-                const double w = cnt[c] * inv_pairs;
+                const double w = cnt[c] * inv_pairs * conf[size_t(c)];
                 m->w[size_t(r) * cols + c] = float(w);
                 for (int k = 0; k < ch; ++k)
                     m->wv[size_t(k)][size_t(r) * cols + c] = float(w * conv[size_t(k) * cols + c]);
@@ -556,39 +561,6 @@ void monotone_forest(const std::vector<int>& texels, int n, std::vector<int>* pa
                      [&](int a, int b) { return radius[size_t(a)] > radius[size_t(b)]; });
 }
 
-// NNDSVD (Boutsidis and Gallopoulos 2008): the larger of the positive and the negative
-// part of an SVD term as a non-negative start.
-void nndsvd_column(const LowRank& svd, int j, LowRank* out, int a, bool fill_zeros) {
-    const size_t rows = svd.g.size() / size_t(svd.k), cols = svd.h.size() / size_t(svd.k);
-    double pg = 0, ng = 0, ph = 0, nh = 0;
-    for (size_t r = 0; r < rows; ++r) {
-        const double x = svd.g[r * svd.k + j];
-        (x > 0 ? pg : ng) += x * x;
-    }
-    for (size_t c = 0; c < cols; ++c) {
-        const double x = svd.h[c * svd.k + j];
-        (x > 0 ? ph : nh) += x * x;
-    }
-    const double sign = pg * ph >= ng * nh ? 1.0 : -1.0;
-    auto fill = [&](const std::vector<double>& src, size_t n, int k_src, std::vector<double>* dst) {
-        double sum = 0;
-        int nz = 0;
-        for (size_t r = 0; r < n; ++r) {
-            const double x = std::max(0.0, sign * src[r * k_src + j]);
-            (*dst)[r * out->k + a] = x;
-            if (x > 0) sum += x, ++nz;
-        }
-        // Multiplicative updates never move a zero: start those entries small instead.
-        if (fill_zeros) {
-            const double small = nz ? 0.01 * sum / nz : 1e-3;
-            for (size_t r = 0; r < n; ++r)
-                if (!((*dst)[r * out->k + a] > 0)) (*dst)[r * out->k + a] = small;
-        }
-    };
-    fill(svd.g, rows, svd.k, &out->g);
-    fill(svd.h, cols, svd.k, &out->h);
-}
-
 void copy_column(const LowRank& from, int j, LowRank* to, int a) {
     const size_t rows = from.g.size() / size_t(from.k), cols = from.h.size() / size_t(from.k);
     for (size_t r = 0; r < rows; ++r) to->g[r * to->k + a] = from.g[r * from.k + j];
@@ -748,14 +720,14 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
                     if (s.constant_side >= 0 && a == 0) {
                         // The held term: 1 on the half-angle side, the SVD's leading
                         // profile (made positive) on the other.
-                        nndsvd_column(init, 0, &next, 0, false);
+                        detail::nndsvd_column(init, 0, &next, 0, false);
                         std::vector<double>& held = hside == 0 ? next.g : next.h;
                         for (size_t i = 0; i < held.size(); i += size_t(kk)) held[i] = 1.0;
                     } else if (weighted_svd) {
                         copy_column(init, a, &next, a);
                     } else {
                         const int j = s.constant_side >= 0 ? a - 1 : a;
-                        nndsvd_column(init, j, &next, a, nmf);
+                        detail::nndsvd_column(init, j, &next, a, nmf);
                         if (kk > 1) {
                             // The new term starts small: the start is then as good as the
                             // previous term count's solution, and both update rules only

@@ -40,6 +40,7 @@
 // clamped_negative below, each with a note when nonzero.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,11 @@ struct FactorOptions {
     // this weight toward 0 (the BRDF's value there); 0 leaves them out (anchored to the
     // previous term count's reconstruction).
     double horizon_weight = 0.01;
+    // Optional confidence of f per direction pair, in [0, 1] (scattered data tabulated with
+    // push-pull: Lawrence et al. 2006, 4.4.1): multiplies the weight of each entry of the
+    // held matrix (svd_weighted, nmf, acls; plain svd and nd ignore it). Entries whose
+    // weight becomes 0 count as below the horizon (horizon_weight): keep a floor above 0.
+    std::function<double(const glm::dvec3& wi, const glm::dvec3& wo)> confidence;
     bool acls_constant = false;   // term 1's half-angle factor held constant
     bool acls_monotonic = false;  // half-angle factors non-increasing in theta_h
     double max_memory_mb = 2048;

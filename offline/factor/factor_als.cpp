@@ -423,6 +423,37 @@ double als_project(const Matrix& m, int channel, const AlsSettings& s, LowRank* 
     return side_error(nm, f->g, m.rows, f->k) + penalty;
 }
 
+void nndsvd_column(const LowRank& svd, int j, LowRank* out, int a, bool fill_zeros) {
+    const size_t rows = svd.g.size() / size_t(svd.k), cols = svd.h.size() / size_t(svd.k);
+    double pg = 0, ng = 0, ph = 0, nh = 0;
+    for (size_t r = 0; r < rows; ++r) {
+        const double x = svd.g[r * svd.k + j];
+        (x > 0 ? pg : ng) += x * x;
+    }
+    for (size_t c = 0; c < cols; ++c) {
+        const double x = svd.h[c * svd.k + j];
+        (x > 0 ? ph : nh) += x * x;
+    }
+    const double sign = pg * ph >= ng * nh ? 1.0 : -1.0;
+    auto fill = [&](const std::vector<double>& src, size_t n, int k_src, std::vector<double>* dst) {
+        double sum = 0;
+        int nz = 0;
+        for (size_t r = 0; r < n; ++r) {
+            const double x = std::max(0.0, sign * src[r * k_src + j]);
+            (*dst)[r * out->k + a] = x;
+            if (x > 0) sum += x, ++nz;
+        }
+        // Multiplicative updates never move a zero: start those entries small instead.
+        if (fill_zeros) {
+            const double small = nz ? 0.01 * sum / nz : 1e-3;
+            for (size_t r = 0; r < n; ++r)
+                if (!((*dst)[r * out->k + a] > 0)) (*dst)[r * out->k + a] = small;
+        }
+    };
+    fill(svd.g, rows, svd.k, &out->g);
+    fill(svd.h, cols, svd.k, &out->h);
+}
+
 bool nnls_gram(const double* a, const double* b, int n, double* x) {
     // Lawson and Hanson (1974), chapter 23, on the normal equations: a passive set P grows
     // by the most promising coordinate; the unconstrained solve on P is accepted when it

@@ -2,6 +2,7 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,10 @@ class PairSampler {
     int64_t frame_fallback_pairs() const { return frame_fallback_pairs_; }
     // rgb: 3 * cols() floats (averages over valid pairs, 0 where none); count: valid pairs
     // per entry. False with a message when the BRDF returns a non-finite value.
-    bool sample_row(int row, float* rgb, uint16_t* count, std::string* err) const;
+    // confidence (optional, cols() floats): the mean of FactorOptions::confidence over each
+    // entry's valid pairs (1 without one).
+    bool sample_row(int row, float* rgb, uint16_t* count, std::string* err,
+                    float* confidence = nullptr) const;
 
   private:
     struct Point {
@@ -43,6 +47,7 @@ class PairSampler {
     void prepare(int which, std::vector<int>* texels, std::vector<Point>* points) const;
 
     const Brdf& brdf_;
+    std::function<double(const glm::dvec3&, const glm::dvec3&)> confidence_;
     Param param_;
     HemiMap map_;
     int n_, s_, pairs_;

@@ -48,8 +48,7 @@ bool validate_factored(const Factored& f, std::string* err) {
     return true;
 }
 
-void bilinear_lookup(const FactorTexture& t, const glm::dvec2& uv, bool wrap, double* out) {
-    const int n = t.n;
+BilinearTaps bilinear_taps(int n, const glm::dvec2& uv, bool wrap) {
     const double sx = uv.x * n - 0.5, sy = uv.y * n - 0.5;
     const double fx0 = std::floor(sx), fy0 = std::floor(sy);
     const double ax = sx - fx0, ay = sy - fy0;
@@ -63,11 +62,17 @@ void bilinear_lookup(const FactorTexture& t, const glm::dvec2& uv, bool wrap, do
         }
     };
     fix(i0), fix(i1), fix(j0), fix(j1);
-    const double w00 = (1 - ax) * (1 - ay), w10 = ax * (1 - ay), w01 = (1 - ax) * ay,
-                 w11 = ax * ay;
-    for (int c = 0; c < t.channels; ++c)
-        out[c] = w00 * t.at(i0, j0, c) + w10 * t.at(i1, j0, c) + w01 * t.at(i0, j1, c) +
-                 w11 * t.at(i1, j1, c);
+    return BilinearTaps{{j0 * n + i0, j0 * n + i1, j1 * n + i0, j1 * n + i1},
+                        {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay}};
+}
+
+void bilinear_lookup(const FactorTexture& t, const glm::dvec2& uv, bool wrap, double* out) {
+    const BilinearTaps b = bilinear_taps(t.n, uv, wrap);
+    for (int c = 0; c < t.channels; ++c) {
+        const float* d = t.data.data();
+        out[c] = b.weight[0] * d[size_t(b.index[0]) * t.channels + c] + b.weight[1] * d[size_t(b.index[1]) * t.channels + c] +
+                 b.weight[2] * d[size_t(b.index[2]) * t.channels + c] + b.weight[3] * d[size_t(b.index[3]) * t.channels + c];
+    }
 }
 
 namespace {

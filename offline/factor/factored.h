@@ -74,6 +74,14 @@ struct Factored {
 // Checks sizes and values (finite, consistent channels); false with the reason.
 bool validate_factored(const Factored& f, std::string* err);
 
+// The four texels (texel index j * n + i) and weights of GL_LINEAR at uv on an n x n
+// texture, clamped to the edge or wrapped; clamped taps may repeat an index.
+struct BilinearTaps {
+    int index[4];
+    double weight[4];
+};
+BilinearTaps bilinear_taps(int n, const glm::dvec2& uv, bool wrap);
+
 // Bilinear lookup of all channels at texture coordinate uv into out[0..channels).
 void bilinear_lookup(const FactorTexture& t, const glm::dvec2& uv, bool wrap, double* out);
 

@@ -14,7 +14,7 @@
 namespace sepal {
 namespace {
 
-constexpr int kVaryings = 10;  // position 3, normal 3, tangent 4
+constexpr int kVaryings = 12;  // position 3, normal 3, tangent 4, uv 2
 
 struct GBuffer {
     int width;
@@ -29,10 +29,27 @@ void store_fragment(void* user, int x, int y, float, const float* v) {
     g->covered[p] = 1;
 }
 
+// A spatially constant BRDF.
+class Uniform : public SpatialBrdf {
+  public:
+    explicit Uniform(const Brdf& b) : b_(b) {}
+    glm::dvec3 eval(const glm::dvec2&, const glm::dvec3& wi, const glm::dvec3& wo) const override {
+        return b_.eval(wi, wo);
+    }
+
+  private:
+    const Brdf& b_;
+};
+
 }  // namespace
 
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
                   int height, Image* out, ExactStats* stats, std::string* err) {
+    return render_exact_spatial(Uniform(brdf), scene, mesh, width, height, out, stats, err);
+}
+
+bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
+                          int width, int height, Image* out, ExactStats* stats, std::string* err) {
     float view[16], proj[16];
     sepal_error e = {};
     if (sepal_scene_matrices(&scene, width, height, view, proj, &e) != SEPAL_OK) {
@@ -53,6 +70,7 @@ bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& 
         std::copy(v.position, v.position + 3, dst);
         std::copy(v.normal, v.normal + 3, dst + 3);
         std::copy(v.tangent, v.tangent + 4, dst + 6);
+        std::copy(v.uv, v.uv + 2, dst + 10);
     }
     GBuffer g{width, std::vector<float>(size_t(width) * height * kVaryings),
               std::vector<uint8_t>(size_t(width) * height)};
@@ -116,6 +134,7 @@ bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& 
                     return glm::dvec3(glm::dot(w, t), glm::dot(w, s), glm::dot(w, n));
                 };
                 const glm::dvec3 wo = local(glm::normalize(eye - pos));
+                const glm::dvec2 uv(v[10], v[11]);
                 if (wo.z <= 0) ++bf;
                 glm::dvec3 sum(0.0);
                 for (int l = 0; l < scene.light_count; ++l) {
@@ -134,7 +153,7 @@ bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& 
                     const glm::dvec3 wi = local(glm::normalize(to_light));
                     if (wi.z <= 0 || wo.z <= 0) continue;
                     const glm::dvec3 intensity(light.intensity[0], light.intensity[1], light.intensity[2]);
-                    sum += brdf.eval(wi, wo) * wi.z * falloff * intensity;
+                    sum += brdf.eval(uv, wi, wo) * wi.z * falloff * intensity;
                 }
                 for (int c = 0; c < 3; ++c) rgb[c] = float(sum[c]);
             }

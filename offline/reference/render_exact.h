@@ -4,17 +4,22 @@
 //   sepal::Image img; std::string err;
 //   sepal::ExactStats stats;
 //   if (!sepal::render_exact(*brdf, scene, mesh, 512, 512, &img, &stats, &err)) ...
+//   // a spatially varying BRDF (ist/generate.h, ist/tree.h): f depends on the mesh's UV
+//   if (!sepal::render_exact_spatial(svbrdf, scene, mesh, 512, 512, &img, &stats, &err)) ...
 //
 // The reference every GL and CPU image is compared with (Kautz-McCool Fig. 10, top
 // right): the mesh is rasterized by runtime/include/sepal/sepal_raster.h, so its pixels line up with
 // GL's; vertex frames (position, normal, tangent with handedness) are interpolated
-// perspective-correctly across triangles and re-orthonormalized per pixel (Gram-Schmidt);
+// perspective-correctly across triangles and re-orthonormalized per pixel (Gram-Schmidt),
+// UVs perspective-correctly too;
 // radiance follows sepal_scene.h. Output: linear RGB floats, top row first, background
 // where no triangle covers the pixel. Shading runs on all cores; the result does not
 // depend on the thread count.
 #pragma once
 #include <cstdint>
 #include <string>
+
+#include <glm/vec2.hpp>
 
 #include "brdf/brdf.h"
 #include "util/image.h"
@@ -28,6 +33,17 @@ struct ExactStats {
     int64_t degenerate_frames = 0;   // tangent parallel to the normal or not finite: fallback tangent used;
                                      // zero or non-finite normal: background (the runtime skips those triangles)
 };
+
+// A BRDF that varies over the surface with the mesh's texture coordinates (u, v).
+class SpatialBrdf {
+  public:
+    virtual ~SpatialBrdf() = default;
+    // Same conventions as Brdf::eval, at surface point uv; safe to call from several threads.
+    virtual glm::dvec3 eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const = 0;
+};
+
+bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
+                          int width, int height, Image* out, ExactStats* stats, std::string* err);
 
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
                   int height, Image* out, ExactStats* stats, std::string* err);

@@ -1,6 +1,7 @@
 #include "util/json_read.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -204,6 +205,54 @@ bool parse_json(const std::string& text, JsonValue* out, std::string* err) {
     p.space();
     if (p.i != text.size()) return p.fail("trailing characters after the JSON value");
     return true;
+}
+
+bool json_number(const JsonValue& obj, const std::string& key, double lo, double hi, double* out,
+                 std::string* err) {
+    const JsonValue* v = obj.find(key);
+    if (!v || v->kind != JsonValue::Number || !(v->number >= lo && v->number <= hi)) {
+        if (err) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, ": a number in [%g, %g] is expected", lo, hi);
+            *err = "\"" + key + "\"" + buf;
+        }
+        return false;
+    }
+    *out = v->number;
+    return true;
+}
+
+bool json_int(const JsonValue& obj, const std::string& key, int lo, int hi, int* out, std::string* err) {
+    double d = 0;
+    if (!json_number(obj, key, lo, hi, &d, err)) return false;
+    if (d != std::floor(d)) {
+        if (err) *err = "\"" + key + "\": an integer is expected";
+        return false;
+    }
+    *out = int(d);
+    return true;
+}
+
+bool json_string(const JsonValue& obj, const std::string& key, std::string* out, std::string* err) {
+    const JsonValue* v = obj.find(key);
+    if (!v || v->kind != JsonValue::String) {
+        if (err) *err = "\"" + key + "\": a string is expected";
+        return false;
+    }
+    *out = v->string;
+    return true;
+}
+
+bool json_numbers(const JsonValue& obj, const std::string& key, int count, double* out, std::string* err) {
+    const JsonValue* v = obj.find(key);
+    bool ok = v && v->kind == JsonValue::Array && v->array.size() == size_t(count);
+    for (int i = 0; ok && i < count; ++i) {
+        const JsonValue& x = v->array[size_t(i)];
+        ok = x.kind == JsonValue::Number && std::isfinite(x.number);
+        if (ok) out[i] = x.number;
+    }
+    if (!ok && err) *err = "\"" + key + "\": an array of " + std::to_string(count) + " numbers is expected";
+    return ok;
 }
 
 }  // namespace sepal

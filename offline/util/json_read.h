@@ -28,4 +28,13 @@ struct JsonValue {
 
 bool parse_json(const std::string& text, JsonValue* out, std::string* err);
 
+// Typed members of an object, each false with "KEY: what was expected" in *err:
+// a finite number in [lo, hi]; an integer in [lo, hi]; a string; an array of exactly
+// `count` finite numbers.
+bool json_number(const JsonValue& obj, const std::string& key, double lo, double hi, double* out,
+                 std::string* err);
+bool json_int(const JsonValue& obj, const std::string& key, int lo, int hi, int* out, std::string* err);
+bool json_string(const JsonValue& obj, const std::string& key, std::string* out, std::string* err);
+bool json_numbers(const JsonValue& obj, const std::string& key, int count, double* out, std::string* err);
+
 }  // namespace sepal

@@ -1,0 +1,102 @@
+// Test SVBRDFs with known ground truth: an image of regions and soft transitions blending
+// 2-6 basis materials, sampled on a gantry-like set of direction pairs, with measurement
+// noise, misregistration and missing samples (`sepal ist generate`).
+//
+// Usage:
+//   sepal::GenerateOptions o; o.width = o.height = 64; o.materials = 4; o.missing = 0.5;
+//   sepal::Svbrdf s; sepal::SvbrdfTruth truth; std::string err;
+//   if (!sepal::generate_svbrdf(o, &s, &truth, &err)) ...
+//   sepal::write_svbrdf("card", s, &err); sepal::write_truth("card", truth, &err);
+//   auto exact = sepal::make_truth_svbrdf(truth, &err);   // for render_exact_spatial
+//
+// The layout ("card", after the paper's Seasons Greetings): a blue and a white paper split
+// by a wavy soft boundary, a gold foil border and halftone stripes of gold over the papers
+// (partial blends), silver foil disks, then (5, 6 materials) a satin band and a velvet ring.
+// Layers are composited "over" with edges about 1.5 texels wide, so the true weights are
+// non-negative and sum to 1 at every texel. The default bases (energy conserving) are in
+// default_bases(); any BRDF spec or measured file may replace them.
+// Direction pairs (gantry_pairs): `views` view directions from 10 to 60 degrees of
+// elevation at golden-angle azimuths; per view `lights` lights spread uniformly over the
+// hemisphere (a spherical Fibonacci set) plus `lobe_lights` lights on rings around the
+// mirror direction (3/4) and the view (1/4), where specular and back-scattering lobes live.
+// Each light's albedo weight is the solid angle of its cell in the nearest-light partition
+// of the hemisphere (they sum to 2 pi per view).
+// Measurement model per sample: each pair's image is shifted by a random sub-texel offset
+// (misregistration, uniform in +-misregistration texels, weights evaluated at the shifted
+// position), each channel is multiplied by 1 + noise * N(0, 1) (clamped at 0), then a
+// random share `missing` of the samples gets confidence 0. All randomness is counter-based
+// from `seed`: the same options give byte-identical output.
+// Limits: width and height 4..4096, materials 2..6, views 1..64, lights 1..512,
+// lobe_lights 0..256 (at most Svbrdf::kMaxPairs pairs), noise 0..1, missing 0..0.95,
+// misregistration 0..4 texels.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ist/svbrdf.h"
+#include "reference/render_exact.h"
+
+namespace sepal {
+
+// Non-negative weight maps, one per basis, width x height texels (row 0 at v = 0).
+struct BlendMaps {
+    int width = 0, height = 0, count = 0;
+    std::vector<float> w;  // [texel * count + j]
+    float at(int texel, int j) const { return w[size_t(texel) * size_t(count) + size_t(j)]; }
+    // Bilinear between texel centres with repeat wrapping, as the runtime samples a map.
+    double sample(int j, double u, double v) const;
+};
+
+struct SvbrdfTruth {
+    std::vector<std::string> names;  // e.g. "gold foil"
+    std::vector<std::string> bases;  // BRDF specs
+    BlendMaps blend;
+};
+
+struct GenerateOptions {
+    int width = 64, height = 64;
+    int materials = 4;
+    std::vector<std::string> bases;  // empty: the first `materials` default bases
+    int views = 8, lights = 40, lobe_lights = 16;
+    double noise = 0.02;
+    double misregistration = 0.1;
+    double missing = 0;
+    uint64_t seed = 1;
+    int threads = 0;
+};
+
+struct NamedBasis {
+    const char* name;
+    const char* spec;
+};
+// blue paper, white paper, gold foil, silver foil, green satin, red velvet.
+const std::vector<NamedBasis>& default_bases();
+
+std::vector<DirPair> gantry_pairs(int views, int lights, int lobe_lights);
+// The true weights of the "card" layout at (u, v) in [0,1]^2 (edge width in UV units).
+void card_weights(int materials, double u, double v, double edge, double* w);
+
+bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, std::string* err);
+
+// DIR/truth.json and DIR/truth/blendJ.pfm (docs/ist.md).
+bool write_truth(const std::string& dir, const SvbrdfTruth& t, std::string* err);
+bool read_truth(const std::string& dir, SvbrdfTruth* t, std::string* err);
+
+// sum_j blend_j(uv) f_j(wi, wo) with the maps sampled bilinearly, for render_exact_spatial.
+class BlendedSvbrdf : public SpatialBrdf {
+  public:
+    BlendedSvbrdf(BlendMaps maps, std::vector<std::unique_ptr<Brdf>> bases)
+        : maps_(std::move(maps)), bases_(std::move(bases)) {}
+    glm::dvec3 eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    const BlendMaps& maps() const { return maps_; }
+    const Brdf& basis(int j) const { return *bases_[size_t(j)]; }
+
+  private:
+    BlendMaps maps_;
+    std::vector<std::unique_ptr<Brdf>> bases_;
+};
+// The truth as a spatial BRDF (its specs built with make_brdf); null with the reason.
+std::unique_ptr<BlendedSvbrdf> make_truth_svbrdf(const SvbrdfTruth& t, std::string* err);
+
+}  // namespace sepal

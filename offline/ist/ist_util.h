@@ -1,0 +1,25 @@
+// Small helpers shared by the inverse-shade-tree sources (not a public interface).
+#pragma once
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "util/json_read.h"
+
+namespace sepal {
+namespace ist_detail {
+
+inline bool fail(std::string* err, const std::string& msg) {
+    if (err) *err = msg;
+    return false;
+}
+
+inline bool json_vec3(const JsonValue& obj, const std::string& key, glm::dvec3* out, std::string* err) {
+    double v[3];
+    if (!json_numbers(obj, key, 3, v, err)) return false;
+    *out = glm::dvec3(v[0], v[1], v[2]);
+    return true;
+}
+
+}  // namespace ist_detail
+}  // namespace sepal

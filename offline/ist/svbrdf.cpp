@@ -1,0 +1,227 @@
+#include "ist/svbrdf.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "ist/ist_util.h"
+#include "util/image.h"
+#include "util/io.h"
+#include "util/json.h"
+#include "util/json_read.h"
+#include "util/parallel.h"
+
+namespace sepal {
+
+using ist_detail::fail;
+using ist_detail::json_vec3;
+
+namespace {
+
+bool unit_above(const glm::dvec3& w) {
+    const double n = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+    return std::isfinite(n) && std::fabs(n - 1) < 1e-3 && w.z > 0;
+}
+
+std::string pair_file(const char* prefix, int p, const char* ext) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "pairs/%s%04d.%s", prefix, p, ext);
+    return buf;
+}
+
+}  // namespace
+
+void Svbrdf::resize(int w, int h, const std::vector<DirPair>& p) {
+    width = w;
+    height = h;
+    pairs = p;
+    values.assign(size_t(w) * h * p.size() * 3, 0.0f);
+    conf.assign(size_t(w) * h * p.size(), 1.0f);
+}
+
+bool validate_svbrdf(const Svbrdf& s, std::string* err) {
+    if (s.width < 1 || s.height < 1 || s.width > Svbrdf::kMaxSide || s.height > Svbrdf::kMaxSide)
+        return fail(err, "svbrdf: size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                             " outside 1.." + std::to_string(Svbrdf::kMaxSide));
+    if (s.pairs.empty() || s.pair_count() > Svbrdf::kMaxPairs)
+        return fail(err, "svbrdf: " + std::to_string(s.pairs.size()) + " direction pairs, outside 1.." +
+                             std::to_string(Svbrdf::kMaxPairs));
+    const size_t n = size_t(s.texels()) * s.pairs.size();
+    if (s.values.size() != 3 * n || s.conf.size() != n)
+        return fail(err, "svbrdf: value or confidence arrays do not match texels x pairs");
+    for (int p = 0; p < s.pair_count(); ++p) {
+        const DirPair& d = s.pairs[size_t(p)];
+        if (!unit_above(d.wi) || !unit_above(d.wo))
+            return fail(err, "svbrdf: pair " + std::to_string(p) +
+                                 ": wi and wo must be unit vectors above the horizon (z > 0)");
+        if (!(d.albedo_weight >= 0) || !std::isfinite(d.albedo_weight) || d.view < -1)
+            return fail(err, "svbrdf: pair " + std::to_string(p) + ": bad view or albedo weight");
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const float c = s.conf[i];
+        if (!(c >= 0 && c <= 1))
+            return fail(err, "svbrdf: sample " + std::to_string(i) + ": confidence outside [0, 1]");
+        if (c > 0)
+            for (int k = 0; k < 3; ++k) {
+                const float v = s.values[3 * i + size_t(k)];
+                if (!(v >= 0) || !std::isfinite(v))
+                    return fail(err, "svbrdf: texel " + std::to_string(i / s.pairs.size()) + ", pair " +
+                                         std::to_string(i % s.pairs.size()) +
+                                         ": value negative or not finite where the confidence is > 0");
+            }
+    }
+    return true;
+}
+
+SvbrdfCounts count_samples(const Svbrdf& s) {
+    SvbrdfCounts c;
+    c.samples = int64_t(s.conf.size());
+    for (float x : s.conf) c.missing += x <= 0;
+    return c;
+}
+
+bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCounts* counts,
+                 const SvbrdfReadOptions& o) {
+    const std::string json_path = dir + "/svbrdf.json";
+    std::vector<uint8_t> bytes;
+    if (!read_file(json_path, &bytes, err, 1u << 20)) return false;
+    JsonValue root;
+    std::string why;
+    if (!parse_json(std::string(bytes.begin(), bytes.end()), &root, &why))
+        return fail(err, json_path + ": " + why);
+    const JsonValue* fmt = root.find("format");
+    const JsonValue* ver = root.find("version");
+    if (!fmt || fmt->kind != JsonValue::String || fmt->string != "sepal-svbrdf")
+        return fail(err, json_path + ": \"format\" must be \"sepal-svbrdf\"");
+    if (!ver || ver->kind != JsonValue::Number || ver->number != 1)
+        return fail(err, json_path + ": unsupported \"version\" (this reader knows 1)");
+    int w = 0, h = 0;
+    if (!json_int(root, "width", 1, Svbrdf::kMaxSide, &w, &why) ||
+        !json_int(root, "height", 1, Svbrdf::kMaxSide, &h, &why))
+        return fail(err, json_path + ": " + why);
+    const JsonValue* pairs = root.find("pairs");
+    if (!pairs || pairs->kind != JsonValue::Array || pairs->array.empty() ||
+        pairs->array.size() > size_t(Svbrdf::kMaxPairs))
+        return fail(err, json_path + ": \"pairs\" must be an array of 1.." + std::to_string(Svbrdf::kMaxPairs) +
+                             " entries");
+    const size_t np = pairs->array.size();
+    const double mb = double(w) * h * double(np) * 16 / (1 << 20);
+    if (mb > o.max_memory_mb) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf, "%s: %dx%d texels x %zu pairs need %.0f MB, over the limit of %.0f MB",
+                      json_path.c_str(), w, h, np, mb, o.max_memory_mb);
+        return fail(err, buf);
+    }
+    std::vector<DirPair> dp(np);
+    std::vector<std::string> images(np), confs(np);
+    for (size_t p = 0; p < np; ++p) {
+        const JsonValue& e = pairs->array[p];
+        const std::string where = json_path + ": pairs[" + std::to_string(p) + "]: ";
+        if (e.kind != JsonValue::Object) return fail(err, where + "not an object");
+        if (!json_vec3(e, "wi", &dp[p].wi, &why) || !json_vec3(e, "wo", &dp[p].wo, &why))
+            return fail(err, where + why);
+        if (!unit_above(dp[p].wi) || !unit_above(dp[p].wo))
+            return fail(err, where + "wi and wo must be unit vectors above the horizon (z > 0)");
+        const JsonValue* img = e.find("image");
+        if (!img || img->kind != JsonValue::String || img->string.empty())
+            return fail(err, where + "\"image\" (a PFM path) is missing");
+        images[p] = img->string;
+        if (const JsonValue* c = e.find("confidence")) {
+            if (c->kind != JsonValue::String) return fail(err, where + "\"confidence\" must be a path");
+            confs[p] = c->string;
+        }
+        if (e.find("view") && !json_int(e, "view", -1, 1 << 20, &dp[p].view, &why)) return fail(err, where + why);
+        if (const JsonValue* a = e.find("albedo_weight")) {
+            if (a->kind != JsonValue::Number || !(a->number >= 0) || !std::isfinite(a->number))
+                return fail(err, where + "\"albedo_weight\" must be a finite number >= 0");
+            dp[p].albedo_weight = a->number;
+        }
+    }
+    Svbrdf s;
+    s.resize(w, h, dp);
+    SvbrdfCounts cnt;
+    cnt.samples = int64_t(s.conf.size());
+    for (size_t p = 0; p < np; ++p) {
+        Image img;
+        const std::string path = dir + "/" + images[p];
+        if (!read_image(path, &img, err)) return false;
+        if (img.width != w || img.height != h || img.channels != 3)
+            return fail(err, path + ": expected a " + std::to_string(w) + "x" + std::to_string(h) +
+                                 " RGB float image (PFM), got " + std::to_string(img.width) + "x" +
+                                 std::to_string(img.height) + "x" + std::to_string(img.channels));
+        Image conf;
+        if (!confs[p].empty()) {
+            const std::string cpath = dir + "/" + confs[p];
+            if (!read_image(cpath, &conf, err)) return false;
+            if (conf.width != w || conf.height != h)
+                return fail(err, cpath + ": confidence image size differs from " + std::to_string(w) + "x" +
+                                     std::to_string(h));
+        }
+        for (int t = 0; t < w * h; ++t) {
+            const int x = t % w, y = t / w;
+            float c = conf.empty() ? 1.0f : conf.at(x, y, 0);
+            glm::dvec3 v(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
+            if (c > 0 && (v.x < 0 || v.y < 0 || v.z < 0)) {
+                ++cnt.negative;
+                c = 0;
+            }
+            if (c <= 0) v = glm::dvec3(0);
+            s.set(t, int(p), v, std::min(1.0f, std::max(0.0f, c)));
+        }
+    }
+    for (float c : s.conf) cnt.missing += c <= 0;
+    if (counts) *counts = cnt;
+    *out = std::move(s);
+    return true;
+}
+
+bool write_svbrdf(const std::string& dir, const Svbrdf& s, std::string* err) {
+    if (!validate_svbrdf(s, err)) return false;
+    if (!make_dirs(dir + "/pairs", err)) return false;
+    JsonWriter j;
+    j.begin_object().key("format").value("sepal-svbrdf").key("version").value(1);
+    j.key("width").value(s.width).key("height").value(s.height);
+    j.key("units").value("BRDF values per steradian, linear RGB; cosine not included");
+    j.key("pairs").begin_array();
+    const int np = s.pair_count();
+    for (int p = 0; p < np; ++p) {
+        const DirPair& d = s.pairs[size_t(p)];
+        Image img(s.width, s.height, 3), conf(s.width, s.height, 1);
+        bool partial = false;
+        for (int t = 0; t < s.texels(); ++t) {
+            const glm::dvec3 v = s.value(t, p);
+            const float c = s.confidence(t, p);
+            for (int k = 0; k < 3; ++k) img.data[size_t(t) * 3 + size_t(k)] = c > 0 ? float(v[k]) : 0.0f;
+            conf.data[size_t(t)] = c;
+            partial = partial || c < 1;
+        }
+        const std::string name = pair_file("p", p, "pfm");
+        if (!write_pfm(dir + "/" + name, img, err)) return false;
+        j.begin_object();
+        j.key("wi").begin_array().value(d.wi.x).value(d.wi.y).value(d.wi.z).end_array();
+        j.key("wo").begin_array().value(d.wo.x).value(d.wo.y).value(d.wo.z).end_array();
+        j.key("image").value(name);
+        if (partial) {
+            const std::string cname = pair_file("c", p, "png");
+            if (!write_png(dir + "/" + cname, conf, err)) return false;
+            j.key("confidence").value(cname);
+        }
+        if (d.view >= 0) j.key("view").value(d.view);
+        if (d.albedo_weight > 0) j.key("albedo_weight").value(d.albedo_weight);
+        j.end_object();
+    }
+    j.end_array().end_object();
+    return write_file_atomic(dir + "/svbrdf.json", j.str().data(), j.str().size(), err);
+}
+
+int64_t drop_samples(Svbrdf* s, double share, uint64_t seed) {
+    int64_t dropped = 0;
+    for (size_t i = 0; i < s->conf.size(); ++i)
+        if (s->conf[i] > 0 && counter_uniform(seed, i) < share) {
+            s->conf[i] = 0;
+            s->values[3 * i] = s->values[3 * i + 1] = s->values[3 * i + 2] = 0;
+            ++dropped;
+        }
+    return dropped;
+}
+
+}  // namespace sepal
