@@ -455,27 +455,25 @@ bool decompose_svbrdf(const Svbrdf& s, const DecomposeOptions& o, Decomposition*
         return fail(err, "decompose: sparsity, normalization, tolerance and slack must be finite and >= 0");
     if (o.terms > 0) return decompose_fixed(s, o, o.terms, out, err);
     std::vector<Decomposition> all;
-    double best = std::numeric_limits<double>::infinity();
     for (int k = 1; k <= o.max_terms; ++k) {
         Decomposition d;
         if (!decompose_fixed(s, o, k, &d, err)) return false;
         if (o.progress) std::fprintf(stderr, "sepal ist: K=%d RMS %.5g\n", k, d.rms);
-        best = std::min(best, d.rms);
         all.push_back(std::move(d));
     }
     std::vector<double> by;
     for (const Decomposition& d : all) by.push_back(d.rms);
+    // The knee: the first K after which one more term lowers the RMS by less than the slack.
     size_t pick = all.size() - 1;
-    for (size_t i = 0; i < all.size(); ++i)
-        if (all[i].rms <= (1 + o.choose_slack) * best) {
+    for (size_t i = 0; i + 1 < all.size(); ++i)
+        if (all[i + 1].rms > (1 - o.choose_slack) * all[i].rms) {
             pick = i;
             break;
         }
     *out = std::move(all[pick]);
     out->rms_by_terms = by;
-    out->notes.push_back("terms chosen by error: K=" + std::to_string(out->terms) + " (RMS within " +
-                         std::to_string(int(std::lround(100 * o.choose_slack))) + "% of the best over 1.." +
-                         std::to_string(o.max_terms) + ")");
+    out->notes.push_back("terms chosen by error: K=" + std::to_string(out->terms) + " (K+1 lowers the RMS by less than " +
+                         std::to_string(int(std::lround(100 * o.choose_slack))) + "%)");
     return true;
 }
 

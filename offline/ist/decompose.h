@@ -29,8 +29,8 @@
 // `kmeans_clusters` centres, then `restarts` runs from random subsets of k centres; the
 // lowest objective wins. Large inputs (4.4.2): the bases are fitted to at most `max_rows`
 // texels (a fixed random subset), then every texel is projected onto them exactly.
-// Terms: `terms`, or 0 to choose by error: the smallest K in 1..max_terms whose RMS is
-// within (1 + choose_slack) of the best RMS over that range.
+// Terms: `terms`, or 0 to choose by error: the smallest K in 1..max_terms after which one
+// more term lowers the RMS by less than choose_slack (the knee of the curve).
 // Error: `rms` is the cosine-weighted RMS over observed samples and channels,
 // sqrt(sum c (f cos - f^ cos)^2 / sum c), in the units of f cos (1/sr).
 // Determinism: the same input and options give identical results on any thread count.

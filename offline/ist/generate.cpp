@@ -83,18 +83,29 @@ double BlendMaps::sample(int j, double u, double v) const {
     return (1 - ay) * ((1 - ax) * t(x0, y0) + ax * t(x1, y0)) + ay * ((1 - ax) * t(x0, y1) + ax * t(x1, y1));
 }
 
-const std::vector<NamedBasis>& default_bases() {
-    // Energy conserving (brdf_models.h's conditions), isotropic except none: the second
-    // level tabulates isotropic bases (tree.h).
-    static const std::vector<NamedBasis> b = {
+const std::vector<NamedBasis>& default_bases(const std::string& preset) {
+    // Energy conserving (brdf_models.h's conditions; the MERL fits have albedos <= 0.36),
+    // isotropic: the second level tabulates isotropic bases (tree.h).
+    static const std::vector<NamedBasis> analytic = {
         {"blue paper", "oren-nayar:rho=0.1/0.2/0.55,sigma=0.35"},
         {"white paper", "oren-nayar:rho=0.82/0.8/0.74,sigma=0.25"},
-        {"gold foil", "cook-torrance:d=0.1,Rd=0.8/0.55/0.15,s=0.85,F0=0.95/0.7/0.3,m=0.18"},
+        {"gold foil", "cook-torrance:d=0.1,Rd=0.8/0.55/0.15,s=0.75,F0=0.95/0.7/0.3,m=0.18"},
         {"silver foil", "ward:rho_d=0.04,rho_s=0.56/0.57/0.6,ax=0.12,ay=0.12"},
         {"green satin", "ashikhmin-shirley:Rd=0.1/0.4/0.15,Rs=0.06,nu=40,nv=40"},
         {"red velvet", "velvet:rho_d=0.25/0.03/0.04,rho_s=0.5/0.12/0.12,sigma=0.45"},
     };
-    return b;
+    static const std::vector<NamedBasis> measured = {
+        {"dark blue paint", "nbrdf:dark-blue-paint"},
+        {"white paint", "nbrdf:white-paint"},
+        {"gold metallic paint", "nbrdf:gold-metallic-paint"},
+        {"silver metallic paint", "nbrdf:silver-metallic-paint"},
+        {"green plastic", "nbrdf:green-plastic"},
+        {"red fabric", "nbrdf:red-fabric"},
+    };
+    static const std::vector<NamedBasis> mixed = {analytic[0], measured[1], analytic[2],
+                                                  measured[3], analytic[4], measured[5]};
+    static const std::vector<NamedBasis> none;
+    return preset == "analytic" ? analytic : preset == "measured" ? measured : preset == "mixed" ? mixed : none;
 }
 
 std::vector<DirPair> gantry_pairs(int views, int lights, int lobe_lights) {
@@ -167,6 +178,9 @@ void card_weights(int materials, double u, double v, double e, double* w) {
 bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, std::string* err) {
     if (o.width < 4 || o.height < 4 || o.width > Svbrdf::kMaxSide || o.height > Svbrdf::kMaxSide)
         return fail(err, "generate: size outside 4.." + std::to_string(Svbrdf::kMaxSide));
+    const std::vector<NamedBasis>& preset = default_bases(o.preset);
+    if (o.bases.empty() && preset.empty())
+        return fail(err, "generate: unknown preset '" + o.preset + "' (analytic, measured, mixed)");
     const int k = o.bases.empty() ? o.materials : int(o.bases.size());
     if (k < 2 || k > 6) return fail(err, "generate: 2..6 materials (got " + std::to_string(k) + ")");
     if (o.views < 1 || o.views > 64 || o.lights < 1 || o.lights > 512 || o.lobe_lights < 0 || o.lobe_lights > 256)
@@ -177,11 +191,11 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
     SvbrdfTruth t;
     std::vector<std::unique_ptr<Brdf>> brdfs;
     for (int j = 0; j < k; ++j) {
-        const std::string spec = o.bases.empty() ? default_bases()[size_t(j)].spec : o.bases[size_t(j)];
+        const std::string spec = o.bases.empty() ? preset[size_t(j)].spec : o.bases[size_t(j)];
         std::string why;
         std::unique_ptr<Brdf> b = make_brdf(spec, &why);
         if (!b) return fail(err, "generate: basis " + std::to_string(j) + ": " + why);
-        t.names.push_back(o.bases.empty() ? default_bases()[size_t(j)].name : b->model());
+        t.names.push_back(o.bases.empty() ? preset[size_t(j)].name : b->model());
         t.bases.push_back(b->spec());
         brdfs.push_back(std::move(b));
     }

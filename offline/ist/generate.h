@@ -13,8 +13,10 @@
 // by a wavy soft boundary, a gold foil border and halftone stripes of gold over the papers
 // (partial blends), silver foil disks, then (5, 6 materials) a satin band and a velvet ring.
 // Layers are composited "over" with edges about 1.5 texels wide, so the true weights are
-// non-negative and sum to 1 at every texel. The default bases (energy conserving) are in
-// default_bases(); any BRDF spec or measured file may replace them.
+// non-negative and sum to 1 at every texel. Bases: a preset (default_bases: "analytic"
+// models, "measured" MERL materials from data/merl-nbrdf, or "mixed", the default:
+// blue paper, white paint, gold foil, silver metallic paint, green satin, red fabric),
+// or any BRDF specs or measured files.
 // Direction pairs (gantry_pairs): `views` view directions from 10 to 60 degrees of
 // elevation at golden-angle azimuths; per view `lights` lights spread uniformly over the
 // hemisphere (a spherical Fibonacci set) plus `lobe_lights` lights on rings around the
@@ -57,7 +59,8 @@ struct SvbrdfTruth {
 struct GenerateOptions {
     int width = 64, height = 64;
     int materials = 4;
-    std::vector<std::string> bases;  // empty: the first `materials` default bases
+    std::vector<std::string> bases;  // empty: the first `materials` bases of the preset
+    std::string preset = "mixed";
     int views = 8, lights = 40, lobe_lights = 16;
     double noise = 0.02;
     double misregistration = 0.1;
@@ -70,8 +73,8 @@ struct NamedBasis {
     const char* name;
     const char* spec;
 };
-// blue paper, white paper, gold foil, silver foil, green satin, red velvet.
-const std::vector<NamedBasis>& default_bases();
+// The presets' six bases each (an empty list for an unknown preset).
+const std::vector<NamedBasis>& default_bases(const std::string& preset);
 
 std::vector<DirPair> gantry_pairs(int views, int lights, int lobe_lights);
 // The true weights of the "card" layout at (u, v) in [0,1]^2 (edge width in UV units).

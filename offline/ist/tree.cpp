@@ -562,6 +562,24 @@ bool ShadeTree::swap_basis(int j, const std::string& spec, const TreeOptions& o,
     return true;
 }
 
+namespace {
+class TreeBasisBrdf : public Brdf {
+  public:
+    TreeBasisBrdf(const ShadeTree& t, int j) : t_(t), j_(j) {}
+    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override { return t_.eval_basis(j_, wi, wo); }
+    std::string spec() const override { return t_.bases[size_t(j_)].source; }
+    std::string model() const override { return "ist-basis"; }
+    std::string info() const override { return "basis " + std::to_string(j_) + " of an inverse shade tree\n"; }
+    bool isotropic() const override { return false; }
+
+  private:
+    const ShadeTree& t_;
+    int j_;
+};
+}  // namespace
+
+std::unique_ptr<Brdf> tree_basis_brdf(const ShadeTree& t, int j) { return std::make_unique<TreeBasisBrdf>(t, j); }
+
 glm::dvec3 TreeSvbrdf::eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const {
     glm::dvec3 f(0);
     for (int j = 0; j < t_.basis_count(); ++j) {

@@ -41,6 +41,7 @@
 // at the second level); 1..8 bases, 1..4 terms per basis, 2..1024 knots per curve,
 // parameterizations iv, gs-half, vh, rusinkiewicz with res 4..128.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,9 @@ bool read_tree(const std::string& dir, ShadeTree* t, std::string* err);
 // phi curves on [0, 360) (periodic). Refuses unsorted, out-of-range or non-finite values.
 bool read_curve_csv(const std::string& path, bool periodic, Curve* c, std::string* err);
 bool write_curve_csv(const std::string& path, const Curve& c, const std::string& what, std::string* err);
+
+// Basis j of a tree as a BRDF, evaluated exactly from its curves (the tree must outlive it).
+std::unique_ptr<Brdf> tree_basis_brdf(const ShadeTree& t, int j);
 
 // The tree evaluated per pixel from its curves: the exact render of a tree.
 class TreeSvbrdf : public SpatialBrdf {

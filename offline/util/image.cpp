@@ -273,4 +273,18 @@ bool tolerance_holds(const ImageDiff& d, const Tolerance& t, std::string* why) {
     return reasons.empty();
 }
 
+void paste_image(Image* dst, const Image& src, int x0, int y0, int scale) {
+    scale = std::max(1, scale);
+    for (int y = 0; y < src.height * scale; ++y)
+        for (int x = 0; x < src.width * scale; ++x) {
+            const int dx = x0 + x, dy = y0 + y;
+            if (dx < 0 || dy < 0 || dx >= dst->width || dy >= dst->height) continue;
+            for (int c = 0; c < dst->channels; ++c) {
+                const int sc = src.channels >= 3 ? std::min(c, src.channels - 1) : 0;
+                const float v = c == 3 && src.channels != 4 ? 1.0f : src.at(x / scale, y / scale, c < 3 ? sc : 3);
+                dst->at(dx, dy, c) = v;
+            }
+        }
+}
+
 }  // namespace sepal

@@ -42,6 +42,11 @@ bool write_pfm(const std::string& path, const Image& img, std::string* err);
 // Writes by extension: .png or .pfm.
 bool write_image(const std::string& path, const Image& img, std::string* err);
 
+// Copies src into dst with its top-left corner at (x0, y0), clipped to dst; channels are
+// converted (grey expanded to RGB, alpha dropped or set to 1). `scale` >= 1 repeats each
+// pixel scale x scale times (nearest), for small maps in figures.
+void paste_image(Image* dst, const Image& src, int x0, int y0, int scale = 1);
+
 // 8-bit RGBA pixels (as read back from GL, top row first) to an RGBA image.
 Image image_from_rgba8(const uint8_t* pixels, int width, int height);
 // A copy with 3 channels (grey expanded, alpha dropped).
