@@ -71,17 +71,23 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
     }
 }
 
-void main() {
-    // The frame as runtime/common.cpp's shading_frame builds it, fallbacks included (a
-    // normal or tangent interpolated between opposite corners cancels out).
+// The frame as runtime/common.cpp's shading_frame builds it, fallbacks included (a
+// normal or tangent interpolated between opposite corners cancels out), and the view
+// direction in it. Shared with tree_fused.frag.
+void pixel_frame(out vec3 t, out vec3 s, out vec3 n, out vec3 wo) {
     float nn = dot(v_normal, v_normal);
-    vec3 n = nn > 0.0 ? v_normal * inversesqrt(nn) : vec3(0.0, 0.0, 1.0);
-    vec3 t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
+    n = nn > 0.0 ? v_normal * inversesqrt(nn) : vec3(0.0, 0.0, 1.0);
+    t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
     t = dot(t, t) > 1e-12 ? normalize(t) : normalize(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) - n * n.x
-                                                                      : vec3(0.0, 1.0, 0.0) - n * n.y);
-    vec3 s = (v_tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+                                                                  : vec3(0.0, 1.0, 0.0) - n * n.y);
+    s = (v_tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
     vec3 e = normalize(u_eye - v_position);
-    vec3 wo = vec3(dot(e, t), dot(e, s), dot(e, n));
+    wo = vec3(dot(e, t), dot(e, s), dot(e, n));
+}
+
+void main() {
+    vec3 t, s, n, wo;
+    pixel_frame(t, s, n, wo);
     vec3 sum = vec3(0.0);
     for (int l = 0; l < 8; ++l) {
         if (l >= u_light_count) break;
