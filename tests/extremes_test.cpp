@@ -29,7 +29,7 @@
 #include "factor/factored.h"
 #include "util/image.h"
 #include "util/io.h"
-#include "util/json_read.h"
+#include "util/json.h"
 #include "measured/merl.h"
 #include "factor/param.h"
 #include "bake/plan.h"
@@ -213,20 +213,13 @@ BakeOptions small_bake(std::vector<Param> params, std::vector<int> res, std::vec
     return o;
 }
 
-std::string slurp(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-const JsonValue& member(const JsonValue& v, const std::string& key) {
-    const JsonValue* m = v.find(key);
+const Json& member(const Json& v, const std::string& key) {
     INFO(key);
-    REQUIRE(m);
-    return *m;
+    REQUIRE(v.contains(key));
+    return v[key];
 }
 
 // A texture-space constant factorization: f = value everywhere above the horizon.
@@ -610,11 +603,11 @@ TEST_CASE("extremes: an all-zero BRDF bakes to a valid asset that renders black,
                             &out) == 0);
     CHECK_MESSAGE(contains(out, "note: all-zero BRDF"), out);
     CHECK_MESSAGE(contains(out, "; all zero"), out);
-    JsonValue report;
-    REQUIRE_MESSAGE(parse_json(slurp(dir + "/black.json"), &report, &err), err);
-    CHECK(member(member(report, "counts"), "all_zero").boolean);
-    CHECK(member(member(report, "counts"), "zero_textures").number == 2);
-    REQUIRE(member(report, "notes").array.size() >= 1u);
+    Json report;
+    REQUIRE_MESSAGE(read_json_file(dir + "/black.json", &report, &err), err);
+    CHECK(member(member(report, "counts"), "all_zero") == true);
+    CHECK(member(member(report, "counts"), "zero_textures") == 2);
+    REQUIRE(member(report, "notes").size() >= 1u);
     REQUIRE(sepal_test::run(sepal + " bake lambert --param gs-half --res 1 --terms 1 -o " + dir + "/grey.sepal", &out) == 0);
     for (const char* name : {"black", "grey"}) {
         CAPTURE(std::string(name));
@@ -677,11 +670,11 @@ TEST_CASE("extremes: NaN and inf in a MERL file are counted as missing, in info,
                                 dir + "/m.sepal --report " + dir + "/m.json",
                             &out) == 0);
     CHECK_MESSAGE(contains(out, "input: 4374000 values; 7 NaN or inf"), out);
-    JsonValue report;
-    REQUIRE_MESSAGE(parse_json(slurp(dir + "/m.json"), &report, &err), err);
-    const JsonValue& input = member(member(report, "counts"), "input");
-    CHECK(member(input, "nonfinite").number == 7);
-    CHECK(member(input, "missing").number == double(c1.missing));
+    Json report;
+    REQUIRE_MESSAGE(read_json_file(dir + "/m.json", &report, &err), err);
+    const Json& input = member(member(report, "counts"), "input");
+    CHECK(member(input, "nonfinite") == 7);
+    CHECK(member(input, "missing") == c1.missing);
 }
 
 TEST_CASE("extremes: NaN and inf in Cornell text are refused with their count; huge values are counted") {

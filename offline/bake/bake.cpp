@@ -217,65 +217,49 @@ Factored dequantize(const AssetData& a, const Factored& like) {
 
 std::string asset_manifest(const AssetData& a, const std::string& spec, const std::string& method, int res,
                            const std::string& bake_key) {
-    JsonWriter j;
     static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"};
-    j.begin_object();
-    j.key("format").value("sepal asset 1.0");
-    if (!bake_key.empty()) j.key("bake_key").value(bake_key);
-    j.key("spec").value(spec);
-    j.key("method").value(method);
-    j.key("parameterization").value(kParams[a.material.param % 5]);
-    j.key("map").value(a.material.map == SEPAL_MAP_XY ? "xy" : "parabolic");
-    j.key("colour").value(a.material.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance");
-    j.key("resolution").value(res);
-    j.key("terms").value(int(a.material.terms));
-    j.key("ratio").begin_array();
-    for (float r : a.material.ratio) j.value(double(r));
-    j.end_array();
-    j.key("errors").begin_object();
-    j.key("float_rms").value(double(a.material.error_float));
-    j.key("quantized_rms").value(double(a.material.error_quantized));
-    j.key("quantized_relative").value(double(a.material.error_relative));
-    j.end_object();
-    j.key("textures").begin_array();
+    Json j;
+    j["format"] = "sepal asset 1.0";
+    if (!bake_key.empty()) j["bake_key"] = bake_key;
+    j["spec"] = spec;
+    j["method"] = method;
+    j["parameterization"] = kParams[a.material.param % 5];
+    j["map"] = a.material.map == SEPAL_MAP_XY ? "xy" : "parabolic";
+    j["colour"] = a.material.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance";
+    j["resolution"] = res;
+    j["terms"] = int(a.material.terms);
+    j["ratio"] = Json::array();
+    for (float r : a.material.ratio) j["ratio"].push_back(double(r));
+    j["errors"] = {{"float_rms", double(a.material.error_float)},
+                   {"quantized_rms", double(a.material.error_quantized)},
+                   {"quantized_relative", double(a.material.error_relative)}};
+    j["textures"] = Json::array();
     for (size_t i = 0; i < a.textures.size(); ++i) {
         const sepal_fmt_texture& d = a.textures[i].desc;
-        j.begin_object();
-        j.key("index").value(int(i));
-        j.key("term").value(int(d.term));
-        j.key("role").value(d.role == SEPAL_ROLE_G ? "G" : "H");
-        j.key("size").value(int(d.width));
-        j.key("levels").value(int(d.levels));
-        j.key("channels").value(int(d.channels));
-        j.key("bits").value(int(d.bits));
-        j.key("scale").begin_array();
-        for (uint32_t c = 0; c < d.channels; ++c) j.value(double(d.scale[c]));
-        j.end_array();
-        j.key("bias").begin_array();
-        for (uint32_t c = 0; c < d.channels; ++c) j.value(double(d.bias[c]));
-        j.end_array();
-        j.end_object();
+        Json t = {{"index", int(i)}, {"term", int(d.term)}, {"role", d.role == SEPAL_ROLE_G ? "G" : "H"},
+                  {"size", int(d.width)}, {"levels", int(d.levels)}, {"channels", int(d.channels)},
+                  {"bits", int(d.bits)}};
+        t["scale"] = Json::array();
+        t["bias"] = Json::array();
+        for (uint32_t c = 0; c < d.channels; ++c) {
+            t["scale"].push_back(double(d.scale[c]));
+            t["bias"].push_back(double(d.bias[c]));
+        }
+        j["textures"].push_back(std::move(t));
     }
-    j.end_array();
-    j.key("plan").begin_object();
-    j.key("doublings").value(int(a.plan.doublings));
-    j.key("peak_partial_sum").value(double(a.plan.peak_partial_sum));
-    j.key("passes").begin_array();
+    Json passes = Json::array();
     for (const sepal_fmt_pass& p : a.passes) {
-        j.begin_object();
-        j.key("op").value(pass_op_name(p.op));
-        j.key("blend").value(p.blend == SEPAL_BLEND_ADD ? "add" : "subtract");
-        if (p.tex0 != SEPAL_FMT_NO_TEXTURE) j.key("tex0").value(int(p.tex0));
-        if (p.tex1 != SEPAL_FMT_NO_TEXTURE) j.key("tex1").value(int(p.tex1));
-        j.key("color").begin_array();
-        for (float c : p.color) j.value(double(c));
-        j.end_array();
-        j.end_object();
+        Json q = {{"op", pass_op_name(p.op)}, {"blend", p.blend == SEPAL_BLEND_ADD ? "add" : "subtract"}};
+        if (p.tex0 != SEPAL_FMT_NO_TEXTURE) q["tex0"] = int(p.tex0);
+        if (p.tex1 != SEPAL_FMT_NO_TEXTURE) q["tex1"] = int(p.tex1);
+        q["color"] = Json::array();
+        for (float c : p.color) q["color"].push_back(double(c));
+        passes.push_back(std::move(q));
     }
-    j.end_array();
-    j.end_object();
-    j.end_object();
-    return j.str();
+    j["plan"] = {{"doublings", int(a.plan.doublings)},
+                 {"peak_partial_sum", double(a.plan.peak_partial_sum)},
+                 {"passes", std::move(passes)}};
+    return dump_json(j);
 }
 
 bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* err) {

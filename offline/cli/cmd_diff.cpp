@@ -2,34 +2,22 @@
 #include <cmath>
 
 #include "cli/cli.h"
+#include "cli/options.h"
 #include "util/image.h"
 
 namespace sepal {
+namespace {
 
-int cmd_diff(const std::vector<std::string>& argv, const CommandIO& io) {
-    Args args(argv, {"max-diff", "max-share", "min-psnr", "heatmap"});
+struct DiffArgs {
+    std::string a, b, heatmap;
     Tolerance tol;
-    if (args.ok() && args.has("max-diff")) args.number("max-diff", &tol.max_diff);
-    if (args.ok() && args.has("max-share")) args.number("max-share", &tol.max_share);
-    if (args.ok() && args.has("min-psnr")) args.number("min-psnr", &tol.min_psnr);
-    if (args.ok() && args.positional().size() != 2) {
-        std::fprintf(io.err, "sepal diff: expected two images, got %zu arguments\n",
-                     args.positional().size());
-        return kExitBadInput;
-    }
-    if (!args.ok()) {
-        std::fprintf(io.err, "sepal diff: %s\n", args.error().c_str());
-        return kExitBadInput;
-    }
-    if ((args.has("max-diff") && tol.max_diff < 0) || (args.has("max-share") && (tol.max_share < 0 || tol.max_share > 1)) ||
-        (args.has("min-psnr") && tol.min_psnr < 0)) {
-        std::fprintf(io.err,
-                     "sepal diff: --max-diff and --min-psnr must be >= 0, --max-share in 0..1\n");
-        return kExitBadInput;
-    }
+};
+
+int run_diff(const DiffArgs& args, const CommandIO& io) {
+    const Tolerance& tol = args.tol;
     Image a, b;
     std::string err;
-    if (!read_image(args.positional()[0], &a, &err) || !read_image(args.positional()[1], &b, &err)) {
+    if (!read_image(args.a, &a, &err) || !read_image(args.b, &b, &err)) {
         std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
         return kExitBadInput;
     }
@@ -46,14 +34,13 @@ int cmd_diff(const std::vector<std::string>& argv, const CommandIO& io) {
     std::fprintf(io.out, "max diff   %.2f (8-bit units)\n", d.max_diff);
     std::fprintf(io.out, "over %-6g %.4f%% of pixels (%lld of %lld)\n", d.threshold,
                  100.0 * d.share_over, (long long)d.pixels_over, (long long)d.pixels);
-    if (args.has("heatmap")) {
+    if (!args.heatmap.empty()) {
         const double scale = d.max_diff > 0 ? d.max_diff : 1.0;
-        if (!write_png(args.get("heatmap"), diff_heatmap(a, b, scale), &err)) {
+        if (!write_png(args.heatmap, diff_heatmap(a, b, scale), &err)) {
             std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
             return kExitBadInput;
         }
-        std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.get("heatmap").c_str(),
-                     scale);
+        std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.heatmap.c_str(), scale);
     }
     std::string why;
     if (!tolerance_holds(d, tol, &why)) {
@@ -63,5 +50,22 @@ int cmd_diff(const std::vector<std::string>& argv, const CommandIO& io) {
     std::fprintf(io.out, "PASS\n");
     return kExitOk;
 }
+
+}  // namespace
+
+CommandRun setup_diff(CLI::App& app) {
+    auto a = std::make_shared<DiffArgs>();
+    app.add_option("A", a->a, "first image (PNG or PFM)")->required();
+    app.add_option("B", a->b, "second image, the same size")->required();
+    app.add_option("--max-diff", a->tol.max_diff, "largest channel difference allowed, 8-bit units")
+        ->check(finite_range(0, 255 * 1e6));
+    app.add_option("--max-share", a->tol.max_share, "share of pixels (0..1) allowed over --max-diff")
+        ->check(finite_range(0, 1));
+    app.add_option("--min-psnr", a->tol.min_psnr, "lowest PSNR allowed, dB")->check(finite_range(0, 1e6));
+    app.add_option("--heatmap", a->heatmap, "write the per-pixel difference as a PNG");
+    return [a](const CommandIO& io) { return run_diff(*a, io); };
+}
+
+int cmd_diff(const std::vector<std::string>& args, const CommandIO& io) { return run_command("diff", args, io); }
 
 }  // namespace sepal

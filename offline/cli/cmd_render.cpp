@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "cli/cli.h"
+#include "cli/options.h"
 #include "util/io.h"
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
@@ -11,56 +12,25 @@
 
 namespace sepal {
 
-int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
+namespace {
+
+struct RenderArgs {
     sepal_ports::SceneSetup setup;
-    std::string backend = "exact", out_path, float_path, mask_text, diffuse_path, err;
+    std::string input, backend = "exact", out_path, float_path, mask_text, diffuse_path;
     bool float_target = false;
-    std::vector<std::string> positional;
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    const int argc = int(argv.size());
-    for (int i = 0; i < argc; ++i) {
-        const int used = sepal_ports::parse_scene_flag(argc, argv.data(), i, &setup, &err);
-        if (used < 0) {
-            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-            return kExitBadInput;
-        }
-        if (used > 0) {
-            i += used - 1;
-            continue;
-        }
-        const std::string a = args[size_t(i)];
-        const bool has_value = i + 1 < argc;
-        if ((a == "--backend" || a == "-o" || a == "--float" || a == "--mask" || a == "--diffuse") && !has_value) {
-            std::fprintf(io.err, "sepal render: %s needs a value\n", a.c_str());
-            return kExitBadInput;
-        }
-        if (a == "--backend") {
-            backend = args[size_t(++i)];
-        } else if (a == "-o") {
-            out_path = args[size_t(++i)];
-        } else if (a == "--float") {
-            float_path = args[size_t(++i)];
-        } else if (a == "--float-target") {
-            float_target = true;
-        } else if (a == "--mask") {
-            mask_text = args[size_t(++i)];
-        } else if (a == "--diffuse") {
-            diffuse_path = args[size_t(++i)];
-        } else if (a.size() > 1 && a[0] == '-') {
-            std::fprintf(io.err, "sepal render: unknown option %s\nscene flags:\n%s", a.c_str(),
-                         sepal_ports::scene_flags_help());
-            return kExitBadInput;
-        } else {
-            positional.push_back(a);
-        }
-    }
-    if (positional.size() != 1 || (out_path.empty() && float_path.empty())) {
-        std::fprintf(io.err,
-                     "usage: sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|"
-                     "gles2-fused-pixel|cpu [--mask LIST] [--diffuse PNG] [scene flags] -o out.png "
-                     "[--float out.pfm]\nscene flags:\n%s",
-                     sepal_ports::scene_flags_help());
+};
+
+int run_render(RenderArgs& args, const CommandIO& io) {
+    sepal_ports::SceneSetup& setup = args.setup;
+    const std::string& backend = args.backend;
+    const std::string& out_path = args.out_path;
+    const std::string& float_path = args.float_path;
+    const std::string& mask_text = args.mask_text;
+    const std::string& diffuse_path = args.diffuse_path;
+    const bool float_target = args.float_target;
+    std::string err;
+    if (out_path.empty() && float_path.empty()) {
+        std::fprintf(io.err, "sepal render: give -o out.png or --float out.pfm\n");
         return kExitBadInput;
     }
     sepal_ports::GlRenderOptions opt;
@@ -77,11 +47,11 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         if (float_target && opt.gles_version != 2) err = "--float-target needs a gles2 backend";
         if (!float_path.empty() && backend != "cpu" && !float_target)
             err = "--float: the GL backends render 8-bit images (add --float-target on gles2 backends)";
-        if (err.empty() && file_extension(positional[0]) != "sepal")
-            err = "backend " + backend + " renders a baked asset (.sepal); '" + positional[0] + "' is not one";
+        if (err.empty() && file_extension(args.input) != "sepal")
+            err = "backend " + backend + " renders a baked asset (.sepal); '" + args.input + "' is not one";
         if (!err.empty() || !sepal_ports::parse_mask(mask_text, &opt.mask, &err) ||
             !sepal_ports::load_scene_mesh(&setup, &err) ||
-            !sepal_ports::read_asset_file(positional[0], &bytes, &err)) {
+            !sepal_ports::read_asset_file(args.input, &bytes, &err)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
@@ -136,7 +106,7 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal render: --mask and --diffuse apply to the baked-asset backends only\n");
         return kExitBadInput;
     }
-    std::unique_ptr<Brdf> brdf = make_brdf(positional[0], &err);
+    std::unique_ptr<Brdf> brdf = make_brdf(args.input, &err);
     if (!brdf || !sepal_ports::load_scene_mesh(&setup, &err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
@@ -167,5 +137,28 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
     return kExitOk;
 }
+
+}  // namespace
+
+CommandRun setup_render(CLI::App& app) {
+    auto a = std::make_shared<RenderArgs>();
+    app.add_option("INPUT", a->input, "a BRDF spec or measured file (exact backend), or a baked .sepal asset")
+        ->required();
+    app.add_option("--backend", a->backend,
+                   "exact: the BRDF per pixel on the CPU; gles1, gles2, gles2-fused, gles2-fused-pixel: a baked "
+                   "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend")
+        ->check(CLI::IsMember({"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu"}))
+        ->capture_default_str();
+    app.add_option("-o,--output", a->out_path, "the PNG to write (8-bit, clipped to [0,1])");
+    app.add_option("--float", a->float_path, "also write linear floats as PFM (exact, cpu; GL with --float-target)");
+    app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");
+    app.add_option("--mask", a->mask_text,
+                   "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot (comma-separated)");
+    app.add_option("--diffuse", a->diffuse_path, "a diffuse texture map (PNG, power-of-two sides) modulating the material");
+    sepal_ports::add_scene_options(app, &a->setup);
+    return [a](const CommandIO& io) { return run_render(*a, io); };
+}
+
+int cmd_render(const std::vector<std::string>& args, const CommandIO& io) { return run_command("render", args, io); }
 
 }  // namespace sepal

@@ -10,16 +10,20 @@
 //                                       direction towards the light
 //   --background R,G,B      linear RGB (default 0,0,0)
 //
-// Usage:
+// Usage (CLI11):
 //   SceneSetup s;
-//   for (i...) { int used = parse_scene_flag(argc, argv, i, &s, &err); if (used < 0) fail;
-//                if (used > 0) { i += used - 1; continue; } ... other flags ... }
+//   CLI::App app;  add_scene_options(app, &s);  ... other flags ...;  app.parse(argc, argv);
 //   if (!load_scene_mesh(&s, &err)) fail;
+// or by hand: for (i...) { int used = parse_scene_flag(argc, argv, i, &s, &err); ... }
 #pragma once
 #include <string>
 #include <vector>
 
 #include "sepal/sepal_scene.h"
+
+namespace CLI {
+class App;
+}
 
 namespace sepal_ports {
 
@@ -43,7 +47,8 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
 bool load_scene_mesh(SceneSetup* s, std::string* err);
 // Reads a whole file, refusing one larger than max_bytes (used for OBJ meshes and assets).
 bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<uint8_t>* out, std::string* err);
-// One line per flag, for usage messages.
-const char* scene_flags_help();
+// Declares the scene flags on a CLI11 parser (in a group "Scene"); values are checked as
+// they are parsed (a bad value is a CLI::ValidationError naming the flag).
+void add_scene_options(CLI::App& app, SceneSetup* s);
 
 }  // namespace sepal_ports

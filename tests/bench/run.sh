@@ -5,6 +5,6 @@ set -e
 build="$1"; out="$2"; bin="$build/bin"
 mkdir -p "$out"
 "$bin/sepal-bench-factor" all --out "$out"
-"$bin/sepal-bench-runtime" "$out" "$build"
-"$bin/sepal-bench-extremes" "$out"
+"$bin/sepal-bench-runtime" --out "$out" --build "$build"
+"$bin/sepal-bench-extremes" --out "$out"
 "$bin/sepal-bench-tradeoff" --out "$out"

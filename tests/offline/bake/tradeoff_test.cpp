@@ -12,7 +12,7 @@
 #include "brdf/brdf.h"
 #include "bake/cost_model.h"
 #include "util/io.h"
-#include "util/json_read.h"
+#include "util/json.h"
 #include "test_util.h"
 
 namespace {
@@ -180,20 +180,16 @@ TEST_CASE("sepal bake --timings: the measured model decides the pick, and the re
     REQUIRE(sepal_test::run(base + "--timings " + dir + "/bytes.json -o " + dir + "/b.sepal --report " + dir + "/b.json",
                             &out) == 0);
     auto winner = [&](const std::string& report) {
-        std::vector<uint8_t> bytes;
         std::string err;
-        REQUIRE_MESSAGE(sepal::read_file(report, &bytes, &err), err);
-        sepal::JsonValue v;
-        REQUIRE_MESSAGE(sepal::parse_json(std::string(bytes.begin(), bytes.end()), &v, &err), err);
-        const sepal::JsonValue* w = v.find("winner");
-        const sepal::JsonValue* cands = v.find("candidates");
-        REQUIRE(w);
-        REQUIRE(cands);
-        const sepal::JsonValue& c = cands->array.at(size_t(w->number));
-        CHECK(c.find("on_front")->boolean);
-        CHECK(c.find("ms_predicted")->number > 0);
-        CHECK(v.find("cost_model")->find("device")->string == "test");
-        return std::make_pair(int(c.find("passes")->number), int(c.find("bytes")->number));
+        sepal::Json v;
+        REQUIRE_MESSAGE(sepal::read_json_file(report, &v, &err), err);
+        REQUIRE(v.contains("winner"));
+        REQUIRE(v.contains("candidates"));
+        const sepal::Json& c = v["candidates"].at(v["winner"].get<size_t>());
+        CHECK(c["on_front"] == true);
+        CHECK(c["ms_predicted"].get<double>() > 0);
+        CHECK(v["cost_model"]["device"] == "test");
+        return std::make_pair(c["passes"].get<int>(), c["bytes"].get<int>());
     };
     const auto p = winner(dir + "/p.json"), b = winner(dir + "/b.json");
     CHECK(p.first < b.first);   // fewer passes when passes are dear
