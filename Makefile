@@ -54,6 +54,8 @@ RUNTIME_SRC  := $(wildcard runtime/src/*.cpp)
 SEPAL_MAIN   := offline/cli/sepal_main.cpp
 OFFLINE_SRC  := $(filter-out $(SEPAL_MAIN),$(call rwildcard,offline,*.cpp))
 HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
+# stb_image + stb_image_write, compiled once for offline/ and ports/ (third_party/stb/stb.cpp).
+STB_SRC      := third_party/stb/stb.cpp
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(filter-out tests/bench/%,$(call rwildcard,tests,*.cpp))
 # Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
@@ -68,6 +70,7 @@ obj = $(patsubst %.cpp,$(BUILD)/obj/%.o,$(1))
 RUNTIME_OBJ  := $(call obj,$(RUNTIME_SRC))
 OFFLINE_OBJ  := $(call obj,$(OFFLINE_SRC))
 HEADLESS_OBJ := $(call obj,$(HEADLESS_SRC))
+STB_OBJ      := $(call obj,$(STB_SRC))
 TEST_OBJ     := $(call obj,$(TEST_SRC))
 BENCH_OBJ    := $(call obj,$(BENCH_SRC))
 BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
@@ -75,6 +78,7 @@ BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
 LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
+LIB_STB      := $(BUILD)/lib/libsepal_stb.a
 BIN_SEPAL    := $(BUILD)/bin/sepal
 BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
@@ -167,25 +171,26 @@ $(BUILD)/lib/lib%.a:
 $(LIB_RUNTIME): $(RUNTIME_OBJ)
 $(LIB_OFFLINE): $(OFFLINE_OBJ)
 $(LIB_HEADLESS): $(HEADLESS_OBJ)
+$(LIB_STB): $(STB_OBJ)
 
-$(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+$(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
 
 # sepal-view: the runtime and the ports only, no offline code.
-$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_HEADLESS) $(LIB_RUNTIME)
+$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
 
-$(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SEPAL)
+$(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME) $(BIN_SEPAL)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
+	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME) $(LIBS) -o $@
 
 # sepal-bench-<name>: one program per tests/bench/<name>.cpp (`make bench`).
-$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@

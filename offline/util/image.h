@@ -39,6 +39,13 @@ bool read_pfm(const std::string& path, Image* out, std::string* err);
 bool write_png(const std::string& path, const Image& img, std::string* err,
                int64_t* clipped = nullptr);
 bool write_pfm(const std::string& path, const Image& img, std::string* err);
+// 16-bit PNG: channels 1 (grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA); samples row by row,
+// top row first, interleaved. read_png16 reads any PNG into 16-bit samples (8-bit ones
+// scaled by 257).
+bool write_png16(const std::string& path, int width, int height, int channels, const std::vector<uint16_t>& samples,
+                 std::string* err);
+bool read_png16(const std::string& path, int* width, int* height, int* channels, std::vector<uint16_t>* samples,
+                std::string* err);
 // Writes by extension: .png or .pfm.
 bool write_image(const std::string& path, const Image& img, std::string* err);
 
@@ -75,5 +82,8 @@ struct Tolerance {
 bool tolerance_holds(const ImageDiff& d, const Tolerance& t, std::string* why);
 // Threshold the diff should be computed with for this tolerance.
 double tolerance_threshold(const Tolerance& t);
+// The tolerance in words ("at most 1% of pixels over 10 (8-bit units); PSNR >= 40 dB"),
+// or "" when none of its checks is set.
+std::string describe_tolerance(const Tolerance& t);
 
 }  // namespace sepal

@@ -11,16 +11,8 @@
 
 #include "headless/sepal_headless.h"
 
-// stb_image reads diffuse maps (the ports' PNG decoder; offline/ has its own copy).
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
+// stb_image reads diffuse maps (compiled once: third_party/stb/stb.cpp).
 #include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace sepal_ports {
 
@@ -70,7 +62,9 @@ bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
 
 bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err) {
     int w = 0, h = 0, c = 0;
-    unsigned char* px = stbi_load(path.c_str(), &w, &h, &c, 4);
+    std::vector<uint8_t> bytes;
+    if (!read_bounded_file(path, size_t(64) << 20, &bytes, err)) return false;
+    unsigned char* px = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 4);
     if (!px) {
         *err = path + ": cannot read PNG: " + stbi_failure_reason();
         return false;
