@@ -382,7 +382,7 @@ TEST_CASE("extremes: a degenerate frame in sampling is counted (rusinkiewicz at 
     o.res = 1;
     CHECK(factor_ok(*lambert, o).frame_fallbacks == 0);  // h = n is no trouble for eq. 6
     // The bake reports the winner's count.
-    BakeOptions b = small_bake({Param::Rusinkiewicz}, {1}, {Method::SVD}, {1});
+    BakeOptions b = small_bake({Param::Rusinkiewicz}, {1}, {Method::WSVD}, {1});
     const BakeResult r = bake_ok(*lambert, b);
     CHECK(r.counts.frame_fallbacks == 1);
     bool noted = false;
@@ -481,7 +481,7 @@ TEST_CASE("extremes: constant BRDFs of 1e4 and 1e-8 bake exactly, with the doubl
         const ScaledBrdf f(*lambert, value * kPi);
         for (int res : {1, 16}) {
             CAPTURE(res);
-            BakeOptions o = small_bake({Param::GsHalf, Param::IncidentView}, {res}, {Method::SVD, Method::NMF}, {1});
+            BakeOptions o = small_bake({Param::GsHalf, Param::IncidentView}, {res}, {Method::WSVD, Method::NMF}, {1});
             o.max_error = 1e-6;
             const BakeResult r = bake_ok(f, o);
             // A constant is rank 1 and a constant texture channel is stored exactly (code
@@ -508,7 +508,7 @@ TEST_CASE("extremes: peaks of 1e4 and values of 1e-8 cost exactly what f costs (
     // of two, so the relative errors must equal f's to rounding (1e-9) and the codes of
     // every texture must be the same bytes. Any absolute epsilon in the pipeline breaks it.
     std::unique_ptr<Brdf> blinn = brdf("blinn:n=20");
-    const BakeOptions o = small_bake({Param::GsHalf}, {16}, {Method::SVD, Method::NMF}, {1, 2});
+    const BakeOptions o = small_bake({Param::GsHalf}, {16}, {Method::WSVD, Method::NMF}, {1, 2});
     const BakeResult base = bake_ok(*blinn, o);
     for (int e : {14, -26}) {
         CAPTURE(e);
@@ -556,7 +556,7 @@ TEST_CASE("extremes: an all-zero BRDF bakes to a valid asset that renders black,
     std::unique_ptr<Brdf> black = brdf("lambert:rho=0");
     // Every method at 1x1 and 16x16, 1 and 2 terms (2 at 1x1 is refused for rank alone).
     const BakeOptions o = small_bake({Param::GsHalf, Param::IncidentView}, {1, 16},
-                                     {Method::SVD, Method::ND, Method::NMF, Method::ACLS}, {1, 2});
+                                     {Method::WSVD, Method::ND, Method::NMF, Method::ACLS}, {1, 2});
     const BakeResult r = bake_ok(*black, o);
     for (const BakeCandidate& c : r.candidates) {
         CAPTURE(c.label());
@@ -753,7 +753,7 @@ TEST_CASE("extremes: a BRDF returning NaN is refused by the bake, naming where")
     sepal_test::NanBrdf f;
     BakeResult r;
     std::string err;
-    CHECK_FALSE(bake(f, small_bake({Param::GsHalf}, {16}, {Method::SVD}, {1}), &r, &err));
+    CHECK_FALSE(bake(f, small_bake({Param::GsHalf}, {16}, {Method::WSVD}, {1}), &r, &err));
     // The first place it meets one: the error metric's pairs (before any factoring).
     CHECK_MESSAGE(contains(err, "the BRDF returned a non-finite value"), err);
     CHECK_MESSAGE(contains(err, "at wi = ("), err);
@@ -820,7 +820,7 @@ TEST_CASE("extremes: the bake counts clamps and fallbacks exactly, the same for 
     for (const std::string& n : s.notes) noted = noted || contains(n, "negative matrix entries clamped");
     CHECK(noted);
     // The signed SVD keeps them (no clamp).
-    CHECK(bake_ok(signed_f, small_bake({Param::GsHalf}, {16}, {Method::SVD}, {1})).counts.negative_clamped == 0);
+    CHECK(bake_ok(signed_f, small_bake({Param::GsHalf}, {16}, {Method::WSVD}, {1})).counts.negative_clamped == 0);
 
     // Solver fallbacks: NMF on all zeros drives every factor entry to 0 and then has no
     // data left to scale by; each such update is counted. Lambert has data everywhere.
@@ -828,7 +828,7 @@ TEST_CASE("extremes: the bake counts clamps and fallbacks exactly, the same for 
     const BakeOptions nmf = small_bake({Param::GsHalf}, {16}, {Method::NMF}, {1});
     CHECK(bake_ok(*black, nmf).counts.solver_fallbacks > 0);
     CHECK(bake_ok(*grey, nmf).counts.solver_fallbacks == 0);
-    const BakeResult g = bake_ok(*grey, small_bake({Param::GsHalf}, {16}, {Method::SVD}, {1}));
+    const BakeResult g = bake_ok(*grey, small_bake({Param::GsHalf}, {16}, {Method::WSVD}, {1}));
     CHECK(g.counts.capped == 0);
     CHECK(g.counts.negative_clamped == 0);
     CHECK(g.counts.frame_fallbacks == 0);
@@ -878,11 +878,11 @@ TEST_CASE("extremes: 1x1 factors are constants: Lambert is exact at 1 term for e
     CHECK_FALSE(factor_brdf(*lambert, o, &r, &err));
     CHECK_MESSAGE(contains(err, "1 x 1 sample matrix can have at --res 1 (at most 1)"), err);
     // The bake takes 1 (a power of two) and refuses 0, 3 and 512 with the range.
-    const BakeResult b = bake_ok(*lambert, small_bake({Param::GsHalf}, {1, 2}, {Method::SVD}, {1}));
+    const BakeResult b = bake_ok(*lambert, small_bake({Param::GsHalf}, {1, 2}, {Method::WSVD}, {1}));
     CHECK(b.asset.textures[0].desc.width == 1u);
     for (int res : {0, 3, 512}) {
         BakeResult x;
-        CHECK_FALSE(bake(*lambert, small_bake({Param::GsHalf}, {res}, {Method::SVD}, {1}), &x, &err));
+        CHECK_FALSE(bake(*lambert, small_bake({Param::GsHalf}, {res}, {Method::WSVD}, {1}), &x, &err));
         CHECK_MESSAGE(contains(err, "a power of two in 1..256"), err);
     }
     o.res = 257;
@@ -906,7 +906,7 @@ TEST_CASE("extremes: 256x256 factors: svd, nmf and acls refuse naming nd; 256 te
     CHECK(validate_factor_options(o, &err));
     CHECK(estimate_memory_mb(o) < FactorOptions().max_memory_mb);  // nd fits the default limit
     BakeResult br;
-    CHECK_FALSE(bake(*blinn, small_bake({Param::GsHalf}, {256}, {Method::SVD}, {1}), &br, &err));
+    CHECK_FALSE(bake(*blinn, small_bake({Param::GsHalf}, {256}, {Method::WSVD}, {1}), &br, &err));
     CHECK_MESSAGE(contains(err, "every candidate failed"), err);
     CHECK_MESSAGE(contains(err, "use --method nd"), err);
 
@@ -1403,7 +1403,7 @@ TEST_CASE("extremes: a bake whose best candidate misses half of f says so in a n
     sepal::BakeOptions o;
     o.params = {sepal::Param::GsHalf};
     o.resolutions = {16};
-    o.methods = {sepal::Method::SVD};
+    o.methods = {sepal::Method::WSVD};
     o.terms = {1};
     sepal::BakeResult r;
     REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);

@@ -8,6 +8,7 @@
 #include <tuple>
 #include <unistd.h>
 
+#include "brdf/brdf_capped.h"
 #include "factor/factor_error.h"
 #include "util/json.h"
 #include "bake/plan.h"
@@ -30,34 +31,6 @@ const char* pass_op_name(uint16_t op) {
     return op == SEPAL_OP_PRODUCT ? "product" : op == SEPAL_OP_TEXTURE ? "texture" : "constant";
 }
 
-// f clamped at a cap, per channel; counts how often (thread-safe: factoring is parallel;
-// integer totals do not depend on the order).
-class CappedBrdf : public Brdf {
-  public:
-    CappedBrdf(const Brdf& f, double cap) : f_(f), cap_(cap) {}
-    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override {
-        glm::dvec3 v = f_.eval(wi, wo);
-        ++calls_;
-        if (v.x > cap_ || v.y > cap_ || v.z > cap_) {
-            ++capped_;
-            v = glm::dvec3(std::min(v.x, cap_), std::min(v.y, cap_), std::min(v.z, cap_));
-        }
-        return v;
-    }
-    std::string spec() const override { return f_.spec(); }
-    std::string model() const override { return f_.model(); }
-    std::string info() const override { return f_.info(); }
-    bool isotropic() const override { return f_.isotropic(); }
-    double share() const { return calls_ ? double(capped_) / double(calls_) : 0.0; }
-    int64_t capped() const { return capped_; }
-    InputCounts input_counts() const override { return f_.input_counts(); }
-
-  private:
-    const Brdf& f_;
-    double cap_;
-    mutable std::atomic<int64_t> calls_{0}, capped_{0};
-};
-
 FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int res, Method method, int terms) {
     FactorOptions fo;
     fo.param = param;
@@ -69,7 +42,6 @@ FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int
     fo.supersample = o.supersample;
     fo.threads = o.threads;
     fo.max_memory_mb = o.max_memory_mb;
-    fo.svd_weighted = o.svd_weighted;
     fo.matrix_error = false;  // unused here; for nd it would cost one more sampling pass
     return fo;
 }

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "bake/bake.h"
+#include "bake/export.h"
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "util/image.h"
@@ -14,27 +15,6 @@
 
 namespace sepal {
 namespace {
-
-// One PNG per texture (level 0; signed values shown through their scale and bias as
-// stored) and the manifest, for people and tools.
-bool export_asset(const AssetData& a, const std::string& dir, std::string* err) {
-    if (!make_dirs(dir, err)) return false;
-    for (size_t i = 0; i < a.textures.size(); ++i) {
-        const AssetTexture& t = a.textures[i];
-        Image img(int(t.desc.width), int(t.desc.height), int(t.desc.channels));
-        const size_t count = img.data.size();
-        for (size_t k = 0; k < count; ++k) img.data[k] = float(texel_q(t, k));
-        // Image rows go top first; texture row 0 is v = 0: flip so v grows upwards.
-        Image flipped = img;
-        const size_t row = size_t(img.width) * img.channels;
-        for (int y = 0; y < img.height; ++y)
-            std::copy(img.data.begin() + long(size_t(img.height - 1 - y) * row),
-                      img.data.begin() + long(size_t(img.height - y) * row), flipped.data.begin() + long(size_t(y) * row));
-        const std::string name = dir + "/term" + std::to_string(t.desc.term) + (t.desc.role == SEPAL_ROLE_G ? "_G" : "_H") + ".png";
-        if (!write_png(name, flipped, err)) return false;
-    }
-    return write_file_atomic(dir + "/manifest.json", a.meta.data(), a.meta.size(), err);
-}
 
 // BakeResult::counts and notes: every clamp or fallback, zeros included (never silent).
 void add_counts_json(const BakeResult& r, Json* j) {
@@ -95,6 +75,15 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     if (!args.timings.empty() ? !read_cost_model(args.timings, args.backend, &o.cost, &err)
                               : !default_cost_model(args.backend, &o.cost, &err))
         return bad(err);
+    // A per-pixel-only parameterization baked for a per-vertex backend would write an asset
+    // that backend refuses at load: refuse it here, before any factoring.
+    const bool per_vertex = args.backend == "gles1" || args.backend == "gles2" || args.backend == "gles2-fused";
+    for (Param p : o.params)
+        if (per_vertex && !hardware_compatible(p))
+            return bad(std::string("--param ") + param_name(p) + " needs per-pixel evaluation, which --backend " +
+                       args.backend + (args.backend == "gles1" ? " (the default)" : "") +
+                       " does not do: it draws iv, gs-half or vh. Bake it with --backend cpu (the asset then "
+                       "renders on the cpu and gles2-fused-pixel backends), or choose another --param");
     o.mips = !args.no_mips;
     o.progress = true;  // shown only when stderr is a terminal
     std::unique_ptr<Brdf> brdf = make_brdf(args.spec, &err);
@@ -204,7 +193,7 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--max-memory", o.max_memory_mb, "refuse factorizations above this estimate, MB")
         ->check(positive())->capture_default_str();
     app.add_option("--report", a->report, "write every candidate, the budgets and the counts as JSON");
-    app.add_option("--export", a->export_dir, "write the textures as PNG and the manifest as JSON into DIR");
+    app.add_option("--export", a->export_dir, "write every texture as PNG per MIP level (16-bit for --bits 16), level 0 as PFM, and manifest.json into DIR");
     return [a](const CommandIO& io) { return run_bake(*a, io); };
 }
 

@@ -21,9 +21,12 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
         return kExitBadInput;
     }
+    // PASS and FAIL only against thresholds the user stated, and the thresholds are printed
+    // with the verdict; without any, diff reports the numbers and judges nothing.
+    const std::string stated = describe_tolerance(tol);
     const ImageDiff d = diff_images(a, b, tolerance_threshold(tol));
     if (!d.comparable) {
-        std::fprintf(io.out, "images differ: %s\nFAIL\n", d.reason.c_str());
+        std::fprintf(io.out, "images differ: %s\n%s", d.reason.c_str(), stated.empty() ? "" : "FAIL\n");
         return kExitCheckFailed;
     }
     std::fprintf(io.out, "size       %dx%d\n", a.width, a.height);
@@ -42,6 +45,12 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
         }
         std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.heatmap.c_str(), scale);
     }
+    if (stated.empty()) {
+        std::fprintf(io.out, "tolerance  none given: no PASS or FAIL (state one with --max-diff, --max-share, "
+                             "--min-psnr)\n");
+        return kExitOk;
+    }
+    std::fprintf(io.out, "tolerance  %s\n", stated.c_str());
     std::string why;
     if (!tolerance_holds(d, tol, &why)) {
         std::fprintf(io.out, "FAIL: %s\n", why.c_str());

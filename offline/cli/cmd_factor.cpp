@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include <glm/common.hpp>
-
 #include "brdf/brdf.h"
+#include "brdf/brdf_capped.h"
+#include "bake/export.h"
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "factor/factor.h"
@@ -22,75 +22,10 @@ namespace sepal {
 namespace {
 struct FactorArgs {
     std::string spec, report, plot, export_dir;
+    double cap = -1;
     bool p_given = false;
     FactorOptions o;
 };
-
-// False colour: a perceptual-ish ramp for non-negative factors, blue-white-red for signed.
-glm::dvec3 ramp(double t) {
-    static const glm::dvec3 stops[] = {{0.05, 0.03, 0.20}, {0.35, 0.07, 0.50}, {0.75, 0.20, 0.35},
-                                       {0.98, 0.55, 0.10}, {0.99, 0.95, 0.60}};
-    t = std::clamp(t, 0.0, 1.0) * 4;
-    const int i = std::min(3, int(t));
-    return glm::mix(stops[i], stops[i + 1], t - i);
-}
-glm::dvec3 diverging(double t) {  // t in [-1, 1]
-    t = std::clamp(t, -1.0, 1.0);
-    const glm::dvec3 neg(0.15, 0.35, 0.80), mid(0.97), pos(0.80, 0.15, 0.12);
-    return t < 0 ? glm::mix(mid, neg, -t) : glm::mix(mid, pos, t);
-}
-
-// One panel per channel, side by side, scaled up to about 256 pixels; texels outside the
-// map's valid disk (filled from neighbours) are shown dimmed.
-Image false_colour(const FactorTexture& t, const std::vector<uint8_t>& valid) {
-    const int scale = std::max(1, 256 / t.n), side = t.n * scale, gap = 4;
-    Image img(t.channels * side + (t.channels - 1) * gap, side, 3);
-    std::fill(img.data.begin(), img.data.end(), 1.0f);
-    double lo = 0, hi = 0;
-    for (float v : t.data) lo = std::min(lo, double(v)), hi = std::max(hi, double(v));
-    const bool signed_ = lo < 0;
-    const double range = std::max(std::max(-lo, hi), 1e-30);
-    for (int c = 0; c < t.channels; ++c)
-        for (int j = 0; j < t.n; ++j)
-            for (int i = 0; i < t.n; ++i) {
-                const double v = t.at(i, j, c);
-                glm::dvec3 col = signed_ ? diverging(v / range) : ramp(v / range);
-                if (!valid[size_t(j) * t.n + i]) col = glm::mix(col, glm::dvec3(0.5), 0.6);
-                for (int y = 0; y < scale; ++y)
-                    for (int x = 0; x < scale; ++x)
-                        for (int k = 0; k < 3; ++k)
-                            img.at(c * (side + gap) + i * scale + x, j * scale + y, k) = float(col[k]);
-            }
-    return img;
-}
-
-bool export_factors(const std::string& dir, const Factored& f, std::string* err) {
-    if (!make_dirs(dir, err)) return false;
-    const std::vector<uint8_t> vg = valid_texels(f.param, f.map, 0, f.n);
-    const std::vector<uint8_t> vh = valid_texels(f.param, f.map, 1, f.n);
-    for (int k = 0; k < f.term_count(); ++k)
-        for (int side = 0; side < 2; ++side) {
-            const FactorTexture& t = side == 0 ? f.terms[size_t(k)].g : f.terms[size_t(k)].h;
-            const std::string base = dir + "/" + (side == 0 ? "g" : "h") + std::to_string(k + 1);
-            if (!write_png(base + ".png", false_colour(t, side == 0 ? vg : vh), err)) return false;
-            Image raw(t.n, t.n, t.channels);
-            raw.data = t.data;
-            if (!write_pfm(base + ".pfm", raw, err)) return false;
-        }
-    const Json j = {{"source", f.source},
-                    {"param", param_name(f.param)},
-                    {"map", f.param == Param::ElevAzim ? "angles" : map_name(f.map)},
-                    {"colour", colour_name(f.colour)},
-                    {"method", f.method},
-                    {"n", f.n},
-                    {"channels", f.channels},
-                    {"terms", f.term_count()},
-                    {"non_negative", f.non_negative()},
-                    {"ratio", {f.ratio.x, f.ratio.y, f.ratio.z}},
-                    {"layout", "row j = v, texel (i, j) centred at ((i + 0.5)/n, (j + 0.5)/n); "
-                               "PNG and PFM rows are texture rows in that order"}};
-    return write_json_file(dir + "/factors.json", j, err);
-}
 
 Json report(const std::string& spec, const FactorOptions& o, const FactorResult& r,
             const std::vector<TermError>& errors, const ErrorEvaluator& ev) {
@@ -143,7 +78,8 @@ Json report(const std::string& spec, const FactorOptions& o, const FactorResult&
 int run_factor(FactorArgs& args, const CommandIO& io) {
     FactorOptions& o = args.o;
     std::string err;
-    if (o.svd_weighted && o.method != Method::SVD) err = "--svd-weighted needs --method svd";
+    if (o.svd_weighted && o.method != Method::SVD && o.method != Method::WSVD)
+        err = "--svd-weighted needs --method svd (it makes it wsvd)";
     if (args.p_given && o.method != Method::ND) err = "--p needs --method nd";
     if (!err.empty() || !validate_factor_options(o, &err)) {
         std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
@@ -156,8 +92,10 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
         return kExitBadInput;
     }
+    // --cap as in bake: the factors fit the capped f, the error is measured against f itself.
+    const CappedBrdf capped(*brdf, args.cap > 0 ? args.cap : INFINITY);
     FactorResult r;
-    if (!factor_brdf(*brdf, o, &r, &err)) {
+    if (!factor_brdf(args.cap > 0 ? static_cast<const Brdf&>(capped) : *brdf, o, &r, &err)) {
         std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
         return kExitBadInput;
     }
@@ -181,6 +119,9 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
                      r.factored.ratio.y, r.factored.ratio.z);
     std::fprintf(io.out, "  matrix %d x %d, about %.0f MB; sampled in %.2f s, factored in %.2f s\n",
                  r.rows, r.cols, r.memory_mb, r.sample_seconds, r.factor_seconds);
+    if (args.cap > 0)
+        std::fprintf(io.out, "  cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", args.cap,
+                     100.0 * capped.share());
     for (const std::string& n : r.notes) std::fprintf(io.out, "  note: %s\n", n.c_str());
     std::fprintf(io.out,
                  "  error: cosine-weighted RMS of the luminance over %d Monte Carlo pairs "
@@ -193,7 +134,10 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
                      t.e.relative, t.e.dense_rms, t.e.dense_relative, t.matrix_rms);
 
     if (!args.report.empty()) {
-        if (!write_json_file(args.report, report(spec, o, r, errors, ev), &err)) {
+        Json j = report(spec, o, r, errors, ev);
+        j["options"]["cap"] = args.cap > 0 ? Json(args.cap) : Json(nullptr);
+        j["capped_share"] = capped.share();
+        if (!write_json_file(args.report, j, &err)) {
             std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
             return kExitBadInput;
         }
@@ -215,7 +159,7 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
             return kExitBadInput;
         }
     }
-    if (!args.export_dir.empty() && !export_factors(args.export_dir, r.factored, &err)) {
+    if (!args.export_dir.empty() && !export_factored(r.factored, args.export_dir, &err)) {
         std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
         return kExitBadInput;
     }
@@ -240,7 +184,7 @@ CommandRun setup_factor(CLI::App& app) {
     app.add_option("--supersample", o.supersample, "S x S sub-samples per texel of each factor")
         ->check(CLI::Range(1, 4))->capture_default_str();
     CLI::Option* p = app.add_option("--p", o.nd_p, "nd: the p-norm")->check(finite_range(1, 16))->capture_default_str();
-    app.add_flag("--svd-weighted", o.svd_weighted, "svd: fit valid entries by their weight (per term count)");
+    app.add_flag("--svd-weighted", o.svd_weighted, "svd: fit valid entries by their weight (per term count); the same as --method wsvd");
     app.add_option("--horizon-weight", o.horizon_weight,
                    "weight of entries wholly below the horizon in weighted fits (nmf, acls, --svd-weighted)")
         ->check(finite_range(0, 1))->capture_default_str();
@@ -250,13 +194,15 @@ CommandRun setup_factor(CLI::App& app) {
         ->check(CLI::Range(0, 100000));
     app.add_option("--tolerance", o.tolerance, "nmf/acls/weighted svd: stop when the error falls by less")
         ->check(finite_range(0, 1));
+    app.add_option("--cap", a->cap, "clamp f above this value per steradian before factoring (as sepal bake)")
+        ->check(positive());
     app.add_option("--max-memory", o.max_memory_mb, "refuse matrix methods above this estimate, MB")
         ->check(positive())->capture_default_str();
     app.add_option("--threads", o.threads, "worker threads, 0 = all cores (results do not depend on it)")
         ->check(CLI::Range(0, 256))->capture_default_str();
     app.add_option("--report", a->report, "write every option, the errors and timings as JSON");
     app.add_option("--plot", a->plot, "write the error against the number of terms as a plot");
-    app.add_option("--export", a->export_dir, "write the factors: g<k>.png / h<k>.png in false colour, .pfm floats");
+    app.add_option("--export", a->export_dir, "write every factor as 16-bit PNG codes and PFM floats, and manifest.json, into DIR (the layout of sepal bake --export)");
     return [a, p](const CommandIO& io) {
         a->p_given = p->count() > 0;
         return run_factor(*a, io);

@@ -1,12 +1,14 @@
 // sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu
 //   [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
 #include <chrono>
+#include <memory>
 #include <cstring>
 
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "util/io.h"
 #include "reference/render_exact.h"
+#include "sepal/sepal_format.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 
@@ -16,12 +18,53 @@ namespace {
 
 struct RenderArgs {
     sepal_ports::SceneSetup setup;
-    std::string input, backend = "exact", out_path, float_path, mask_text, diffuse_path;
+    std::string input, backend, out_path, float_path, mask_text, diffuse_path;
     bool float_target = false;
 };
 
+// Without --backend: a BRDF renders exactly; an asset on what it was baked for, GL ES 1.1,
+// or the CPU backend when its parameterization needs per-pixel evaluation (gles1 refuses it).
+bool default_backend(const std::string& input, std::string* backend, std::string* why, std::string* err) {
+    if (file_extension(input) != "sepal") {
+        *backend = "exact";
+        *why = "the default for a BRDF";
+        return true;
+    }
+    std::vector<uint8_t> bytes;
+    if (!sepal_ports::read_asset_file(input, &bytes, err)) return false;
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e{};
+    if (sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) != SEPAL_OK) {
+        *err = input + ": not a valid asset: " + e.message;
+        return false;
+    }
+    const uint32_t p = asset->material.param;
+    const bool per_vertex = p == SEPAL_PARAM_IV || p == SEPAL_PARAM_GS_HALF || p == SEPAL_PARAM_VH;
+    *backend = per_vertex ? "gles1" : "cpu";
+    *why = per_vertex ? "the default for an asset" : "its parameterization needs per-pixel evaluation, which gles1 lacks";
+    return true;
+}
+
 int run_render(RenderArgs& args, const CommandIO& io) {
     sepal_ports::SceneSetup& setup = args.setup;
+    std::string chosen_why;
+    if (args.backend.empty()) {
+        std::string err;
+        if (!default_backend(args.input, &args.backend, &chosen_why, &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        if (args.backend != "exact")  // an asset: say which of several backends it got
+            std::fprintf(io.out, "backend    %s: %s (--backend picks another)\n", args.backend.c_str(),
+                         chosen_why.c_str());
+    } else if (args.backend == "exact" && file_extension(args.input) == "sepal") {
+        std::fprintf(io.err,
+                     "sepal render: %s is a baked asset; --backend exact renders a BRDF spec or measured file. "
+                     "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu) or leave "
+                     "--backend out\n",
+                     args.input.c_str());
+        return kExitBadInput;
+    }
     const std::string& backend = args.backend;
     const std::string& out_path = args.out_path;
     const std::string& float_path = args.float_path;
@@ -146,9 +189,9 @@ CommandRun setup_render(CLI::App& app) {
         ->required();
     app.add_option("--backend", a->backend,
                    "exact: the BRDF per pixel on the CPU; gles1, gles2, gles2-fused, gles2-fused-pixel: a baked "
-                   "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend")
-        ->check(CLI::IsMember({"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu"}))
-        ->capture_default_str();
+                   "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend. Default: exact for "
+                   "a BRDF, gles1 for an asset (cpu when its parameterization is per-pixel only)")
+        ->check(CLI::IsMember({"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu"}));
     app.add_option("-o,--output", a->out_path, "the PNG to write (8-bit, clipped to [0,1])");
     app.add_option("--float", a->float_path, "also write linear floats as PFM (exact, cpu; GL with --float-target)");
     app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");

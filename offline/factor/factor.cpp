@@ -40,12 +40,13 @@ const char* method_name(Method m) {
         case Method::ND: return "nd";
         case Method::NMF: return "nmf";
         case Method::ACLS: return "acls";
+        case Method::WSVD: return "wsvd";
     }
     return "?";
 }
 
 bool parse_method(const std::string& name, Method* m) {
-    for (Method x : {Method::SVD, Method::ND, Method::NMF, Method::ACLS})
+    for (Method x : {Method::SVD, Method::ND, Method::NMF, Method::ACLS, Method::WSVD})
         if (name == method_name(x)) {
             *m = x;
             return true;
@@ -389,7 +390,7 @@ Factored build_factored(const FactorOptions& o, const std::string& source, glm::
     f.n = o.res;
     f.channels = channels_of(o);
     f.ratio = ratio;
-    f.method = method_name(o.method);
+    f.method = method_name(o.method == Method::SVD && o.svd_weighted ? Method::WSVD : o.method);
     f.source = source;
     const int k = lr[0].k, rows = int(l.row_texel->size()), cols = int(l.col_texel->size());
     for (int a = 0; a < k; ++a) {
@@ -702,8 +703,9 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
             r.notes.push_back(std::to_string(r.clamped_negative) +
                               " negative matrix entries clamped to 0 for a non-negative fit");
         lr.resize(size_t(ch));
-        const bool weighted_svd = o.method == Method::SVD && o.svd_weighted && partial;
-        if (o.method == Method::SVD && !weighted_svd) {
+        const bool svd = o.method == Method::SVD || o.method == Method::WSVD;
+        const bool weighted_svd = svd && (o.method == Method::WSVD || o.svd_weighted) && partial;
+        if (svd && !weighted_svd) {
             for (int c = 0; c < ch; ++c)
                 detail::truncated_svd(m, c, k, o.seed, o.threads, &lr[size_t(c)], nullptr);
         } else {

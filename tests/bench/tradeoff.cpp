@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
                                   {"garnet_red", fx + "garnet_red.brdf", -1},
                                   {"krylon_blue", fx + "krylon_blue.brdf", -1}};
     std::vector<int> resolutions = {16, 32, 64, 128}, terms = {1, 2, 3, 4, 6};
-    std::vector<Method> methods = {Method::SVD, Method::NMF};
+    std::vector<Method> methods = {Method::WSVD, Method::NMF};
     if (quick) {
         mats = {mats[0], mats[5]};
         resolutions = {16, 32};

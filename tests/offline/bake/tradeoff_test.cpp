@@ -117,7 +117,7 @@ TEST_CASE("tradeoff: the --max-error pick lies on the front of predicted ms and 
     sepal::BakeOptions o;
     o.params = {sepal::Param::GsHalf};
     o.resolutions = {16, 32};
-    o.methods = {sepal::Method::SVD, sepal::Method::NMF};
+    o.methods = {sepal::Method::WSVD, sepal::Method::NMF};
     o.terms = {1, 2, 3};
     o.bits = {8, 16};
     o.cap = 2;
@@ -172,7 +172,7 @@ TEST_CASE("sepal bake --timings: the measured model decides the pick, and the re
     write_text(dir + "/passes.json", timings(1, 10, 0, 0.001));
     write_text(dir + "/bytes.json", timings(1, 0.001, 0, 10));
     const std::string base = sepal + " bake '" + std::string(kWard) +
-                             "' --param gs-half --res 16,32 --method svd,nmf --terms 1,2,3 --cap 2 --max-error 0.6 ";
+                             "' --param gs-half --res 16,32 --method wsvd,nmf --terms 1,2,3 --cap 2 --max-error 0.6 ";
     std::string out;
     REQUIRE(sepal_test::run(base + "--timings " + dir + "/passes.json -o " + dir + "/p.sepal --report " + dir + "/p.json",
                             &out) == 0);

@@ -449,10 +449,10 @@ TEST_CASE("factor: sepal factor prints the errors and writes report, plot and fa
     std::string err;
     REQUIRE(read_image(dir + "/p.png", &plot, &err));
     CHECK(plot.width == 480);
-    for (const char* f : {"g1.png", "h1.png", "g2.png", "h2.pfm", "factors.json"})
+    for (const char* f : {"term0_G_mip0.png", "term0_H_mip0.png", "term1_G_mip0.png", "term1_H.pfm", "manifest.json"})
         CHECK(file_exists(dir + "/f/" + f));
     Image g1;
-    REQUIRE(read_image(dir + "/f/g1.pfm", &g1, &err));
+    REQUIRE(read_image(dir + "/f/term0_G.pfm", &g1, &err));
     CHECK(g1.width == 16);
 }
 
