@@ -20,6 +20,8 @@ uniform vec3 u_h_bias[MAX_TERMS];
 uniform int u_terms;
 uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
+uniform float u_factor_cosine;  // 1: factors of f (times cos); 0: radiance factors
+uniform vec3 u_diffuse;
 uniform int u_param;  // sepal_param
 uniform int u_map;    // sepal_hemi_map
 uniform vec3 u_eye;
@@ -99,7 +101,8 @@ void main() {
             vec3 hv2 = texture2D(u_h[k], h).rgb * u_h_scale[k] + u_h_bias[k];
             f += gv * hv2;
         }
-        sum += max(f * u_ratio, 0.0) * wi.z * falloff * u_light_intensity[l];
+        sum += (max(f * u_ratio, 0.0) * mix(1.0, wi.z, u_factor_cosine) + u_diffuse * wi.z) * falloff *
+               u_light_intensity[l];
     }
     gl_FragColor = vec4(sum * u_out_scale, 1.0);
 }

@@ -1,5 +1,6 @@
 // f = sum_k (scale_g q_g + bias_g)(scale_h q_h + bias_h) over a group of terms, times the
-// irradiance and the frame's exposure. MAX_TERMS is defined by the runtime when it
+// irradiance (E cos(theta_i) for version-1 factors of f, E for radiance factors, which hold
+// the cosine) plus the diffuse part times E cos(theta_i), times the frame's exposure. MAX_TERMS is defined by the runtime when it
 // compiles this (a prefix line): the texture units available / 2, at most 8.
 precision mediump float;
 uniform sampler2D u_g[MAX_TERMS];
@@ -11,9 +12,11 @@ uniform vec3 u_h_bias[MAX_TERMS];
 uniform int u_terms;
 uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
+uniform vec3 u_diffuse;  // radiance materials' diffuse part (0 for version 1)
 varying vec2 v_uv_g;
 varying vec2 v_uv_h;
-varying vec3 v_irradiance;
+// Version 1: (E cos(theta_i), 1) for factors of f; radiance materials: (E, cos(theta_i)).
+varying vec4 v_irradiance;
 void main() {
     vec3 f = vec3(0.0);
     for (int k = 0; k < MAX_TERMS; ++k) {
@@ -22,5 +25,6 @@ void main() {
         vec3 h = texture2D(u_h[k], v_uv_h).rgb * u_h_scale[k] + u_h_bias[k];
         f += g * h;
     }
-    gl_FragColor = vec4(max(f * u_ratio, 0.0) * v_irradiance * u_out_scale, 1.0);
+    vec3 radiance = max(f * u_ratio, 0.0) + u_diffuse * v_irradiance.a;
+    gl_FragColor = vec4(radiance * v_irradiance.rgb * u_out_scale, 1.0);
 }

@@ -1,5 +1,5 @@
-// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu
-//   [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
+// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu|
+//   gles1-model|gles2-model [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
 #include <chrono>
 #include <cstring>
 
@@ -58,12 +58,33 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     if (positional.size() != 1 || (out_path.empty() && float_path.empty())) {
         std::fprintf(io.err,
                      "usage: sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|"
-                     "gles2-fused-pixel|cpu [--mask LIST] [--diffuse PNG] [scene flags] -o out.png "
+                     "gles2-fused-pixel|cpu|gles1-model|gles2-model [--mask LIST] [--diffuse PNG] [scene flags] -o out.png "
                      "[--float out.pfm]\nscene flags:\n%s",
                      sepal_ports::scene_flags_help());
         return kExitBadInput;
     }
     sepal_ports::GlRenderOptions opt;
+    const bool model = backend == "gles1-model" || backend == "gles2-model";
+    if (model) {
+        // The GL ES 1.1 emulator: what gles1 (or the gles2 multipass path) shows, on the CPU.
+        std::vector<uint8_t> bytes, rgba;
+        uint32_t mask = 0;
+        sepal_draw_stats stats = {};
+        if (!diffuse_path.empty() || !float_path.empty() || float_target || out_path.empty())
+            err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
+        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
+            !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(positional[0], &bytes, &err) ||
+            !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
+                                                mask, &rgba, &err, &stats) ||
+            !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
+                     backend.c_str(), setup.width, setup.height, stats.doublings);
+        std::fprintf(io.out, "png        %s\n", out_path.c_str());
+        return kExitOk;
+    }
     if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") {
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
@@ -128,7 +149,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         return kExitOk;
     }
     if (backend != "exact") {
-        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu)\n",
+        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, "
+                     "gles1-model, gles2-model)\n",
                      backend.c_str());
         return kExitBadInput;
     }

@@ -218,6 +218,36 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
     return ok;
 }
 
+bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
+                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats) {
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
+        *err = e.message;
+        return false;
+    }
+    rgba->assign(size_t(setup.width) * setup.height * 4, 0);
+    std::vector<float> scratch(
+        sepal_emulate_scratch_floats(setup.width, setup.height, setup.mesh.vertex_count, setup.scene.light_count));
+    sepal_emulate_desc d = {};
+    d.asset = asset.get();
+    d.mesh = &setup.mesh;
+    d.scene = &setup.scene;
+    d.width = setup.width;
+    d.height = setup.height;
+    d.gles_version = gles_version;
+    d.mask = mask;
+    d.rgba = rgba->data();
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    d.stats = stats;
+    if (sepal_emulate_draw(&d, &e) != SEPAL_OK) {
+        *err = e.message;
+        return false;
+    }
+    return true;
+}
+
 bool parse_gl_backend(const std::string& name, GlRenderOptions* o) {
     if (name == "gles1") {
         o->gles_version = 1;

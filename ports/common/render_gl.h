@@ -55,6 +55,10 @@ bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err
 // receives the frame's counters.
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
                       std::vector<float>* rgb, double* ms, std::string* err, sepal_draw_stats* stats = nullptr);
+// The GL ES 1.1 emulator (sepal_emulate_draw): what gles1 (gles_version 1) or the gles2
+// multipass path (2) shows, computed on the CPU; RGBA8, top row first. mask: SEPAL_MASK_*.
+bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
+                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats = nullptr);
 // Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
 // false for others (cpu is not a GL backend).
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);

@@ -111,10 +111,11 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     memcpy(&h, base, sizeof h);
     if (memcmp(h.magic, SEPAL_FMT_MAGIC, 8) != 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: bad magic (not a .sepal file)");
-    if (h.version_major != SEPAL_FMT_VERSION_MAJOR)
+    if (h.version_major < SEPAL_FMT_VERSION_MAJOR_OLDEST || h.version_major > SEPAL_FMT_VERSION_MAJOR)
         return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
-                         "asset: format version %u.%u; this runtime reads version %d.x",
-                         h.version_major, h.version_minor, SEPAL_FMT_VERSION_MAJOR);
+                         "asset: format version %u.%u; this runtime reads versions %d.x to %d.x",
+                         h.version_major, h.version_minor, SEPAL_FMT_VERSION_MAJOR_OLDEST,
+                         SEPAL_FMT_VERSION_MAJOR);
     if (h.file_bytes != size)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: header says %llu bytes, the buffer holds %zu (truncated or padded)",
@@ -198,6 +199,21 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
                          m.channels, m.color_mode);
+    // Version 1 left these words reserved (written as 0): they mean "no flags, no diffuse".
+    if (h.version_major < 2) {
+        out->material.flags = 0;
+        out->material.diffuse[0] = out->material.diffuse[1] = out->material.diffuse[2] = 0.0f;
+    }
+    if (m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: unknown material flags 0x%x",
+                         m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS);
+    bool has_diffuse = false;
+    for (int c = 0; c < 3; ++c) {
+        if (!(m.diffuse[c] >= 0.0f) || !isfinite(m.diffuse[c]))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse %g is not finite and >= 0",
+                             (double)m.diffuse[c]);
+        has_diffuse = has_diffuse || m.diffuse[c] > 0.0f;
+    }
     if (m.terms < 1 || m.terms > SEPAL_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u terms (1..%d), %u channels (1 or 3)",
                          m.terms, SEPAL_FMT_MAX_TERMS, m.channels);
@@ -232,12 +248,20 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                          "asset: plan has %u doublings (0..%d) or peak partial sum %g (0..1]",
                          plan.doublings, SEPAL_FMT_MAX_DOUBLINGS, (double)plan.peak_partial_sum);
     memcpy(out->passes, plan_payload + sizeof(sepal_fmt_plan), plan.pass_count * sizeof(sepal_fmt_pass));
+    uint32_t diffuse_passes = 0;
     for (uint32_t i = 0; i < plan.pass_count; ++i) {
         const sepal_fmt_pass& p = out->passes[i];
         const int needs = p.op == SEPAL_OP_PRODUCT ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
-        if (p.op >= SEPAL_OP_COUNT || p.blend >= SEPAL_BLEND_COUNT)
+        // Op 3 is reserved for another branch's reciprocal product.
+        if (p.op >= SEPAL_OP_COUNT || p.op == 3 || p.blend >= SEPAL_BLEND_COUNT ||
+            (p.op == SEPAL_OP_DIFFUSE && h.version_major < 2))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has unknown op %u or blend %u",
                              i, p.op, p.blend);
+        if (p.op == SEPAL_OP_DIFFUSE) {
+            ++diffuse_passes;
+            if (p.blend != SEPAL_BLEND_ADD)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u subtracts the diffuse part", i);
+        }
         const uint16_t tex[2] = {p.tex0, p.tex1};
         for (int k = 0; k < 2; ++k) {
             const bool used = k < needs;
@@ -255,5 +279,11 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
                              p.rgb_scale);
     }
+    // The diffuse part is drawn by exactly one DIFFUSE pass (the other backends read it from
+    // the material): both or neither.
+    if (diffuse_passes != (has_diffuse ? 1u : 0u))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: %u DIFFUSE passes for a material %s a diffuse part (one iff it has one)",
+                         diffuse_passes, has_diffuse ? "with" : "without");
     return srt::ok(err);
 }

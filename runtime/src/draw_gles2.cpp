@@ -128,16 +128,13 @@ void multipass(const Frame& f) {
             glBlendFunc(GL_ONE, GL_ONE);
         }
         glBlendEquation(pass.blend == SEPAL_BLEND_SUBTRACT && !inverted ? GL_FUNC_REVERSE_SUBTRACT : GL_FUNC_ADD);
-        glUniform1i(op_loc, pass.op == SEPAL_OP_PRODUCT ? 2 : pass.op == SEPAL_OP_TEXTURE ? 1 : 0);
+        glUniform1i(op_loc, srt::pass_texture_count(pass));
         glUniform1f(scale_loc, (float)pass.rgb_scale);
-        if (pass.op != SEPAL_OP_CONSTANT) bind_texture(GL_TEXTURE0, m->gl_textures[pass.tex0]);
+        if (srt::pass_texture_count(pass) >= 1) bind_texture(GL_TEXTURE0, m->gl_textures[pass.tex0]);
         if (pass.op == SEPAL_OP_PRODUCT) bind_texture(GL_TEXTURE1, m->gl_textures[pass.tex1]);
         for (int l = 0; l < lights; ++l) {
-            const float* e = srt::light_irradiance(f.scratch, n, l);
-            for (int v = 0; v < n; ++v) {
-                for (int k = 0; k < 3; ++k) colors[4 * v + k] = pass.color[k] * e[3 * v + k] * f.exposure;
-                colors[4 * v + 3] = 1.0f;
-            }
+            srt::fill_pass_colors(pass.color, srt::light_irradiance(f.scratch, n, l), srt::light_cosine(f.scratch, n, l),
+                                  srt::pass_uses_cosine(m->info, pass), f.exposure, n, colors);
             auto uv = [&](uint16_t tex) {
                 return m->texture_role[tex] == SEPAL_ROLE_G ? srt::light_g_uv(f.scratch, n, l) : srt::light_h_uv(f.scratch, n, l);
             };
@@ -146,7 +143,7 @@ void multipass(const Frame& f) {
             glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, colors);
             // Unused coordinates still need a valid array: point them at the G ones.
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0,
-                                  pass.op != SEPAL_OP_CONSTANT ? uv(pass.tex0) : srt::light_g_uv(f.scratch, n, l));
+                                  srt::pass_texture_count(pass) >= 1 ? uv(pass.tex0) : srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0,
                                   pass.op == SEPAL_OP_PRODUCT ? uv(pass.tex1) : srt::light_g_uv(f.scratch, n, l));
             draw_mesh(f);
@@ -185,6 +182,12 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
     }
     glUniform1i(loc(p, "u_terms"), count);
     glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
+    // Version 1: the factors are f, times cos(theta_i); radiance materials hold the cosine
+    // in the factors and add the diffuse part times it (once: with the first group).
+    const float zero[3] = {0, 0, 0};
+    if (p == m->program_fused_pixel)
+        glUniform1f(loc(p, "u_factor_cosine"), (m->info.flags & SEPAL_MATERIAL_RADIANCE) ? 0.0f : 1.0f);
+    glUniform3fv(loc(p, "u_diffuse"), 1, first == 0 ? m->info.diffuse : zero);
     // The fused shaders compute f itself: scaled by the frame's fused exposure.
     glUniform1f(loc(p, "u_out_scale"), f.exposure);
     glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
@@ -237,11 +240,20 @@ void fused(const Frame& f, bool per_pixel) {
             continue;
         }
         for (int l = 0; l < scene.light_count; ++l) {
+            // (E cos, 1) for factors of f, (E, cos) for radiance factors; in the colour scratch.
+            float* irr = srt::pass_colors(f.scratch, n, scene.light_count);
+            const float* e = srt::light_irradiance(f.scratch, n, l);
+            const float* cosine = srt::light_cosine(f.scratch, n, l);
+            const bool radiance = (m->info.flags & SEPAL_MATERIAL_RADIANCE) != 0;
+            for (int v = 0; v < n; ++v) {
+                for (int k = 0; k < 3; ++k) irr[4 * v + k] = radiance ? e[3 * v + k] : e[3 * v + k] * cosine[v];
+                irr[4 * v + 3] = radiance ? cosine[v] : 1.0f;
+            }
             attribs(4);
             glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
             glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, srt::light_h_uv(f.scratch, n, l));
-            glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, 0, srt::light_irradiance(f.scratch, n, l));
+            glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, irr);
             draw_mesh(f);
         }
     }

@@ -1,7 +1,7 @@
 // sepal_format.h - the .sepal asset format, defined once for the writer (offline/) and
 // the reader (runtime/). Plain C structs; every integer and float is little-endian.
 //
-// File layout (version 1):
+// File layout (versions 1 and 2):
 //   sepal_fmt_header                       64 bytes, magic "SEPALBRD"
 //   sepal_fmt_chunk[chunk_count]           24 bytes each: tag, CRC-32, offset, size
 //   chunk payloads                       each at an 8-byte-aligned offset
@@ -21,6 +21,14 @@
 // subtracts products of those stored values, each times a constant colour, into a
 // framebuffer that holds [0,1]; the final `doublings` passes double the framebuffer.
 // See sepal_rt.h for how the runtime executes the plan.
+// Version 2 adds radiance materials (SEPAL_MATERIAL_RADIANCE): the factors hold the
+// reflected radiance per unit irradiance, f(wi, wo) cos(theta_i) - diffuse cos(theta_i)
+// (usually capped where a display shows white), so a light contributes
+//   E (sum_k G_k H_k) + E cos(theta_i) diffuse,      E = I / d^2 (0 below the horizon),
+// instead of E cos(theta_i) f. The diffuse part (a constant BRDF, rho_d / pi) costs no
+// texture: one DIFFUSE pass, whose vertex colour carries the cosine. A version-1 file means
+// what it always meant (flags 0, diffuse 0). Writers write 1.0 unless a version-2 feature
+// is used, so older assets stay byte-identical; readers of 1.x refuse 2.x (major).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -32,8 +40,10 @@ extern "C" {
 #endif
 
 #define SEPAL_FMT_MAGIC "SEPALBRD"
-#define SEPAL_FMT_VERSION_MAJOR 1
+// The newest version this header reads and writes; readers also take major 1.
+#define SEPAL_FMT_VERSION_MAJOR 2
 #define SEPAL_FMT_VERSION_MINOR 0
+#define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
 
 #define SEPAL_FMT_MAX_FILE_BYTES (64u << 20)
 #define SEPAL_FMT_MAX_CHUNKS 64
@@ -77,7 +87,10 @@ typedef enum sepal_pass_op {
     SEPAL_OP_PRODUCT = 0,   // colour * tex0 * tex1
     SEPAL_OP_TEXTURE = 1,   // colour * tex0
     SEPAL_OP_CONSTANT = 2,  // colour
-    SEPAL_OP_COUNT = 3
+    // 3 is reserved (homomorphic factorization's reciprocal product, another branch).
+    SEPAL_OP_DIFFUSE = 4,   // colour, times cos(theta_i) (version 2): a radiance material's
+                            // diffuse part; no texture
+    SEPAL_OP_COUNT = 5
 } sepal_pass_op;
 
 typedef enum sepal_blend {
@@ -122,8 +135,15 @@ typedef struct sepal_fmt_material {
     // Per-channel multiplier of f: a luminance factorization (1 channel) times its colour;
     // (1, 1, 1) for per-channel factorizations. Finite, >= 0, not all 0.
     float ratio[3];
-    uint32_t reserved[4];
+    // Version 2 (0 in version 1): SEPAL_MATERIAL_* bits, and the diffuse part of a radiance
+    // material (a constant BRDF per channel, finite, >= 0; drawn by the plan's DIFFUSE pass).
+    uint32_t flags;
+    float diffuse[3];
 } sepal_fmt_material;
+
+// sepal_fmt_material.flags
+#define SEPAL_MATERIAL_RADIANCE 1u  // the factors include cos(theta_i) (see the top)
+#define SEPAL_MATERIAL_KNOWN_FLAGS 1u
 
 typedef struct sepal_fmt_texture {
     uint32_t width, height;  // powers of two, 1..SEPAL_FMT_MAX_TEXTURE_SIDE
@@ -153,6 +173,8 @@ typedef struct sepal_fmt_pass {
     uint16_t tex0;       // texture index or SEPAL_FMT_NO_TEXTURE
     uint16_t tex1;
     float color[3];      // per-channel constant in [0,1], times the light's irradiance
+                         // (E cos(theta_i); E alone for a radiance material's textured
+                         // and constant passes)
     uint32_t rgb_scale;  // 1, 2 or 4: GL_RGB_SCALE of the pass's last combiner stage
 } sepal_fmt_pass;
 
