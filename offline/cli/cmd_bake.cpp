@@ -1,4 +1,5 @@
-// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--max-error E]
+// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
+//   [--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E]
 //   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
 #include <cmath>
@@ -109,7 +110,7 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
     Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
                         "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap", "backend",
-                        "timings"},
+                        "timings", "target", "white", "fit", "min-psnr", "iters"},
               {"no-mips"});
     BakeOptions o;
     std::string err;
@@ -120,7 +121,8 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (!args.ok()) return bad(args.error());
     if (args.positional().size() != 1 || !args.has("o"))
         return bad("usage: sepal bake SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] "
-                   "[--method M,..] [--colour rgb|luminance] [--bits 8,16] [--max-error E] [--max-passes P] "
+                   "[--method M,..] [--colour rgb|luminance] [--bits 8,16] [--target gles1|gles2|cpu] "
+                   "[--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E] [--max-passes P] "
                    "[--max-bytes B] [--backend gles1|gles2-fused|cpu] [--timings tradeoff.json] [--report r.json] "
                    "[--export DIR] [--threads N]");
     if (args.has("param") && !parse_list<Param>("param", args.get("param"), parse_param, &o.params, &err)) return bad(err);
@@ -143,6 +145,28 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (args.has("timings") ? !read_cost_model(args.get("timings"), backend, &o.cost, &err)
                             : !default_cost_model(backend, &o.cost, &err))
         return bad(err);
+    // The image that decides (the shipping backend), and what the factors hold.
+    if (args.has("target") && !parse_target(args.get("target"), &o.target))
+        return bad("--target: gles1, gles2 or cpu");
+    if (args.has("white")) {
+        const std::string w = args.get("white");
+        if (w == "auto") o.white = 0;
+        else if (w == "none") o.white = -1;
+        else if (!args.number("white", &d) || d <= 0) return bad("--white: auto, none, or f cos(theta_i) per steradian > 0");
+        else o.white = d;
+    }
+    if (args.has("fit")) {
+        if (args.get("fit") != "radiance" && args.get("fit") != "brdf") return bad("--fit: radiance or brdf");
+        o.radiance = args.get("fit") == "radiance";
+    }
+    if (args.has("min-psnr")) {
+        if (!args.number("min-psnr", &d) || d <= 0) return bad("--min-psnr: dB > 0, e.g. 35");
+        o.min_psnr = d;
+    }
+    if (args.has("iters")) {
+        if (!args.integer("iters", &v) || v < 1 || v > 100000) return bad("--iters: 1..100000");
+        o.iterations = int(v);
+    }
     if (args.has("max-error")) {
         if (!args.number("max-error", &d) || d <= 0) return bad("--max-error: a relative error > 0, e.g. 0.1");
         o.max_error = d;
@@ -177,26 +201,40 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (!brdf) return bad(err);
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
-    // The candidates, for people, whether or not one won.
+    // The candidates, for people, whether or not one won: the image first, the direction-
+    // space error as a diagnostic.
     if (!r.candidates.empty())
-        std::fprintf(io.out, "%-32s %9s %9s %7s %8s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes",
-                     "ms", "(* on the front)");
+        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %s\n", "candidate", "PSNR dB", "err quant", "passes",
+                     "dbl", "bytes", "ms", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
+        const std::string label = c.label() + (c.coarse ? " (c)" : "");
         if (!c.ok) {
-            std::fprintf(io.out, "%-32s  skipped: %s\n", c.label().c_str(), c.note.c_str());
+            std::fprintf(io.out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
         }
-        std::fprintf(io.out, "%-32s %9.4f %9.4f %7d %8lld %8.2f %s %s%s\n", c.label().c_str(), c.error_float,
-                     c.error_quantized, c.passes, (long long)c.bytes, c.ms, c.on_front ? "*" : " ",
+        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %s %s%s\n", label.c_str(), c.psnr,
+                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.on_front ? "*" : " ",
                      int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
                      c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
+    }
+    if (!r.views.empty()) {
+        std::string names;
+        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
+        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the views %s; (c): coarse stage\n",
+                     target_name(r.target), names.c_str());
     }
     if (args.has("report")) {
         JsonWriter j;
         j.begin_object().key("spec").value(brdf->spec()).key("seconds").value(r.seconds);
+        j.key("target").value(target_name(r.target)).key("white_level").value(r.white);
+        j.key("diffuse").begin_array().value(r.diffuse.x).value(r.diffuse.y).value(r.diffuse.z).end_array();
+        j.key("views").begin_array();
+        for (const std::string& v : r.views) j.value(v);
+        j.end_array();
         j.key("budgets").begin_object();
         j.key("max_error").value(o.max_error).key("max_passes").value(o.max_passes).key("max_bytes").value(o.max_bytes);
+        j.key("min_psnr").value(o.min_psnr);
         j.end_object();
         j.key("cost_model").begin_object().key("backend").value(r.cost.backend).key("device").value(r.cost.device);
         j.key("base_ms").value(r.cost.base_ms).key("per_pass_ms").value(r.cost.per_pass_ms);
@@ -207,7 +245,11 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
         for (const BakeCandidate& c : r.candidates) {
             j.begin_object().key("label").value(c.label()).key("param").value(param_name(c.param));
             j.key("map").value(map_name(c.map)).key("res").value(c.res).key("terms").value(c.terms).key("bits").value(c.bits);
-            j.key("method").value(method_name(c.method)).key("ok").value(c.ok);
+            j.key("method").value(method_name(c.method)).key("ok").value(c.ok).key("coarse").value(c.coarse);
+            j.key("psnr").value(c.psnr);
+            j.key("psnr_views").begin_array();
+            for (double p : c.psnr_views) j.value(p);
+            j.end_array();
             if (!c.ok) j.key("note").value(c.note);
             j.key("error_float_relative").value(c.error_float).key("error_quantized_relative").value(c.error_quantized);
             j.key("rms_quantized").value(c.rms_quantized).key("passes").value(c.passes);

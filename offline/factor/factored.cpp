@@ -104,4 +104,10 @@ glm::dvec3 evaluate(const Factored& f, const glm::dvec3& wi, const glm::dvec3& w
     return sum_terms(f, wi, wo, k_count, nullptr);
 }
 
+glm::dvec3 evaluate_radiance(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo, int terms) {
+    if (!(wi.z > 0) || !(wo.z > 0)) return glm::dvec3(0);
+    const glm::dvec3 sum = evaluate(f, wi, wo, terms);
+    return f.radiance ? sum + f.diffuse * wi.z : sum * wi.z;
+}
+
 }  // namespace sepal
