@@ -12,11 +12,10 @@ uniform vec3 u_h_bias[MAX_TERMS];
 uniform int u_terms;
 uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
-uniform vec3 u_diffuse;  // radiance materials' diffuse part (0 for version 1)
 varying vec2 v_uv_g;
 varying vec2 v_uv_h;
-// Version 1: (E cos(theta_i), 1) for factors of f; radiance materials: (E, cos(theta_i)).
-varying vec4 v_irradiance;
+varying vec3 v_irradiance;  // E cos(theta_i) for factors of f, E for radiance factors
+varying vec3 v_diffuse;     // the diffuse part's radiance
 void main() {
     vec3 f = vec3(0.0);
     for (int k = 0; k < MAX_TERMS; ++k) {
@@ -25,6 +24,5 @@ void main() {
         vec3 h = texture2D(u_h[k], v_uv_h).rgb * u_h_scale[k] + u_h_bias[k];
         f += g * h;
     }
-    vec3 radiance = max(f * u_ratio, 0.0) + u_diffuse * v_irradiance.a;
-    gl_FragColor = vec4(radiance * v_irradiance.rgb * u_out_scale, 1.0);
+    gl_FragColor = vec4((max(f * u_ratio, 0.0) * v_irradiance + v_diffuse) * u_out_scale, 1.0);
 }

@@ -46,6 +46,14 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
         append(&p.bytes, asset.passes.data(), asset.passes.size() * sizeof(sepal_fmt_pass));
         chunks.push_back(std::move(p));
     }
+    if (!asset.diffuse_profile.empty()) {
+        Payload p{SEPAL_FMT_TAG_DIFFUSE, {}};
+        sepal_fmt_diffuse d{};
+        d.side = asset.diffuse_side;
+        append(&p.bytes, &d, sizeof d);
+        append(&p.bytes, asset.diffuse_profile.data(), asset.diffuse_profile.size() * sizeof(float));
+        chunks.push_back(std::move(p));
+    }
     if (!asset.meta.empty()) {
         Payload p{SEPAL_FMT_TAG_META, {}};
         append(&p.bytes, asset.meta.data(), asset.meta.size());
@@ -96,7 +104,8 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
 
 bool asset_needs_version2(const AssetData& a) {
     const sepal_fmt_material& m = a.material;
-    bool v2 = m.flags != 0 || m.diffuse[0] != 0.0f || m.diffuse[1] != 0.0f || m.diffuse[2] != 0.0f;
+    bool v2 = m.flags != 0 || m.diffuse[0] != 0.0f || m.diffuse[1] != 0.0f || m.diffuse[2] != 0.0f ||
+              !a.diffuse_profile.empty();
     for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE;
     return v2;
 }

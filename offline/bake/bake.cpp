@@ -62,11 +62,13 @@ class CappedBrdf : public Brdf {
     mutable std::atomic<int64_t> calls_{0}, capped_{0};
 };
 
-FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int res, Method method, int terms) {
+FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int res, int res_h, Method method,
+                             int terms) {
     FactorOptions fo;
     fo.param = param;
     fo.map = map;
     fo.res = res;
+    fo.res_h = res_h == res ? 0 : res_h;
     fo.terms = terms;
     fo.method = method;
     fo.colour = o.colour;
@@ -74,18 +76,21 @@ FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int
     fo.threads = o.threads;
     fo.max_memory_mb = o.max_memory_mb;
     fo.svd_weighted = o.svd_weighted;
-    fo.iterations = o.iterations;
+    // The bake's own default for HALS (acls): 12 iterations per term count reach what the
+    // multiplicative rule (nmf) reaches in 100 (measured on the README's materials).
+    fo.iterations = o.iterations > 0 ? o.iterations : method == Method::ACLS ? 12 : 0;
     fo.matrix_error = false;  // unused here; for nd it would cost one more sampling pass
     return fo;
 }
 
 // Terms to factor for a search entry: the largest asked for, but no more than the sample
 // matrix's rank can hold (1 at --res 1), so small resolutions still give their candidates.
-int search_terms(Param param, HemiMap map, int res, int max_terms) {
+int search_terms(Param param, HemiMap map, int res, int res_h, int max_terms) {
     FactorOptions shape;
     shape.param = param;
     shape.map = map;
     shape.res = res;
+    shape.res_h = res_h == res ? 0 : res_h;
     int rows = 0, cols = 0;
     matrix_shape(shape, &rows, &cols);
     return std::max(1, std::min(max_terms, std::min(rows, cols)));
@@ -93,7 +98,8 @@ int search_terms(Param param, HemiMap map, int res, int max_terms) {
 
 std::string rank_note(const FactorOptions& fo, int k) {
     return "--terms " + std::to_string(k) + " exceeds the rank the sample matrix can have at --res " +
-           std::to_string(fo.res) + " (at most " + std::to_string(fo.terms) + ")";
+           std::to_string(fo.res) + (fo.res_h > 0 ? "/" + std::to_string(fo.res_h) : std::string()) + " (at most " +
+           std::to_string(fo.terms) + ")";
 }
 
 // The winner's factorization counts and every note, after make_asset added its own.
@@ -132,9 +138,9 @@ void record_counts(const FactorResult& r, int64_t capped, double reference_rms, 
 const std::vector<BakeMethod>& bake_methods() {
     // The one table of methods the bake searches; a new factorization is one more row.
     static const std::vector<BakeMethod> table = {
-        {"nmf", Method::NMF, true, true},
+        {"acls", Method::ACLS, true, true},
         {"svd", Method::SVD, false, true},
-        {"acls", Method::ACLS, true, false},
+        {"nmf", Method::NMF, true, false},
         {"nd", Method::ND, false, false},
     };
     return table;
@@ -204,8 +210,10 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
 }
 
 std::string BakeCandidate::label() const {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%s/%s %d %s x%d %db", param_name(param), map_name(map), res, method_name(method),
+    char buf[112], size[32];
+    if (res_h > 0 && res_h != res) std::snprintf(size, sizeof size, "%d/%d", res, res_h);
+    else std::snprintf(size, sizeof size, "%d", res);
+    std::snprintf(buf, sizeof buf, "%s/%s %s %s x%d %db", param_name(param), map_name(map), size, method_name(method),
                   terms, bits);
     return buf;
 }
@@ -225,6 +233,10 @@ bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetDat
     if (f.radiance) {
         a.material.flags = SEPAL_MATERIAL_RADIANCE;
         for (int c = 0; c < 3; ++c) a.material.diffuse[c] = float(f.diffuse[c]);
+        if (f.diffuse_side >= 2 && (f.diffuse.x > 0 || f.diffuse.y > 0 || f.diffuse.z > 0)) {
+            a.diffuse_side = uint32_t(f.diffuse_side);
+            a.diffuse_profile = f.diffuse_profile;
+        }
     }
     for (int c = 0; c < 3; ++c) a.material.ratio[c] = float(f.ratio[c]);
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -364,33 +376,44 @@ class Search {
 
     // Factors one (param, map, res, method) with up to max_terms terms and appends its
     // candidates (every listed term count and depth), judged on `judge`.
-    void run(Param param, HemiMap map, int res, Method method, int max_terms, bool coarse, const ImageJudge& judge) {
+    // res: the half-angle factor's side (both sides for iv); res_other: the other factor's.
+    void run(Param param, HemiMap map, int res, int res_other, Method method, const std::vector<int>& terms,
+             bool coarse, const ImageJudge& judge) {
+        const int max_terms = *std::max_element(terms.begin(), terms.end());
+        const int half = half_angle_factor(param);
+        const int res_g = half == 1 ? res_other : res, res_h = half == 0 ? res_other : res;
         Factorization fz;
-        fz.param = param, fz.map = map, fz.res = res, fz.method = method, fz.coarse = coarse;
-        fz.fo = factor_options(o_, param, map, res, method, search_terms(param, map, res, max_terms));
+        fz.param = param, fz.map = map, fz.res = res_g, fz.method = method, fz.coarse = coarse;
+        fz.fo = factor_options(o_, param, map, res_g, res_h, method, search_terms(param, map, res_g, res_h, max_terms));
         if (o_.progress && isatty(2))
-            std::fprintf(stderr, "\rbake: factoring %s/%s %d %s x%d%s        ", param_name(param), map_name(map), res,
-                         method_name(method), fz.fo.terms, coarse ? " (coarse)" : "");
+            std::fprintf(stderr, "\rbake: factoring %s/%s %d/%d %s x%d%s        ", param_name(param), map_name(map),
+                         res_g, res_h, method_name(method), fz.fo.terms, coarse ? " (coarse)" : "");
         const int64_t before = capped_count_();
+        const auto t0 = std::chrono::steady_clock::now();
         fz.ok = factor_brdf(source_, fz.fo, &fz.result, &fz.err);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         fz.capped = capped_count_() - before;
         if (fz.ok)
             for (Factored& f : fz.result.by_terms) {
                 f.radiance = o_.radiance;
-                f.diffuse = out_->diffuse;
+                f.diffuse = out_->diffuse.scale;
+                f.diffuse_side = out_->diffuse.side;
+                f.diffuse_profile = out_->diffuse.profile;
             }
         const size_t first = out_->candidates.size();
-        for (int k : o_.terms)
+        for (int k : terms)
             for (int bits : o_.bits) {
-                if (coarse && (k > max_terms || bits != o_.bits[0])) continue;
+                if (coarse && bits != o_.bits[0]) continue;
                 BakeCandidate c;
                 c.param = param;
                 c.map = map;
-                c.res = res;
+                c.res = res_g;
+                c.res_h = res_h;
                 c.terms = k;
                 c.bits = bits;
                 c.method = method;
                 c.coarse = coarse;
+                c.factor_seconds = seconds;
                 if (!fz.ok || k > fz.fo.terms) {
                     c.note = fz.ok ? rank_note(fz.fo, k) : fz.err;
                     out_->candidates.push_back(std::move(c));
@@ -471,10 +494,9 @@ bool validate_options(const BakeOptions& o, const std::vector<Method>& methods, 
         if (err) *err = "bake: " + m;
         return false;
     };
-    if (o.params.empty() || o.maps.empty() || o.resolutions.empty() || o.terms.empty() || methods.empty() ||
-        o.bits.empty())
+    if (o.params.empty() || o.maps.empty() || o.terms.empty() || methods.empty() || o.bits.empty())
         return fail("an empty search list");
-    const size_t searches = o.params.size() * o.maps.size() * o.resolutions.size() * methods.size();
+    const size_t searches = o.params.size() * o.maps.size() * std::max<size_t>(1, o.resolutions.size()) * methods.size();
     if (searches > 64)
         return fail(std::to_string(searches) + " factorizations to search; at most 64 (narrow a list)");
     *max_terms = 0;
@@ -485,7 +507,14 @@ bool validate_options(const BakeOptions& o, const std::vector<Method>& methods, 
     }
     for (int b : o.bits)
         if (b != 8 && b != 16) return fail("--bits " + std::to_string(b) + ": 8 or 16");
-    for (int r : o.resolutions)
+    std::vector<int> all = o.resolutions;
+    all.insert(all.end(), o.smooth_resolutions.begin(), o.smooth_resolutions.end());
+    if (o.resolutions.empty()) {
+        if (o.ladder.empty()) return fail("an empty resolution ladder");
+        all.push_back(o.ladder_iv);
+        for (const auto& r : o.ladder) all.push_back(r.first), all.push_back(r.second);
+    }
+    for (int r : all)
         if (r < 1 || r > 256 || (r & (r - 1)))
             return fail("--res " + std::to_string(r) + ": a power of two in 1..256 (GL ES 1.1 textures)");
     for (Method m : methods)
@@ -519,8 +548,9 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     // The judges: exact references of the views, small ones for the coarse stage.
     const std::vector<BakeView> views = o.views.empty() ? default_bake_views() : o.views;
     for (const BakeView& v : views) out->views.push_back(v.name);
-    const bool coarse = o.coarse_res > 0 && o.params.size() * o.maps.size() * methods.size() > 1 &&
-                        *std::min_element(o.resolutions.begin(), o.resolutions.end()) > o.coarse_res;
+    const int finest = o.resolutions.empty() ? std::min(o.ladder_iv, o.ladder[0].first)
+                                             : *std::min_element(o.resolutions.begin(), o.resolutions.end());
+    const bool coarse = o.coarse_res > 0 && o.params.size() * o.maps.size() * methods.size() > 1 && finest > o.coarse_res;
     ImageJudge judge, coarse_judge;
     if (!judge.init(brdf, views, o.judge_size, o.threads, err)) return false;
     if (coarse && !coarse_judge.init(brdf, views, o.coarse_size, o.threads, err)) return false;
@@ -532,7 +562,9 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     if (o.radiance) {
         out->white = o.white > 0 ? o.white : o.white < 0 || !(judge.min_irradiance() > 0) ? 0.0
                                                                                             : 1.25 / judge.min_irradiance();
-        out->diffuse = o.diffuse_given ? o.diffuse : estimate_diffuse(base, 0.005, o.threads);
+        if (o.diffuse_given) out->diffuse.scale = o.diffuse;
+        else if (o.diffuse_side > 0) out->diffuse = estimate_diffuse_profile(base, o.diffuse_side, o.threads);
+        else out->diffuse.scale = estimate_diffuse(base, o.diffuse_quantile, o.threads);
     }
     RadianceTarget rt;
     rt.white = out->white;
@@ -550,27 +582,126 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
     for (Param param : o.params)
         for (HemiMap map : o.maps)
             for (Method method : methods) pairs.push_back({param, map, method});
+    std::vector<std::tuple<Param, HemiMap, Method>> all_pairs = pairs;  // by coarse rank
     if (coarse) {
         std::vector<double> best(pairs.size(), -1e30);
         for (size_t i = 0; i < pairs.size(); ++i) {
             const size_t first = out->candidates.size();
-            search.run(std::get<0>(pairs[i]), std::get<1>(pairs[i]), o.coarse_res, std::get<2>(pairs[i]),
-                       std::min(max_terms, o.coarse_terms), true, coarse_judge);
+            std::vector<int> coarse_terms;
+            for (int k : o.terms)
+                if (k <= o.coarse_terms) coarse_terms.push_back(k);
+            if (coarse_terms.empty()) coarse_terms.push_back(std::min(max_terms, o.coarse_terms));
+            search.run(std::get<0>(pairs[i]), std::get<1>(pairs[i]), o.coarse_res, o.coarse_res, std::get<2>(pairs[i]),
+                       coarse_terms, true, coarse_judge);
             for (size_t c = first; c < out->candidates.size(); ++c)
                 if (out->candidates[c].ok) best[i] = std::max(best[i], out->candidates[c].psnr);
         }
         std::vector<size_t> order(pairs.size());
         for (size_t i = 0; i < order.size(); ++i) order[i] = i;
         std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return best[a] > best[b]; });
-        std::vector<std::tuple<Param, HemiMap, Method>> kept;
-        for (size_t i : order)
+        std::vector<std::tuple<Param, HemiMap, Method>> kept, ranked;
+        for (size_t i : order) {
+            ranked.push_back(pairs[i]);
             if (int(kept.size()) < std::max(1, o.keep) && best[i] > -1e30 && best[i] >= best[order[0]] - o.keep_db)
                 kept.push_back(pairs[i]);
+        }
+        all_pairs = ranked;
         if (!kept.empty()) pairs = kept;
     }
-    for (const auto& p : pairs)
-        for (int res : o.resolutions)
-            search.run(std::get<0>(p), std::get<1>(p), res, std::get<2>(p), max_terms, false, judge);
+    // Best PSNR of the fine candidates appended since `first`.
+    auto best_since = [&](size_t first) {
+        double b = -1e30;
+        for (size_t c = first; c < out->candidates.size(); ++c)
+            if (out->candidates[c].ok) b = std::max(b, out->candidates[c].psnr);
+        return b;
+    };
+    std::vector<int> terms = o.terms;
+    std::sort(terms.begin(), terms.end());
+    terms.erase(std::unique(terms.begin(), terms.end()), terms.end());
+    if (!o.resolutions.empty()) {
+        // Listed resolutions: every one (the grid), no climbing.
+        for (const auto& p : pairs)
+            for (int res : o.resolutions) {
+                // A half-angle factor at res with the other one at each of smooth_resolutions not
+                // above it (or at res too); iv's two factors always alike.
+                std::vector<int> others = {res};
+                if (!o.smooth_resolutions.empty() && half_angle_factor(std::get<0>(p)) >= 0) {
+                    others.clear();
+                    for (int r : o.smooth_resolutions)
+                        if (r <= res) others.push_back(r);
+                }
+                for (int other : others)
+                    search.run(std::get<0>(p), std::get<1>(p), res, other, std::get<2>(p), terms, false, judge);
+            }
+    } else {
+        // The ladder: every kept pair on its first rung; the best half-angle one climbs while
+        // a rung gains climb_db (a sharper lobe needs a finer half-angle factor; iv has no
+        // such factor and stays on its rung).
+        double top = -1e30;
+        int top_pair = -1;
+        std::vector<double> rung_best(pairs.size());
+        for (size_t i = 0; i < pairs.size(); ++i) {
+            const Param param = std::get<0>(pairs[i]);
+            const bool half = half_angle_factor(param) >= 0;
+            const auto rung = half ? o.ladder[0] : std::make_pair(o.ladder_iv, o.ladder_iv);
+            const size_t first = out->candidates.size();
+            search.run(param, std::get<1>(pairs[i]), rung.first, rung.second, std::get<2>(pairs[i]), terms, false, judge);
+            rung_best[i] = best_since(first);
+            if (half && rung_best[i] > top) top = rung_best[i], top_pair = int(i);
+        }
+        if (top_pair < 0 && o.coarse_res > 0) {
+            // Only iv was kept: the best half-angle pair of the coarse stage climbs anyway
+            // (a lobe narrower than the coarse texels looks alike in every parameterization).
+            for (const auto& q : all_pairs)
+                if (half_angle_factor(std::get<0>(q)) >= 0) {
+                    pairs.push_back(q);
+                    const size_t first = out->candidates.size();
+                    search.run(std::get<0>(q), std::get<1>(q), o.ladder[0].first, o.ladder[0].second, std::get<2>(q),
+                               terms, false, judge);
+                    rung_best.push_back(best_since(first));
+                    top_pair = int(pairs.size() - 1);
+                    break;
+                }
+        }
+        const auto p = top_pair >= 0 ? pairs[size_t(top_pair)] : pairs[0];
+        double last = top_pair >= 0 ? rung_best[size_t(top_pair)] : -1e30;
+        if (top_pair >= 0)
+            for (size_t r = 1; r < o.ladder.size(); ++r) {
+                const size_t first = out->candidates.size();
+                search.run(std::get<0>(p), std::get<1>(p), o.ladder[r].first, o.ladder[r].second, std::get<2>(p), terms,
+                           false, judge);
+                const double b = best_since(first);
+                const bool gained = b >= last + o.climb_db;
+                last = std::max(last, b);
+                if (!gained) break;
+            }
+    }
+    // More terms, while the largest term count still paid: the best candidate's configuration
+    // with each of more_terms (a new factorization, warm-started term by term as always).
+    if (o.climb_terms && !o.more_terms.empty()) {
+        const int w = choose_winner(&out->candidates, o);
+        if (w >= 0) {
+            const BakeCandidate b = out->candidates[size_t(w)];
+            double previous = -1e30;
+            for (const BakeCandidate& c : out->candidates)
+                if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
+                    c.res_h == b.res_h && c.method == b.method && c.terms == terms.back() - 1)
+                    previous = c.psnr;
+            double at_max = -1e30;
+            for (const BakeCandidate& c : out->candidates)
+                if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
+                    c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
+                    at_max = c.psnr;
+            if (b.psnr < o.goal_db && at_max >= previous + o.climb_db && at_max >= b.psnr - o.tie_db) {
+                const int half = half_angle_factor(b.param);
+                const int res = half == 1 ? b.res_h : b.res, other = half == 1 ? b.res : b.res_h;
+                std::vector<int> more;
+                for (int k : o.more_terms)
+                    if (k > terms.back() && k <= SEPAL_FMT_MAX_TERMS) more.push_back(k);
+                if (!more.empty()) search.run(b.param, b.map, res, other, b.method, more, false, judge);
+            }
+        }
+    }
     if (o.progress && isatty(2)) std::fprintf(stderr, "\r%80s\r", "");
     const int best = choose_winner(&out->candidates, o);
     mark_front(&out->candidates, o);
@@ -626,10 +757,11 @@ bool bake(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::string* 
         char note[320];
         std::snprintf(note, sizeof note,
                       "radiance fit: f cos(theta_i) %s%.3g/sr (white in every judged view), %.3g%% of the samples; "
-                      "diffuse part %.3g %.3g %.3g /sr drawn untextured",
+                      "diffuse part %.3g %.3g %.3g /sr%s drawn untextured",
                       out->white > 0 ? "capped at " : "not capped", out->white > 0 ? out->white : 0.0,
                       radiance.evaluations() ? 100.0 * double(radiance.capped()) / double(radiance.evaluations()) : 0.0,
-                      out->diffuse.x, out->diffuse.y, out->diffuse.z);
+                      out->diffuse.scale.x, out->diffuse.scale.y, out->diffuse.scale.z,
+                      out->diffuse.side ? " at most, a profile over the two cosines," : "");
         out->notes.push_back(note);
         out->capped_share = radiance.evaluations() ? double(radiance.capped()) / double(radiance.evaluations()) : 0.0;
     }

@@ -47,16 +47,32 @@
 #include "factor/factored.h"
 #include "bake/image_score.h"
 #include "bake/quantize.h"
+#include "bake/radiance.h"
 
 namespace sepal {
 
 struct BakeOptions {
     std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf};
     std::vector<HemiMap> maps = {HemiMap::XY};
-    std::vector<int> resolutions = {32};
+    // Texels per side: of both factors, or with smooth_resolutions given, of the half-angle
+    // factor (gs-half's G, vh's H) while the other one takes each of smooth_resolutions not
+    // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
+    // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
+    // factors at ladder_iv), and the best one climbs while a rung gains climb_db.
+    std::vector<int> resolutions;
+    std::vector<int> smooth_resolutions;
+    std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
+    int ladder_iv = 32;
+    double climb_db = 0.5;
+    // With climb_terms, the winner's configuration is factored again with more_terms when it
+    // is below goal_db and its largest term count still gained climb_db over the one before
+    // (passes cost frame time; above goal_db a better image is not worth them).
+    bool climb_terms = true;
+    double goal_db = 40;
+    std::vector<int> more_terms = {6, 8};
     std::vector<int> terms = {1, 2, 3, 4};
-    // Empty: the methods of bake_methods() that may ship on the target (nmf on gles1/gles2,
-    // nmf and svd on cpu).
+    // Empty: the default methods of bake_methods() that may ship on the target (acls, the
+    // non-negative fit by exact block updates, on gles1/gles2; acls and svd on cpu).
     std::vector<Method> methods;
     ColourMode colour = ColourMode::PerChannel;
     std::vector<int> bits = {8};  // 8 and/or 16 per texel channel
@@ -81,6 +97,11 @@ struct BakeOptions {
     // unless diffuse_given.
     bool radiance = true;
     double white = 0;
+    // The diffuse part: a profile over (cos theta_i, cos theta_o) of diffuse_side^2 nodes
+    // (estimate_diffuse_profile; constant when flat), or with diffuse_side 0 a constant, the
+    // diffuse_quantile of f (estimate_diffuse); or given (diffuse_given: the constant diffuse).
+    int diffuse_side = 16;
+    double diffuse_quantile = 0.005;
     bool diffuse_given = false;
     glm::dvec3 diffuse{0, 0, 0};
     // The frame-time model the budgets use; an empty backend means the built-in gles1
@@ -95,7 +116,7 @@ struct BakeOptions {
     // plain zero-filled SVD spends its rank on the horizon's edge (Lambert: 22% error
     // plain, 0.9% weighted, at 32x32 gs-half).
     bool svd_weighted = true;
-    // nmf/acls outer iterations per term count (0: factor.h's default).
+    // nmf/acls outer iterations per term count (0: 12 for acls, factor.h's default otherwise).
     int iterations = 0;
     int threads = 0;
     double max_memory_mb = 2048;
@@ -125,7 +146,7 @@ bool method_allowed(Method m, Target t);
 struct BakeCandidate {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
-    int res = 0, terms = 0, bits = 8;
+    int res = 0, res_h = 0, terms = 0, bits = 8;  // res: G's side, res_h: H's
     Method method = Method::SVD;
     bool coarse = false;        // judged in the coarse stage (small images)
     bool ok = false;            // factored and encoded; else `note` says why not
@@ -140,10 +161,11 @@ struct BakeCandidate {
     bool non_negative = false;  // no correction passes
     int64_t bytes = 0;
     double ms = 0;              // predicted frame time (BakeOptions::cost)
+    double factor_seconds = 0;  // its factorization's sampling and fitting time (shared by its term counts)
     bool on_front = false;      // no other candidate is as fast and as accurate, and better in one
     bool meets = false;         // within every budget
     AssetData asset;            // with BakeOptions::keep_assets (and the winner's, always)
-    std::string label() const;  // "gs-half/xy 64 nmf x2 8b"
+    std::string label() const;  // "gs-half/xy 64 nmf x2 8b", "gs-half/xy 128/16 nmf x1 8b"
 };
 
 // Every clamp, replacement and fallback behind a bake, counted (never silent): printed by
@@ -170,7 +192,7 @@ struct BakeResult {
     Target target = Target::Gles1;
     std::vector<std::string> views;  // the judged views' names
     double white = 0;                // the radiance fit's cap (0: none or not a radiance fit)
-    glm::dvec3 diffuse{0, 0, 0};     // the radiance fit's diffuse part
+    DiffusePart diffuse;             // the radiance fit's diffuse part
     double capped_share = 0;  // share of sampled f values the cap clamped
     BakeCounts counts;        // filled as far as the bake got (input counts always)
     std::vector<std::string> notes;  // one line each: what was clamped, replaced or special

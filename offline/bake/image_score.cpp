@@ -117,7 +117,7 @@ bool ImageJudge::init(const Brdf& brdf, const std::vector<BakeView>& views, int 
 }
 
 bool ImageJudge::render(const std::vector<uint8_t>& bytes, Target target, size_t view, Image* out,
-                        std::string* err) const {
+                        std::string* err, int* doublings) const {
     auto asset = std::make_unique<sepal_asset>();
     sepal_error e = {};
     if (sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) != SEPAL_OK) {
@@ -157,11 +157,14 @@ bool ImageJudge::render(const std::vector<uint8_t>& bytes, Target target, size_t
     d.rgba = rgba.data();
     d.scratch = scratch.data();
     d.scratch_floats = scratch.size();
+    sepal_draw_stats stats = {};
+    d.stats = &stats;
     if (sepal_emulate_draw(&d, &e) != SEPAL_OK) {
         if (err) *err = e.message;
         return false;
     }
     *out = to_rgb(image_from_rgba8(rgba.data(), size_, size_));
+    if (doublings) *doublings = stats.doublings;
     return true;
 }
 
@@ -171,7 +174,7 @@ bool ImageJudge::score(const std::vector<uint8_t>& bytes, Target target, ImageSc
     int64_t values = 0;
     for (size_t i = 0; i < views_.size(); ++i) {
         Image img;
-        if (!render(bytes, target, i, &img, err)) return false;
+        if (!render(bytes, target, i, &img, err, i == 0 ? &out->doublings : nullptr)) return false;
         const ImageDiff d = diff_images(refs_[i], img, 0);
         out->per_view.push_back(d.psnr);
         total += d.mse * double(img.data.size());

@@ -58,7 +58,7 @@ class ImageJudge {
     bool score(const std::vector<uint8_t>& asset_bytes, Target target, ImageScore* out, std::string* err) const;
     // The target's image of one view (RGB floats in [0, 1], 8-bit levels), for pictures.
     bool render(const std::vector<uint8_t>& asset_bytes, Target target, size_t view, Image* out,
-                std::string* err) const;
+                std::string* err, int* doublings = nullptr) const;
     const Image& reference(size_t view) const { return refs_[view]; }
     size_t view_count() const { return views_.size(); }
     int size() const { return size_; }

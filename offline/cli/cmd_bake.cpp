@@ -110,7 +110,7 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
     Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
                         "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap", "backend",
-                        "timings", "target", "white", "fit", "min-psnr", "iters"},
+                        "timings", "target", "white", "fit", "min-psnr", "iters", "smooth-res", "diffuse-quantile"},
               {"no-mips"});
     BakeOptions o;
     std::string err;
@@ -130,7 +130,12 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (args.has("method") && !parse_list<Method>("method", args.get("method"), parse_method, &o.methods, &err))
         return bad(err);
     if (args.has("res") && !parse_list<int>("res", args.get("res"), parse_int, &o.resolutions, &err)) return bad(err);
+    if (args.has("smooth-res") &&
+        !parse_list<int>("smooth-res", args.get("smooth-res"), parse_int, &o.smooth_resolutions, &err))
+        return bad(err);
     if (args.has("terms") && !parse_list<int>("terms", args.get("terms"), parse_int, &o.terms, &err)) return bad(err);
+    // Terms given: exactly those (no climbing to more terms).
+    if (args.has("terms")) o.climb_terms = false;
     if (args.has("colour") && !parse_colour(args.get("colour"), &o.colour)) return bad("--colour: rgb or luminance");
     long v = 0;
     double d = 0;
@@ -162,6 +167,10 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (args.has("min-psnr")) {
         if (!args.number("min-psnr", &d) || d <= 0) return bad("--min-psnr: dB > 0, e.g. 35");
         o.min_psnr = d;
+    }
+    if (args.has("diffuse-quantile")) {
+        if (!args.number("diffuse-quantile", &d) || d < 0 || d > 1) return bad("--diffuse-quantile: 0..1");
+        o.diffuse_quantile = d;
     }
     if (args.has("iters")) {
         if (!args.integer("iters", &v) || v < 1 || v > 100000) return bad("--iters: 1..100000");
@@ -204,8 +213,8 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     // The candidates, for people, whether or not one won: the image first, the direction-
     // space error as a diagnostic.
     if (!r.candidates.empty())
-        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %s\n", "candidate", "PSNR dB", "err quant", "passes",
-                     "dbl", "bytes", "ms", "(* on the front)");
+        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
+                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
         const std::string label = c.label() + (c.coarse ? " (c)" : "");
@@ -213,8 +222,9 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
             std::fprintf(io.out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
         }
-        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %s %s%s\n", label.c_str(), c.psnr,
-                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.on_front ? "*" : " ",
+        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
+                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
+                     c.on_front ? "*" : " ",
                      int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
                      c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
     }
@@ -228,7 +238,8 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
         JsonWriter j;
         j.begin_object().key("spec").value(brdf->spec()).key("seconds").value(r.seconds);
         j.key("target").value(target_name(r.target)).key("white_level").value(r.white);
-        j.key("diffuse").begin_array().value(r.diffuse.x).value(r.diffuse.y).value(r.diffuse.z).end_array();
+        j.key("diffuse").begin_array().value(r.diffuse.scale.x).value(r.diffuse.scale.y).value(r.diffuse.scale.z).end_array();
+        j.key("diffuse_profile_side").value(r.diffuse.side);
         j.key("views").begin_array();
         for (const std::string& v : r.views) j.value(v);
         j.end_array();
@@ -244,7 +255,8 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
         j.key("candidates").begin_array();
         for (const BakeCandidate& c : r.candidates) {
             j.begin_object().key("label").value(c.label()).key("param").value(param_name(c.param));
-            j.key("map").value(map_name(c.map)).key("res").value(c.res).key("terms").value(c.terms).key("bits").value(c.bits);
+            j.key("map").value(map_name(c.map)).key("res").value(c.res).key("res_h").value(c.res_h > 0 ? c.res_h : c.res);
+            j.key("terms").value(c.terms).key("bits").value(c.bits);
             j.key("method").value(method_name(c.method)).key("ok").value(c.ok).key("coarse").value(c.coarse);
             j.key("psnr").value(c.psnr);
             j.key("psnr_views").begin_array();
@@ -255,6 +267,7 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
             j.key("rms_quantized").value(c.rms_quantized).key("passes").value(c.passes);
             j.key("doublings").value(c.doublings).key("non_negative").value(c.non_negative);
             j.key("bytes").value(c.bytes).key("ms_predicted").value(c.ms).key("on_front").value(c.on_front);
+            j.key("factor_seconds").value(c.factor_seconds);
             j.key("meets").value(c.meets).end_object();
         }
         j.end_array();

@@ -44,7 +44,7 @@ class PairSampler {
     const Brdf& brdf_;
     Param param_;
     HemiMap map_;
-    int n_, s_, pairs_;
+    int n_[2], s_, pairs_;  // n_: texels per side of G (0) and H (1)
     std::vector<int> row_texel_, col_texel_;
     std::vector<Point> row_points_, col_points_;  // s^2 per texel
     int64_t frame_fallback_pairs_ = 0;

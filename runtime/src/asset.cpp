@@ -11,6 +11,25 @@ static_assert(sizeof(sepal_fmt_material) == 64, "material layout");
 static_assert(sizeof(sepal_fmt_texture) == 72, "texture layout");
 static_assert(sizeof(sepal_fmt_plan) == 32, "plan layout");
 static_assert(sizeof(sepal_fmt_pass) == 24, "pass layout");
+static_assert(sizeof(sepal_fmt_diffuse) == 16, "diffuse profile layout");
+
+extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
+    if (!profile || side < 2) return 1.0f;
+    const float n = (float)(side - 1);
+    const float x = (cos_i < 0.0f ? 0.0f : cos_i > 1.0f ? 1.0f : cos_i) * n;
+    const float y = (cos_o < 0.0f ? 0.0f : cos_o > 1.0f ? 1.0f : cos_o) * n;
+    int i0 = (int)x, j0 = (int)y;
+    if (i0 > (int)side - 2) i0 = (int)side - 2;
+    if (j0 > (int)side - 2) j0 = (int)side - 2;
+    const float ax = x - (float)i0, ay = y - (float)j0;
+    const uint8_t* b = (const uint8_t*)profile;
+    auto at = [&](int i, int j) {
+        float v;
+        memcpy(&v, b + 4 * (((size_t)j * side + (size_t)i) * 3 + (size_t)c), 4);
+        return v;
+    };
+    return (1 - ay) * ((1 - ax) * at(i0, j0) + ax * at(i0 + 1, j0)) + ay * ((1 - ax) * at(i0, j0 + 1) + ax * at(i0 + 1, j0 + 1));
+}
 
 namespace {
 
@@ -174,6 +193,25 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             plan_payload = p;
             plan_size = c.size;
             have_plan = true;
+        } else if (c.tag == SEPAL_FMT_TAG_DIFFUSE) {
+            sepal_fmt_diffuse dh;
+            if (out->diffuse_profile || h.version_major < 2 || c.size < sizeof dh)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk duplicated, too small or in a version-1 file");
+            memcpy(&dh, p, sizeof dh);
+            if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE ||
+                c.size != sizeof dh + (uint64_t)dh.side * dh.side * 3 * sizeof(float))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: diffuse profile of side %u (2..%d) in a %llu-byte chunk", dh.side,
+                                 SEPAL_FMT_MAX_DIFFUSE_SIDE, (unsigned long long)c.size);
+            out->diffuse_profile = p + sizeof dh;
+            out->diffuse_side = dh.side;
+            for (uint32_t k = 0; k < dh.side * dh.side * 3; ++k) {
+                float v;
+                memcpy(&v, out->diffuse_profile + 4 * (size_t)k, 4);
+                if (!(v >= 0.0f && v <= 1.0f))
+                    return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse profile value %g outside [0,1]",
+                                     (double)v);
+            }
         } else if (c.tag == SEPAL_FMT_TAG_META) {
             if (c.size > SEPAL_FMT_MAX_META_BYTES)
                 return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: META over %u bytes",
@@ -279,6 +317,8 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
                              p.rgb_scale);
     }
+    if (out->diffuse_profile && !has_diffuse)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: a diffuse profile without a diffuse part");
     // The diffuse part is drawn by exactly one DIFFUSE pass (the other backends read it from
     // the material): both or neither.
     if (diffuse_passes != (has_diffuse ? 1u : 0u))

@@ -126,9 +126,8 @@ float color_boost(const sepal_fmt_pass& pass) {
 // Fills the colour array for one pass and light: pass colour x irradiance x exposure.
 void fill_colors(const Frame& f, const sepal_fmt_pass& pass, int light) {
     const int n = f.mesh->vertex_count;
-    srt::fill_pass_colors(pass.color, srt::light_irradiance(f.scratch, n, light), srt::light_cosine(f.scratch, n, light),
-                          srt::pass_uses_cosine(f.m->info, pass), f.exposure / color_boost(pass), n,
-                          srt::pass_colors(f.scratch, n, f.scene->light_count));
+    srt::fill_pass_colors(f.m->info, pass, srt::pass_inputs(f.m, f.scratch, n, f.scene->light_count, light),
+                          f.exposure / color_boost(pass), n, srt::pass_colors(f.scratch, n, f.scene->light_count));
 }
 
 // Two texture units: tex0 x tex1 x colour, added or subtracted by blending.

@@ -276,8 +276,7 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
         const float stage_scale = e->gles_version == 1 ? (float)pass.rgb_scale * boost : (float)pass.rgb_scale;
         for (int l = 0; l < lights; ++l) {
             float* c = colors + 4 * (size_t)n * l;
-            srt::fill_pass_colors(pass.color, srt::light_irradiance(vscratch, n, l), srt::light_cosine(vscratch, n, l),
-                                  srt::pass_uses_cosine(m.info, pass), step.exposure / boost, n, c);
+            srt::fill_pass_colors(m.info, pass, srt::pass_inputs(&m, vscratch, n, lights, l), step.exposure / boost, n, c);
             if (clamp_colors)
                 for (size_t k = 0; k < 4 * (size_t)n; ++k) c[k] = clamp01(c[k]);
         }

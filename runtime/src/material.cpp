@@ -135,12 +135,17 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
     }
     // GL ES 2 guarantees 8 texture units; the one-unit path exists for GL ES 1.1.
     out->single_unit = caps->gles_version == 1 && caps->texture_units < 2;
-    int group = caps->texture_units / 2;
+    // GL ES 2's fused per-pixel shader also samples the diffuse profile: one unit fewer.
+    int group = (caps->texture_units - (asset->diffuse_profile && caps->gles_version == 2 ? 1 : 0)) / 2;
     if (group > 8) group = 8;
     if (group > (int)info.terms) group = (int)info.terms;
     out->fused_group = group > 0 ? group : 1;
     out->subtract_by_inversion = out->has_negative_passes && !caps->has_blend_subtract;
     out->texture_count = asset->texture_count;
+    if (asset->diffuse_profile) {
+        out->diffuse_side = asset->diffuse_side;
+        memcpy(out->diffuse_profile, asset->diffuse_profile, (size_t)asset->diffuse_side * asset->diffuse_side * 3 * sizeof(float));
+    }
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
         const sepal_fmt_texture& td = asset->textures[i].desc;
         out->texture_role[i] = td.role;

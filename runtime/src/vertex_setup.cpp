@@ -26,6 +26,7 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
                 g[0] = g[1] = h[0] = h[1] = 0.5f;
                 e[0] = e[1] = e[2] = 0.0f;
                 light_cosine(scratch, n, l)[i] = 0.0f;
+                view_cosine(scratch, n, scene.light_count)[i] = 0.0f;
             }
             continue;
         }
@@ -36,6 +37,7 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
         normalize3(to_eye);
         float wo[3];
         fr.to_local(to_eye, wo);
+        view_cosine(scratch, n, scene.light_count)[i] = wo[2] > 0.0f ? wo[2] : 0.0f;
         float sum = 0.0f, lit_sum = 0.0f;
         for (int l = 0; l < scene.light_count; ++l) {
             const sepal_light& light = scene.lights[l];
@@ -75,12 +77,28 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
     return r;
 }
 
-void fill_pass_colors(const float color[3], const float* irradiance, const float* cosine, bool uses_cosine,
-                      float scale, int n, float* rgba) {
+PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light) {
+    PassInputs in;
+    in.irradiance = light_irradiance(scratch, n, light);
+    in.cosine = light_cosine(scratch, n, light);
+    in.view_cosine = view_cosine(scratch, n, lights);
+    in.profile = m->diffuse_side ? m->diffuse_profile : nullptr;
+    in.profile_side = m->diffuse_side;
+    return in;
+}
+
+void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass, const PassInputs& in, float scale,
+                      int n, float* rgba) {
+    const bool uses_cosine = pass_uses_cosine(info, pass);
+    const bool profile = pass.op == SEPAL_OP_DIFFUSE && in.profile;
     for (int i = 0; i < n; ++i) {
         // Per channel: a luminance material's colour ratio is in the pass colour.
-        const float s = uses_cosine ? scale * cosine[i] : scale;
-        for (int k = 0; k < 3; ++k) rgba[4 * i + k] = color[k] * irradiance[3 * i + k] * s;
+        const float s = uses_cosine ? scale * in.cosine[i] : scale;
+        for (int k = 0; k < 3; ++k) {
+            float v = pass.color[k] * in.irradiance[3 * i + k] * s;
+            if (profile) v *= sepal_diffuse_profile(in.profile, in.profile_side, in.cosine[i], in.view_cosine[i], k);
+            rgba[4 * i + k] = v;
+        }
         rgba[4 * i + 3] = 1.0f;
     }
 }

@@ -5,6 +5,7 @@
 #pragma once
 #include "internal.h"
 #include "sepal/sepal_format.h"
+#include "sepal/sepal_material.h"
 #include "sepal/sepal_scene.h"
 
 namespace srt {
@@ -14,10 +15,11 @@ namespace srt {
 // horizon), cos(theta_i) (1N; 0 there too); then 4N floats of colours for the pass being
 // drawn; then 7N floats of per-vertex attributes as the per-pixel paths interpolate them
 // (normal 3, tangent 4: the mesh's, with unusable tangents replaced; see
-// repaired_attributes).
+// repaired_attributes); then N floats of cos(theta_o) (0 for an eye below the horizon);
+// then 4N floats of a second colour array (the fused path's diffuse term).
 constexpr size_t kLightFloats = 8;
 inline size_t scratch_floats(int vertices, int lights) {
-    return (size_t)vertices * (kLightFloats * (size_t)lights + 4 + 7);
+    return (size_t)vertices * (kLightFloats * (size_t)lights + 4 + 7 + 1 + 4);
 }
 inline float* light_g_uv(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n; }
 inline float* light_h_uv(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 2 * (size_t)n; }
@@ -28,6 +30,8 @@ inline float* vertex_frames(float* s, int n, int lights) {
     return s + (size_t)lights * kLightFloats * n + 4 * (size_t)n;
 }
 constexpr int kFrameFloats = 7;
+inline float* view_cosine(float* s, int n, int lights) { return vertex_frames(s, n, lights) + kFrameFloats * (size_t)n; }
+inline float* second_colors(float* s, int n, int lights) { return view_cosine(s, n, lights) + (size_t)n; }
 
 struct VertexSetupResult {
     // Of E cos(theta_i), what version-1 passes and DIFFUSE passes send:
@@ -52,9 +56,20 @@ inline float pass_irradiance_peak(const VertexSetupResult& v, bool uses_cosine) 
     return uses_cosine ? v.max_irradiance_single : v.max_lit_single;
 }
 
-// RGBA vertex colours of one pass and light: color * E (* cos) * scale per vertex, alpha 1.
-void fill_pass_colors(const float color[3], const float* irradiance, const float* cosine, bool uses_cosine,
-                      float scale, int n, float* rgba);
+// What a pass's vertex colour is made of, for one light: E, cos(theta_i), and for DIFFUSE
+// passes with a profile, cos(theta_o) and the profile.
+struct PassInputs {
+    const float* irradiance;    // 3 per vertex
+    const float* cosine;        // cos(theta_i) per vertex
+    const float* view_cosine;   // cos(theta_o) per vertex
+    const float* profile;       // the material's diffuse profile, or NULL
+    uint32_t profile_side;
+};
+PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light);
+// RGBA vertex colours of one pass and light: color * E (* cos) (* profile) * scale per
+// vertex, alpha 1.
+void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass, const PassInputs& in, float scale,
+                      int n, float* rgba);
 
 // Bad vertices get zero irradiance and finite coordinates; the draws skip their triangles.
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,

@@ -11,6 +11,8 @@
 //                        level is rows of width*channels*(bits/8) bytes, row 0 first, row 0
 //                        being texture coordinate t = 0 (the order glTexImage2D takes)
 //   'PLAN' exactly one   sepal_fmt_plan followed by pass_count sepal_fmt_pass
+//   'DIFF' optional (v2) sepal_fmt_diffuse followed by side*side*3 floats: the shape of a
+//                        radiance material's diffuse part (see below)
 //   'META' optional      UTF-8 JSON for people and tools; the runtime ignores it
 //   unknown tags are skipped (forward compatibility), but still checksummed.
 // Bounds (enforced by the reader, respected by the writer): see SEPAL_FMT_MAX_*.
@@ -25,8 +27,10 @@
 // reflected radiance per unit irradiance, f(wi, wo) cos(theta_i) - diffuse cos(theta_i)
 // (usually capped where a display shows white), so a light contributes
 //   E (sum_k G_k H_k) + E cos(theta_i) diffuse,      E = I / d^2 (0 below the horizon),
-// instead of E cos(theta_i) f. The diffuse part (a constant BRDF, rho_d / pi) costs no
-// texture: one DIFFUSE pass, whose vertex colour carries the cosine. A version-1 file means
+// instead of E cos(theta_i) f. The diffuse part, diffuse[c] times an optional profile
+// P_c(cos theta_i, cos theta_o) in [0,1] (the DIFF chunk; 1 without it: rho_d / pi for a
+// Lambert floor), costs no texture: one DIFFUSE pass whose vertex colour carries the cosine
+// and the profile, evaluated per vertex like the texture coordinates. A version-1 file means
 // what it always meant (flags 0, diffuse 0). Writers write 1.0 unless a version-2 feature
 // is used, so older assets stay byte-identical; readers of 1.x refuse 2.x (major).
 #pragma once
@@ -61,6 +65,8 @@ extern "C" {
 #define SEPAL_FMT_TAG_TEXTURE SEPAL_FMT_TAG('T', 'E', 'X', 'R')
 #define SEPAL_FMT_TAG_PLAN SEPAL_FMT_TAG('P', 'L', 'A', 'N')
 #define SEPAL_FMT_TAG_META SEPAL_FMT_TAG('M', 'E', 'T', 'A')
+#define SEPAL_FMT_TAG_DIFFUSE SEPAL_FMT_TAG('D', 'I', 'F', 'F')
+#define SEPAL_FMT_MAX_DIFFUSE_SIDE 32
 
 // Parameterizations (NOTES.md section 1). Per-vertex (GL ES 1.1) paths can use the first
 // three; the last two need per-pixel evaluation (shaders or the CPU).
@@ -167,6 +173,14 @@ typedef struct sepal_fmt_plan {
     uint32_t reserved[5];
 } sepal_fmt_plan;
 
+// The diffuse profile (version 2, radiance materials with a diffuse part): side x side RGB
+// samples of P(cos theta_i, cos theta_o) in [0,1], sample (i, j) at cos theta_i = i / (side
+// - 1), cos theta_o = j / (side - 1), row j = 0 first; looked up bilinearly (clamped).
+typedef struct sepal_fmt_diffuse {
+    uint32_t side;         // 2..SEPAL_FMT_MAX_DIFFUSE_SIDE
+    uint32_t reserved[3];  // 0
+} sepal_fmt_diffuse;
+
 typedef struct sepal_fmt_pass {
     uint16_t op;         // sepal_pass_op
     uint16_t blend;      // sepal_blend
@@ -196,7 +210,15 @@ typedef struct sepal_asset {
     sepal_fmt_pass passes[SEPAL_FMT_MAX_PASSES];
     const char* meta;  // not NUL-terminated; NULL when absent
     uint32_t meta_bytes;
+    // The diffuse profile: side * side * 3 floats in the caller's buffer (read them with
+    // memcpy: 4-byte aligned only), or NULL with side 0 (profile 1 everywhere).
+    const uint8_t* diffuse_profile;
+    uint32_t diffuse_side;
 } sepal_asset;
+
+// The diffuse profile at (cos theta_i, cos theta_o), channel c (bilinear, clamped to [0,1]
+// in both); 1 without a profile. profile: side * side * 3 floats (any alignment).
+float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c);
 
 // Validates everything (sizes, bounds, checksums, enums, cross references) and fills
 // out. Any failure returns a code and a message naming the problem; out is then

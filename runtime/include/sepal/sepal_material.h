@@ -66,6 +66,11 @@ typedef struct sepal_material {
     // GL ES 1.1: per pass, the largest value GL clamps at 1 (vertex colour, or colour x tex0
     // on one texture unit) per unit irradiance: what its exposure must keep below 1.
     float pass_need[SEPAL_FMT_MAX_PASSES];
+    // A radiance material's diffuse profile (format 2), copied: the DIFFUSE pass's vertex
+    // colours are computed from it every frame. side 0: none (1 everywhere).
+    float diffuse_profile[SEPAL_FMT_MAX_DIFFUSE_SIDE * SEPAL_FMT_MAX_DIFFUSE_SIDE * 3];
+    uint32_t diffuse_side;
+    uint32_t diffuse_texture;  // GL ES 2: the profile as an RGB texture (fused per-pixel), or 0
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;
