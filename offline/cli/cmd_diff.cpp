@@ -1,13 +1,15 @@
 // sepal diff A B [--max-diff N] [--max-share P] [--min-psnr D] [--heatmap out.png]
+//   [--sheet out.png [--sheet-scale LEVELS]]
 #include <cmath>
 
 #include "cli/cli.h"
 #include "util/image.h"
+#include "util/plot.h"
 
 namespace sepal {
 
 int cmd_diff(const std::vector<std::string>& argv, const CommandIO& io) {
-    Args args(argv, {"max-diff", "max-share", "min-psnr", "heatmap"});
+    Args args(argv, {"max-diff", "max-share", "min-psnr", "heatmap", "sheet", "sheet-scale"});
     Tolerance tol;
     if (args.ok() && args.has("max-diff")) args.number("max-diff", &tol.max_diff);
     if (args.ok() && args.has("max-share")) args.number("max-share", &tol.max_share);
@@ -54,6 +56,22 @@ int cmd_diff(const std::vector<std::string>& argv, const CommandIO& io) {
         }
         std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.get("heatmap").c_str(),
                      scale);
+    }
+    if (args.has("sheet")) {
+        // A | B | heatmap on a fixed scale (default 32 levels: comparable between runs).
+        double scale = 32;
+        if (args.has("sheet-scale") && (!args.number("sheet-scale", &scale) || !(scale > 0))) {
+            std::fprintf(io.err, "sepal diff: --sheet-scale: 8-bit levels > 0\n");
+            return kExitBadInput;
+        }
+        auto base = [](const std::string& p) { return p.substr(p.find_last_of('/') + 1); };
+        char title[160];
+        std::snprintf(title, sizeof title, "%s, %.2f dB", base(args.positional()[1]).c_str(), d.psnr);
+        if (!write_png(args.get("sheet"), comparison_sheet(a, b, base(args.positional()[0]), title, scale), &err)) {
+            std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels)\n", args.get("sheet").c_str(), scale);
     }
     std::string why;
     if (!tolerance_holds(d, tol, &why)) {

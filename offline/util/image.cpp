@@ -240,13 +240,17 @@ Image diff_heatmap(const Image& a, const Image& b, double full_scale) {
         double worst = 0;
         for (int c = 0; c < 3; ++c)
             worst = std::max(worst, std::fabs(double(ra.data[p * 3 + c]) - rb.data[p * 3 + c]) * 255.0);
-        // black -> red -> yellow -> white over [0, 1/3, 2/3, 1] of the scale.
-        const float t = float(std::min(1.0, worst / scale)) * 3.0f;
-        out.data[p * 3 + 0] = std::min(1.0f, t);
-        out.data[p * 3 + 1] = std::clamp(t - 1.0f, 0.0f, 1.0f);
-        out.data[p * 3 + 2] = std::clamp(t - 2.0f, 0.0f, 1.0f);
+        heat_colour(worst / scale, &out.data[p * 3]);
     }
     return out;
+}
+
+void heat_colour(double t, float rgb[3]) {
+    // black -> red -> yellow -> white over [0, 1/3, 2/3, 1].
+    const float x = float(std::clamp(t, 0.0, 1.0)) * 3.0f;
+    rgb[0] = std::min(1.0f, x);
+    rgb[1] = std::clamp(x - 1.0f, 0.0f, 1.0f);
+    rgb[2] = std::clamp(x - 2.0f, 0.0f, 1.0f);
 }
 
 double tolerance_threshold(const Tolerance& t) { return t.max_diff >= 0 ? t.max_diff : 0.0; }

@@ -63,6 +63,8 @@ ImageDiff diff_images(const Image& a, const Image& b, double threshold);
 // Per-pixel largest channel difference mapped through a black-red-yellow-white ramp;
 // full_scale (8-bit units) maps to white. Sizes must match.
 Image diff_heatmap(const Image& a, const Image& b, double full_scale);
+// The heatmap's ramp at t in [0, 1] (clamped): black, red, yellow, white.
+void heat_colour(double t, float rgb[3]);
 
 struct Tolerance {
     double max_diff = -1;   // per-channel threshold in 8-bit units; < 0: not set

@@ -187,6 +187,14 @@ std::vector<BackendRow> backend_table() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Flags are not folders: --help prints the usage; any other option is refused.
+    for (int i = 1; i < argc; ++i)
+        if (argv[i][0] == '-') {
+            const bool help = std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h";
+            std::fprintf(help ? stdout : stderr, "%s%s", help ? "" : "unknown option\n",
+                         "usage: sepal-bench-runtime [OUT_DIR [BUILD_DIR]]  (defaults build/bench, build)\n  GL ES 1.1 frame times against the fill limit; writes OUT_DIR/runtime.json\n");
+            return help ? 0 : 2;
+        }
     const std::string out_dir = argc > 1 ? argv[1] : "build/bench";
     const std::string bin_dir = argc > 2 ? argv[2] : "build";
     const int W = 512, H = 512, frames = 7;
