@@ -64,13 +64,15 @@ struct BakeOptions {
     std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
     int ladder_iv = 32;
     double climb_db = 0.5;
-    // With climb_terms, the winner's configuration is factored again with more_terms when it
-    // is below goal_db and its largest term count still gained climb_db over the one before
-    // (passes cost frame time; above goal_db a better image is not worth them).
+    // With terms empty (and climb_terms), the winner's configuration is factored again with
+    // more_terms when it is below goal_db and its largest term count still gained climb_db
+    // over the one before (passes cost frame time; above goal_db a better image is not
+    // worth them).
     bool climb_terms = true;
     double goal_db = 40;
     std::vector<int> more_terms = {6, 8};
-    std::vector<int> terms = {1, 2, 3, 4};
+    // Term counts; empty: 1..4, and more_terms when the winner is below goal_db (climb_terms).
+    std::vector<int> terms;
     // Empty: the default methods of bake_methods() that may ship on the target (acls, the
     // non-negative fit by exact block updates, on gles1/gles2; acls and svd on cpu).
     std::vector<Method> methods;

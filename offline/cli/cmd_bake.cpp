@@ -134,8 +134,6 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
         !parse_list<int>("smooth-res", args.get("smooth-res"), parse_int, &o.smooth_resolutions, &err))
         return bad(err);
     if (args.has("terms") && !parse_list<int>("terms", args.get("terms"), parse_int, &o.terms, &err)) return bad(err);
-    // Terms given: exactly those (no climbing to more terms).
-    if (args.has("terms")) o.climb_terms = false;
     if (args.has("colour") && !parse_colour(args.get("colour"), &o.colour)) return bad("--colour: rgb or luminance");
     long v = 0;
     double d = 0;
