@@ -61,8 +61,8 @@ DiffusePart estimate_diffuse_profile(const Brdf& f, int side, int threads) {
         // The cells around the node: its cosine and the midpoints towards its neighbours.
         for (int a = -1; a <= 1; ++a)
             for (int b = -1; b <= 1; ++b) {
-                const double ci = std::clamp((i + 0.5 * a) / (side - 1), 0.02, 1.0);
-                const double co = std::clamp((j + 0.5 * b) / (side - 1), 0.02, 1.0);
+                const double ci = std::clamp((i + 0.5 * a) / (side - 1), 1e-3, 1.0);
+                const double co = std::clamp((j + 0.5 * b) / (side - 1), 1e-3, 1.0);
                 const double si = std::sqrt(1 - ci * ci), so = std::sqrt(1 - co * co);
                 for (int p = 0; p < (iso ? 1 : 8); ++p) {
                     const double phi_i = kPi * p / 8;

@@ -110,7 +110,7 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
     Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
                         "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap", "backend",
-                        "timings", "target", "white", "fit", "min-psnr", "iters", "smooth-res", "diffuse-quantile"},
+                        "timings", "target", "white", "fit", "min-psnr", "iters", "smooth-res", "diffuse-quantile", "judge-size"},
               {"no-mips"});
     BakeOptions o;
     std::string err;
@@ -169,6 +169,10 @@ int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
     if (args.has("diffuse-quantile")) {
         if (!args.number("diffuse-quantile", &d) || d < 0 || d > 1) return bad("--diffuse-quantile: 0..1");
         o.diffuse_quantile = d;
+    }
+    if (args.has("judge-size")) {
+        if (!args.integer("judge-size", &v) || v < 8 || v > 2048) return bad("--judge-size: pixels per side, 8..2048");
+        o.judge_size = int(v);
     }
     if (args.has("iters")) {
         if (!args.integer("iters", &v) || v < 1 || v > 100000) return bad("--iters: 1..100000");
