@@ -775,11 +775,13 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     }
     if (o.radiance) {
         char note[320];
-        std::snprintf(note, sizeof note,
-                      "radiance fit: f cos(theta_i) %s%.3g/sr (white in every judged view), %.3g%% of the samples; "
-                      "diffuse part %.3g %.3g %.3g /sr%s drawn untextured",
-                      out->white > 0 ? "capped at " : "not capped", out->white > 0 ? out->white : 0.0,
-                      radiance.evaluations() ? 100.0 * double(radiance.capped()) / double(radiance.evaluations()) : 0.0,
+        char cap[96] = "not capped";
+        if (out->white > 0)
+            std::snprintf(cap, sizeof cap, "capped at %.3g/sr (white in every judged view), %.3g%% of the samples",
+                          out->white,
+                          radiance.evaluations() ? 100.0 * double(radiance.capped()) / double(radiance.evaluations()) : 0.0);
+        std::snprintf(note, sizeof note, "radiance fit: f cos(theta_i) %s; diffuse part %.3g %.3g %.3g /sr%s drawn untextured",
+                      cap,
                       out->diffuse.scale.x, out->diffuse.scale.y, out->diffuse.scale.z,
                       out->diffuse.side ? " at most, a profile over the two cosines," : "");
         out->notes.push_back(note);

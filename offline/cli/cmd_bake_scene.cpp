@@ -7,8 +7,13 @@
 //      "param": ["gs-half"], "res": [32], "terms": [1, 2], "method": ["nmf"],
 //      "bits": 8, "cap": 2},
 //     {"name": "paint", "spec": "cornell/garnet_red.brdf"}]}
-// Only "name" and "spec" are required; the rest default as in `sepal bake`. A relative
-// measured-file spec is read relative to the scene file. Each material becomes
+// Only "name" and "spec" are required; the rest default as in `sepal bake`, plus "target"
+// ("gles1", "gles2", "cpu"), "min_psnr" (dB) and "white" (a number, "auto" or "none").
+// Optional top-level "views": the scene's views the bake judges candidates by (and takes its
+// white level from) instead of the default scene and its grazing twin, each a name and
+// scene flags as `sepal render` takes them:
+//   "views": [{"name": "hall", "flags": "--mesh torus --camera 0,-4,1.5 --light point:3,1,2:40"}]
+// A relative measured-file spec is read relative to the scene file. Each material becomes
 // DIR/<name>.sepal; one whose asset already holds the same bake key (a checksum of the
 // canonical spec, the measured file's bytes, the options and the format version) is
 // skipped. A failing material does not stop the others; the exit code says whether all
@@ -20,6 +25,7 @@
 
 #include "bake/bake.h"
 #include "cli/cli.h"
+#include "common/scene_flags.h"
 #include "util/io.h"
 #include "util/json_read.h"
 #include "sepal/sepal_format.h"
@@ -90,6 +96,47 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
     if (scene.kind != JsonValue::Object || !mats || mats->kind != JsonValue::Array || mats->array.empty())
         return bad(scene_path + ": expected {\"materials\": [ ... ]} with at least one material");
     if (mats->array.size() > 256) return bad(scene_path + ": more than 256 materials");
+    // The scene's own views, shared by every material (and part of each bake key).
+    std::vector<BakeView> views;
+    std::string views_key;
+    if (const JsonValue* vs = scene.find("views")) {
+        if (vs->kind != JsonValue::Array || vs->array.empty() || vs->array.size() > 8)
+            return bad(scene_path + ": \"views\" must be a list of 1..8 {\"name\", \"flags\"} objects");
+        for (size_t i = 0; i < vs->array.size(); ++i) {
+            const JsonValue& v = vs->array[i];
+            const JsonValue* vname = v.find("name");
+            const JsonValue* flags = v.find("flags");
+            const std::string where = scene_path + ": views[" + std::to_string(i) + "]";
+            if (v.kind != JsonValue::Object || !vname || vname->kind != JsonValue::String || !flags ||
+                flags->kind != JsonValue::String || !valid_name(vname->string))
+                return bad(where + ": needs a \"name\" (1-64 letters, digits, '_' or '-') and a \"flags\" string");
+            sepal_ports::SceneSetup setup;
+            std::vector<std::string> words;
+            for (size_t a = 0; a < flags->string.size();) {
+                const size_t b = flags->string.find(' ', a);
+                const std::string w = flags->string.substr(a, b == std::string::npos ? std::string::npos : b - a);
+                if (!w.empty()) words.push_back(w);
+                if (b == std::string::npos) break;
+                a = b + 1;
+            }
+            std::vector<char*> argv;
+            for (std::string& w : words) argv.push_back(&w[0]);
+            std::string ferr;
+            for (int k = 0; k < int(argv.size());) {
+                const int used = sepal_ports::parse_scene_flag(int(argv.size()), argv.data(), k, &setup, &ferr);
+                if (used <= 0) return bad(where + ": " + (used < 0 ? ferr : "'" + words[size_t(k)] + "' is not a scene flag"));
+                k += used;
+            }
+            if (!sepal_ports::load_scene_mesh(&setup, &ferr)) return bad(where + ": " + ferr);
+            BakeView bv;
+            bv.name = vname->string;
+            bv.scene = setup.scene;
+            bv.vertices.assign(setup.mesh.vertices, setup.mesh.vertices + setup.mesh.vertex_count);
+            bv.indices.assign(setup.mesh.indices, setup.mesh.indices + setup.mesh.index_count);
+            views.push_back(std::move(bv));
+            views_key += vname->string + "=" + flags->string + ";";
+        }
+    }
     if (!make_dirs(dir, &err)) return bad(err);
     const size_t slash = scene_path.find_last_of('/');
     const std::string base = slash == std::string::npos ? "" : scene_path.substr(0, slash + 1);
@@ -131,6 +178,7 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
         }
         BakeOptions o;
         o.threads = int(threads);
+        o.views = views;
         std::string perr;
         auto num = [](const JsonValue& x, double* d) {
             if (x.kind != JsonValue::Number) return false;
@@ -151,7 +199,15 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
                   list<Method>(mat.find("method"), str(parse_method), &o.methods, &perr, "method") &&
                   list<int>(mat.find("res"), integer, &o.resolutions, &perr, "res") &&
                   list<int>(mat.find("terms"), integer, &o.terms, &perr, "terms");
-        for (const char* key : {"max_error", "max_passes", "max_bytes", "bits", "cap"}) {
+        if (const JsonValue* t = mat.find("target"))
+            if (ok && (t->kind != JsonValue::String || !parse_target(t->string, &o.target)))
+                ok = false, perr = "\"target\" must be \"gles1\", \"gles2\" or \"cpu\"";
+        if (const JsonValue* w = mat.find("white")) {
+            if (w->kind == JsonValue::String && (w->string == "auto" || w->string == "none")) o.white = w->string == "none" ? -1 : 0;
+            else if (!num(*w, &d) || !(d > 0)) ok = false, perr = "\"white\" must be a number > 0, \"auto\" or \"none\"";
+            else o.white = d;
+        }
+        for (const char* key : {"max_error", "max_passes", "max_bytes", "bits", "cap", "min_psnr"}) {
             const JsonValue* v = mat.find(key);
             if (!ok || !v) continue;
             if (!num(*v, &d) || !(d > 0)) {
@@ -163,14 +219,17 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
             if (!std::strcmp(key, "max_passes")) o.max_passes = int(d);
             if (!std::strcmp(key, "max_bytes")) o.max_bytes = int64_t(d);
             if (!std::strcmp(key, "cap")) o.cap = d;
+            if (!std::strcmp(key, "min_psnr")) o.min_psnr = d;
             if (!std::strcmp(key, "bits")) {
                 if (d != 8 && d != 16) ok = false, perr = "\"bits\" must be 8 or 16";
                 o.bits = {int(d)};
             }
         }
         for (const auto& member : mat.object) {
-            static const char* const kKnown[] = {"name", "spec", "param", "map", "method", "res", "terms",
-                                                 "max_error", "max_passes", "max_bytes", "bits", "cap"};
+            static const char* const kKnown[] = {"name",      "spec",       "param",     "map",  "method",
+                                                 "res",       "terms",      "max_error", "max_passes",
+                                                 "max_bytes", "bits",       "cap",       "target", "white",
+                                                 "min_psnr"};
             bool known = false;
             for (const char* k : kKnown) known = known || member.first == k;
             if (!known && ok) ok = false, perr = "unknown key \"" + member.first + "\"";
@@ -193,9 +252,9 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
         for (int r : o.resolutions) desc += std::to_string(r) + ",";
         for (int t : o.terms) desc += std::to_string(t) + ",";
         char tail[160];
-        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g", o.max_error, o.max_passes, (long long)o.max_bytes,
-                      o.bits[0], o.cap);
-        desc += tail;
+        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|", o.max_error, o.max_passes,
+                      (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr);
+        desc += tail + views_key;
         uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
         crc = sepal_crc32(crc, measured.data(), measured.size());
         char key[16];
@@ -213,8 +272,9 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
             continue;
         }
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
-        std::fprintf(io.out, "%-20s baked %s: %s, error %.4g, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
-                     out_path.c_str(), w.label().c_str(), w.error_quantized, w.passes, (long long)w.bytes, r.seconds);
+        std::fprintf(io.out, "%-20s baked %s: %s, %.2f dB on %s, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
+                     out_path.c_str(), w.label().c_str(), w.psnr, target_name(r.target), w.passes, (long long)w.bytes,
+                     r.seconds);
         // Clamps, replacements and fallbacks (bake.h, BakeCounts): never silent.
         for (const std::string& n : r.notes) std::fprintf(io.out, "%-20s note: %s\n", "", n.c_str());
         ++baked;
