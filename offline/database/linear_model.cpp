@@ -109,6 +109,19 @@ ResidualModel residual_model(const BrdfDatabase& db, const std::vector<uint8_t>&
     return m;
 }
 
+std::vector<double> loo_oracle_errors(const BrdfDatabase& db, const std::vector<uint8_t>& use) {
+    const int K = db.size();
+    const ResidualModel m = residual_model(db, use);
+    const Eigen::Map<const MatrixXd> G(db.gram(), K, K);
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> R(m.R.data(), K, K);
+    std::vector<double> e(size_t(K), 0.0);
+    for (int j = 0; j < K; ++j) {
+        const VectorXd r = R.col(j);
+        e[size_t(j)] = std::sqrt(std::max(0.0, r.dot(G * r)));
+    }
+    return e;
+}
+
 double row_sigma2(const BrdfDatabase& db, const ResidualModel& m, size_t row) {
     const int K = m.K;
     double s = 0.0;

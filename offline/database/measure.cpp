@@ -46,9 +46,16 @@ bool simulate_samples(const BrdfDatabase& db, const MeasurementPlan& plan, const
             if (err) *err = "simulate: " + f.spec() + " is not finite at sample " + std::to_string(i);
             return false;
         }
-        values->push_back(std::max(0.0, v * (1.0 + noise * normal(seed, i))));
+        values->push_back(v);
     }
+    add_noise(values, noise, seed);
     return true;
+}
+
+void add_noise(std::vector<double>* values, double noise, uint64_t seed) {
+    if (noise == 0.0) return;
+    for (size_t i = 0; i < values->size(); ++i)
+        (*values)[i] = std::max(0.0, (*values)[i] * (1.0 + noise * normal(seed, i)));
 }
 
 bool write_samples_csv(const std::string& path, const BrdfDatabase& db, const MeasurementPlan& plan,

@@ -35,6 +35,10 @@ namespace sepal {
 bool simulate_samples(const BrdfDatabase& db, const MeasurementPlan& plan, const Brdf& f,
                       double noise, uint64_t seed, std::vector<double>* values, std::string* err);
 
+// The instrument's noise alone: v_i *= 1 + noise * n_i (n_i standard normal, counter-based on
+// (seed, i)), clamped at 0. simulate_samples applies it.
+void add_noise(std::vector<double>* values, double noise, uint64_t seed);
+
 bool write_samples_csv(const std::string& path, const BrdfDatabase& db, const MeasurementPlan& plan,
                        const std::vector<double>& values, const std::string& comment,
                        std::string* err);
