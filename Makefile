@@ -21,7 +21,8 @@ endif
 # Debian packages the project needs: compilers and make are assumed only as far as
 # running this Makefile goes; everything else is checked and installed by `make deps`.
 DEB_PACKAGES := g++ make pkg-config libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
-                libglm-dev libstb-dev doctest-dev libeigen3-dev
+                libglm-dev libstb-dev doctest-dev libeigen3-dev \
+                libx11-dev xvfb xauth xdotool emscripten chromium
 
 WARN     := -Wall -Wextra -Werror
 CXXSTD   := -std=c++17
@@ -54,6 +55,7 @@ RUNTIME_SRC  := $(wildcard runtime/src/*.cpp)
 SEPAL_MAIN   := offline/cli/sepal_main.cpp
 OFFLINE_SRC  := $(filter-out $(SEPAL_MAIN),$(call rwildcard,offline,*.cpp))
 HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
+WINDOWED_SRC := $(wildcard ports/windowed/*.cpp)
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(filter-out tests/bench/%,$(call rwildcard,tests,*.cpp))
 # Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
@@ -68,6 +70,7 @@ obj = $(patsubst %.cpp,$(BUILD)/obj/%.o,$(1))
 RUNTIME_OBJ  := $(call obj,$(RUNTIME_SRC))
 OFFLINE_OBJ  := $(call obj,$(OFFLINE_SRC))
 HEADLESS_OBJ := $(call obj,$(HEADLESS_SRC))
+WINDOWED_OBJ := $(call obj,$(WINDOWED_SRC))
 TEST_OBJ     := $(call obj,$(TEST_SRC))
 BENCH_OBJ    := $(call obj,$(BENCH_SRC))
 BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
@@ -75,6 +78,7 @@ BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
 LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
+LIB_WINDOWED := $(BUILD)/lib/libsepal_windowed.a
 BIN_SEPAL    := $(BUILD)/bin/sepal
 BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
@@ -167,17 +171,18 @@ $(BUILD)/lib/lib%.a:
 $(LIB_RUNTIME): $(RUNTIME_OBJ)
 $(LIB_OFFLINE): $(OFFLINE_OBJ)
 $(LIB_HEADLESS): $(HEADLESS_OBJ)
+$(LIB_WINDOWED): $(WINDOWED_OBJ)
 
 $(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
 
-# sepal-view: the runtime and the ports only, no offline code.
-$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_HEADLESS) $(LIB_RUNTIME)
+# sepal-view: the runtime and the ports only, no offline code (the window through Xlib).
+$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_WINDOWED) $(LIB_HEADLESS) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -lX11 -o $@
 
 $(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SEPAL)
 	@mkdir -p $(dir $@)
