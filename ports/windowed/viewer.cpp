@@ -23,6 +23,7 @@
 #include "common/orbit.h"
 #include "common/png_write.h"
 #include "common/render_gl.h"
+#include "common/scene_args.h"
 #include "common/term_prefix.h"
 #include "sepal/sepal_material.h"
 #include "windowed/overlay.h"
@@ -47,54 +48,6 @@ const char kHelp[] =
     "  p                    PSNR of this view against the exact render\n"
     "  s                    screenshot (PNG of the view and of the window, and the headless command)\n"
     "  r                    reset the view;  h: this help;  q, Esc: quit\n";
-
-std::string fmt_floats(const float* v, int n) {
-    std::string s;
-    char buf[48];
-    for (int i = 0; i < n; ++i) {
-        snprintf(buf, sizeof buf, "%s%.9g", i ? "," : "", (double)v[i]);
-        s += buf;
-    }
-    return s;
-}
-
-// The scene flags that reproduce this scene exactly (%.9g round-trips a float).
-std::vector<std::string> scene_flag_args(const SceneSetup& s) {
-    const sepal_scene& sc = s.scene;
-    std::vector<std::string> a = {"--size", std::to_string(s.width) + "x" + std::to_string(s.height),
-                                  "--mesh", s.mesh_name,
-                                  "--camera", fmt_floats(sc.camera.eye, 3),
-                                  "--target", fmt_floats(sc.camera.target, 3),
-                                  "--fov", fmt_floats(&sc.camera.fovy_degrees, 1)};
-    for (int l = 0; l < sc.light_count; ++l) {
-        const sepal_light& light = sc.lights[l];
-        a.push_back("--light");
-        a.push_back(std::string(light.type == SEPAL_LIGHT_POINT ? "point:" : "dir:") + fmt_floats(light.position, 3) +
-                    ":" + fmt_floats(light.intensity, 3));
-    }
-    if (sc.background[0] != 0.0f || sc.background[1] != 0.0f || sc.background[2] != 0.0f) {
-        a.push_back("--background");
-        a.push_back(fmt_floats(sc.background, 3));
-    }
-    return a;
-}
-
-std::string shell_join(const std::vector<std::string>& args) {
-    std::string out;
-    for (const std::string& a : args) {
-        const bool plain = a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.,:/=+@%") ==
-                           std::string::npos && !a.empty();
-        out += out.empty() ? "" : " ";
-        if (plain) {
-            out += a;
-            continue;
-        }
-        out += "'";
-        for (char c : a) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-        out += "'";
-    }
-    return out;
-}
 
 bool ends_with(const std::string& s, const char* tail) {
     const size_t n = strlen(tail);
@@ -386,7 +339,7 @@ bool Viewer::ensure_material(std::string* err) {
 }
 
 std::string Viewer::view_key() const {
-    std::string key = shell_join(scene_flag_args(setup_));
+    std::string key = shell_join(scene_args(setup_));
     return key + "|" + (baked_spec_.empty() ? assets_[asset_index_] : baked_spec_) + "|" + opt_.spec;
 }
 
@@ -400,7 +353,7 @@ bool Viewer::exact_image(std::string* err) {
     }
     const std::string out = temp("exact.png"), log = temp("exact.log");
     std::vector<std::string> args = {tool(), "render", spec, "--backend", "exact"};
-    for (const std::string& a : scene_flag_args(setup_)) args.push_back(a);
+    for (const std::string& a : scene_args(setup_)) args.push_back(a);
     args.push_back("-o");
     args.push_back(out);
     const int code = run_process(args, log);
@@ -562,7 +515,7 @@ void Viewer::screenshot() {
     } else {
         cmd = {"sepal-view", "--headless", assets_[asset_index_], "--backend", kBackends[backend_]};
     }
-    for (const std::string& a : scene_flag_args(setup_)) cmd.push_back(a);
+    for (const std::string& a : scene_args(setup_)) cmd.push_back(a);
     if (opt_.mask && gl_backend()) cmd.insert(cmd.begin() + 5, {"--mask", mask_names(opt_.mask)});
     cmd.push_back("-o");
     cmd.push_back(base + ".headless.png");
