@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "bake/asset_file.h"
@@ -27,8 +28,15 @@ Assets bake_assets(const std::string& dir) {
     Assets a{dir + "/intact.sepal", dir + "/masked.sepal"};
     REQUIRE_MESSAGE(sepal::write_asset(a.intact, r.asset, &err), err);
     sepal::AssetData masked = r.asset;
-    REQUIRE(masked.passes.size() >= 2);
-    for (float& c : masked.passes[1].color) c = 0.0f;
+    REQUIRE(masked.passes.size() == 2);  // NMF: one product pass per term
+    int zeroed = 0;
+    for (sepal::AssetTexture& t : masked.textures)
+        if (t.desc.term == 1 && t.desc.role == SEPAL_ROLE_H) {
+            REQUIRE(t.desc.bias[0] == 0.0f);  // q = 0 then means 0
+            std::fill(t.data.begin(), t.data.end(), uint8_t(0));
+            ++zeroed;
+        }
+    REQUIRE(zeroed == 1);
     REQUIRE_MESSAGE(sepal::write_asset(a.masked, masked, &err), err);
     return a;
 }
@@ -39,6 +47,32 @@ sepal::Tolerance golden_tolerance() {
     t.max_share = 0.005;
     t.min_psnr = 45;
     return t;
+}
+
+sepal::Tolerance cross_rasterizer_tolerance() {
+    sepal::Tolerance t;
+    t.max_diff = 3;
+    t.max_share = 0.01;
+    t.min_psnr = 40;
+    return t;
+}
+
+sepal::Tolerance cpu_tolerance() {
+    sepal::Tolerance t;
+    t.max_diff = 8;
+    t.max_share = 0.03;
+    t.min_psnr = 33;
+    return t;
+}
+
+sepal::Image render_cpu(const std::string& asset, const sepal_ports::SceneSetup& setup) {
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal_ports::read_asset_file(asset, &bytes, &err), err);
+    sepal::Image img(setup.width, setup.height, 3);
+    REQUIRE_MESSAGE(sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, nullptr, &img.data, nullptr, &err), err);
+    for (float& v : img.data) v = std::min(1.0f, std::max(0.0f, v));  // as displayed
+    return img;
 }
 
 bool parse_command(const std::string& line, Command* c, std::string* err) {

@@ -2,9 +2,11 @@
 // real X input through XTEST (xdotool): an orbit drag, a light drag, backend and material
 // keys, the PSNR key and three screenshots. Each screenshot comes with the command that
 // renders the same view headless; the test renders it (ports/common/render_gl, the same
-// llvmpipe) and holds the window's pixels to the golden tests' tolerance. It proves it
-// can fail: the third screenshot shows a copy of the asset with one pass masked, which
-// must miss that tolerance against the intact asset (and meet it against its own).
+// llvmpipe) and holds the window's pixels to the golden tests' tolerance; and it holds
+// them to the CPU backend's render of the same view (no GL code in common), so a runtime
+// that draws wrong fails here (checked by skipping a pass in the GL ES 2 and 1.1
+// executors). The third screenshot shows a copy of the asset with one term's pass masked:
+// it must miss the tolerance against the intact asset, and meet it against its own.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -85,6 +87,8 @@ TEST_CASE("windowed viewer under Xvfb: scripted input, screenshots against the h
     CHECK(el1 == doctest::Approx(el0 + 40 * sepal_ports::kOrbitDegreesPerPixel).epsilon(1e-4));
 
     const sepal::Tolerance tol = port_test::golden_tolerance();
+    std::FILE* figures = std::fopen((sepal_test::output_dir() + "/ports-viewer.txt").c_str(), "w");  // docs/ports.md
+    REQUIRE(figures);
     struct Shot {
         const char* name;
         const char* backend;
@@ -103,6 +107,12 @@ TEST_CASE("windowed viewer under Xvfb: scripted input, screenshots against the h
         std::string why;
         CAPTURE(d.psnr);
         CAPTURE(d.share_over);
+        const std::string& shown = std::string(s.asset) == "intact" ? assets.intact : assets.masked;
+        const sepal::ImageDiff cpu = sepal::diff_images(port_test::render_cpu(shown, c.setup), window, 8);
+        std::fprintf(figures, "%s %s %s: psnr %.2f dB, %.3f%% of pixels over 2 levels, max %.0f; to cpu %.2f dB, %.2f%% over 8\n",
+                     s.name, s.backend, s.asset, d.psnr, 100 * d.share_over, d.max_diff, cpu.psnr, 100 * cpu.share_over);
+        std::string cpu_why;
+        CHECK_MESSAGE(sepal::tolerance_holds(cpu, port_test::cpu_tolerance(), &cpu_why), "against the CPU backend: " << cpu_why);
         if (std::string(s.asset) == "intact") {
             CHECK_MESSAGE(sepal::tolerance_holds(d, tol, &why), why);  // measured: identical (same llvmpipe)
             if (std::string(s.backend) == "gles1") gles1_window = window;
@@ -116,6 +126,7 @@ TEST_CASE("windowed viewer under Xvfb: scripted input, screenshots against the h
         }
     }
 
+    std::fclose(figures);
     // p printed the PSNR of shot 2's view against the exact render (through the sepal tool).
     const size_t at = out.find("psnr ");
     REQUIRE(at != std::string::npos);
