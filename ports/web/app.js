@@ -124,7 +124,9 @@ function runBench(frames) {
       if (i >= 2) times.push(ms);  // two warm-up frames
     }
     times.sort(function (a, b) { return a - b; });
-    result.textContent = 'bench ' + frames + ' median_ms ' + times[times.length >> 1] + ' | ' + api.status();
+    var gl = Module.canvas.getContext('webgl'), info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+    var device = info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : 'WebGL';
+    result.textContent = 'bench ' + frames + ' median_ms ' + times[times.length >> 1] + ' | ' + device + ' | ' + api.status();
   });
 }
 
