@@ -164,9 +164,9 @@ test-asan: deps ## run the test suites under AddressSanitizer + UndefinedBehavio
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  sh tests/run.sh build/asan/bin/sepal-tests
 
-update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
-	@$(MAKE) --no-print-directory -j$(NPROC) build
-	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
+update-goldens: deps ## rewrite fixtures/golden/*.png and the ports' screenshots in docs/img from the current renders
+	@$(MAKE) --no-print-directory -j$(NPROC) build web
+	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*,*Xvfb*,*Chromium*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
 	@$(MAKE) --no-print-directory -j$(NPROC) $(BENCH_BINS)

@@ -1,16 +1,23 @@
 #include "common/scene_args.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 
 namespace sepal_ports {
 namespace {
+// The shortest %g form that reads back as the same float (3.2, not 3.20000005).
+std::string shortest(float v) {
+    char buf[32];
+    for (int digits = 6; digits <= 9; ++digits) {
+        snprintf(buf, sizeof buf, "%.*g", digits, (double)v);
+        if (strtof(buf, nullptr) == v) break;
+    }
+    return buf;
+}
+
 std::string floats(const float* v, int n) {
     std::string s;
-    char buf[48];
-    for (int i = 0; i < n; ++i) {
-        snprintf(buf, sizeof buf, "%s%.9g", i ? "," : "", (double)v[i]);
-        s += buf;
-    }
+    for (int i = 0; i < n; ++i) s += (i ? "," : "") + shortest(v[i]);
     return s;
 }
 }  // namespace

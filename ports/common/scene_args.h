@@ -1,5 +1,5 @@
-// The reverse of scene_flags: a scene as the flags that reproduce it exactly (floats
-// printed with %.9g, which round-trips), so an interactive port can hand its current view
+// The reverse of scene_flags: a scene as the flags that reproduce it exactly (each float
+// in the shortest form that reads back the same), so an interactive port can hand its current view
 // to `sepal-view --headless` or `sepal render`.
 #pragma once
 #include <string>

@@ -69,7 +69,9 @@ function redraw() {
 }
 
 function showStatus(extra) {
-  statusBox.textContent = (lastMs < 0 ? 'error: ' + api.error() : lastMs.toFixed(2) + ' ms/frame | ' + api.status()) +
+  // Under a frozen clock (headless Chromium's virtual time) a frame takes "0 ms": say so.
+  var ms = lastMs > 0 ? lastMs.toFixed(2) + ' ms/frame' : 'ms/frame n/a';
+  statusBox.textContent = (lastMs < 0 ? 'error: ' + api.error() : ms + ' | ' + api.status()) +
                           (extra ? ' | ' + extra : '');
   document.getElementById('flags').textContent = 'sepal-view --headless ASSET.sepal --backend ' +
       document.getElementById('backend').selectedOptions[0].text + ' ' + api.flags() + ' -o view.png';

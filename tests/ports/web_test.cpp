@@ -158,9 +158,9 @@ TEST_CASE("web port in headless Chromium: WebGL frames against the headless EGL 
     // The page as a user sees it (docs/ports.md): rewritten with the goldens.
     if (sepal_test::update_goldens()) {
         const std::string shot = sepal_test::source_path("docs/img/web.png");
-        const std::string page = "file://" + web + "/index.html?asset=file://" + assets.intact + "&flags=" + url_encode(flags);
+        const std::string page = "file://" + web + "/index.html?flags=" + url_encode(flags);  // default.sepal
         REQUIRE(sepal_test::run("timeout 90 chromium --headless=new --no-sandbox --use-angle=swiftshader "
                                 "--enable-unsafe-swiftshader --allow-file-access-from-files --virtual-time-budget=20000 "
-                                "--hide-scrollbars --window-size=560,680 --screenshot=" + shot + " '" + page + "'") == 0);
+                                "--hide-scrollbars --window-size=560,720 --screenshot=" + shot + " '" + page + "'") == 0);
     }
 }
