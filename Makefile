@@ -111,7 +111,7 @@ EMENV      := NODE_PATH=/usr/share/nodejs
 WEB_DIR    := $(BUILD)/web
 WEB_SRC    := $(filter-out runtime/src/draw_gles1.cpp runtime/src/preview_gles1.cpp,$(RUNTIME_SRC)) \
               $(wildcard ports/web/*.cpp) ports/common/scene_flags.cpp ports/common/orbit.cpp \
-              ports/common/term_prefix.cpp ports/common/scene_args.cpp
+              ports/common/term_prefix.cpp ports/common/scene_args.cpp ports/common/scene_draw.cpp
 WEB_OBJ    := $(patsubst %.cpp,$(BUILD)/web-obj/%.o,$(WEB_SRC))
 WEB_CXXFLAGS := -std=c++17 -O2 $(WARN) -fno-exceptions -fno-rtti -DSEPAL_NO_GLES1 -MMD -MP
 WEB_EXPORTS := $(foreach f,$(shell grep -o '^EMSCRIPTEN_KEEPALIVE.* sepal_web_[a-z_]*' ports/web/sepal_web.cpp 2>/dev/null | grep -o 'sepal_web_[a-z_]*$$'),"_$(f)",)

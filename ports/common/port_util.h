@@ -51,6 +51,21 @@ inline void set_error(char* err, size_t n, const char* fmt, ...) {
     va_end(ap);
 }
 
+// A port's request: width and height in 1..max_side, GL ES version 1 or 2 (after the
+// port's zero-means-default step). False with the reason in err.
+inline bool check_request(const char* what, int width, int height, int max_side, int gles_version, char* err,
+                          size_t n) {
+    if (width < 1 || height < 1 || width > max_side || height > max_side) {
+        set_error(err, n, "%s size %dx%d out of range 1..%d", what, width, height, max_side);
+        return false;
+    }
+    if (gles_version != 1 && gles_version != 2) {
+        set_error(err, n, "gles_version %d: only 1 (GL ES 1.1) and 2 (GL ES 2.0) exist", gles_version);
+        return false;
+    }
+    return true;
+}
+
 // GL reads rows bottom first; images are stored top row first: swaps rows in place.
 inline void flip_rows(uint8_t* rgba, int width, int height) {
     const size_t row = (size_t)width * 4;

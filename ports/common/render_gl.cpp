@@ -9,6 +9,7 @@
 
 #include <GLES/gl.h>
 
+#include "common/scene_draw.h"
 #include "headless/sepal_headless.h"
 
 // stb_image reads diffuse maps (the ports' PNG decoder; offline/ has its own copy).
@@ -154,16 +155,8 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
     }
     ok = ok && sepal_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SEPAL_OK;
     if (ok) {
-        std::vector<float> scratch(sepal_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
-        sepal_draw_desc d = {};
-        d.material = material.get();
-        d.mesh = &setup.mesh;
-        d.scene = &setup.scene;
-        d.width = setup.width;
-        d.height = setup.height;
-        d.scratch = scratch.data();
-        d.scratch_floats = scratch.size();
-        d.mode = options.mode;
+        std::vector<float> scratch;
+        sepal_draw_desc d = scene_draw_desc(material.get(), setup, options.mode, &scratch);
         if (diffuse && sepal_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
                                                 &d.diffuse_texture, &e) != SEPAL_OK)
             ok = false;
@@ -222,20 +215,8 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
         *err = e.message;
         return false;
     }
-    const size_t pixels = size_t(setup.width) * setup.height;
-    rgb->assign(pixels * 3, 0.0f);
-    std::vector<float> depth(pixels), scratch(sepal_cpu_scratch_floats(setup.mesh.vertex_count));
-    sepal_cpu_desc d = {};
-    d.asset = asset.get();
-    d.mesh = &setup.mesh;
-    d.scene = &setup.scene;
-    d.width = setup.width;
-    d.height = setup.height;
-    d.color = rgb->data();
-    d.depth = depth.data();
-    d.scratch = scratch.data();
-    d.scratch_floats = scratch.size();
-    d.stats = stats;
+    CpuFrame frame;
+    sepal_cpu_desc d = scene_cpu_desc(asset.get(), setup, &frame, stats);
     if (diffuse) {
         d.diffuse_rgba = diffuse->pixels.data();
         d.diffuse_width = diffuse->width;
@@ -245,6 +226,7 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
     const bool ok = sepal_draw_cpu(&d, &e) == SEPAL_OK;
     if (ms) *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!ok) *err = e.message;
+    rgb->swap(frame.rgb);
     return ok;
 }
 

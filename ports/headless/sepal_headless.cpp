@@ -81,15 +81,7 @@ extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_de
     if (d.height == 0) d.height = 256;
     if (d.gles_version == 0) d.gles_version = 1;
     if (d.depth_bits == 0) d.depth_bits = 16;
-    if (d.width < 1 || d.height < 1 || d.width > 16384 || d.height > 16384) {
-        set_error(err, err_len, "image size %dx%d out of range 1..16384", d.width, d.height);
-        return nullptr;
-    }
-    if (d.gles_version != 1 && d.gles_version != 2) {
-        set_error(err, err_len, "gles_version %d: only 1 (GL ES 1.1) and 2 (GL ES 2.0) exist",
-                d.gles_version);
-        return nullptr;
-    }
+    if (!sepal_ports::check_request("image", d.width, d.height, 16384, d.gles_version, err, err_len)) return nullptr;
 
     const char* platform = "";
     EGLDisplay display = open_display(&platform, err, err_len);

@@ -35,6 +35,7 @@
 
 #include "common/orbit.h"
 #include "common/scene_args.h"
+#include "common/scene_draw.h"
 #include "common/scene_flags.h"
 #include "common/term_prefix.h"
 #include "sepal/sepal.h"
@@ -206,16 +207,7 @@ EMSCRIPTEN_KEEPALIVE double sepal_web_draw(void) {
         fail(a.loaded ? a.error : "no asset loaded");
         return -1;
     }
-    a.scratch.resize(sepal_draw_scratch_floats(a.setup.mesh.vertex_count, a.setup.scene.light_count));
-    sepal_draw_desc d = {};
-    d.material = &a.material;
-    d.mesh = &a.setup.mesh;
-    d.scene = &a.setup.scene;
-    d.width = a.width;
-    d.height = a.height;
-    d.scratch = a.scratch.data();
-    d.scratch_floats = a.scratch.size();
-    d.mode = a.mode;
+    const sepal_draw_desc d = sepal_ports::scene_draw_desc(&a.material, a.setup, a.mode, &a.scratch);
     const double start = emscripten_get_now();
     sepal_error e = {};
     const sepal_result r = sepal_draw(&d, &a.stats, &e);

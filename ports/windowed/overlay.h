@@ -30,6 +30,13 @@ void text_strip(const std::vector<std::string>& lines, int width, int height, st
 
 // Per-version executors (overlay_gles1.cpp, overlay_gles2.cpp); x, y in GL window
 // coordinates (bottom-left origin). u, v: the image's extent in the texture.
+// The quad both draw as a triangle strip: positions covering the viewport, and texture
+// coordinates with t = 0 at the top (image rows are stored top first).
+struct BlitQuad {
+    float position[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    float uv[8];
+    BlitQuad(float u, float v) : uv{0, v, u, v, 0, 0, u, 0} {}
+};
 bool blit_gles1(Blitter* b, int x, int y, int width, int height, float u, float v, std::string* err);
 bool blit_gles2(Blitter* b, int x, int y, int width, int height, float u, float v, std::string* err);
 

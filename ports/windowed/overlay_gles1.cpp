@@ -7,8 +7,7 @@
 namespace sepal_ports {
 
 bool blit_gles1(Blitter* b, int x, int y, int width, int height, float u, float v, std::string*) {
-    const float pos[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
-    const float uv[8] = {0, v, u, v, 0, 0, u, 0};  // image rows top first: t = 0 at the top
+    const BlitQuad quad(u, v);
     glViewport(x, y, width, height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
@@ -34,8 +33,8 @@ bool blit_gles1(Blitter* b, int x, int y, int width, int height, float u, float 
     glDisableClientState(GL_NORMAL_ARRAY);
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glVertexPointer(2, GL_FLOAT, 0, pos);
-    glTexCoordPointer(2, GL_FLOAT, 0, uv);
+    glVertexPointer(2, GL_FLOAT, 0, quad.position);
+    glTexCoordPointer(2, GL_FLOAT, 0, quad.uv);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glDisableClientState(GL_TEXTURE_COORD_ARRAY);
     glDisableClientState(GL_VERTEX_ARRAY);

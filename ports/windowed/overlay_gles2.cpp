@@ -48,8 +48,7 @@ bool blit_gles2(Blitter* b, int x, int y, int width, int height, float u, float 
             return false;
         }
     }
-    const float pos[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
-    const float uv[8] = {0, v, u, v, 0, 0, u, 0};  // image rows top first: t = 0 at the top
+    const BlitQuad quad(u, v);
     glViewport(x, y, width, height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
@@ -61,8 +60,8 @@ bool blit_gles2(Blitter* b, int x, int y, int width, int height, float u, float 
     for (GLuint i = 2; i < 4; ++i) glDisableVertexAttribArray(i);
     glEnableVertexAttribArray(0);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, pos);
-    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, uv);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, quad.position);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, quad.uv);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glDisableVertexAttribArray(0);
     glDisableVertexAttribArray(1);

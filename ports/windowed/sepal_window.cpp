@@ -82,14 +82,7 @@ extern "C" sepal_window* sepal_window_create(const sepal_window_desc* desc, char
     if (d.height == 0) d.height = 512;
     if (d.gles_version == 0) d.gles_version = 2;
     if (d.depth_bits == 0) d.depth_bits = 16;
-    if (d.width < 1 || d.height < 1 || d.width > 8192 || d.height > 8192) {
-        set_error(err, err_len, "window size %dx%d out of range 1..8192", d.width, d.height);
-        return nullptr;
-    }
-    if (d.gles_version != 1 && d.gles_version != 2) {
-        set_error(err, err_len, "gles_version %d: only 1 (GL ES 1.1) and 2 (GL ES 2.0) exist", d.gles_version);
-        return nullptr;
-    }
+    if (!sepal_ports::check_request("window", d.width, d.height, 8192, d.gles_version, err, err_len)) return nullptr;
     sepal_window* w = (sepal_window*)calloc(1, sizeof(sepal_window));
     if (!w) {
         set_error(err, err_len, "out of memory");

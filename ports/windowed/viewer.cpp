@@ -24,6 +24,7 @@
 #include "common/png_write.h"
 #include "common/render_gl.h"
 #include "common/scene_args.h"
+#include "common/scene_draw.h"
 #include "common/term_prefix.h"
 #include "sepal/sepal_material.h"
 #include "windowed/overlay.h"
@@ -199,7 +200,8 @@ class Viewer {
     int mat_gles_ = 0;
     bool mat_stale_ = true;
     Blitter blit_[3];
-    std::vector<float> scratch_, cpu_rgb_, cpu_depth_;
+    std::vector<float> scratch_;
+    CpuFrame cpu_;
     std::vector<uint8_t> frame_, window_rgba_, strip_;
     OrbitView view_;
     int drag_button_ = 0, last_x_ = 0, last_y_ = 0;
@@ -383,16 +385,7 @@ bool Viewer::draw(bool capture_view, bool capture_window) {
         const bool made = ensure_material(&err);
         start = std::chrono::steady_clock::now();  // material creation (uploads, shaders) is not the frame
         if (made) {
-            scratch_.resize(sepal_draw_scratch_floats(setup_.mesh.vertex_count, setup_.scene.light_count));
-            sepal_draw_desc d = {};
-            d.material = material_.get();
-            d.mesh = &setup_.mesh;
-            d.scene = &setup_.scene;
-            d.width = width_;
-            d.height = height_;
-            d.scratch = scratch_.data();
-            d.scratch_floats = scratch_.size();
-            d.mode = kModes[backend_];
+            const sepal_draw_desc d = scene_draw_desc(material_.get(), setup_, kModes[backend_], &scratch_);
             sepal_error e = {};
             if (sepal_draw(&d, &stats_, &e) != SEPAL_OK) err = e.message;
             glFinish();  // the frame is done when the GPU is
@@ -402,23 +395,10 @@ bool Viewer::draw(bool capture_view, bool capture_window) {
         const size_t pixels = size_t(width_) * height_;
         frame_.assign(pixels * 4, 0);
         if (backend_ == 4) {
-            cpu_rgb_.assign(pixels * 3, 0.0f);
-            cpu_depth_.resize(pixels);
-            scratch_.resize(sepal_cpu_scratch_floats(setup_.mesh.vertex_count));
-            sepal_cpu_desc d = {};
-            d.asset = shown_.get();
-            d.mesh = &setup_.mesh;
-            d.scene = &setup_.scene;
-            d.width = width_;
-            d.height = height_;
-            d.color = cpu_rgb_.data();
-            d.depth = cpu_depth_.data();
-            d.scratch = scratch_.data();
-            d.scratch_floats = scratch_.size();
-            d.stats = &stats_;
+            const sepal_cpu_desc d = scene_cpu_desc(shown_.get(), setup_, &cpu_, &stats_);
             sepal_error e = {};
             if (sepal_draw_cpu(&d, &e) == SEPAL_OK)
-                rgb_to_rgba8(cpu_rgb_.data(), pixels, frame_.data());
+                rgb_to_rgba8(cpu_.rgb.data(), pixels, frame_.data());
             else
                 err = e.message;
         } else if (exact_image(&err)) {

@@ -41,29 +41,19 @@ Assets bake_assets(const std::string& dir) {
     return a;
 }
 
-sepal::Tolerance golden_tolerance() {
+namespace {
+sepal::Tolerance tolerance(double max_diff, double max_share, double min_psnr) {
     sepal::Tolerance t;
-    t.max_diff = 2;
-    t.max_share = 0.005;
-    t.min_psnr = 45;
+    t.max_diff = max_diff;
+    t.max_share = max_share;
+    t.min_psnr = min_psnr;
     return t;
 }
+}  // namespace
 
-sepal::Tolerance cross_rasterizer_tolerance() {
-    sepal::Tolerance t;
-    t.max_diff = 3;
-    t.max_share = 0.01;
-    t.min_psnr = 40;
-    return t;
-}
-
-sepal::Tolerance cpu_tolerance() {
-    sepal::Tolerance t;
-    t.max_diff = 8;
-    t.max_share = 0.03;
-    t.min_psnr = 33;
-    return t;
-}
+sepal::Tolerance golden_tolerance() { return tolerance(2, 0.005, 45); }
+sepal::Tolerance cross_rasterizer_tolerance() { return tolerance(3, 0.01, 40); }
+sepal::Tolerance cpu_tolerance() { return tolerance(8, 0.03, 33); }
 
 sepal::Image render_cpu(const std::string& asset, const sepal_ports::SceneSetup& setup) {
     std::vector<uint8_t> bytes;

@@ -9,6 +9,7 @@
 #include "bake/bake.h"
 #include "brdf/brdf.h"
 #include "common/render_gl.h"
+#include "common/scene_draw.h"
 #include "common/term_prefix.h"
 #include "util/image.h"
 
@@ -47,21 +48,11 @@ TEST_CASE("term prefix: a signed 3-term plan cut to k terms draws the CPU's k-te
             for (uint16_t tex : {cut->passes[p].tex0, cut->passes[p].tex1})
                 if (tex != SEPAL_FMT_NO_TEXTURE) CHECK(int(cut->textures[tex].desc.term) < k);
         // The CPU backend sums the first material.terms terms.
-        std::vector<float> rgb;
-        sepal_cpu_desc d = {};
-        std::vector<float> depth(size_t(128) * 128), scratch(sepal_cpu_scratch_floats(setup.mesh.vertex_count));
-        rgb.assign(size_t(128) * 128 * 3, 0.0f);
-        d.asset = cut.get();
-        d.mesh = &setup.mesh;
-        d.scene = &setup.scene;
-        d.width = d.height = 128;
-        d.color = rgb.data();
-        d.depth = depth.data();
-        d.scratch = scratch.data();
-        d.scratch_floats = scratch.size();
+        sepal_ports::CpuFrame frame;
+        const sepal_cpu_desc d = sepal_ports::scene_cpu_desc(cut.get(), setup, &frame, nullptr);
         REQUIRE(sepal_draw_cpu(&d, &e) == SEPAL_OK);
         sepal::Image cpu(128, 128, 3);
-        cpu.data = rgb;
+        cpu.data = frame.rgb;
         for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
         // The plan path: a headless GL ES 2 frame of the cut plan (the helper draws encoded
         // assets: the cut one goes back through the writer).
