@@ -105,14 +105,15 @@ DIST_FILES := $(DIST)/libsepal.a $(DIST)/libsepal.so.$(SEPAL_VERSION) \
               $(DIST)/libsepal_headless.a $(DIST)/libsepal_headless.so.$(SEPAL_VERSION)
 
 # The web port (make web): the runtime's GL ES 2 paths and ports/web through Emscripten
-# (Debian's emcc works offline; it needs Debian's node modules on NODE_PATH).
+# (Debian's emcc works offline; it needs Debian's node modules on NODE_PATH). One tree
+# whatever CXX or SAN say: emcc is its compiler.
 EMCC       ?= emcc
 EMENV      := NODE_PATH=/usr/share/nodejs
-WEB_DIR    := $(BUILD)/web
+WEB_DIR    := build/web
 WEB_SRC    := $(filter-out runtime/src/draw_gles1.cpp runtime/src/preview_gles1.cpp,$(RUNTIME_SRC)) \
               $(wildcard ports/web/*.cpp) ports/common/scene_flags.cpp ports/common/orbit.cpp \
               ports/common/term_prefix.cpp ports/common/scene_args.cpp ports/common/scene_draw.cpp
-WEB_OBJ    := $(patsubst %.cpp,$(BUILD)/web-obj/%.o,$(WEB_SRC))
+WEB_OBJ    := $(patsubst %.cpp,build/web-obj/%.o,$(WEB_SRC))
 WEB_CXXFLAGS := -std=c++17 -O2 $(WARN) -fno-exceptions -fno-rtti -DSEPAL_NO_GLES1 -MMD -MP
 WEB_EXPORTS := $(foreach f,$(shell grep -o '^EMSCRIPTEN_KEEPALIVE.* sepal_web_[a-z_]*' ports/web/sepal_web.cpp 2>/dev/null | grep -o 'sepal_web_[a-z_]*$$'),"_$(f)",)
 WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s ENVIRONMENT=web -s FILESYSTEM=0 -s ALLOW_MEMORY_GROWTH=1 \
@@ -159,7 +160,7 @@ test: deps ## build and run every doctest suite (the web port's test needs `make
 	@sh tests/run.sh $(BIN_TESTS)
 
 test-asan: deps ## run the test suites under AddressSanitizer + UndefinedBehaviorSanitizer
-	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build
+	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build web
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  sh tests/run.sh build/asan/bin/sepal-tests
@@ -299,7 +300,7 @@ check-c99:
 	  { echo "runtime/include/sepal/*.h or the headless port's header is not C99 (above)"; exit 1; }
 
 # ---- the web port ----------------------------------------------------------------------
-$(WEB_OBJ): $(BUILD)/web-obj/%.o: %.cpp | $(SHADER_INCS)
+$(WEB_OBJ): build/web-obj/%.o: %.cpp | $(SHADER_INCS)
 	@mkdir -p $(dir $@)
 	$(call say,EMCC,$<)
 	$(Q)$(EMENV) $(EMCC) -Iruntime/include -Iports -I$(BUILD)/gen $(WEB_CXXFLAGS) -c $< -o $@
@@ -318,4 +319,4 @@ check-runtime: $(LIB_RUNTIME)
 	@bad=$$(grep -nE '#include *<(iostream|sstream|fstream|string)>|std::string|\bthrow\b|\bdynamic_cast\b|\btypeid\b' runtime/include/sepal/*.h runtime/src/*.h runtime/src/*.cpp | grep -vE '^[^:]+:[0-9]+: *//'); \
 	if [ -n "$$bad" ]; then echo "runtime/ breaks its rules:"; echo "$$bad"; exit 1; fi
 
--include $(shell find $(BUILD)/obj $(BUILD)/web-obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj build/web-obj -name '*.d' 2>/dev/null)

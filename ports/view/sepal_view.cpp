@@ -113,6 +113,10 @@ int main(int argc, char** argv) {
             return usage(stderr, 2);
         }
     }
+    if (!headless && out) {
+        fprintf(stderr, "sepal-view: -o writes a PNG with --headless; without it sepal-view opens a window\n");
+        return 2;
+    }
     if (!headless) {
         viewer.input = asset_path ? asset_path : "";
         viewer.backend = !backend.empty() ? backend : gles == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2"

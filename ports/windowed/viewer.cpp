@@ -254,7 +254,7 @@ bool Viewer::open_input(std::string* err) {
     struct stat st;
     const std::string& in = opt_.input;
     if (in.empty()) {
-        *err = "give an asset (.sepal), a folder of assets or a BRDF spec to view";
+        *err = "give an asset (.sepal), a folder of assets or a BRDF spec to view (or --headless ... -o out.png)";
         return false;
     }
     if (stat(in.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {

@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
         if (r.ms < 0) r.note = text.substr(0, 200);
         rows.push_back(r);
     }
-    const std::string page = "file://" + build + "/web/index.html";
+    const std::string page = "file://" + std::string(SEPAL_SOURCE_DIR) + "/build/web/index.html";  // make web
     for (const char* backend : {"gles2", "gles2-fused"}) {
         const std::string text = run("node " + std::string(SEPAL_SOURCE_DIR) + "/tests/bench/chromium_page.js '" + page +
                                      "?bench=" + std::to_string(frames) + "&backend=" + backend + "&asset=file://" + asset +
