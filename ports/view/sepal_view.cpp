@@ -113,8 +113,9 @@ int main(int argc, char** argv) {
             return usage(stderr, 2);
         }
     }
-    if (!headless && out) {
-        fprintf(stderr, "sepal-view: -o writes a PNG with --headless; without it sepal-view opens a window\n");
+    if (!headless && (out || diffuse_path)) {
+        fprintf(stderr, "sepal-view: %s --headless; without it sepal-view opens a window\n",
+                out ? "-o writes a PNG with" : "--diffuse is drawn only with");
         return 2;
     }
     if (!headless) {

@@ -277,10 +277,11 @@ bool Viewer::open_input(std::string* err) {
         asset_index_ = size_t(it - assets_.begin());
         return true;
     }
-    // A BRDF spec: baked with the tool's defaults into the temporary folder.
+    // A BRDF spec: baked into the temporary folder.
     const std::string out = temp("spec.sepal"), log = temp("bake.log");
     fprintf(stderr, "sepal-view: baking '%s' with %s ...\n", in.c_str(), tool().c_str());
-    const int code = run_process({tool(), "bake", in, "-o", out}, log);
+    // gs-half only: a third of the default search, and drawn by every backend.
+    const int code = run_process({tool(), "bake", in, "--param", "gs-half", "-o", out}, log);
     if (code != 0) {
         *err = "'" + in + "' is not an asset or folder, and `" + tool() + " bake` failed on it" +
                (code < 0 || code == 127 ? " (the sepal tool was not found: --sepal PATH)" : ": " + last_line(log));
@@ -454,7 +455,7 @@ std::vector<std::string> Viewer::status_lines() const {
     if (!error_.empty()) {
         snprintf(b, sizeof b, "error: %s", error_.c_str());
     } else {
-        std::string psnr = "p: PSNR vs exact";
+        std::string psnr = "p: PSNR";
         char buf[64];
         if (psnr_key_ == view_key() + "|" + kBackends[backend_] + "|" + std::to_string(prefix_.terms)) {
             snprintf(buf, sizeof buf, "PSNR %.2f dB vs exact", psnr_);
@@ -493,7 +494,16 @@ void Viewer::screenshot() {
         const std::string spec = !opt_.spec.empty() ? opt_.spec : !baked_spec_.empty() ? baked_spec_ : meta_spec(*full_);
         cmd = {"sepal", "render", spec, "--backend", "exact"};
     } else {
-        cmd = {"sepal-view", "--headless", assets_[asset_index_], "--backend", kBackends[backend_]};
+        // A spec's asset lives in a temporary folder: the shot keeps a copy.
+        std::string asset = assets_[asset_index_];
+        if (!baked_spec_.empty()) {
+            asset = opt_.shot_dir + "/" + name + ".sepal";
+            FILE* f = fopen(asset.c_str(), "wb");
+            if (!f || fwrite(bytes_.data(), 1, bytes_.size(), f) != bytes_.size())
+                fprintf(stderr, "sepal-view: could not write %s\n", asset.c_str());
+            if (f) fclose(f);
+        }
+        cmd = {"sepal-view", "--headless", asset, "--backend", kBackends[backend_]};
     }
     for (const std::string& a : scene_args(setup_)) cmd.push_back(a);
     if (opt_.mask && gl_backend()) cmd.insert(cmd.begin() + 5, {"--mask", mask_names(opt_.mask)});

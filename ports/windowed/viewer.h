@@ -5,7 +5,8 @@
 //
 // ASSET.sepal shows that asset and lets n/N step through every *.sepal of its folder;
 // FOLDER starts with the folder's first asset; anything else is a BRDF spec (a model spec
-// or a measured file), baked on start through the `sepal` tool (below).
+// or a measured file), baked on start through the `sepal` tool (below) with
+// `sepal bake SPEC --param gs-half`.
 //
 // Controls (also printed by `h`):
 //   left drag            orbit the camera around the target (0.5 degrees per pixel)
