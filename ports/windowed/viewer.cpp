@@ -237,7 +237,9 @@ std::string Viewer::temp(const char* name) {
         buf.push_back('\0');
         if (mkdtemp(buf.data())) temp_dir_ = buf.data();
     }
-    const std::string path = temp_dir_ + "/" + name;
+    // Without a private folder (mkdtemp failed): files named by the process in /tmp.
+    const std::string path = temp_dir_.empty() ? "/tmp/sepal-view-" + std::to_string((int)getpid()) + "-" + name
+                                               : temp_dir_ + "/" + name;
     if (std::find(temp_files_.begin(), temp_files_.end(), path) == temp_files_.end()) temp_files_.push_back(path);
     return path;
 }
