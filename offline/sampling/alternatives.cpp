@@ -440,7 +440,7 @@ bool make_tabulated_sampler(const Brdf& brdf, const TabulatedOptions& opt, Sampl
     d.z_edges = theta_bin_z_edges(Ti, false);
     const size_t per_view = size_t(Ti + 1) + size_t(Ti) * (Pi + 1);
     uint64_t offsets[SEPAL_SMP_ARRAY_COUNT];
-    const uint64_t bytes = sepal_sampler_layout(d.kind, &d.desc, offsets);
+    const uint64_t bytes = sepal_sampler_layout(d.kind, &d.desc, offsets, nullptr);
     if (bytes == 0 || bytes > SEPAL_SMP_MAX_FILE_BYTES) {
         if (err) *err = "tabulated sampler: " + std::to_string(bytes) + " bytes is over the format's limit; lower the resolution";
         return false;

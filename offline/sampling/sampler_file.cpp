@@ -22,8 +22,8 @@ double masses_to_cdf(const double* masses, int n, float* cdf) {
 }
 
 bool encode_sampler(const SamplerData& d, std::vector<uint8_t>* out, std::string* err) {
-    uint64_t off[SEPAL_SMP_ARRAY_COUNT];
-    const uint64_t size = sepal_sampler_layout(d.kind, &d.desc, off);
+    uint64_t off[SEPAL_SMP_ARRAY_COUNT], sizes[SEPAL_SMP_ARRAY_COUNT];
+    const uint64_t size = sepal_sampler_layout(d.kind, &d.desc, off, sizes);
     if (size == 0 || size > SEPAL_SMP_MAX_FILE_BYTES) {
         if (err) *err = "sampler: counts out of range or over " + std::to_string(SEPAL_SMP_MAX_FILE_BYTES) + " bytes";
         return false;
@@ -46,29 +46,16 @@ bool encode_sampler(const SamplerData& d, std::vector<uint8_t>* out, std::string
         {SEPAL_SMP_ARRAY_LOBES, d.lobes.data(), d.lobes.size() * sizeof(sepal_smp_lobe)},
         {SEPAL_SMP_ARRAY_TABLES, d.tables.data(), d.tables.size() * 4},
     };
-    // Each array must fill exactly the space the layout gives it (up to the padding).
-    std::vector<uint64_t> starts;
-    for (uint64_t o : off)
-        if (o) starts.push_back(o);
-    starts.push_back(size);
+    // Each array must have exactly the size the layout gives it.
     for (const Part& p : parts) {
         const uint64_t at = off[p.array];
-        if (!at) {
-            if (p.bytes) {
-                if (err) *err = "sampler: array " + std::to_string(p.array) + " given but not in this kind's layout";
-                return false;
-            }
-            continue;
-        }
-        uint64_t next = size;
-        for (uint64_t s : starts)
-            if (s > at && s < next) next = s;
-        if (p.bytes > next - at || next - at - p.bytes >= 8) {
+        if (p.bytes != sizes[p.array]) {
             if (err)
                 *err = "sampler: array " + std::to_string(p.array) + " holds " + std::to_string(p.bytes) +
-                       " bytes, the layout has " + std::to_string(next - at);
+                       " bytes, the layout has " + std::to_string(sizes[p.array]);
             return false;
         }
+        if (!p.bytes) continue;
         std::memcpy(file.data() + at, p.data, p.bytes);
     }
     sepal_smp_header h{};

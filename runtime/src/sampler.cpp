@@ -36,12 +36,14 @@ enum Array {
 
 uint64_t pad8(uint64_t n) { return (n + 7) & ~uint64_t(7); }
 
-// Offsets of every array (from the file start) and the end; false on counts out of range.
-bool layout(uint32_t kind, const sepal_smp_desc& d, uint64_t off[kArrays], uint64_t* end) {
-    for (int i = 0; i < kArrays; ++i) off[i] = 0;
+// Offsets and sizes of every array (from the file start) and the end; false on counts out
+// of range.
+bool layout(uint32_t kind, const sepal_smp_desc& d, uint64_t off[kArrays], uint64_t size[kArrays], uint64_t* end) {
+    for (int i = 0; i < kArrays; ++i) off[i] = 0, size[i] = 0;
     uint64_t at = kPrefix;
     auto put = [&](Array a, uint64_t floats) {
         off[a] = at;
+        size[a] = floats * 4;
         at += pad8(floats * 4);
     };
     const bool views = kind == SEPAL_SAMPLER_FACTORED || kind == SEPAL_SAMPLER_TABULATED;
@@ -69,7 +71,8 @@ bool layout(uint32_t kind, const sepal_smp_desc& d, uint64_t off[kArrays], uint6
         case SEPAL_SAMPLER_LOBES:
             if (d.lobe_count < 1 || d.lobe_count > SEPAL_SMP_MAX_LOBES) return false;
             off[kLobes] = at;
-            at += uint64_t(d.lobe_count) * sizeof(sepal_smp_lobe);
+            size[kLobes] = uint64_t(d.lobe_count) * sizeof(sepal_smp_lobe);
+            at += size[kLobes];
             break;
         case SEPAL_SAMPLER_TABULATED:
             put(kZ, Tp + 1);
@@ -390,11 +393,14 @@ float tabulated_pdf(const sepal_sampler_view* v, const float* wi) {
 
 // ---- API -----------------------------------------------------------------------------------------
 extern "C" uint64_t sepal_sampler_layout(uint32_t kind, const sepal_smp_desc* d,
-                                        uint64_t offsets[SEPAL_SMP_ARRAY_COUNT]) {
-    uint64_t off[kArrays], end = 0;
-    if (!d || !layout(kind, *d, off, &end)) return 0;
-    if (offsets)
-        for (int i = 0; i < kArrays; ++i) offsets[i] = off[i];
+                                        uint64_t offsets[SEPAL_SMP_ARRAY_COUNT],
+                                        uint64_t sizes[SEPAL_SMP_ARRAY_COUNT]) {
+    uint64_t off[kArrays], size[kArrays], end = 0;
+    if (!d || !layout(kind, *d, off, size, &end)) return 0;
+    for (int i = 0; i < kArrays; ++i) {
+        if (offsets) offsets[i] = off[i];
+        if (sizes) sizes[i] = size[i];
+    }
     return end;
 }
 
@@ -437,8 +443,8 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
     const sepal_smp_desc& d = out->desc;
     memcpy(&out->desc, base + sizeof h, sizeof out->desc);
     out->kind = h.kind;
-    uint64_t off[kArrays], end = 0;
-    if (!layout(h.kind, d, off, &end))
+    uint64_t off[kArrays], size_of[kArrays], end = 0;
+    if (!layout(h.kind, d, off, size_of, &end))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "sampler: %s counts out of range (views %ux%u of 1..%d, bins %ux%u of 1..%d, "
                          "terms %u of 1..%d, lobes %u of 1..%d, colour %u)",

@@ -200,9 +200,9 @@ float sepal_sampler_pdf(const sepal_sampler_view* v, const float wi[3]);
 // kind has no reconstruction (see above) or wi is at or below the horizon.
 int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3], float rgb[3]);
 
-// Where each array lives: byte offsets from the start of the file (0 for arrays the kind
-// or desc does not have), for the writer and the reader alike. Returns the file size, or 0
-// when a count is out of range.
+// Where each array lives: byte offsets from the start of the file and byte sizes (both 0 for
+// arrays the kind or desc does not have; sizes may be NULL), for the writer and the reader
+// alike. Returns the file size, or 0 when a count is out of range.
 typedef enum sepal_smp_array {
     SEPAL_SMP_ARRAY_Z_EDGES = 0,
     SEPAL_SMP_ARRAY_F = 1,
@@ -216,7 +216,8 @@ typedef enum sepal_smp_array {
     SEPAL_SMP_ARRAY_COUNT = 9
 } sepal_smp_array;
 uint64_t sepal_sampler_layout(uint32_t kind, const sepal_smp_desc* d,
-                              uint64_t offsets[SEPAL_SMP_ARRAY_COUNT]);
+                              uint64_t offsets[SEPAL_SMP_ARRAY_COUNT],
+                              uint64_t sizes[SEPAL_SMP_ARRAY_COUNT]);
 
 #ifdef __cplusplus
 }
