@@ -16,6 +16,7 @@
 
 #include "brdf/brdf_spec.h"
 #include "brdf/brdf_util.h"
+#include "sampling/metrics.h"
 #include "util/parallel.h"
 #include "util/progress.h"
 
@@ -91,15 +92,6 @@ std::vector<sepal_smp_lobe> lafortune_lobes(const std::vector<SpecItem>& items) 
         out.push_back(lobe(SEPAL_LOBE_PHONG_AXIS, w, {v[0], v[1], v[2], v[3]}));
     }
     return out;
-}
-
-// The views the lobe weights and fits are judged at.
-std::vector<dvec3> judge_views(bool isotropic) {
-    std::vector<dvec3> v;
-    for (double t : {5.0, 20.0, 35.0, 50.0, 62.0, 72.0, 80.0, 87.0})
-        for (double p : isotropic ? std::vector<double>{0.0} : std::vector<double>{0.0, 30.0, 60.0, 90.0})
-            v.push_back(dir_from_degrees(t, p));
-    return v;
 }
 
 }  // namespace

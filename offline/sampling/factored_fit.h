@@ -38,19 +38,22 @@
 
 namespace sepal {
 
-enum class SampleParam { Half, Incident };
+enum class SampleParam { Auto, Half, Incident };
 enum class PhiFrame { Auto, Absolute, View };
-const char* sample_param_name(SampleParam p);  // "half", "incident"
+const char* sample_param_name(SampleParam p);  // "auto", "half", "incident"
 bool parse_sample_param(const std::string& s, SampleParam* p);
 const char* phi_frame_name(PhiFrame f);        // "auto", "absolute", "view"
 bool parse_phi_frame(const std::string& s, PhiFrame* f);
 
 struct FactoredOptions {
-    SampleParam param = SampleParam::Half;
+    // auto: fits both and keeps the one whose estimator f cos / pdf has the lower relative
+    // variance at the judge views (metrics.h): half wins on glossy materials, incident on
+    // diffuse-like ones, as the paper chose by hand.
+    SampleParam param = SampleParam::Auto;
     PhiFrame phi = PhiFrame::Auto;
     int n_theta_o = 16, n_phi_o = 16;  // view grid (n_phi_o becomes 1 in the view frame)
     int n_theta_p = 32, n_phi_p = 16;  // wp bins
-    int J = 2, K = 1;                  // outer and inner terms
+    int J = 4, K = 2;                  // outer and inner terms
     bool sqrt_theta = false;           // theta_p bins uniform in sqrt(theta)
     bool jacobian = true;
     int supersample = 3;               // S: S x S points per wp bin
@@ -66,11 +69,13 @@ struct FactoredOptions {
 bool validate_factored_options(const FactoredOptions& o, std::string* err);
 
 struct FactoredReport {
-    std::string param, phi_frame;       // as used ("half", "view", ...)
+    std::string param, phi_frame;       // as used ("half" or "incident", "view" or "absolute")
     int n_theta_o = 0, n_phi_o = 0, n_theta_p = 0, n_phi_p = 0, J = 0, K = 0;
     int64_t evaluations = 0;
     double sample_seconds = 0, factor_seconds = 0;
     double kl_level1 = 0, kl_level2 = 0;  // relative KL divergence of each level's fit
+    double kl_total = 0;  // KL(data || the stored sampler's reconstruction) / data mass
+    double relative_variance = -1;  // param auto: the winner's (metrics.h); -1 when not measured
     int iterations1 = 0, iterations2 = 0;
     double dense_bytes = 0;             // the data matrix Y in float32
     size_t sampler_bytes = 0;           // the encoded sampler file

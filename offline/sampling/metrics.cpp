@@ -20,6 +20,40 @@ double normalized_mae(const Brdf& truth, const ApproxFn& approx, int pairs, uint
     return den > 0 ? num / den : 0.0;
 }
 
+std::vector<glm::dvec3> judge_views(bool isotropic) {
+    std::vector<glm::dvec3> v;
+    for (double t : {5.0, 20.0, 35.0, 50.0, 62.0, 72.0, 80.0, 87.0})
+        for (double p : isotropic ? std::vector<double>{0.0} : std::vector<double>{0.0, 30.0, 60.0, 90.0})
+            v.push_back(dir_from_degrees(t, p));
+    return v;
+}
+
+double relative_variance(const Brdf& f, const sepal_sampler& s, const std::vector<glm::dvec3>& views,
+                         int samples, uint64_t seed) {
+    std::vector<double> rel(views.size(), 0.0);
+    parallel_for(views.size(), 0, [&](size_t vi) {
+        const glm::dvec3& wo = views[vi];
+        const float w[3] = {float(wo.x), float(wo.y), float(wo.z)};
+        sepal_sampler_view v;
+        sepal_sampler_set_view(&s, w, &v);
+        double m = 0, m2 = 0;
+        for (int i = 0; i < samples; ++i) {
+            const float u[2] = {float((i + counter_uniform(seed + vi, 2 * uint64_t(i))) / samples),
+                                float(counter_uniform(seed + vi, 2 * uint64_t(i) + 1))};
+            float wi[3], pdf;
+            double x = 0;
+            if (sepal_sampler_sample(&v, u, wi, &pdf) == 1)
+                x = luminance(f.eval(glm::dvec3(wi[0], wi[1], wi[2]), wo)) * wi[2] / pdf;
+            m += x, m2 += x * x;
+        }
+        m /= samples, m2 /= samples;
+        rel[vi] = m > 0 ? std::max(0.0, m2 - m * m) / (m * m) : 0.0;
+    });
+    double sum = 0;
+    for (double r : rel) sum += r;
+    return views.empty() ? 0.0 : sum / double(views.size());
+}
+
 double factored_lum(const sepal_sampler_view& v, const glm::dvec3& wi) {
     // The same sampler without its colour tables evaluates to the luminance.
     sepal_sampler grey = *v.sampler;

@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -26,6 +27,16 @@ double normalized_mae(const Brdf& truth, const ApproxFn& approx, int pairs, uint
 // A FACTORED sampler's reconstruction of f(wi, wo) cos(theta_i) in luminance (what it
 // samples): total(wo) times its factored density at wi, without the defensive share.
 double factored_lum(const sepal_sampler_view& v, const glm::dvec3& wi);
+
+// Views the samplers are judged at without rendering: 8 elevations from 5 to 87 degrees
+// (x 4 azimuths 0..90 for anisotropic BRDFs).
+std::vector<glm::dvec3> judge_views(bool isotropic);
+
+// The relative variance of the one-sample estimator f cos / pdf (luminance) under a constant
+// environment, averaged over the views: mean of Var / E^2, by `samples` stratified draws per
+// view (fixed seed). What a sampler is for; 0 for a perfect one.
+double relative_variance(const Brdf& f, const sepal_sampler& s, const std::vector<glm::dvec3>& views,
+                         int samples, uint64_t seed);
 
 // Image statistics over the pixels where mask != 0 (all pixels with an empty mask), on the
 // mean of the RGB channels: mean squared difference between two images, and the per-pixel

@@ -24,6 +24,7 @@ SamplerData small_factored(const std::string& spec = "cook-torrance", bool colou
     REQUIRE(b);
     FactoredOptions o;
     o.n_theta_o = 8, o.n_phi_o = 8, o.n_theta_p = 16, o.n_phi_p = 8, o.J = 2, o.K = 1, o.colour = colour;
+    o.param = SampleParam::Half;
     SamplerData d;
     REQUIRE_MESSAGE(fit_factored(*b, o, &d, nullptr, &err), err);
     return d;

@@ -41,6 +41,7 @@ Material& material(const std::string& spec) {
     };
     FactoredOptions fo;
     fo.J = 2, fo.K = 2;
+    fo.param = SampleParam::Half;
     if (!m.brdf->isotropic()) fo.n_theta_p = 32, fo.n_phi_p = 32;
     SamplerData d;
     REQUIRE_MESSAGE(fit_factored(*m.brdf, fo, &d, nullptr, &err), err);
@@ -75,7 +76,7 @@ const std::string kWard = "ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05";
 std::string cornell() { return sepal_test::source_path("fixtures/cornell/garnet_red.brdf"); }
 
 // Every chi-square test of this suite shares the significance level (Sidak).
-constexpr int kTests = 30;
+constexpr int kTests = 31;  // 18 + 5 + 6 + 2 spare
 constexpr int kSamples = 1000000;
 
 sepal_test::Chi2Result run_chi2(const Sampler& s, const glm::dvec3& wo, uint64_t seed) {
@@ -123,10 +124,11 @@ TEST_CASE("sampling: chi-square, anisotropic Ward (absolute phi) and the inciden
     check_chi2(kCt, "factored-incident", 60.0);
 }
 
-TEST_CASE("sampling: chi-square, measured Cornell garnet_red") {
+TEST_CASE("sampling: chi-square, measured materials (Cornell garnet_red, MERL nickel)") {
     for (double t : {10.0, 80.0}) {
         check_chi2(cornell(), "factored", t);
         check_chi2(cornell(), "tabulated", t);
+        check_chi2("nbrdf:nickel", "factored", t);
     }
 }
 
@@ -158,7 +160,7 @@ TEST_CASE("sampling: every estimator is unbiased (mean of f cos / pdf vs the dir
         std::string spec;
         double theta;
     };
-    for (const Case& c : {Case{kCt, 0}, Case{kCt, 70}, Case{kWard, 45}, Case{cornell(), 60}}) {
+    for (const Case& c : {Case{kCt, 0}, Case{kCt, 70}, Case{kWard, 45}, Case{cornell(), 60}, Case{"nbrdf:nickel", 40}}) {
         Material& m = material(c.spec);
         if (c.spec == kCt) add_fits(m);
         const glm::dvec3 wo = dir_from_degrees(c.theta, 30);
