@@ -102,7 +102,7 @@ std::unique_ptr<Environment> make_environment(const std::string& spec, std::stri
         return std::make_unique<Constant>(c);
     }
     if (spec == "sky" || spec.rfind("sky:", 0) == 0) {
-        double elevation = 35, azimuth = -60, radius = 3, sun = 500;
+        double elevation = 35, azimuth = -60, radius = 4, sun = 100;
         if (spec.size() > 4) {
             std::string model;
             std::vector<SpecItem> items;

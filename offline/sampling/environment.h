@@ -11,10 +11,11 @@
 //                           where the exact pixel value is the directional albedo
 //   sky[:key=value,...]     a procedural clear sky, nothing downloaded: a zenith-to-horizon
 //                           gradient (zenith 0.3/0.5/1, horizon 1/0.95/0.9), a dim ground
-//                           (0.15/0.13/0.11) and a sun disk of radiance `sun` (default 500),
-//                           angular radius `radius` (3 degrees), at `elevation` (35) and
-//                           `azimuth` (-60 degrees from +x): high contrast (the sun gives about
-//                           two thirds of the irradiance of an upward surface), for Table 3
+//                           (0.15/0.13/0.11) and a sun disk of radiance `sun` (default 100,
+//                           over 100x the sky), angular radius `radius` (4 degrees), at
+//                           `elevation` (35) and `azimuth` (-60 degrees from +x): high contrast
+//                           (the sun gives about a third of an upward surface's irradiance),
+//                           for Table 3
 //   FILE.hdr                a Radiance .hdr latitude-longitude map: column u = 0.5 +
 //                           atan2(y, x) / (2 pi), row v = acos(z) / pi (top row = zenith),
 //                           nearest texel; up to 16384 pixels a side, non-finite or negative

@@ -52,9 +52,12 @@ struct FactoredOptions {
     SampleParam param = SampleParam::Auto;
     PhiFrame phi = PhiFrame::Auto;
     int n_theta_o = 16, n_phi_o = 16;  // view grid (n_phi_o becomes 1 in the view frame)
-    int n_theta_p = 32, n_phi_p = 16;  // wp bins
+    // wp bins. Defaults measured (bench ablation): 64 bins uniform in sqrt(theta) resolve
+    // sharp highlights near the pole (nickel: 8x less variance than 32 uniform bins) and
+    // cost nothing on diffuse-like BRDFs; the paper used 32 to 128 uniform bins.
+    int n_theta_p = 64, n_phi_p = 16;
     int J = 4, K = 2;                  // outer and inner terms
-    bool sqrt_theta = false;           // theta_p bins uniform in sqrt(theta)
+    bool sqrt_theta = true;            // theta_p bins uniform in sqrt(theta)
     bool jacobian = true;
     int supersample = 3;               // S: S x S points per wp bin
     int iterations = 2000;             // NMF iteration cap (each level)
