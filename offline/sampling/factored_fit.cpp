@@ -67,19 +67,19 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
         o.n_phi_o > SEPAL_SMP_MAX_VIEW_SIDE)
         return bad("view grid " + std::to_string(o.n_theta_o) + "x" + std::to_string(o.n_phi_o) +
                    ": each side 1.." + std::to_string(SEPAL_SMP_MAX_VIEW_SIDE));
-    if (o.n_theta_p < 1 || o.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || o.n_phi_p < 1 ||
+    if (o.n_theta_p < 1 || o.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || o.n_phi_p < 0 ||
         o.n_phi_p > SEPAL_SMP_MAX_DIR_SIDE)
         return bad("direction bins " + std::to_string(o.n_theta_p) + "x" + std::to_string(o.n_phi_p) +
                    ": each side 1.." + std::to_string(SEPAL_SMP_MAX_DIR_SIDE));
-    if (o.J < 1 || o.K < 1 || o.J * o.K > SEPAL_SMP_MAX_TERMS)
+    if (o.J < 0 || o.K < 0 || (o.J == 0) != (o.K == 0) || o.J * o.K > SEPAL_SMP_MAX_TERMS)
         return bad("terms " + std::to_string(o.J) + "x" + std::to_string(o.K) + ": J, K >= 1 and J K <= " +
-                   std::to_string(SEPAL_SMP_MAX_TERMS));
+                   std::to_string(SEPAL_SMP_MAX_TERMS) + " (or both 0: the default)");
     if (o.supersample < 1 || o.supersample > 8) return bad("supersample " + std::to_string(o.supersample) + ": 1..8");
     if (o.iterations < 1 || o.iterations > 1000000) return bad("iterations: 1..1000000");
     if (!(o.defensive >= 0 && o.defensive <= 1)) return bad("defensive share: 0..1");
     if (!(o.tolerance >= 0 && o.tolerance < 1)) return bad("tolerance: 0..1");
     // The whole matrix and its reconstruction are held (doubles), plus the colour masses.
-    const double entries = double(o.n_theta_o) * o.n_phi_o * o.n_theta_p * o.n_phi_p;
+    const double entries = double(o.n_theta_o) * o.n_phi_o * o.n_theta_p * std::max(o.n_phi_p, 64);
     if (entries * (8.0 * 3 + 4.0 * 3) > 8e9)
         return bad("the data matrix (" + std::to_string(int64_t(entries)) +
                    " entries) needs over 8 GB; lower the resolution");
@@ -129,6 +129,9 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
         return true;
     }
     FactoredOptions o = opt;
+    const bool iso = brdf.isotropic();
+    if (o.n_phi_p == 0) o.n_phi_p = iso ? 16 : 64;
+    if (o.J == 0) o.J = iso ? 4 : 2, o.K = iso ? 2 : 4;
     const bool view_frame = o.phi == PhiFrame::View || (o.phi == PhiFrame::Auto && brdf.isotropic());
     if (view_frame) o.n_phi_o = 1;
     const bool colour = o.colour;

@@ -364,11 +364,14 @@ float factored_pdf(const sepal_sampler_view* v, const float* wi, bool over_wp = 
     const uint32_t Tp = d.n_theta_p, Pp = d.n_phi_p;
     const uint32_t i = z_bin(s.z_edges, Tp, w[2]);
     const uint32_t j = phi_bin(azimuth(w[0], w[1]), Pp);
+    // sum_l w_l U_l(z) V_l(phi): the bin's width in z and in phi is shared by every term.
     float p = 0.0f;
-    for (uint32_t l = 0; l < v->count; ++l)
-        if (v->weight[l] > 0.0f)
-            p += v->weight[l] * bin_density(s.u_cdf + l * (Tp + 1), s.v_cdf + l * (Pp + 1), s.z_edges,
-                                            i, j, Pp);
+    for (uint32_t l = 0; l < v->count; ++l) {
+        const float* u = s.u_cdf + l * (Tp + 1);
+        const float* c = s.v_cdf + l * (Pp + 1);
+        p += v->weight[l] * ((u[i + 1] - u[i]) * (c[j + 1] - c[j]));
+    }
+    p *= (float)Pp / (kTwoPi * (s.z_edges[i] - s.z_edges[i + 1]));
     return over_wp ? p : p * inv_j;
 }
 
