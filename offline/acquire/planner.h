@@ -18,12 +18,13 @@
 // g = df/db^ and w = the sample's weight (capture.h: 1 / std). We measure g in relative units
 // (df/db_j times max(|b_j|, floor)), so that the exponent n (~10..100) does not swamp rho_d
 // (~0.3) in the norm: H^-1 is then the covariance of the parameters' relative errors.
-// Rank: eigenvalues of H above rank_threshold count as measured (4: that direction's relative
-// standard deviation is below 50%), the paper's "rank" made noise-aware (its exact rank of a
-// sum of rank-1 terms is always full after 4 samples, even when 3 derivatives are ~0 for
-// non-highlight directions, its section 8). ||CoV|| is the Frobenius norm of the pseudo-
-// inverse over the measured directions (the paper found 2-norm and Frobenius equivalent,
-// Fig. 4; Frobenius has a closed-form rank-1 update).
+// Rank: eigenvalues of H above rank_threshold count as measured (0.01: the data pin that
+// direction within a relative standard deviation of 10, an order of magnitude), the paper's
+// "rank" made noise-aware: its exact rank of a sum of rank-1 terms is full after 4 samples
+// even when 3 derivatives are ~0 away from highlights (its section 8), ours needs the
+// highlight. How well a measured direction is known is ||CoV||: the Frobenius norm of the
+// pseudo-inverse over the measured directions (the paper found 2-norm and Frobenius
+// equivalent, Fig. 4; Frobenius has a closed-form rank-1 update).
 // A candidate's effect on a texel is evaluated in the eigenbasis of its H (computed once per
 // step): with z = V^T row, the new rank follows from the inertia of D + z z^T - threshold
 // (interlacing: it rises by at most one, and does when 1 + sum z_i^2 / (d_i - threshold) < 0),
@@ -31,10 +32,12 @@
 // lower rank the coupling to unmeasured directions is ignored and a newly measured direction
 // enters with eigenvalue max(threshold, d + z^2)). About 100 ns per texel and candidate.
 // Objective (eq. 4 with section 5's rank-gain handling): per texel the uncertainty
-//   U(H) = inf (base^(L-k) - 1) + ||CoV||_F      (k = rank; inf = 1e3, base = 10)
-// so gaining rank is worth far more than any reduction within a rank, and gains at low rank
-// count most (the paper's F(k <= L) = 10^(L-k) (Inf - s_k), Fig. 3b). The objective of a
-// candidate view is sum over texels of U(H) - U(H + w^2 g g^T) over the texels it would
+//   U(H) = inf (1 + base + ... + base^(L-k-1)) + ||CoV||_F      (k = rank, inf = 1e3)
+// so gaining rank is worth far more than any reduction within a rank. base = 1 (default):
+// every rank gained is worth inf, the paper's F = Inf - s_k (its Fig. 3a); base = 10: its
+// Fig. 3b, 10^(L-k) (Inf - s_k), which favours texels of low rank. On our objects base 1
+// brings more texels to full rank (the bench measures both). The objective of a
+// candidate view is the sum over texels of U(H) - U(H + w^2 g g^T) over the texels it would
 // measure (visible, lit, within the rig's angles); zero when camera and light are closer than
 // min_separation_deg (section 6.2).
 // Search (section 5.1): sphere_points positions on a Fibonacci sphere, rotated at random
@@ -63,7 +66,7 @@ struct PlannerOptions {
     int sphere_points = 16;       // discrete positions for the camera and for the light
     int refine_evaluations = 60;  // Nelder-Mead evaluations after the discrete search (0: none)
     double rank_threshold = 0.01; // eigenvalues of the relative Hessian counted as measured
-    double rank_base = 10;        // 1: the paper's F = Inf - s_k (Fig. 3a)
+    double rank_base = 1;         // 1: F = Inf - s_k (Fig. 3a); 10: 10^(L-k) (Inf - s_k) (Fig. 3b)
     double inf = 1e3;
     int threads = 0;
     uint64_t seed = 1;
@@ -82,7 +85,7 @@ struct PlanState {
     std::vector<double> uncertainty;       // U(H)
     std::vector<double> smallest;          // largest singular value of CoV (1 / smallest measured eigenvalue of H), 0 at rank 0
     std::vector<int> index_of;             // atlas texel -> entry, -1 for invalid texels
-    double threshold = 0.01, base = 10, inf = 1e3;
+    double threshold = 0.01, base = 1, inf = 1e3;
 };
 
 // The paper's one-pixel example parameters as the prior of every texel: rho_d 0.3, n 10,
