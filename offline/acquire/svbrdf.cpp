@@ -31,10 +31,10 @@ void BlendSvbrdf::weights_at(double u, double v, float* out) const {
 
 std::vector<std::string> default_svbrdf_materials() {
     return {
-        "blinn:rho_d=0.45/0.06/0.04,rho_s=0.35,n=80",
-        "cook-torrance:d=0.1,Rd=0.9/0.6/0.2,s=0.8,F0=0.9/0.65/0.25,m=0.25",
+        "blinn:rho_d=0.45/0.06/0.04,rho_s=0.3,n=25",
+        "cook-torrance:d=0.1,Rd=0.9/0.6/0.2,s=0.8,F0=0.9/0.65/0.25,m=0.35",
         "oren-nayar:rho=0.12/0.2/0.55,sigma=0.4",
-        "ward:rho_d=0.6/0.6/0.55,rho_s=0.25,ax=0.12,ay=0.12",
+        "ward:rho_d=0.6/0.6/0.55,rho_s=0.25,ax=0.25,ay=0.25",
     };
 }
 

@@ -48,8 +48,9 @@ struct SvbrdfGenOptions {
     uint64_t seed = 1;
 };
 
-// Four analytic materials a Lafortune lobe fits only approximately: red plastic (Blinn),
-// gold (Cook-Torrance), blue rough clay (Oren-Nayar), white glossy paint (isotropic Ward).
+// Four analytic materials a Lafortune lobe fits only approximately, glossy but not mirror-
+// like (a highlight spans ~20-40 degrees): red plastic (Blinn n 25), gold (Cook-Torrance
+// m 0.35), blue rough clay (Oren-Nayar), white satin paint (isotropic Ward alpha 0.25).
 std::vector<std::string> default_svbrdf_materials();
 
 bool make_svbrdf(int res, const SvbrdfGenOptions& options, BlendSvbrdf* out, std::string* err);

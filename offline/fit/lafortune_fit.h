@@ -43,6 +43,8 @@
 #include <Eigen/Dense>
 #include <glm/vec3.hpp>
 
+#include "factor/factored.h"  // luminance(): the grey channel of channels = 1 fits
+
 namespace sepal {
 
 // One BRDF measurement in the local frame (normal +z): the value per steradian, and how much
@@ -113,8 +115,5 @@ std::vector<std::string> lafortune_param_names(int channels, int lobes, bool iso
 // f = rho_d / pi the first is 1 / pi. grad must hold 1 + 3 lobes values.
 void lafortune_gradient_grey_iso(const LafortuneModel& m, const glm::dvec3& wi, const glm::dvec3& wo,
                                  double* grad);
-
-// Rec. 709 luminance of a linear RGB value (the grey channel of channels = 1 fits).
-inline double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 }  // namespace sepal
