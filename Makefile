@@ -21,7 +21,8 @@ endif
 # Debian packages the project needs: compilers and make are assumed only as far as
 # running this Makefile goes; everything else is checked and installed by `make deps`.
 DEB_PACKAGES := g++ make pkg-config libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
-                libglm-dev libstb-dev doctest-dev libeigen3-dev
+                libglm-dev libstb-dev doctest-dev libeigen3-dev \
+                nlohmann-json3-dev
 
 WARN     := -Wall -Wextra -Werror
 CXXSTD   := -std=c++17
