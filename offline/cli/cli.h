@@ -63,5 +63,6 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_bake(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io);
+int cmd_measure(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

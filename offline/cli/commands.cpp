@@ -26,6 +26,9 @@ const std::vector<Command>& commands() {
         {"bake-scene", "scene.json -o DIR [--threads N] [--force]",
          "bake the materials a scene lists, each with its budget; skip up-to-date ones", cmd_bake_scene},
         {"inspect", "FILE.sepal", "validate and print an asset", cmd_inspect},
+        {"measure", "plan|simulate|reconstruct ...",
+         "measure a material with ~800 samples: plan, simulate, reconstruct from the MERL database",
+         cmd_measure},
         {"render",
          "SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu [--mask LIST] "
          "[--diffuse PNG] [--float-target] [scene flags] -o out.png [--float out.pfm]",

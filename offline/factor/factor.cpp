@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <numeric>
 
 #include <glm/geometric.hpp>
@@ -110,40 +109,6 @@ double estimate_memory_mb(const FactorOptions& o) {
 }
 
 // ---- progress ---------------------------------------------------------------------------
-struct detail::Progress::State {
-    std::string what;
-    size_t total = 0;
-    std::atomic<size_t> done{0};
-    std::mutex mutex;
-    int shown = -1;
-};
-
-detail::Progress::Progress(bool enabled, const std::string& what, size_t total)
-    : state_(nullptr) {
-    if (!enabled || total == 0) return;
-    state_ = new State;
-    state_->what = what;
-    state_->total = total;
-}
-
-detail::Progress::~Progress() {
-    if (!state_) return;
-    std::fprintf(stderr, "\r%-60s\r", "");
-    delete state_;
-}
-
-void detail::Progress::advance() {
-    if (!state_) return;
-    const size_t d = ++state_->done;
-    const int pct = int(100.0 * double(d) / double(state_->total));
-    std::lock_guard<std::mutex> lock(state_->mutex);
-    if (pct != state_->shown) {
-        state_->shown = pct;
-        std::fprintf(stderr, "\rsepal factor: %s %3d%%", state_->what.c_str(), pct);
-        std::fflush(stderr);
-    }
-}
-
 // ---- sampling ---------------------------------------------------------------------------
 PairSampler::PairSampler(const Brdf& brdf, const FactorOptions& o)
     : brdf_(brdf), param_(o.param), map_(o.map), n_{factor_res(o, 0), factor_res(o, 1)}, s_(o.supersample),

@@ -9,6 +9,7 @@
 
 #include "brdf/brdf.h"
 #include "factor/factor.h"
+#include "util/progress.h"
 
 namespace sepal {
 namespace detail {
@@ -117,15 +118,10 @@ bool nd_factor(const PairSampler& s, const FactorOptions& o, int channels,
                std::string* err);
 
 // Progress on stderr for long runs ("sepal factor: sampling 42%"); silent when disabled.
-class Progress {
+class Progress : public ::sepal::Progress {
   public:
-    Progress(bool enabled, const std::string& what, size_t total);
-    ~Progress();
-    void advance();  // thread-safe
-
-  private:
-    struct State;
-    State* state_;
+    Progress(bool enabled, const std::string& what, size_t total)
+        : ::sepal::Progress(enabled, "sepal factor: " + what, total) {}
 };
 
 }  // namespace detail

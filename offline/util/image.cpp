@@ -9,10 +9,11 @@
 #include "util/io.h"
 
 // stb_image / stb_image_write are the project's PNG codec (Debian's libstb-dev); only the
-// PNG decoder is compiled in.
+// PNG and Radiance HDR decoders are compiled in.
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
 #define STBI_ONLY_PNG
+#define STBI_ONLY_HDR
 #define STBI_NO_STDIO
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
@@ -62,6 +63,29 @@ bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Imag
     *out = Image(w, h, want);
     for (size_t i = 0; i < out->data.size(); ++i) out->data[i] = float(px[i]) / 255.0f;
     stbi_image_free(px);
+    return true;
+}
+
+bool decode_hdr(const std::string& path, const std::vector<uint8_t>& bytes, Image* out,
+                std::string* err) {
+    if (bytes.size() > size_t(std::numeric_limits<int>::max())) return fail(err, path + ": HDR file too large");
+    if (!stbi_is_hdr_from_memory(bytes.data(), int(bytes.size())))
+        return fail(err, path + ": not a Radiance HDR file (bad signature)");
+    int w = 0, h = 0, c = 0;
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
+        return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": HDR size " + std::to_string(w) + "x" + std::to_string(h) +
+                             " out of range 1.." + std::to_string(kMaxImageSide));
+    float* px = stbi_loadf_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 3);
+    if (!px) return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
+    *out = Image(w, h, 3);
+    std::copy(px, px + out->data.size(), out->data.begin());
+    stbi_image_free(px);
+    for (size_t i = 0; i < out->data.size(); ++i)
+        if (!std::isfinite(out->data[i]) || out->data[i] < 0)
+            return fail(err, path + ": value at pixel (" + std::to_string(i / 3 % size_t(w)) + ", " +
+                                 std::to_string(i / 3 / size_t(w)) + ") is negative or not finite");
     return true;
 }
 
@@ -143,6 +167,11 @@ bool read_png(const std::string& path, Image* out, std::string* err) {
 bool read_pfm(const std::string& path, Image* out, std::string* err) {
     std::vector<uint8_t> bytes;
     return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_pfm(path, bytes, out, err);
+}
+
+bool read_hdr(const std::string& path, Image* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_hdr(path, bytes, out, err);
 }
 
 bool write_png(const std::string& path, const Image& img, std::string* err, int64_t* clipped) {
