@@ -50,6 +50,8 @@ TermPrefix term_prefix(const sepal_asset& in, int terms, sepal_asset* out) {
                 term = (int)in.textures[pass.tex1].desc.term;
         } else if (pass.op == SEPAL_OP_CONSTANT) {
             term = constant_pass_term(in, pass);
+        } else if (pass.op == SEPAL_OP_DIFFUSE) {
+            term = 0;  // the separated diffuse part belongs to every prefix, like the CPU's sum
         }
         if (term < 0) ++r.unattributed;
         if (term < r.terms) out->passes[kept++] = pass;

@@ -28,7 +28,10 @@ Assets bake_assets(const std::string& dir) {
     Assets a{dir + "/intact.sepal", dir + "/masked.sepal"};
     REQUIRE_MESSAGE(sepal::write_asset(a.intact, r.asset, &err), err);
     sepal::AssetData masked = r.asset;
-    REQUIRE(masked.passes.size() == 2);  // NMF: one product pass per term
+    // NMF: one product pass per term, plus the separated diffuse part's untextured pass.
+    REQUIRE(std::count_if(masked.passes.begin(), masked.passes.end(), [](const sepal_fmt_pass& p) {
+                return p.op == SEPAL_OP_PRODUCT;
+            }) == 2);
     int zeroed = 0;
     for (sepal::AssetTexture& t : masked.textures)
         if (t.desc.term == 1 && t.desc.role == SEPAL_ROLE_H) {
