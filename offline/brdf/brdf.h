@@ -12,7 +12,8 @@
 // either direction is at or below the horizon (z <= 0). Implementations never return NaN
 // or inf and are safe to call from several threads at once.
 // SPEC is an analytic model ("model:param=value,...", see brdf_models.h) or a path to
-// measured data (.binary MERL, .brdf Cornell; see measured.h).
+// measured data (.binary MERL, .brdf Cornell; see measured.h) or "nbrdf:NAME", one of the 100
+// MERL materials as a neural fit (nbrdf.h; `sepal info nbrdf:` lists them).
 #pragma once
 #include <cstdint>
 #include <memory>

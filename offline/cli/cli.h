@@ -88,5 +88,7 @@ CommandRun setup_inspect(CLI::App& app);
 int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_bake_scene(CLI::App& app);
 int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_measure(CLI::App& app);
+int cmd_measure(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

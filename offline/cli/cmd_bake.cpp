@@ -1,7 +1,9 @@
-// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--max-error E]
+// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
+//   [--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E]
 //   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "bake/bake.h"
@@ -59,6 +61,7 @@ void print_counts(const BakeResult& r, std::FILE* out) {
 
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
+    std::string white = "auto", fit = "radiance";
     bool no_mips = false;
     BakeOptions o;
 };
@@ -75,41 +78,60 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     if (!args.timings.empty() ? !read_cost_model(args.timings, args.backend, &o.cost, &err)
                               : !default_cost_model(args.backend, &o.cost, &err))
         return bad(err);
-    // A per-pixel-only parameterization baked for a per-vertex backend would write an asset
-    // that backend refuses at load: refuse it here, before any factoring.
-    const bool per_vertex = args.backend == "gles1" || args.backend == "gles2" || args.backend == "gles2-fused";
-    for (Param p : o.params)
-        if (per_vertex && !hardware_compatible(p))
-            return bad(std::string("--param ") + param_name(p) + " needs per-pixel evaluation, which --backend " +
-                       args.backend + (args.backend == "gles1" ? " (the default)" : "") +
-                       " does not do: it draws iv, gs-half or vh. Bake it with --backend cpu (the asset then "
-                       "renders on the cpu and gles2-fused-pixel backends), or choose another --param");
+    // What the factors hold (the image that decides is o.target).
+    if (args.white == "auto") o.white = 0;
+    else if (args.white == "none") o.white = -1;
+    else {
+        char* end = nullptr;
+        const double w = std::strtod(args.white.c_str(), &end);
+        if (args.white.empty() || *end || !std::isfinite(w) || w <= 0)
+            return bad("--white " + args.white + ": auto, none, or f cos(theta_i) per steradian > 0");
+        o.white = w;
+    }
+    o.radiance = args.fit == "radiance";
     o.mips = !args.no_mips;
     o.progress = true;  // shown only when stderr is a terminal
     std::unique_ptr<Brdf> brdf = make_brdf(args.spec, &err);
     if (!brdf) return bad(err);
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
-    // The candidates, for people, whether or not one won.
+    // The candidates, for people, whether or not one won: the image first, the direction-
+    // space error as a diagnostic.
     if (!r.candidates.empty())
-        std::fprintf(io.out, "%-32s %9s %9s %7s %8s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes",
-                     "ms", "(* on the front)");
+        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
+                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
+        const std::string label = c.label() + (c.coarse ? " (c)" : "");
         if (!c.ok) {
-            std::fprintf(io.out, "%-32s  skipped: %s\n", c.label().c_str(), c.note.c_str());
+            std::fprintf(io.out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
         }
-        std::fprintf(io.out, "%-32s %9.4f %9.4f %7d %8lld %8.2f %s %s%s\n", c.label().c_str(), c.error_float,
-                     c.error_quantized, c.passes, (long long)c.bytes, c.ms, c.on_front ? "*" : " ",
+        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
+                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
+                     c.on_front ? "*" : " ",
                      int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
                      c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
+    }
+    if (!r.views.empty()) {
+        std::string names;
+        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
+        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the views %s; (c): coarse stage\n",
+                     target_name(r.target), names.c_str());
     }
     if (!args.report.empty()) {
         Json j;
         j["spec"] = brdf->spec();
         j["seconds"] = r.seconds;
-        j["budgets"] = {{"max_error", o.max_error}, {"max_passes", o.max_passes}, {"max_bytes", o.max_bytes}};
+        j["target"] = target_name(r.target);
+        j["white_level"] = r.white;
+        j["diffuse"] = {r.diffuse.scale.x, r.diffuse.scale.y, r.diffuse.scale.z};
+        j["diffuse_profile_side"] = r.diffuse.side;
+        j["views"] = r.views;
+        j["budgets"] = {{"max_error", o.max_error},
+                        {"max_passes", o.max_passes},
+                        {"max_bytes", o.max_bytes},
+                        {"min_psnr", o.min_psnr}};
         j["cost_model"] = {{"backend", r.cost.backend},         {"device", r.cost.device},
                            {"base_ms", r.cost.base_ms},         {"per_pass_ms", r.cost.per_pass_ms},
                            {"per_term_ms", r.cost.per_term_ms}, {"per_kib_ms", r.cost.per_kib_ms},
@@ -119,8 +141,11 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         j["candidates"] = Json::array();
         for (const BakeCandidate& c : r.candidates) {
             Json x = {{"label", c.label()}, {"param", param_name(c.param)}, {"map", map_name(c.map)},
-                      {"res", c.res},       {"terms", c.terms},             {"bits", c.bits},
-                      {"method", method_name(c.method)}, {"ok", c.ok}};
+                      {"res", c.res},       {"res_h", c.res_h > 0 ? c.res_h : c.res},
+                      {"terms", c.terms},   {"bits", c.bits},
+                      {"method", method_name(c.method)}, {"ok", c.ok}, {"coarse", c.coarse}};
+            x["psnr"] = c.psnr;
+            x["psnr_views"] = c.psnr_views;
             if (!c.ok) x["note"] = c.note;
             x["error_float_relative"] = c.error_float;
             x["error_quantized_relative"] = c.error_quantized;
@@ -131,6 +156,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
             x["bytes"] = c.bytes;
             x["ms_predicted"] = c.ms;
             x["on_front"] = c.on_front;
+            x["factor_seconds"] = c.factor_seconds;
             x["meets"] = c.meets;
             j["candidates"].push_back(std::move(x));
         }
@@ -160,12 +186,31 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--param", o.params, "parameterizations to try")
         ->delimiter(',')->transform(param_names())->capture_default_str();
     app.add_option("--map", o.maps, "hemisphere maps to try")->delimiter(',')->transform(map_names())->capture_default_str();
-    app.add_option("--res", o.resolutions, "texels per side to try (powers of two)")
-        ->delimiter(',')->check(CLI::Range(1, 256))->capture_default_str();
-    app.add_option("--terms", o.terms, "term counts to try")
-        ->delimiter(',')->check(CLI::Range(1, 16))->capture_default_str();
-    app.add_option("--method", o.methods, "factorization methods to try")
-        ->delimiter(',')->transform(method_names())->capture_default_str();
+    app.add_option("--res", o.resolutions, "texels per side to try (powers of two; default: a ladder from 32)")
+        ->delimiter(',')->check(CLI::Range(1, 256));
+    app.add_option("--terms", o.terms, "term counts to try (default: 1..4, more while below 40 dB)")
+        ->delimiter(',')->check(CLI::Range(1, 16));
+    app.add_option("--method", o.methods,
+                   "factorization methods to try (default: acls on gles1/gles2; acls and wsvd on cpu)")
+        ->delimiter(',')->transform(method_names());
+    app.add_option("--smooth-res", o.smooth_resolutions,
+                   "with --res: the other (smooth) factor's sides to try, each not above --res")
+        ->delimiter(',')->check(CLI::Range(1, 256));
+    // The image that decides and what the factors hold (bake.h, radiance.h).
+    app.add_option("--target", o.target, "the backend the asset ships on; candidates are ranked by PSNR there")
+        ->transform(target_names())->capture_default_str();
+    app.add_option("--fit", a->fit, "radiance: factor f cos(theta_i) capped at the white level, diffuse apart "
+                                    "(format 2); brdf: factor f (format 1)")
+        ->check(CLI::IsMember({"radiance", "brdf"}))->capture_default_str();
+    app.add_option("--white", a->white, "the radiance fit's cap: auto (from the views), none, or f cos per steradian")
+        ->capture_default_str();
+    app.add_option("--diffuse-quantile", o.diffuse_quantile, "the quantile of f taken as the constant diffuse part")
+        ->check(finite_range(0, 1))->capture_default_str();
+    app.add_option("--judge-size", o.judge_size, "pixels per side of the judged images")
+        ->check(CLI::Range(8, 2048))->capture_default_str();
+    app.add_option("--iters", o.iterations, "nmf/acls outer iterations per term count (0: the method's default)")
+        ->check(CLI::Range(0, 100000))->capture_default_str();
+    app.add_option("--min-psnr", o.min_psnr, "budget: dB on the target, e.g. 35")->check(positive());
     app.add_option("--colour", o.colour, "rgb: factors per channel; luminance: one factor and a colour ratio")
         ->transform(colour_names())->capture_default_str();
     app.add_option("--bits", o.bits, "bits per texel channel to try: 8, 16 or 8,16")

@@ -7,8 +7,13 @@
 //      "param": ["gs-half"], "res": [32], "terms": [1, 2], "method": ["nmf"],
 //      "bits": 8, "cap": 2},
 //     {"name": "paint", "spec": "cornell/garnet_red.brdf"}]}
-// Only "name" and "spec" are required; the rest default as in `sepal bake`. A relative
-// measured-file spec is read relative to the scene file. Each material becomes
+// Only "name" and "spec" are required; the rest default as in `sepal bake`, plus "target"
+// ("gles1", "gles2", "cpu"), "min_psnr" (dB) and "white" (a number, "auto" or "none").
+// Optional top-level "views": the scene's views the bake judges candidates by (and takes its
+// white level from) instead of the default scene and its grazing twin, each a name and
+// scene flags as `sepal render` takes them:
+//   "views": [{"name": "hall", "flags": "--mesh torus --camera 0,-4,1.5 --light point:3,1,2:40"}]
+// A relative measured-file spec is read relative to the scene file. Each material becomes
 // DIR/<name>.sepal; one whose asset already holds the same bake key (a checksum of the
 // canonical spec, the measured file's bytes, the options and the format version) is
 // skipped. A failing material does not stop the others; the exit code says whether all
@@ -21,6 +26,7 @@
 #include "bake/bake.h"
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "common/scene_flags.h"
 #include "util/io.h"
 #include "util/json.h"
 #include "sepal/sepal_format.h"
@@ -105,6 +111,47 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         return bad(scene_path + ": expected {\"materials\": [ ... ]} with at least one material");
     const Json& mats = scene["materials"];
     if (mats.size() > 256) return bad(scene_path + ": more than 256 materials");
+    // The scene's own views, shared by every material (and part of each bake key).
+    std::vector<BakeView> views;
+    std::string views_key;
+    if (scene.contains("views")) {
+        const Json& vs = scene["views"];
+        if (!vs.is_array() || vs.empty() || vs.size() > 8)
+            return bad(scene_path + ": \"views\" must be a list of 1..8 {\"name\", \"flags\"} objects");
+        for (size_t i = 0; i < vs.size(); ++i) {
+            const JsonField vf{vs[i], scene_path + ": views[" + std::to_string(i) + "]"};
+            std::string vname, flags;
+            if (!vs[i].is_object() || !json_string(vf, "name", &vname, &err, true) ||
+                !json_string(vf, "flags", &flags, &err, true) || !valid_name(vname))
+                return bad(vf.where + ": needs a \"name\" (1-64 letters, digits, '_' or '-') and a \"flags\" string");
+            sepal_ports::SceneSetup setup;
+            std::vector<std::string> words;
+            for (size_t a = 0; a < flags.size();) {
+                const size_t e = flags.find(' ', a);
+                const std::string w = flags.substr(a, e == std::string::npos ? std::string::npos : e - a);
+                if (!w.empty()) words.push_back(w);
+                if (e == std::string::npos) break;
+                a = e + 1;
+            }
+            std::vector<char*> argv;
+            for (std::string& w : words) argv.push_back(&w[0]);
+            std::string ferr;
+            for (int k = 0; k < int(argv.size());) {
+                const int used = sepal_ports::parse_scene_flag(int(argv.size()), argv.data(), k, &setup, &ferr);
+                if (used <= 0)
+                    return bad(vf.where + ": " + (used < 0 ? ferr : "'" + words[size_t(k)] + "' is not a scene flag"));
+                k += used;
+            }
+            if (!sepal_ports::load_scene_mesh(&setup, &ferr)) return bad(vf.where + ": " + ferr);
+            BakeView bv;
+            bv.name = vname;
+            bv.scene = setup.scene;
+            bv.vertices.assign(setup.mesh.vertices, setup.mesh.vertices + setup.mesh.vertex_count);
+            bv.indices.assign(setup.mesh.indices, setup.mesh.indices + setup.mesh.index_count);
+            views.push_back(std::move(bv));
+            views_key += vname + "=" + flags + ";";
+        }
+    }
     if (!make_dirs(dir, &err)) return bad(err);
     const size_t slash = scene_path.find_last_of('/');
     const std::string base = slash == std::string::npos ? "" : scene_path.substr(0, slash + 1);
@@ -144,8 +191,10 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         }
         BakeOptions o;
         o.threads = int(threads);
-        static const char* const kKnown[] = {"name", "spec", "param", "map", "method", "res", "terms",
-                                             "max_error", "max_passes", "max_bytes", "bits", "cap"};
+        o.views = views;
+        static const char* const kKnown[] = {"name",       "spec",      "param", "map",  "method", "res",
+                                             "terms",      "max_error", "max_passes", "max_bytes", "bits", "cap",
+                                             "target",     "white",     "min_psnr"};
         bool ok = true;
         for (const auto& member : mat.items()) {
             bool known = false;
@@ -153,18 +202,31 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
             if (!known && ok) {
                 ok = false;
                 perr = f.where + ": unknown key \"" + member.key() + "\" (known: name, spec, param, map, method, "
-                       "res, terms, max_error, max_passes, max_bytes, bits, cap)";
+                       "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr)";
             }
         }
         int bits = 8;
         ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, rusinkiewicz, elev-azim"), &o.params, &perr) &&
              list<HemiMap>(f, "map", named(parse_map, "xy, parabolic"), &o.maps, &perr) &&
-             list<Method>(f, "method", named(parse_method, "svd, nd, nmf, acls"), &o.methods, &perr) &&
+             list<Method>(f, "method", named(parse_method, "acls, wsvd, svd, nmf, nd"), &o.methods, &perr) &&
              list<int>(f, "res", int_item, &o.resolutions, &perr) && list<int>(f, "terms", int_item, &o.terms, &perr) &&
              json_number(f, "max_error", 1e-12, 1e12, &o.max_error, &perr) &&
              json_int(f, "max_passes", 1, 1 << 20, &o.max_passes, &perr) &&
              json_int(f, "max_bytes", int64_t(1), int64_t(1) << 40, &o.max_bytes, &perr) &&
-             json_int(f, "bits", 8, 16, &bits, &perr) && json_number(f, "cap", 1e-12, 1e30, &o.cap, &perr);
+             json_int(f, "bits", 8, 16, &bits, &perr) && json_number(f, "cap", 1e-12, 1e30, &o.cap, &perr) &&
+             json_number(f, "min_psnr", 1e-3, 1e3, &o.min_psnr, &perr);
+        std::string target, white;
+        if (ok && json_string(f, "target", &target, &perr) && !target.empty() && !parse_target(target, &o.target))
+            ok = false, perr = f.where + ".target: \"" + target + "\" is not one of gles1, gles2, cpu";
+        if (ok && mat.contains("white")) {
+            if (mat["white"].is_string()) {
+                if (!json_string(f, "white", &white, &perr)) ok = false;
+                else if (white == "auto" || white == "none") o.white = white == "none" ? -1 : 0;
+                else ok = false, perr = f.where + ".white: \"" + white + "\" is not auto, none or a number > 0";
+            } else {
+                ok = json_number(f, "white", 1e-12, 1e30, &o.white, &perr);
+            }
+        }
         if (ok && bits != 8 && bits != 16) ok = false, perr = f.where + ".bits: " + std::to_string(bits) + " is not 8 or 16";
         o.bits = {bits};
         if (!ok) {
@@ -185,9 +247,9 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         for (int r : o.resolutions) desc += std::to_string(r) + ",";
         for (int t : o.terms) desc += std::to_string(t) + ",";
         char tail[160];
-        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g", o.max_error, o.max_passes, (long long)o.max_bytes,
-                      o.bits[0], o.cap);
-        desc += tail;
+        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|", o.max_error, o.max_passes,
+                      (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr);
+        desc += tail + views_key;
         uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
         crc = sepal_crc32(crc, measured.data(), measured.size());
         char key[16];
@@ -205,8 +267,9 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
             continue;
         }
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
-        std::fprintf(io.out, "%-20s baked %s: %s, error %.4g, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
-                     out_path.c_str(), w.label().c_str(), w.error_quantized, w.passes, (long long)w.bytes, r.seconds);
+        std::fprintf(io.out, "%-20s baked %s: %s, %.2f dB on %s, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
+                     out_path.c_str(), w.label().c_str(), w.psnr, target_name(r.target), w.passes, (long long)w.bytes,
+                     r.seconds);
         // Clamps, replacements and fallbacks (bake.h, BakeCounts): never silent.
         for (const std::string& n : r.notes) std::fprintf(io.out, "%-20s note: %s\n", "", n.c_str());
         ++baked;

@@ -1,15 +1,18 @@
 // sepal diff A B [--max-diff N] [--max-share P] [--min-psnr D] [--heatmap out.png]
+//   [--sheet out.png [--sheet-scale LEVELS]]
 #include <cmath>
 
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "util/image.h"
+#include "util/plot.h"
 
 namespace sepal {
 namespace {
 
 struct DiffArgs {
-    std::string a, b, heatmap;
+    std::string a, b, heatmap, sheet;
+    double sheet_scale = 32;
     Tolerance tol;
 };
 
@@ -45,6 +48,17 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
         }
         std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.heatmap.c_str(), scale);
     }
+    if (!args.sheet.empty()) {
+        // A | B | heatmap on a fixed scale (default 32 levels: comparable between runs).
+        auto base = [](const std::string& p) { return p.substr(p.find_last_of('/') + 1); };
+        char title[160];
+        std::snprintf(title, sizeof title, "%s, %.2f dB", base(args.b).c_str(), d.psnr);
+        if (!write_png(args.sheet, comparison_sheet(a, b, base(args.a), title, args.sheet_scale), &err)) {
+            std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels)\n", args.sheet.c_str(), args.sheet_scale);
+    }
     if (stated.empty()) {
         std::fprintf(io.out, "tolerance  none given: no PASS or FAIL (state one with --max-diff, --max-share, "
                              "--min-psnr)\n");
@@ -72,6 +86,9 @@ CommandRun setup_diff(CLI::App& app) {
         ->check(finite_range(0, 1));
     app.add_option("--min-psnr", a->tol.min_psnr, "lowest PSNR allowed, dB")->check(finite_range(0, 1e6));
     app.add_option("--heatmap", a->heatmap, "write the per-pixel difference as a PNG");
+    app.add_option("--sheet", a->sheet, "write A | B | their difference side by side as a PNG");
+    app.add_option("--sheet-scale", a->sheet_scale, "the sheet's difference scale: 8-bit levels shown as white")
+        ->check(positive())->capture_default_str();
     return [a](const CommandIO& io) { return run_diff(*a, io); };
 }
 

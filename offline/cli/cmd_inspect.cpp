@@ -31,6 +31,13 @@ int run_inspect(const std::string& path, const CommandIO& io) {
     std::fprintf(io.out, "material    %s, %s map, %s, %u terms, ratio %g %g %g\n", kParams[m.param],
                  m.map == SEPAL_MAP_XY ? "xy" : "parabolic", m.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance",
                  m.terms, double(m.ratio[0]), double(m.ratio[1]), double(m.ratio[2]));
+    if (m.flags & SEPAL_MATERIAL_RADIANCE)
+        std::fprintf(io.out, "radiance    factors hold f cos(theta_i); diffuse part %g %g %g /sr%s\n", double(m.diffuse[0]),
+                     double(m.diffuse[1]), double(m.diffuse[2]),
+                     a->diffuse_profile ? (" times a " + std::to_string(a->diffuse_side) + "x" +
+                                           std::to_string(a->diffuse_side) + " profile over the two cosines")
+                                              .c_str()
+                                        : "");
     std::fprintf(io.out, "errors      float rms %.6g, quantized rms %.6g, quantized relative %.6g\n", double(m.error_float),
                  double(m.error_quantized), double(m.error_relative));
     for (uint32_t i = 0; i < a->texture_count; ++i) {
@@ -47,7 +54,10 @@ int run_inspect(const std::string& path, const CommandIO& io) {
     for (uint32_t i = 0; i < a->plan.pass_count; ++i) {
         const sepal_fmt_pass& p = a->passes[i];
         std::fprintf(io.out, "  pass %-3u %-8s %-8s", i, p.blend == SEPAL_BLEND_ADD ? "add" : "subtract",
-                     p.op == SEPAL_OP_PRODUCT ? "product" : p.op == SEPAL_OP_TEXTURE ? "texture" : "constant");
+                     p.op == SEPAL_OP_PRODUCT   ? "product"
+                     : p.op == SEPAL_OP_TEXTURE ? "texture"
+                     : p.op == SEPAL_OP_DIFFUSE ? "diffuse"
+                                                : "constant");
         if (p.tex0 != SEPAL_FMT_NO_TEXTURE) std::fprintf(io.out, " tex%u", p.tex0);
         if (p.tex1 != SEPAL_FMT_NO_TEXTURE) std::fprintf(io.out, " x tex%u", p.tex1);
         std::fprintf(io.out, "  colour %.5g %.5g %.5g\n", double(p.color[0]), double(p.color[1]), double(p.color[2]));

@@ -1,5 +1,5 @@
-// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu
-//   [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
+// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu|
+//   gles1-model|gles2-model [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
 #include <chrono>
 #include <memory>
 #include <cstring>
@@ -11,6 +11,7 @@
 #include "sepal/sepal_format.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "cli/scene_options.h"
 
 namespace sepal {
 
@@ -60,7 +61,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     } else if (args.backend == "exact" && file_extension(args.input) == "sepal") {
         std::fprintf(io.err,
                      "sepal render: %s is a baked asset; --backend exact renders a BRDF spec or measured file. "
-                     "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu) or leave "
+                     "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, gles1-model, gles2-model) or leave "
                      "--backend out\n",
                      args.input.c_str());
         return kExitBadInput;
@@ -77,6 +78,27 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         return kExitBadInput;
     }
     sepal_ports::GlRenderOptions opt;
+    const bool model = backend == "gles1-model" || backend == "gles2-model";
+    if (model) {
+        // The GL ES 1.1 emulator: what gles1 (or the gles2 multipass path) shows, on the CPU.
+        std::vector<uint8_t> bytes, rgba;
+        uint32_t mask = 0;
+        sepal_draw_stats stats = {};
+        if (!diffuse_path.empty() || !float_path.empty() || float_target || out_path.empty())
+            err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
+        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
+            !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(args.input, &bytes, &err) ||
+            !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
+                                                mask, &rgba, &err, &stats) ||
+            !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
+                     backend.c_str(), setup.width, setup.height, stats.doublings);
+        std::fprintf(io.out, "png        %s\n", out_path.c_str());
+        return kExitOk;
+    }
     if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") {
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
@@ -141,7 +163,8 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         return kExitOk;
     }
     if (backend != "exact") {
-        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu)\n",
+        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, "
+                     "gles1-model, gles2-model)\n",
                      backend.c_str());
         return kExitBadInput;
     }
@@ -189,16 +212,18 @@ CommandRun setup_render(CLI::App& app) {
         ->required();
     app.add_option("--backend", a->backend,
                    "exact: the BRDF per pixel on the CPU; gles1, gles2, gles2-fused, gles2-fused-pixel: a baked "
-                   "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend. Default: exact for "
-                   "a BRDF, gles1 for an asset (cpu when its parameterization is per-pixel only)")
-        ->check(CLI::IsMember({"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu"}));
+                   "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend; gles1-model, "
+                   "gles2-model: the GL ES pipeline emulated on the CPU (8-bit texels and framebuffer). Default: "
+                   "exact for a BRDF, gles1 for an asset (cpu when its parameterization is per-pixel only)")
+        ->check(CLI::IsMember(
+            {"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu", "gles1-model", "gles2-model"}));
     app.add_option("-o,--output", a->out_path, "the PNG to write (8-bit, clipped to [0,1])");
     app.add_option("--float", a->float_path, "also write linear floats as PFM (exact, cpu; GL with --float-target)");
     app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");
     app.add_option("--mask", a->mask_text,
                    "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot (comma-separated)");
     app.add_option("--diffuse", a->diffuse_path, "a diffuse texture map (PNG, power-of-two sides) modulating the material");
-    sepal_ports::add_scene_options(app, &a->setup);
+    sepal::add_scene_options(app, &a->setup);
     return [a](const CommandIO& io) { return run_render(*a, io); };
 }
 

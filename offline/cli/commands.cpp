@@ -22,6 +22,8 @@ const std::vector<Command>& commands() {
         {"bake-scene", "bake the materials a scene lists, each with its budget; skip up-to-date ones",
          setup_bake_scene, cmd_bake_scene},
         {"inspect", "validate and print an asset", setup_inspect, cmd_inspect},
+        {"measure", "measure a material with ~800 samples: plan, simulate, reconstruct from the MERL database",
+         setup_measure, cmd_measure},
         {"render", "render a scene: exact (a BRDF per pixel), or a baked asset on GL ES (headless) or the CPU",
          setup_render, cmd_render},
     };

@@ -15,6 +15,7 @@ const Param kParams[] = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Pa
 const HemiMap kMaps[] = {HemiMap::XY, HemiMap::Parabolic};
 const Method kMethods[] = {Method::SVD, Method::WSVD, Method::ND, Method::NMF, Method::ACLS};
 const ColourMode kColours[] = {ColourMode::PerChannel, ColourMode::Luminance};
+const Target kTargets[] = {Target::Gles1, Target::Gles2, Target::Cpu};
 
 // CLI11 converts an enum from its integer, so the check also rewrites the name into it.
 template <typename T, size_t N>
@@ -39,11 +40,13 @@ std::ostream& operator<<(std::ostream& out, Param p) { return out << param_name(
 std::ostream& operator<<(std::ostream& out, HemiMap m) { return out << map_name(m); }
 std::ostream& operator<<(std::ostream& out, Method m) { return out << method_name(m); }
 std::ostream& operator<<(std::ostream& out, ColourMode c) { return out << colour_name(c); }
+std::ostream& operator<<(std::ostream& out, Target t) { return out << target_name(t); }
 
 CLI::Validator param_names() { return names(kParams, param_name); }
 CLI::Validator map_names() { return names(kMaps, map_name); }
 CLI::Validator method_names() { return names(kMethods, method_name); }
 CLI::Validator colour_names() { return names(kColours, colour_name); }
+CLI::Validator target_names() { return names(kTargets, target_name); }
 
 CLI::Validator finite_range(double lo, double hi) {
     const std::string range = "[" + CLI::detail::to_string(lo) + ", " + CLI::detail::to_string(hi) + "]";

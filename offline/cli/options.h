@@ -19,6 +19,7 @@
 
 #include "factor/factor.h"
 #include "factor/param.h"
+#include "bake/image_score.h"
 
 namespace sepal {
 
@@ -26,12 +27,14 @@ std::ostream& operator<<(std::ostream& out, Param p);
 std::ostream& operator<<(std::ostream& out, HemiMap m);
 std::ostream& operator<<(std::ostream& out, Method m);
 std::ostream& operator<<(std::ostream& out, ColourMode c);
+std::ostream& operator<<(std::ostream& out, Target t);
 
 // Checks naming the accepted values (shown in --help and in the error).
 CLI::Validator param_names();
 CLI::Validator map_names();
 CLI::Validator method_names();
 CLI::Validator colour_names();
+CLI::Validator target_names();
 // A finite number in [lo, hi] (integers too: "1.5" for an int flag fails conversion later).
 CLI::Validator finite_range(double lo, double hi);
 // A finite number > 0.

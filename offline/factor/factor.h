@@ -60,6 +60,9 @@ struct FactorOptions {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
     int res = 32;        // N: texels per side of each factor texture, 1..256
+    // Texels per side of the H factors when they differ from G's (0: res). A half-angle
+    // factor holds a sharp lobe where the other one is smooth: both need not pay for it.
+    int res_h = 0;
     int terms = 1;       // K, 1..16
     Method method = Method::SVD;
     ColourMode colour = ColourMode::PerChannel;
@@ -83,6 +86,9 @@ struct FactorOptions {
     // factoring time alone turn it off.
     bool matrix_error = true;
 };
+
+// Texels per side of factor `which` (0 = G, 1 = H).
+inline int factor_res(const FactorOptions& o, int which) { return which == 1 && o.res_h > 0 ? o.res_h : o.res; }
 
 // Checks ranges and combinations; false with a message naming the option.
 bool validate_factor_options(const FactorOptions& o, std::string* err);

@@ -60,6 +60,29 @@ bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Imag
     return true;
 }
 
+bool decode_hdr(const std::string& path, const std::vector<uint8_t>& bytes, Image* out,
+                std::string* err) {
+    if (bytes.size() > size_t(std::numeric_limits<int>::max())) return fail(err, path + ": HDR file too large");
+    if (!stbi_is_hdr_from_memory(bytes.data(), int(bytes.size())))
+        return fail(err, path + ": not a Radiance HDR file (bad signature)");
+    int w = 0, h = 0, c = 0;
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
+        return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": HDR size " + std::to_string(w) + "x" + std::to_string(h) +
+                             " out of range 1.." + std::to_string(kMaxImageSide));
+    float* px = stbi_loadf_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 3);
+    if (!px) return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
+    *out = Image(w, h, 3);
+    std::copy(px, px + out->data.size(), out->data.begin());
+    stbi_image_free(px);
+    for (size_t i = 0; i < out->data.size(); ++i)
+        if (!std::isfinite(out->data[i]) || out->data[i] < 0)
+            return fail(err, path + ": value at pixel (" + std::to_string(i / 3 % size_t(w)) + ", " +
+                                 std::to_string(i / 3 / size_t(w)) + ") is negative or not finite");
+    return true;
+}
+
 // Reads one whitespace-delimited token from a PFM header.
 bool pfm_token(const std::vector<uint8_t>& b, size_t* pos, std::string* tok) {
     while (*pos < b.size() && std::isspace(b[*pos])) ++*pos;
@@ -138,6 +161,11 @@ bool read_png(const std::string& path, Image* out, std::string* err) {
 bool read_pfm(const std::string& path, Image* out, std::string* err) {
     std::vector<uint8_t> bytes;
     return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_pfm(path, bytes, out, err);
+}
+
+bool read_hdr(const std::string& path, Image* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_hdr(path, bytes, out, err);
 }
 
 bool write_png(const std::string& path, const Image& img, std::string* err, int64_t* clipped) {
@@ -295,11 +323,7 @@ Image diff_heatmap(const Image& a, const Image& b, double full_scale) {
         double worst = 0;
         for (int c = 0; c < 3; ++c)
             worst = std::max(worst, std::fabs(double(ra.data[p * 3 + c]) - rb.data[p * 3 + c]) * 255.0);
-        // black -> red -> yellow -> white over [0, 1/3, 2/3, 1] of the scale.
-        const float t = float(std::min(1.0, worst / scale)) * 3.0f;
-        out.data[p * 3 + 0] = std::min(1.0f, t);
-        out.data[p * 3 + 1] = std::clamp(t - 1.0f, 0.0f, 1.0f);
-        out.data[p * 3 + 2] = std::clamp(t - 2.0f, 0.0f, 1.0f);
+        heat_colour(worst / scale, &out.data[p * 3]);
     }
     return out;
 }
@@ -321,6 +345,14 @@ std::string describe_tolerance(const Tolerance& t) {
         s += (s.empty() ? "" : "; ") + std::string(buf);
     }
     return s;
+}
+
+void heat_colour(double t, float rgb[3]) {
+    // black -> red -> yellow -> white over [0, 1/3, 2/3, 1].
+    const float x = float(std::clamp(t, 0.0, 1.0)) * 3.0f;
+    rgb[0] = std::min(1.0f, x);
+    rgb[1] = std::clamp(x - 1.0f, 0.0f, 1.0f);
+    rgb[2] = std::clamp(x - 2.0f, 0.0f, 1.0f);
 }
 
 double tolerance_threshold(const Tolerance& t) { return t.max_diff >= 0 ? t.max_diff : 0.0; }

@@ -34,6 +34,8 @@ constexpr int kMaxImageSide = 16384;
 bool read_image(const std::string& path, Image* out, std::string* err);
 bool read_png(const std::string& path, Image* out, std::string* err);
 bool read_pfm(const std::string& path, Image* out, std::string* err);
+// Radiance .hdr (RGBE) as linear RGB floats; negative or non-finite values are refused.
+bool read_hdr(const std::string& path, Image* out, std::string* err);
 // 8-bit PNG with the image's channel count. Values outside [0,1] are clipped (an 8-bit
 // encoding has no other choice); *clipped, if given, receives how many values were.
 bool write_png(const std::string& path, const Image& img, std::string* err,
@@ -70,6 +72,8 @@ ImageDiff diff_images(const Image& a, const Image& b, double threshold);
 // Per-pixel largest channel difference mapped through a black-red-yellow-white ramp;
 // full_scale (8-bit units) maps to white. Sizes must match.
 Image diff_heatmap(const Image& a, const Image& b, double full_scale);
+// The heatmap's ramp at t in [0, 1] (clamped): black, red, yellow, white.
+void heat_colour(double t, float rgb[3]);
 
 struct Tolerance {
     double max_diff = -1;   // per-channel threshold in 8-bit units; < 0: not set

@@ -17,6 +17,9 @@ bool write_file_atomic(const std::string& path, const void* data, size_t size,
                        std::string* err);
 // Creates a directory and its parents (like mkdir -p).
 bool make_dirs(const std::string& path, std::string* err);
+// The folder of the running executable (Linux: /proc/self/exe), or "" when unknown. Run-time
+// data (data/) and caches (build/cache) are found relative to it.
+std::string executable_dir();
 // Lower-cased extension without the dot ("png"), or "" when there is none.
 std::string file_extension(const std::string& path);
 

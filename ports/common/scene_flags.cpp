@@ -1,7 +1,5 @@
 #include "common/scene_flags.h"
 
-#include <CLI/CLI.hpp>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -70,39 +68,15 @@ bool parse_light(const std::string& text, sepal_light* l, std::string* err) {
 
 }  // namespace
 
-void add_scene_options(CLI::App& app, SceneSetup* s) {
-    struct Flag {
-        const char* name;
-        const char* help;
-    };
-    static const Flag kFlags[] = {
-        {"--size", "image size WxH (default 512x512)"},
-        {"--mesh", "sphere (default), torus, wave, or PATH.obj"},
-        {"--camera", "eye position X,Y,Z (default 0,-3.2,1.4)"},
-        {"--target", "look-at point X,Y,Z (default 0,0,0)"},
-        {"--fov", "vertical field of view, degrees (default 38)"},
-        {"--background", "linear background colour R,G,B (default 0,0,0)"},
-    };
-    // Through parse_scene_flag, so the checks and messages are the hand parser's.
-    auto apply = [s](const std::string& flag, const std::string& value) {
-        std::string err;
-        std::vector<char*> argv = {const_cast<char*>(flag.c_str()), const_cast<char*>(value.c_str())};
-        if (parse_scene_flag(2, argv.data(), 0, s, &err) < 0) throw CLI::ValidationError(err);
-    };
-    for (const Flag& f : kFlags) {
-        const std::string name = f.name;
-        app.add_option_function<std::string>(name, [apply, name](const std::string& v) { apply(name, v); }, f.help)
-            ->group("Scene");
-    }
-    app.add_option_function<std::vector<std::string>>(
-           "--light",
-           [apply](const std::vector<std::string>& lights) {
-               for (const std::string& l : lights) apply("--light", l);
-           },
-           "point:X,Y,Z[:I|:R,G,B] or dir:X,Y,Z[:I|:R,G,B] (towards the light); repeat for up to 8; "
-           "default point:2,-2.5,3:60")
-        ->allow_extra_args(false)  // one value per --light: the next word may be the positional
-        ->group("Scene");
+const char* scene_flags_help() {
+    return "  --size WxH            image size (default 512x512)\n"
+           "  --mesh NAME           sphere (default), torus, wave, or PATH.obj\n"
+           "  --camera X,Y,Z        eye position (default 0,-3.2,1.4)\n"
+           "  --target X,Y,Z        look-at point (default 0,0,0)\n"
+           "  --fov DEGREES         vertical field of view (default 38)\n"
+           "  --light point:X,Y,Z[:I|:R,G,B]  point light (up to 8; default point:2,-2.5,3:60)\n"
+           "  --light dir:X,Y,Z[:I|:R,G,B]    directional light, towards the light\n"
+           "  --background R,G,B    linear background colour (default 0,0,0)\n";
 }
 
 int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* err) {

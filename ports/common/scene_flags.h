@@ -10,20 +10,17 @@
 //                                       direction towards the light
 //   --background R,G,B      linear RGB (default 0,0,0)
 //
-// Usage (CLI11):
+// Usage:
 //   SceneSetup s;
-//   CLI::App app;  add_scene_options(app, &s);  ... other flags ...;  app.parse(argc, argv);
+//   for (i...) { int used = parse_scene_flag(argc, argv, i, &s, &err); if (used < 0) fail;
+//                if (used > 0) { i += used - 1; continue; } ... other flags ... }
 //   if (!load_scene_mesh(&s, &err)) fail;
-// or by hand: for (i...) { int used = parse_scene_flag(argc, argv, i, &s, &err); ... }
+// (the sepal tool declares the same flags on its CLI11 parser: offline/cli/scene_options.h)
 #pragma once
 #include <string>
 #include <vector>
 
 #include "sepal/sepal_scene.h"
-
-namespace CLI {
-class App;
-}
 
 namespace sepal_ports {
 
@@ -53,8 +50,7 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
 bool load_scene_mesh(SceneSetup* s, std::string* err);
 // Reads a whole file, refusing one larger than max_bytes (used for OBJ meshes and assets).
 bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<uint8_t>* out, std::string* err);
-// Declares the scene flags on a CLI11 parser (in a group "Scene"); values are checked as
-// they are parsed (a bad value is a CLI::ValidationError naming the flag).
-void add_scene_options(CLI::App& app, SceneSetup* s);
+// One line per flag, for usage messages.
+const char* scene_flags_help();
 
 }  // namespace sepal_ports

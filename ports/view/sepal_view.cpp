@@ -1,9 +1,9 @@
 // sepal-view: the runtime's own viewer. Built from runtime/ and ports/ only (no offline
 // code). With an asset it draws the baked material; without one, the runtime's preview
-// (a lit, textured mesh).
+// (a lit, textured mesh). Without --headless it opens a window (ports/windowed/viewer.h).
 //
-//   sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST]
-//              [--diffuse PNG] [scene flags] -o out.png        (sepal-view --help lists them)
+//   sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [scene flags] -o out.png
+//   sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,36 +13,35 @@
 #include <string>
 #include <vector>
 
+#include "common/png_write.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_rt.h"
-#include "sepal/sepal_version.h"
-
-#include <CLI/CLI.hpp>
-
-#include <stb/stb_image_write.h>  // compiled once: third_party/stb/stb.cpp
+#include "windowed/viewer.h"
 
 namespace {
 
-void append(void* ctx, void* data, int size) {
-    auto* v = static_cast<std::vector<unsigned char>*>(ctx);
-    v->insert(v->end(), (unsigned char*)data, (unsigned char*)data + size);
-}
-
-// Writes next to the target and renames, so a failed run leaves no half-written PNG.
-bool write_png_atomic(const char* path, int w, int h, const uint8_t* rgba) {
-    std::vector<unsigned char> png;
-    if (!stbi_write_png_to_func(append, &png, w, h, 4, rgba, w * 4)) return false;
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
-    FILE* f = fopen(tmp, "wb");
-    if (!f) return false;
-    bool ok = fwrite(png.data(), 1, png.size(), f) == png.size();
-    ok = fclose(f) == 0 && ok;
-    if (ok && rename(tmp, path) != 0) ok = false;
-    if (!ok) remove(tmp);
-    return ok;
+int usage(FILE* f, int code) {
+    fprintf(f,
+            "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [scene flags] -o out.png\n"
+            "       sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]\n"
+            "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"
+            "  --headless            render offscreen through EGL; without it: a window (X11),\n"
+            "                        keys and mouse as `h` prints there\n"
+            "  --gles N              GL ES version: 1 (fixed function, default) or 2\n"
+            "  --mode M              GL ES 2: multipass (default), fused (per-vertex\n"
+            "                        coordinates) or fused-pixel\n"
+            "  --backend B           gles1, gles2, gles2-fused, gles2-fused-pixel or cpu\n"
+            "                        (sets --gles and --mode; cpu draws without GL)\n"
+            "  --diffuse PNG         a diffuse texture map modulating the material (Fig. 13)\n"
+            "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
+            "                        multitexture, fbo, npot (comma-separated)\n"
+            "  -o PATH               output PNG\n"
+            "viewer flags (window only):\n%s"
+            "scene flags:\n%s",
+            sepal_ports::viewer_flags_help(), sepal_ports::scene_flags_help());
+    return code;
 }
 
 }  // namespace
@@ -52,56 +51,83 @@ int main(int argc, char** argv) {
     int gles = 1;
     uint32_t mask = 0;
     sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
-    std::string backend, out_text, asset_text, diffuse_text, mode_text, mask_text;
+    std::string backend;
+    const char* out = nullptr;
+    const char* asset_path = nullptr;
+    const char* diffuse_path = nullptr;
     sepal_ports::SceneSetup setup;
+    sepal_ports::ViewerOptions viewer;
     std::string flag_err;
-    CLI::App app("sepal-view: the runtime's own viewer. With an asset it draws the baked material; without one, "
-                 "the runtime's preview (a lit, textured mesh).",
-                 "sepal-view");
-    app.set_version_flag("--version", "sepal-view " SEPAL_VERSION_STRING);
-    app.get_formatter()->column_width(34);
-    app.add_option("ASSET", asset_text, "a baked material (.sepal); without one: the runtime's preview");
-    app.add_flag("--headless", headless, "render offscreen through EGL (the only mode in this build)");
-    CLI::Option* gles_opt = app.add_option("--gles", gles, "GL ES version: 1 (fixed function) or 2")
-                                ->check(CLI::IsMember({1, 2}))
-                                ->capture_default_str();
-    CLI::Option* mode_opt =
-        app.add_option("--mode", mode_text, "GL ES 2: multipass (default), fused (per-vertex coordinates) or fused-pixel")
-            ->check(CLI::IsMember({"multipass", "fused", "fused-pixel"}));
-    app.add_option("--backend", backend, "gles1, gles2, gles2-fused, gles2-fused-pixel or cpu (sets --gles and --mode; "
-                                         "cpu draws without GL)")
-        ->check(CLI::IsMember({"gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu"}))
-        ->excludes(gles_opt)
-        ->excludes(mode_opt);
-    app.add_option("--diffuse", diffuse_text, "a diffuse texture map modulating the material (PNG, Fig. 13)");
-    app.add_option("--mask", mask_text,
-                   "hide capabilities to force fallback paths: subtract, multitexture, fbo, npot (comma-separated)");
-    app.add_option("-o,--output", out_text, "output PNG")->required();
-    sepal_ports::add_scene_options(app, &setup);
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        fprintf(stderr, "sepal-view: %s\nrun 'sepal-view --help' for the accepted flags\n", e.what());
+    for (int i = 1; i < argc; ++i) {
+        int used = sepal_ports::parse_scene_flag(argc, argv, i, &setup, &flag_err);
+        if (used == 0) used = sepal_ports::parse_viewer_flag(argc, argv, i, &viewer, &flag_err);
+        if (used < 0) {
+            fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
+            return 2;
+        }
+        if (used > 0) {
+            i += used - 1;
+            continue;
+        }
+        const char* a = argv[i];
+        const bool has_value = i + 1 < argc;
+        if (!strcmp(a, "--headless")) {
+            headless = true;
+        } else if (!strcmp(a, "--gles") && has_value) {
+            gles = atoi(argv[++i]);
+        } else if (!strcmp(a, "-o") && has_value) {
+            out = argv[++i];
+        } else if (!strcmp(a, "--backend") && has_value) {
+            sepal_ports::GlRenderOptions o;
+            backend = argv[++i];
+            if (sepal_ports::parse_gl_backend(backend, &o)) {
+                gles = o.gles_version;
+                mode = o.mode;
+            } else if (backend != "cpu") {
+                fprintf(stderr, "sepal-view: --backend '%s': gles1, gles2, gles2-fused, gles2-fused-pixel or cpu\n",
+                        backend.c_str());
+                return 2;
+            }
+        } else if (!strcmp(a, "--mode") && has_value) {
+            const char* m = argv[++i];
+            if (!strcmp(m, "multipass")) mode = SEPAL_MODE_MULTIPASS;
+            else if (!strcmp(m, "fused")) mode = SEPAL_MODE_FUSED_VERTEX;
+            else if (!strcmp(m, "fused-pixel")) mode = SEPAL_MODE_FUSED_PIXEL;
+            else {
+                fprintf(stderr, "sepal-view: --mode '%s': multipass, fused or fused-pixel\n", m);
+                return 2;
+            }
+        } else if (!strcmp(a, "--diffuse") && has_value) {
+            diffuse_path = argv[++i];
+        } else if (!strcmp(a, "--mask") && has_value) {
+            if (!sepal_ports::parse_mask(argv[++i], &mask, &flag_err)) {
+                fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
+                return 2;
+            }
+        } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            return usage(stdout, 0);
+        } else if (a[0] != '-' && !asset_path) {
+            asset_path = a;
+        } else {
+            fprintf(stderr, "sepal-view: unknown or incomplete argument '%s'\n", a);
+            return usage(stderr, 2);
+        }
+    }
+    if (!headless && (out || diffuse_path)) {
+        fprintf(stderr, "sepal-view: %s --headless; without it sepal-view opens a window\n",
+                out ? "-o writes a PNG with" : "--diffuse is drawn only with");
         return 2;
     }
-    if (!backend.empty() && backend != "cpu") {
-        sepal_ports::GlRenderOptions o;
-        sepal_ports::parse_gl_backend(backend, &o);
-        gles = o.gles_version;
-        mode = o.mode;
-    }
-    if (mode_text == "fused") mode = SEPAL_MODE_FUSED_VERTEX;
-    if (mode_text == "fused-pixel") mode = SEPAL_MODE_FUSED_PIXEL;
-    if (!mask_text.empty() && !sepal_ports::parse_mask(mask_text, &mask, &flag_err)) {
-        fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
-        return 2;
-    }
-    const char* out = out_text.c_str();
-    const char* asset_path = asset_text.empty() ? nullptr : asset_text.c_str();
-    const char* diffuse_path = diffuse_text.empty() ? nullptr : diffuse_text.c_str();
     if (!headless) {
-        fprintf(stderr, "sepal-view: this build has only the headless port; pass --headless\n");
+        viewer.input = asset_path ? asset_path : "";
+        viewer.backend = !backend.empty() ? backend : gles == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2"
+                                                     : mode == SEPAL_MODE_FUSED_VERTEX ? "gles2-fused" : "gles2-fused-pixel";
+        viewer.mask = mask;
+        return sepal_ports::run_viewer(viewer, &setup);
+    }
+    if (!out) return usage(stderr, 2);
+    if (gles != 1 && gles != 2) {
+        fprintf(stderr, "sepal-view: --gles %d: use 1 or 2\n", gles);
         return 2;
     }
     if (!sepal_ports::load_scene_mesh(&setup, &flag_err)) {
@@ -128,16 +154,10 @@ int main(int argc, char** argv) {
                 return 1;
             }
             rgba.resize(size_t(width) * height * 4);
-            for (size_t p = 0; p < size_t(width) * height; ++p) {
-                for (int c = 0; c < 3; ++c) {
-                    const float v = rgb[p * 3 + c];
-                    rgba[p * 4 + c] = (uint8_t)(v <= 0.0f ? 0 : v >= 1.0f ? 255 : (int)(v * 255.0f + 0.5f));
-                }
-                rgba[p * 4 + 3] = 255;
-            }
+            sepal_ports::rgb_to_rgba8(rgb.data(), size_t(width) * height, rgba.data());
             fprintf(stderr, "sepal-view: cpu backend, %.1f ms; counters: %s\n", ms,
                     sepal_ports::describe_counters(stats).c_str());
-            if (!write_png_atomic(out, width, height, rgba.data())) {
+            if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
                 fprintf(stderr, "sepal-view: could not write %s\n", out);
                 return 1;
             }
@@ -157,7 +177,7 @@ int main(int argc, char** argv) {
                 info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
                 info.stats.fullscreen_passes, info.stats.copies, info.ms,
                 sepal_ports::describe_counters(info.stats).c_str());
-        if (!write_png_atomic(out, width, height, rgba.data())) {
+        if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
             fprintf(stderr, "sepal-view: could not write %s\n", out);
             return 1;
         }
@@ -224,7 +244,7 @@ int main(int argc, char** argv) {
     const bool read = sepal_headless_read_rgba(ctx, pixels.data()) != 0;
     fprintf(stderr, "sepal-view: %s\n", sepal_headless_describe(ctx));
     sepal_headless_destroy(ctx);
-    if (!read || !write_png_atomic(out, width, height, pixels.data())) {
+    if (!read || !sepal_ports::write_png_atomic(out, width, height, pixels.data())) {
         fprintf(stderr, "sepal-view: could not read back or write %s\n", out);
         return 1;
     }

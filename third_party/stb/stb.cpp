@@ -6,6 +6,7 @@
 // own bounded readers (no unbounded allocation from a file's claims).
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
+#define STBI_ONLY_HDR  // environment maps (offline/sampling)
 #define STBI_NO_STDIO
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO

@@ -20,6 +20,7 @@ sepal::BakeOptions small_search() {
     o.resolutions = {16};
     o.methods = {sepal::Method::WSVD, sepal::Method::NMF};
     o.terms = {1, 2, 3};
+    o.judge_size = 32;  // these tests are about the search and the budgets, not the image
     return o;
 }
 

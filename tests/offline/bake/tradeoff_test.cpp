@@ -122,6 +122,11 @@ TEST_CASE("tradeoff: the --max-error pick lies on the front of predicted ms and 
     o.bits = {8, 16};
     o.cap = 2;
     o.keep_assets = true;  // one search, then every budget picks from the same candidates
+    o.judge_size = 32;     // the rule under test does not read the image
+    // Factors of f and a direction-space budget: the rule of --max-error under test (a budget
+    // every candidate meets marks the front of predicted ms and quantized error).
+    o.radiance = false;
+    o.max_error = 1e9;
     sepal::BakeResult all;
     REQUIRE_MESSAGE(sepal::bake(*f, o, &all, &err), err);
     REQUIRE(all.candidates.size() == 24);
@@ -171,8 +176,9 @@ TEST_CASE("sepal bake --timings: the measured model decides the pick, and the re
     // even with more passes (16x16, 3 nmf terms: 0.5996 <= 0.6).
     write_text(dir + "/passes.json", timings(1, 10, 0, 0.001));
     write_text(dir + "/bytes.json", timings(1, 0.001, 0, 10));
-    const std::string base = sepal + " bake '" + std::string(kWard) +
-                             "' --param gs-half --res 16,32 --method wsvd,nmf --terms 1,2,3 --cap 2 --max-error 0.6 ";
+    // The bounded-albedo Ward, whose errors these budgets were chosen on (factors of f).
+    const std::string base = sepal + " bake 'ward-duer" + std::string(kWard).substr(4) +
+                             "' --param gs-half --res 16,32 --method wsvd,nmf --terms 1,2,3 --cap 2 --max-error 0.6 --fit brdf --judge-size 32 ";
     std::string out;
     REQUIRE(sepal_test::run(base + "--timings " + dir + "/passes.json -o " + dir + "/p.sepal --report " + dir + "/p.json",
                             &out) == 0);

@@ -6,6 +6,7 @@
 
 #include "cli/cli.h"
 #include "common/scene_flags.h"
+#include "cli/scene_options.h"
 #include "sepal/sepal_version.h"
 #include "test_util.h"
 
@@ -48,7 +49,7 @@ TEST_CASE("cli: every command's --help lists every flag in its parser's table") 
     // The scene flags shared with sepal-view, on a parser of their own.
     CLI::App scene;
     sepal_ports::SceneSetup setup;
-    sepal_ports::add_scene_options(scene, &setup);
+    sepal::add_scene_options(scene, &setup);
     std::string help;
     REQUIRE(sepal_test::run_cmd(sepal::cmd_render, {"--help"}, &help) == 0);
     check_help_lists_options(scene, help);
