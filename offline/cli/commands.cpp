@@ -61,6 +61,18 @@ int run_sepal_args(const std::vector<std::string>& args, const CommandIO& io) {
         std::fputs(app->help().c_str(), args.empty() ? io.err : io.out);
         return args.empty() ? kExitBadInput : kExitOk;
     }
+    if (known && args.size() > 1 && !args[1].empty() && args[1][0] != '-') {
+        // A command made of subcommands (measure): name the ones it has.
+        const CLI::App* sub = app->get_subcommand(args[0]);
+        const auto subs = sub->get_subcommands([](const CLI::App*) { return true; });
+        if (!subs.empty() && std::none_of(subs.begin(), subs.end(), [&](const CLI::App* s) { return s->get_name() == args[1]; })) {
+            std::string names;
+            for (const CLI::App* s : subs) names += (names.empty() ? "" : ", ") + s->get_name();
+            std::fprintf(io.err, "%s: unknown subcommand '%s' (one of %s)\nrun '%s --help' for the accepted flags\n",
+                         who.c_str(), args[1].c_str(), names.c_str(), who.c_str());
+            return kExitBadInput;
+        }
+    }
     try {
         std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
         app->parse(reversed);

@@ -16,6 +16,7 @@
 #include "common/png_write.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "sepal/sepal_version.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_rt.h"
 #include "windowed/viewer.h"
@@ -106,6 +107,9 @@ int main(int argc, char** argv) {
             }
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             return usage(stdout, 0);
+        } else if (!strcmp(a, "--version")) {
+            printf("sepal-view " SEPAL_VERSION_STRING "\n");
+            return 0;
         } else if (a[0] != '-' && !asset_path) {
             asset_path = a;
         } else {

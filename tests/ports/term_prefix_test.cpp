@@ -19,7 +19,7 @@ TEST_CASE("term prefix: a signed 3-term plan cut to k terms draws the CPU's k-te
     REQUIRE(brdf);
     sepal::BakeOptions o;
     o.params = {sepal::Param::GsHalf};
-    o.methods = {sepal::Method::SVD};  // signed factors: texture and constant passes too
+    o.methods = {sepal::Method::WSVD};  // signed factors: texture and constant passes too
     o.terms = {3};
     o.cap = 2.0;
     sepal::BakeResult r;

@@ -7,6 +7,7 @@
 #include "cli/cli.h"
 #include "common/scene_flags.h"
 #include "cli/scene_options.h"
+#include "sepal/sepal_format.h"
 #include "sepal/sepal_version.h"
 #include "test_util.h"
 
@@ -60,7 +61,8 @@ TEST_CASE("cli: sepal --version, help, and errors that name the flag") {
     std::string out;
     const std::string bin = sepal_test::bin("sepal");
     REQUIRE(sepal_test::run(bin + " --version", &out) == 0);
-    CHECK(out == "sepal " SEPAL_VERSION_STRING " (asset format 1.0)\n");
+    CHECK(out == "sepal " SEPAL_VERSION_STRING " (asset format " + std::to_string(SEPAL_FMT_VERSION_MAJOR) + "." +
+                     std::to_string(SEPAL_FMT_VERSION_MINOR) + ")\n");
     CHECK(sepal_test::run(bin + " help", &out) == 0);
     for (const sepal::Command& c : sepal::commands()) CHECK(contains(out, c.name));
     CHECK(sepal_test::run(bin, &out) == 2);  // no command: the list, on stderr, exit 2
