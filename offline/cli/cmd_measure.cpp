@@ -149,7 +149,7 @@ int run_simulate(const SimulateArgs& a, const CommandIO& io) {
 }
 
 struct ReconstructArgs {
-    std::string plan, samples, out, solver = "ls", truth, report, bake;
+    std::string plan, samples, out, solver = "nnls", truth, report, bake;
     double max_condition = FitOptions{}.max_condition;
     std::vector<std::string> exclude, materials;
 };
