@@ -47,6 +47,7 @@
 #include "sampling/factored_fit.h"
 #include "sampling/mc_render.h"
 #include "sampling/metrics.h"
+#include "offline/sampling/sphere_scene.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "util/parallel.h"
@@ -208,21 +209,10 @@ Strategies build_strategies(const Brdf& b, const Material& m, bool tabulated) {
     return s;
 }
 
-struct SphereScene {
-    sepal_scene scene;
-    std::vector<sepal_vertex> v;
-    std::vector<uint16_t> idx;
-    sepal_mesh mesh;
-    SphereScene() : v(SEPAL_SPHERE_MAX_VERTICES), idx(SEPAL_SPHERE_MAX_INDICES) {
-        sepal_scene_default(&scene);
-        mesh = {v.data(), idx.data(), int(v.size()), int(idx.size())};
-        sepal_error e{};
-        sepal_mesh_sphere(96, 48, &mesh, &e);
-    }
-};
+using sepal_test::SphereScene;
 
 McResult render(const Brdf& b, const Sampler& s, const Environment& env, int size, int spp, uint64_t seed) {
-    static SphereScene sc;
+    static SphereScene sc(96);
     McOptions o;
     o.spp = spp;
     o.seed = seed;

@@ -16,6 +16,7 @@
 #include "sampling/factored_fit.h"
 #include "sampling/mc_render.h"
 #include "sampling/metrics.h"
+#include "offline/sampling/sphere_scene.h"
 #include "sampling/nmf_kl.h"
 #include "sampling/sequence.h"
 #include "test_util.h"
@@ -25,18 +26,7 @@ using namespace sepal;
 
 namespace {
 
-struct SphereScene {
-    sepal_scene scene;
-    std::vector<sepal_vertex> v;
-    std::vector<uint16_t> idx;
-    sepal_mesh mesh;
-    SphereScene() : v(SEPAL_SPHERE_MAX_VERTICES), idx(SEPAL_SPHERE_MAX_INDICES) {
-        sepal_scene_default(&scene);
-        mesh = {v.data(), idx.data(), int(v.size()), int(idx.size())};
-        sepal_error e{};
-        REQUIRE(sepal_mesh_sphere(48, 24, &mesh, &e) == SEPAL_OK);
-    }
-};
+using sepal_test::SphereScene;
 
 Sampler build(const SamplerData& d) {
     Sampler s;
