@@ -430,7 +430,14 @@ UncertaintySummary summarize(const PlanState& st) {
         u.mean_largest_cov[k] += st.smallest[e];
         u.total_uncertainty += st.uncertainty[e];
         if (k == L) log_sum += std::log10(std::max(st.cov_norm[e], 1e-300));
+        double f2 = 0;
+        for (int i = 0; i < L; ++i) {
+            const double l = std::max(0.0, st.eigval[e * 4 + size_t(i)]) + st.threshold;
+            f2 += 1 / (l * l);
+        }
+        u.mean_log_cov_all += 0.5 * std::log10(f2);
     }
+    if (u.texels) u.mean_log_cov_all /= u.texels;
     for (int k = 0; k <= L; ++k)
         if (u.by_rank[k]) u.mean_largest_cov[k] /= u.by_rank[k];
     u.full_rank_share = u.texels ? double(u.by_rank[L]) / u.texels : 0;

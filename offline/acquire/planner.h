@@ -128,6 +128,9 @@ struct UncertaintySummary {
     double mean_largest_cov[kPlanParams + 1] = {};  // mean largest singular value of CoV per rank (Table 2)
     double full_rank_share = 0;
     double mean_log_cov_full = 0;  // mean log10 ||CoV||_F over full-rank texels
+    // Mean log10 ||(H + threshold I)^-1||_F over all texels: the uncertainty with a prior of
+    // relative std 10 on every direction, so unmeasured texels count too.
+    double mean_log_cov_all = 0;
     double total_uncertainty = 0;  // sum of U
 };
 UncertaintySummary summarize(const PlanState& st);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
 
 #include <glm/glm.hpp>
 
@@ -139,9 +140,42 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
             if (cnt[k]) centre[k] = sum[k] / double(cnt[k]);
     }
 
-    // (2) Fit per cluster; reassign texels by residual; repeat.
+    // (2) Fit per cluster; reassign texels by residual; repeat. A cluster with too few
+    // samples for a fit, or whose fit fails, is dissolved into the nearest (by colour).
+    constexpr int kMinClusterSamples = 16;
+    auto dissolve = [&](int gone) {
+        std::map<int, std::pair<glm::dvec3, int>> centres;
+        for (int t : measured)
+            if (cluster[size_t(t)] != gone) {
+                auto& c = centres[cluster[size_t(t)]];
+                c.first += colour[size_t(t)];
+                ++c.second;
+            }
+        if (centres.empty()) return false;
+        for (int t : measured)
+            if (cluster[size_t(t)] == gone) {
+                double best = 1e300;
+                for (const auto& c : centres) {
+                    const glm::dvec3 d = colour[size_t(t)] - c.second.first / double(c.second.second);
+                    if (glm::dot(d, d) < best) {
+                        best = glm::dot(d, d);
+                        cluster[size_t(t)] = c.first;
+                    }
+                }
+            }
+        return true;
+    };
     std::vector<LafortuneFit> fits;
     for (int it = 0; it <= o.iterations; ++it) {
+        {
+            std::map<int, int> samples_of;
+            for (int t : measured) samples_of[cluster[size_t(t)]] += ix.count(t);
+            for (const auto& c : samples_of)
+                if (c.second < kMinClusterSamples && samples_of.size() > 1 && dissolve(c.first)) {
+                    fits.clear();
+                    break;  // one at a time: the next iteration looks again
+                }
+        }
         // Drop empty clusters, renumbering in order.
         int K = 0;
         for (int t : measured) K = std::max(K, cluster[size_t(t)] + 1);
@@ -174,11 +208,20 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
             if (warm) fo.start = &kept_fits[k].model;
             ok[k] = fit_lafortune(s, fo, &next[k], &errors[k]);
         });
-        for (int k = 0; k < kept; ++k)
+        bool redo = false;
+        for (int k = 0; k < kept && !redo; ++k)
             if (!ok[size_t(k)]) {
-                if (err) *err = "reconstruct: cluster " + std::to_string(k) + ": " + errors[size_t(k)];
-                return false;
+                if (kept == 1 || !dissolve(k)) {
+                    if (err) *err = "reconstruct: cluster " + std::to_string(k) + ": " + errors[size_t(k)];
+                    return false;
+                }
+                redo = true;
             }
+        if (redo) {
+            fits.clear();
+            --it;  // the same iteration with one cluster fewer (terminates: clusters only go)
+            continue;
+        }
         fits = std::move(next);
         if (it == o.iterations) break;
         std::vector<int> reassigned(n, -1);

@@ -61,6 +61,18 @@ struct Session {
     PlanState state;
 };
 
+// The reference estimates strategies are compared at: per atlas texel, a Lafortune fit
+// (grey, one isotropic lobe) of the truth's dominant material there, each material fitted
+// once to 4000 noise-free samples (half near the mirror direction). Measuring every
+// strategy's views at the same parameters makes their ranks and ||CoV|| comparable and
+// monotone in the number of views (a session's own estimates move as it learns).
+bool oracle_estimates(const AcqObject& obj, const BlendSvbrdf& truth, std::vector<LafortuneModel>* out,
+                      std::string* err);
+// The plan state of the first `views` captures at fixed estimates (per atlas texel).
+void evaluate_views(const AcqObject& obj, const std::vector<Capture>& captures, int views,
+                    const std::vector<LafortuneModel>& estimates, const PlannerOptions& planner,
+                    const RigOptions& rig, PlanState* out);
+
 bool run_session(const AcqObject& obj, const BlendSvbrdf& truth, const SessionOptions& options, Session* out,
                  std::string* err, const std::function<void(const Session&)>& on_view = nullptr);
 

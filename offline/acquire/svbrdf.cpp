@@ -32,9 +32,9 @@ void BlendSvbrdf::weights_at(double u, double v, float* out) const {
 std::vector<std::string> default_svbrdf_materials() {
     return {
         "blinn:rho_d=0.45/0.06/0.04,rho_s=0.3,n=25",
-        "cook-torrance:d=0.1,Rd=0.9/0.6/0.2,s=0.8,F0=0.9/0.65/0.25,m=0.35",
+        "nbrdf:gold-metallic-paint",
         "oren-nayar:rho=0.12/0.2/0.55,sigma=0.4",
-        "ward:rho_d=0.6/0.6/0.55,rho_s=0.25,ax=0.25,ay=0.25",
+        "nbrdf:white-paint",
     };
 }
 
@@ -87,7 +87,14 @@ bool make_svbrdf(int res, const SvbrdfGenOptions& o, BlendSvbrdf* out, std::stri
                 w[i % K] += float(e);
                 sum += e;
             }
-            for (int k = 0; k < K; ++k) w[k] = float(w[k] / sum);
+            // Weights below 1e-3 are dropped (and the rest renormalized): a texel then
+            // evaluates only the one or two materials it shows.
+            double kept = 0;
+            for (int k = 0; k < K; ++k) {
+                w[k] = w[k] / sum < 1e-3 ? 0.0f : w[k];
+                kept += w[k];
+            }
+            for (int k = 0; k < K; ++k) w[k] = float(w[k] / kept);
         }
     *out = std::move(s);
     return true;

@@ -11,8 +11,8 @@
 // The generator (kept small on purpose; issue 15's inverse-shade-tree generator is the
 // richer one): a few seed points per material scattered over the atlas, periodic in both
 // UV directions (no seam on the sphere or torus), and soft-min weights
-// w_k(x) ~ sum over material k's seeds of exp(-(d^2 - d_min^2) / softness^2), normalized:
-// regions of pure material with blended borders about `softness` wide.
+// w_k(x) ~ sum over material k's seeds of exp(-(d^2 - d_min^2) / softness^2), normalized,
+// weights below 1e-3 dropped: regions of pure material with blended borders.
 // Limits: 1..8 materials; weights are >= 0; basis BRDFs are any make_brdf spec.
 #pragma once
 #include <cstdint>
@@ -48,9 +48,9 @@ struct SvbrdfGenOptions {
     uint64_t seed = 1;
 };
 
-// Four analytic materials a Lafortune lobe fits only approximately, glossy but not mirror-
-// like (a highlight spans ~20-40 degrees): red plastic (Blinn n 25), gold (Cook-Torrance
-// m 0.35), blue rough clay (Oren-Nayar), white satin paint (isotropic Ward alpha 0.25).
+// Four materials a Lafortune lobe fits only approximately, two analytic and two measured
+// (MERL, as neural fits: measured/nbrdf.h), glossy but not mirror-like: red plastic (Blinn
+// n 25), nbrdf:gold-metallic-paint, blue rough clay (Oren-Nayar), nbrdf:white-paint.
 std::vector<std::string> default_svbrdf_materials();
 
 bool make_svbrdf(int res, const SvbrdfGenOptions& options, BlendSvbrdf* out, std::string* err);

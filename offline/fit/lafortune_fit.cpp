@@ -414,11 +414,12 @@ bool fit_lafortune(const std::vector<BrdfSample>& samples, const LafortuneFitOpt
     // Covariance from the scaled Jacobian's SVD (see the header).
     Eigen::MatrixXd J;
     jacobian(pb, best, &J);
+    // Columns scaled to unit norm (rank is then about directions, not units); an all-zero
+    // column (a lobe no sample reaches) stays zero: unmeasured.
     Eigen::VectorXd scale(p);
     for (int j = 0; j < p; ++j) {
-        const bool exponent = j >= o.channels && (j - o.channels) % lobe_params(o.isotropic) ==
-                                                     lobe_params(o.isotropic) - 1;
-        scale[j] = std::max(std::fabs(best[j]), exponent ? 1.0 : 0.01);
+        const double n = J.col(j).norm();
+        scale[j] = n > 1e-300 ? 1.0 / n : 0.0;
     }
     const Eigen::MatrixXd Js = J * scale.asDiagonal();
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeThinV);
@@ -434,6 +435,8 @@ bool fit_lafortune(const std::vector<BrdfSample>& samples, const LafortuneFitOpt
     for (int i = rank; i < p; ++i)
         for (int j = 0; j < p; ++j)
             if (std::fabs(V(j, i)) > 1e-3) r.cov(j, j) = kInf;
+    for (int j = 0; j < p; ++j)
+        if (scale[j] == 0) r.cov(j, j) = kInf;
     r.model.spec(&r.clamped);
     *out = std::move(r);
     return true;

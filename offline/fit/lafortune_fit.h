@@ -25,8 +25,8 @@
 // estimated from the residual (m residuals, p parameters), or sigma^2 when the caller knows
 // the noise (options.sigma > 0; weights are then 1/std of each sample). The inverse is the
 // SVD pseudo-inverse over the directions the data determine: `rank` counts the singular
-// values of J (columns scaled by the parameters' typical size, so the count does not
-// depend on units) above kRankTolerance times the largest. A rank below p means some
+// values of J (columns scaled to unit norm, so the count does not depend on units; a column
+// that is exactly zero stays unmeasured) above kRankTolerance times the largest. A rank below p means some
 // parameter combination is not measured (no sample in a highlight, say): its variance is
 // reported as infinite, never as a small number.
 // The intervals are the linearized ones: tests/offline/fit/lafortune_fit_test.cpp checks

@@ -7,7 +7,10 @@
 // Per object (default: the sphere and the torus, 128x128 atlas, the generator's default
 // SVBRDF of four analytic materials), three sessions of --views views (default 27, the
 // paper's Table 2): planner, random, expert (session.h). After every view: texels per rank
-// and ||CoV|| (the planner's 4-parameter model, planner.h). Every 3 views: the SVBRDF
+// and ||CoV|| (the planner's 4-parameter model, planner.h), measured for every strategy at
+// the same reference estimates (session.h's oracle_estimates: the truth's materials fitted
+// once), and the share at full rank as the session itself saw it (its own estimates, which
+// move as it learns; the paper's figures). Every 3 views: the SVBRDF
 // reconstructed from the views so far (reconstruct.h) rendered exactly from six held-out
 // views and compared with the truth (PSNR of the 8-bit images, whole 160x160 frame). After
 // the last view: the reconstructions' basis materials baked (gs-half 32x32, nmf, 2-3 terms,
@@ -17,8 +20,9 @@
 // machine's threads; the bound is 10 s per step on 2 cores.
 //
 // Writes DIR/acquire.json, DIR/acquire_cov.png (log10 ||CoV|| atlas maps after 3, 9, 18 and
-// the last view, and the final rank map), DIR/acquire_rank.png (share of texels at full
-// rank, and seen at all, per view), DIR/acquire_error.png (image PSNR per view count),
+// the last view, and the final rank map), DIR/acquire_rank.png (per view: share of texels at
+// full rank, seen at all, and the mean log10 ||(H + threshold I)^-1|| over all texels: the
+// uncertainty with unmeasured texels counted), DIR/acquire_error.png (image PSNR per view count),
 // DIR/acquire_renders.png (truth, then exact and GL ES 1.1 renders of the planned and the
 // random reconstruction), and prints the Table 2 comparison as markdown.
 // --quick: 64x64 atlas, 12 views, 128x128 timing (a smoke run).
@@ -77,6 +81,8 @@ struct Checkpoint {
 struct Run {
     Strategy strategy;
     Session session;
+    std::vector<UncertaintySummary> ref;  // per view count, at the reference estimates
+    PlanState ref_state;                  // after the last view, at the reference estimates
     std::vector<Snapshot> snaps;
     std::vector<Checkpoint> checks;
     Reconstruction final_recon;
@@ -228,6 +234,7 @@ struct ObjectResult {
     BlendSvbrdf truth;
     Run runs[3];
     Image truth_img;
+    std::vector<LafortuneModel> reference;  // session.h's oracle_estimates
     PairCov pair[2];  // planner vs random, planner vs expert
 };
 
@@ -243,12 +250,19 @@ void run_object(ObjectResult* R, int views, bool gl) {
         std::string err;
         run_session(R->obj, R->truth, so, &run.session, &err, [&](const Session& s) {
             const SessionStep& k = s.steps.back();
-            const int n = int(s.steps.size());
-            std::fprintf(stderr, "  %s %-7s view %2d: %5d samples, full rank %5.1f%%, %.1f s\n", R->name.c_str(),
-                         strategy_name(run.strategy), n, k.samples, 100 * k.summary.full_rank_share, seconds_since(t0));
-            if (std::find(map_views.begin(), map_views.end(), n) != map_views.end())
-                run.snaps.push_back({n, s.state.rank, s.state.cov_norm});
+            std::fprintf(stderr, "  %s %-7s view %2zu: %5d samples, full rank %5.1f%% (own estimates), %.1f s\n",
+                         R->name.c_str(), strategy_name(run.strategy), s.steps.size(), k.samples,
+                         100 * k.summary.full_rank_share, seconds_since(t0));
         });
+        // Ranks and ||CoV|| of the first k views at the reference estimates.
+        for (int k = 1; k <= views; ++k) {
+            PlanState st;
+            evaluate_views(R->obj, run.session.captures, k, R->reference, so.planner, rig, &st);
+            run.ref.push_back(summarize(st));
+            if (std::find(map_views.begin(), map_views.end(), k) != map_views.end())
+                run.snaps.push_back({k, st.rank, st.cov_norm});
+            if (k == views) run.ref_state = std::move(st);
+        }
         // Reconstructions every 3 views.
         for (int k = 3; k <= views; k += 3) {
             std::vector<Capture> caps(run.session.captures.begin(), run.session.captures.begin() + k);
@@ -294,9 +308,9 @@ void run_object(ObjectResult* R, int views, bool gl) {
     }
     // Mean log10 ||CoV|| of the planner and of each baseline over the texels both brought
     // to full rank (the uncertainty compared where both have one).
-    const PlanState& sp = R->runs[0].session.state;
+    const PlanState& sp = R->runs[0].ref_state;
     for (int b = 1; b < 3; ++b) {
-        const PlanState& sb = R->runs[b].session.state;
+        const PlanState& sb = R->runs[b].ref_state;
         double a = 0, c = 0;
         int n = 0;
         for (size_t e = 0; e < sp.texels.size(); ++e)
@@ -375,7 +389,8 @@ int main(int argc, char** argv) {
         ObjectResult R;
         R.name = objects.substr(p, q - p);
         p = q + 1;
-        if (!make_object(R.name, res, &R.obj, &err) || !make_svbrdf(res, SvbrdfGenOptions(), &R.truth, &err)) {
+        if (!make_object(R.name, res, &R.obj, &err) || !make_svbrdf(res, SvbrdfGenOptions(), &R.truth, &err) ||
+            !oracle_estimates(R.obj, R.truth, &R.reference, &err)) {
             std::fprintf(stderr, "bench acquire: %s\n", err.c_str());
             return 2;
         }
@@ -407,8 +422,13 @@ int main(int argc, char** argv) {
         j.key("strategies").begin_array();
         for (const Run& run : R.runs) {
             j.begin_object().key("strategy").value(strategy_name(run.strategy));
-            const UncertaintySummary& u = run.session.steps.back().summary;
+            // Ranks and ||CoV|| at the reference estimates (comparable between strategies),
+            // and the session's own figures (its estimates, as the planner saw them).
+            const UncertaintySummary& u = run.ref.back();
+            const UncertaintySummary& own = run.session.steps.back().summary;
             j.key("final").begin_object().key("full_rank_share").value(u.full_rank_share)
+                .key("full_rank_share_own_estimates").value(own.full_rank_share)
+                .key("mean_log10_cov_all").value(u.mean_log_cov_all)
                 .key("mean_log10_cov_full").value(u.mean_log_cov_full)
                 .key("texel_fit_full_share").value(run.texel_fit_share)
                 .key("psnr_exact").value(run.psnr_exact).key("psnr_gles1").value(run.psnr_gles1);
@@ -418,13 +438,16 @@ int main(int argc, char** argv) {
             for (int k = 0; k <= kPlanParams; ++k) j.value(u.mean_largest_cov[k]);
             j.end_array().end_object();
             j.key("steps").begin_array();
-            for (const SessionStep& s : run.session.steps) {
+            for (size_t i = 0; i < run.session.steps.size(); ++i) {
+                const SessionStep& s = run.session.steps[i];
+                const UncertaintySummary& r = run.ref[i];
                 j.begin_object().key("camera").begin_array().value(s.view.camera.x).value(s.view.camera.y).value(s.view.camera.z).end_array();
                 j.key("light").begin_array().value(s.view.light.x).value(s.view.light.y).value(s.view.light.z).end_array();
-                j.key("samples").value(s.samples).key("full_rank_share").value(s.summary.full_rank_share);
+                j.key("samples").value(s.samples).key("full_rank_share").value(r.full_rank_share);
+                j.key("full_rank_share_own_estimates").value(s.summary.full_rank_share);
                 j.key("by_rank").begin_array();
-                for (int k = 0; k <= kPlanParams; ++k) j.value(s.summary.by_rank[k]);
-                j.end_array().key("mean_log10_cov_full").value(s.summary.mean_log_cov_full);
+                for (int k = 0; k <= kPlanParams; ++k) j.value(r.by_rank[k]);
+                j.end_array().key("mean_log10_cov_all").value(r.mean_log_cov_all);
                 j.key("plan_seconds").value(s.plan.seconds).key("update_seconds").value(s.refit_seconds).end_object();
             }
             j.end_array().key("checkpoints").begin_array();
@@ -468,11 +491,11 @@ int main(int argc, char** argv) {
                 draw_text(&img, 6, y + label + tile / 2, R.name + " " + strategy_name(run.strategy), black);
                 for (size_t c = 0; c < run.snaps.size() && c < 4; ++c) {
                     draw_text(&img, 90 + int(c) * (tile + pad), y, std::to_string(run.snaps[c].views) + " views", black);
-                    blit(&img, cov_map(R.obj, run.session.state, run.snaps[c], scale), 90 + int(c) * (tile + pad), y + label);
+                    blit(&img, cov_map(R.obj, run.ref_state, run.snaps[c], scale), 90 + int(c) * (tile + pad), y + label);
                 }
                 if (!run.snaps.empty()) {
                     draw_text(&img, 90 + 4 * (tile + pad), y, "rank", black);
-                    blit(&img, rank_map(R.obj, run.session.state, run.snaps.back(), scale), 90 + 4 * (tile + pad), y + label);
+                    blit(&img, rank_map(R.obj, run.ref_state, run.snaps.back(), scale), 90 + 4 * (tile + pad), y + label);
                 }
                 ++row;
             }
@@ -480,38 +503,40 @@ int main(int argc, char** argv) {
     }
     {  // rank and error curves
         std::vector<PlotPanel> rank_panels, err_panels;
+        for (int which = 0; which < 3; ++which)
+            for (const ObjectResult& R : results) {
+                PlotPanel p;
+                p.title = R.name + (which == 0 ? ": full rank" : which == 1 ? ": seen" : ": mean log ||CoV||");
+                p.x_label = "views";
+                p.y_label = which == 2 ? "log10, all texels" : "share of texels";
+                p.log_y = false;
+                for (int s = 0; s < 3; ++s) {
+                    PlotSeries ser{strategy_name(R.runs[s].strategy), {}, {}, plot_colour(s)};
+                    for (size_t k = 0; k < R.runs[s].ref.size(); ++k) {
+                        const UncertaintySummary& u = R.runs[s].ref[k];
+                        ser.x.push_back(double(k + 1));
+                        ser.y.push_back(which == 0 ? u.full_rank_share
+                                                   : which == 1 ? 1.0 - double(u.by_rank[0]) / u.texels : u.mean_log_cov_all);
+                    }
+                    p.series.push_back(ser);
+                }
+                rank_panels.push_back(p);
+            }
         for (const ObjectResult& R : results) {
-            PlotPanel p, e;
-            p.title = R.name + ": texels at full rank (solid) and seen (markers)";
-            p.x_label = "views";
-            p.y_label = "share of texels";
-            p.log_y = false;
-            e.title = R.name + ": reconstruction vs truth, 6 held-out views";
+            PlotPanel e;
+            e.title = R.name + ": PSNR vs truth";
             e.x_label = "views";
-            e.y_label = "PSNR dB (exact renders)";
+            e.y_label = "dB, 6 held-out views";
             e.log_y = false;
             for (int s = 0; s < 3; ++s) {
-                const Run& run = R.runs[s];
-                PlotSeries full{strategy_name(run.strategy), {}, {}, plot_colour(s)}, seen{"", {}, {}, plot_colour(s)};
-                seen.lines = false;
-                for (size_t k = 0; k < run.session.steps.size(); ++k) {
-                    const UncertaintySummary& u = run.session.steps[k].summary;
-                    full.x.push_back(double(k + 1));
-                    full.y.push_back(u.full_rank_share);
-                    seen.x.push_back(double(k + 1));
-                    seen.y.push_back(1.0 - double(u.by_rank[0]) / u.texels);
-                }
-                p.series.push_back(full);
-                p.series.push_back(seen);
-                PlotSeries ps{strategy_name(run.strategy), {}, {}, plot_colour(s)};
-                for (const Checkpoint& c : run.checks)
+                PlotSeries ps{strategy_name(R.runs[s].strategy), {}, {}, plot_colour(s)};
+                for (const Checkpoint& c : R.runs[s].checks)
                     if (c.ok) {
                         ps.x.push_back(c.views);
                         ps.y.push_back(c.psnr);
                     }
                 e.series.push_back(ps);
             }
-            rank_panels.push_back(p);
             err_panels.push_back(e);
         }
         if (!write_png(out + "/acquire_rank.png", render_plot(rank_panels, int(results.size())), &err) ||
@@ -542,18 +567,19 @@ int main(int argc, char** argv) {
     }
 
     // ---- the table beside the paper's ----
-    std::printf("\n| object | strategy | full rank after %d views | rank 0 / 1 / 2 / 3 / 4 (%% of texels) | PSNR exact | PSNR gles1 |\n",
-                views);
-    std::printf("|---|---|---|---|---|---|\n");
-    std::printf("| angels (paper, 27 views) | planner | 62.4%% | 0.1 / 3.2 / 19.0 / 15.3 / 62.4 | | |\n");
-    std::printf("| angels (paper, 27 views) | expert | 52.1%% | 9.3 / 21.8 / 10.5 / 6.3 / 52.1 | | |\n");
+    std::printf("\n| object | strategy | full rank after %d views (own estimates) | rank 0 / 1 / 2 / 3 / 4, %% of texels | "
+                "mean log10 ||CoV|| | PSNR exact | PSNR gles1 |\n", views);
+    std::printf("|---|---|---|---|---|---|---|\n");
+    std::printf("| angels (paper, 27 views) | planner | 62.4%% | 0.1 / 3.2 / 19.0 / 15.3 / 62.4 | | | |\n");
+    std::printf("| angels (paper, 27 views) | expert | 52.1%% | 9.3 / 21.8 / 10.5 / 6.3 / 52.1 | | | |\n");
     for (const ObjectResult& R : results)
         for (const Run& run : R.runs) {
-            const UncertaintySummary& u = run.session.steps.back().summary;
-            std::printf("| %s | %s | %.1f%% | %.1f / %.1f / %.1f / %.1f / %.1f | %.1f | %.1f |\n", R.name.c_str(),
-                        strategy_name(run.strategy), 100 * u.full_rank_share, 100.0 * u.by_rank[0] / u.texels,
+            const UncertaintySummary& u = run.ref.back();
+            std::printf("| %s | %s | %.1f%% (%.1f%%) | %.1f / %.1f / %.1f / %.1f / %.1f | %.2f | %.1f | %.1f |\n",
+                        R.name.c_str(), strategy_name(run.strategy), 100 * u.full_rank_share,
+                        100 * run.session.steps.back().summary.full_rank_share, 100.0 * u.by_rank[0] / u.texels,
                         100.0 * u.by_rank[1] / u.texels, 100.0 * u.by_rank[2] / u.texels, 100.0 * u.by_rank[3] / u.texels,
-                        100.0 * u.by_rank[4] / u.texels, run.psnr_exact, run.psnr_gles1);
+                        100.0 * u.by_rank[4] / u.texels, u.mean_log_cov_all, run.psnr_exact, run.psnr_gles1);
         }
     std::printf("\nmean log10 ||CoV|| where the planner and a baseline both reached full rank:\n");
     for (const ObjectResult& R : results)
