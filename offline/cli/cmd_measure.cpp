@@ -9,7 +9,9 @@
 // The database (the 100 merl-nbrdf materials on the MERL grid) is built on first use into the
 // cache (database.h: about a minute, 1.4 GB) and memory-mapped afterwards. --materials limits
 // it to a subset (a smaller, faster database; tests use it). A new subcommand (issue 17's
-// `capture`) is one more row in kMeasureCommands.
+// `capture`) is one more subcommand in setup_measure.
+//   sepal measure capture -o photo.png [--samples s.csv] [--object sphere|torus|wave]
+//                      [--camera AZ,EL] [--light AZ,EL] [--seed S] [--no-noise]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +29,11 @@
 #include "database/linear_model.h"
 #include "database/measure.h"
 #include "database/measure_plan.h"
+#include "acquire/capture.h"
+#include "acquire/object.h"
+#include "acquire/svbrdf.h"
+#include "fit/samples.h"
+#include "util/image.h"
 #include "measured/merl.h"
 #include "util/io.h"
 #include "util/json.h"
@@ -256,6 +263,74 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     return kExitOk;
 }
 
+// sepal measure capture: one photograph of the virtual acquisition setup (Lensch et al. 2003;
+// offline/acquire/): a known object with a known SVBRDF, a camera and a point light placed by
+// azimuth and elevation, shadows and sensor noise; the PNG and, per measuring pixel, its
+// sample (local directions, value, weight, pixel and atlas texel) for `sepal fit lafortune`.
+struct CaptureArgs {
+    std::string object = "sphere", out, samples;
+    int atlas = 128, size = 256;
+    std::vector<double> camera = {-90, 30}, light = {-50, 45};
+    uint64_t seed = 1;
+    bool no_noise = false;
+};
+
+int run_capture(const CaptureArgs& a, const CommandIO& io) {
+    const std::string who = "sepal measure capture";
+    auto fail = [&](const std::string& m) {
+        std::fprintf(io.err, "%s: %s\n", who.c_str(), m.c_str());
+        return kExitBadInput;
+    };
+    std::string err;
+    AcqObject obj;
+    BlendSvbrdf truth;
+    const RigOptions rig;
+    if (!make_object(a.object, a.atlas, &obj, &err) || !make_svbrdf(a.atlas, SvbrdfGenOptions(), &truth, &err))
+        return fail(err);
+    const ViewPair v = view_from_angles(a.camera[0], a.camera[1], a.light[0], a.light[1]);
+    if (separation_deg(v) < rig.min_separation_deg)
+    {
+        char m[160];
+        std::snprintf(m, sizeof m, "--camera and --light are %.1f degrees apart; the rig needs at least %g",
+                      separation_deg(v), rig.min_separation_deg);
+        return fail(m);
+    }
+    RenderSvbrdfOptions ro;
+    ro.shadows = true;
+    ro.noise = !a.no_noise;
+    ro.seed = a.seed;
+    ro.rig = &rig;
+    Image img;
+    std::vector<PhotoSample> photo;
+    if (!render_svbrdf(obj, truth, scene_for_view(obj, v, rig), a.size, a.size, ro, &img, &err, &photo))
+        return fail(err);
+    if (!a.samples.empty()) {
+        std::vector<BrdfSample> s(photo.size());
+        std::vector<std::vector<double>> extra(3, std::vector<double>(photo.size()));
+        for (size_t i = 0; i < photo.size(); ++i) {
+            s[i].wi = glm::dvec3(photo[i].wi);
+            s[i].wo = glm::dvec3(photo[i].wo);
+            s[i].value = glm::dvec3(photo[i].value);
+            s[i].weight = photo[i].weight;
+            extra[0][i] = photo[i].x, extra[1][i] = photo[i].y, extra[2][i] = photo[i].texel;
+        }
+        char comment[256];
+        std::snprintf(comment, sizeof comment, "sepal measure capture: %s, camera %g,%g light %g,%g (azimuth, elevation), seed %llu",
+                      a.object.c_str(), a.camera[0], a.camera[1], a.light[0], a.light[1], (unsigned long long)a.seed);
+        if (!write_brdf_samples(a.samples, s, comment, &err, {"x", "y", "texel"}, extra)) return fail(err);
+    }
+    // The PNG last: a failed samples file leaves no photograph either.
+    if (!write_png(a.out, img, &err)) return fail(err);
+    std::fprintf(io.out, "object     %s, atlas %dx%d, the default SVBRDF (%zu materials)\n", a.object.c_str(), a.atlas,
+                 a.atlas, default_svbrdf_materials().size());
+    std::fprintf(io.out, "view       camera %g,%g light %g,%g (azimuth, elevation; %.1f degrees apart)\n", a.camera[0],
+                 a.camera[1], a.light[0], a.light[1], separation_deg(v));
+    std::fprintf(io.out, "samples    %zu pixels measure a sample (seen, lit, within %g degrees)%s\n", photo.size(),
+                 rig.max_angle_deg, a.samples.empty() ? "" : (": " + a.samples).c_str());
+    std::fprintf(io.out, "png        %s\n", a.out.c_str());
+    return kExitOk;
+}
+
 }  // namespace
 
 // The subcommands' flags (the run_* functions above hold the work).
@@ -264,7 +339,8 @@ CommandRun setup_measure(CLI::App& app) {
         PlanArgs plan;
         SimulateArgs simulate;
         ReconstructArgs reconstruct;
-        CLI::App *p = nullptr, *s = nullptr, *r = nullptr;
+        CaptureArgs capture;
+        CLI::App *p = nullptr, *s = nullptr, *r = nullptr, *c = nullptr;
     };
     auto st = std::make_shared<State>();
     app.require_subcommand(1, 1);
@@ -304,7 +380,23 @@ CommandRun setup_measure(CLI::App& app) {
     st->r->add_option("--bake", st->reconstruct.bake, "also bake the reconstruction with the default search");
     st->r->add_option("--exclude", st->reconstruct.exclude, "materials left out of the database")->delimiter(',');
     st->r->add_option("--materials", st->reconstruct.materials, materials_help)->delimiter(',');
+
+    st->c = app.add_subcommand("capture", "photograph the virtual acquisition setup (known object and SVBRDF)");
+    st->c->add_option("-o,--output", st->capture.out, "the photograph (PNG)")->required();
+    st->c->add_option("--samples", st->capture.samples, "also write the measured samples (.csv, for sepal fit)");
+    st->c->add_option("--object", st->capture.object, "sphere, torus or wave")
+        ->check(CLI::IsMember({"sphere", "torus", "wave"}))->capture_default_str();
+    st->c->add_option("--atlas", st->capture.atlas, "the object's texture atlas, texels per side")
+        ->check(CLI::Range(8, 1024))->capture_default_str();
+    st->c->add_option("--size", st->capture.size, "photograph side, pixels")->check(CLI::Range(16, 4096))->capture_default_str();
+    st->c->add_option("--camera", st->capture.camera, "camera azimuth,elevation in degrees")
+        ->delimiter(',')->expected(2)->check(finite_range(-360, 360))->capture_default_str();
+    st->c->add_option("--light", st->capture.light, "light azimuth,elevation in degrees")
+        ->delimiter(',')->expected(2)->check(finite_range(-360, 360))->capture_default_str();
+    st->c->add_option("--seed", st->capture.seed, "sensor noise seed")->capture_default_str();
+    st->c->add_flag("--no-noise", st->capture.no_noise, "a noiseless photograph");
     return [st](const CommandIO& io) {
+        if (st->c->parsed()) return run_capture(st->capture, io);
         if (st->p->parsed()) return run_plan(st->plan, io);
         if (st->s->parsed()) return run_simulate(st->simulate, io);
         return run_reconstruct(st->reconstruct, io);
