@@ -13,20 +13,19 @@
 //   sepal_material.h  baked assets on the GPU (GL ES 1.1 and GL ES 2) and the CPU backend
 //   sepal_raster.h    the software rasterizer the CPU backend uses
 //   sepal_format.h    the .sepal file format (data only) and its reader
+//   sepal_sampler.h   factored importance sampling of a baked material (Lawrence 2004)
 //
 // sepal does NOT: create windows or GL contexts (a port hands the current context in),
 // read files (the caller passes bytes), allocate after loading (callers hand in memory),
-// throw, or keep global state. Link: -lsepal and the platform's GL ES libraries
+// raise C++ exceptions, or keep global state. Link: -lsepal and the platform's GL ES libraries
 // (libGLESv1_CM, libGLESv2); the headless port adds -lsepal_headless and EGL.
 #pragma once
 
-#define SEPAL_VERSION_MAJOR 0
-#define SEPAL_VERSION_MINOR 1
-#define SEPAL_VERSION_PATCH 0
-#define SEPAL_VERSION_STRING "0.1.0"
+#include "sepal/sepal_version.h"  /* SEPAL_VERSION_*: defined there only */
 
 #include "sepal/sepal_rt.h"
 #include "sepal/sepal_scene.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_material.h"
 #include "sepal/sepal_raster.h"
+#include "sepal/sepal_sampler.h"
