@@ -171,9 +171,9 @@ test-asan: deps ## run the test suites under AddressSanitizer + UndefinedBehavio
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  sh tests/run.sh build/asan/bin/sepal-tests
 
-update-goldens: deps ## rewrite fixtures/golden/*.png and the ports' screenshots in docs/img from the current renders
+update-goldens: deps ## rewrite fixtures/golden/*.png, the ports' screenshots in docs/img and docs/cli.md from the current build
 	@$(MAKE) --no-print-directory -j$(NPROC) build web
-	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*,*Xvfb*,*Chromium*'
+	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*,*Xvfb*,*Chromium*,docs/cli.md*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
 	@$(MAKE) --no-print-directory -j$(NPROC) $(BENCH_BINS)
