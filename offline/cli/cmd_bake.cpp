@@ -165,8 +165,13 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         if (!write_json_file(args.report, j, &werr)) return bad(werr);
     }
     if (!ok) return bad(err);
+    // The asset and its export succeed or fail together (the report above is written either
+    // way: it says why a bake failed).
+    OutputGuard written;
     if (!write_asset(args.out, r.asset, &err)) return bad(err);
+    written.add(args.out);
     if (!args.export_dir.empty() && !export_asset(r.asset, args.export_dir, &err)) return bad(err);
+    written.commit();
     if (o.cap > 0)
         std::fprintf(io.out, "cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", o.cap,
                      100.0 * r.capped_share);

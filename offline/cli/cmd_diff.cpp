@@ -5,6 +5,7 @@
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "util/image.h"
+#include "util/io.h"
 #include "util/plot.h"
 
 namespace sepal {
@@ -40,12 +41,21 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
     std::fprintf(io.out, "max diff   %.2f (8-bit units)\n", d.max_diff);
     std::fprintf(io.out, "over %-6g %.4f%% of pixels (%lld of %lld)\n", d.threshold,
                  100.0 * d.share_over, (long long)d.pixels_over, (long long)d.pixels);
+    // Both pictures are PNGs (named so), written together or not at all.
+    for (const std::string* p : {&args.heatmap, &args.sheet})
+        if (!p->empty() && file_extension(*p) != "png") {
+            std::fprintf(io.err, "sepal diff: %s: the heatmap and the sheet are PNG files (name them .png)\n",
+                         p->c_str());
+            return kExitBadInput;
+        }
+    OutputGuard written;
     if (!args.heatmap.empty()) {
         const double scale = d.max_diff > 0 ? d.max_diff : 1.0;
         if (!write_png(args.heatmap, diff_heatmap(a, b, scale), &err)) {
             std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
             return kExitBadInput;
         }
+        written.add(args.heatmap);
         std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.heatmap.c_str(), scale);
     }
     if (!args.sheet.empty()) {
@@ -59,6 +69,7 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
         }
         std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels)\n", args.sheet.c_str(), args.sheet_scale);
     }
+    written.commit();
     if (stated.empty()) {
         std::fprintf(io.out, "tolerance  none given: no PASS or FAIL (state one with --max-diff, --max-share, "
                              "--min-psnr)\n");

@@ -304,23 +304,25 @@ int run_capture(const CaptureArgs& a, const CommandIO& io) {
     std::vector<PhotoSample> photo;
     if (!render_svbrdf(obj, truth, scene_for_view(obj, v, rig), a.size, a.size, ro, &img, &err, &photo))
         return fail(err);
-    if (!a.samples.empty()) {
-        std::vector<BrdfSample> s(photo.size());
-        std::vector<std::vector<double>> extra(3, std::vector<double>(photo.size()));
-        for (size_t i = 0; i < photo.size(); ++i) {
-            s[i].wi = glm::dvec3(photo[i].wi);
-            s[i].wo = glm::dvec3(photo[i].wo);
-            s[i].value = glm::dvec3(photo[i].value);
-            s[i].weight = photo[i].weight;
-            extra[0][i] = photo[i].x, extra[1][i] = photo[i].y, extra[2][i] = photo[i].texel;
-        }
-        char comment[256];
-        std::snprintf(comment, sizeof comment, "sepal measure capture: %s, camera %g,%g light %g,%g (azimuth, elevation), seed %llu",
-                      a.object.c_str(), a.camera[0], a.camera[1], a.light[0], a.light[1], (unsigned long long)a.seed);
-        if (!write_brdf_samples(a.samples, s, comment, &err, {"x", "y", "texel"}, extra)) return fail(err);
+    std::vector<BrdfSample> s_out(photo.size());
+    std::vector<std::vector<double>> extra(3, std::vector<double>(photo.size()));
+    for (size_t i = 0; i < photo.size(); ++i) {
+        s_out[i].wi = glm::dvec3(photo[i].wi);
+        s_out[i].wo = glm::dvec3(photo[i].wo);
+        s_out[i].value = glm::dvec3(photo[i].value);
+        s_out[i].weight = photo[i].weight;
+        extra[0][i] = photo[i].x, extra[1][i] = photo[i].y, extra[2][i] = photo[i].texel;
     }
-    // The PNG last: a failed samples file leaves no photograph either.
+    char comment[256];
+    std::snprintf(comment, sizeof comment, "sepal measure capture: %s, camera %g,%g light %g,%g (azimuth, elevation), seed %llu",
+                  a.object.c_str(), a.camera[0], a.camera[1], a.light[0], a.light[1], (unsigned long long)a.seed);
+    OutputGuard written;  // both files or neither
+    if (!a.samples.empty()) {
+        if (!write_brdf_samples(a.samples, s_out, comment, &err, {"x", "y", "texel"}, extra)) return fail(err);
+        written.add(a.samples);
+    }
     if (!write_png(a.out, img, &err)) return fail(err);
+    written.commit();
     std::fprintf(io.out, "object     %s, atlas %dx%d, the default SVBRDF (%zu materials)\n", a.object.c_str(), a.atlas,
                  a.atlas, default_svbrdf_materials().size());
     std::fprintf(io.out, "view       camera %g,%g light %g,%g (azimuth, elevation; %.1f degrees apart)\n", a.camera[0],

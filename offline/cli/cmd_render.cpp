@@ -130,11 +130,13 @@ int run_render(RenderArgs& args, const CommandIO& io) {
             Image img(setup.width, setup.height, 3);
             img.data = rgb;
             int64_t clipped = 0;
-            if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+            OutputGuard written;
+            if ((!out_path.empty() && !(write_png(out_path, img, &err, &clipped) && written.add(out_path))) ||
                 (!float_path.empty() && !write_pfm(float_path, img, &err))) {
                 std::fprintf(io.err, "sepal render: %s\n", err.c_str());
                 return kExitBadInput;
             }
+            written.commit();
             std::fprintf(io.out, "backend    cpu, %dx%d, %.1f ms\n", setup.width, setup.height, ms);
             if (!out_path.empty())
                 std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
@@ -150,10 +152,13 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
         Image fimg(setup.width, setup.height, 3);
         fimg.data = info.float_rgb;
-        if (!write_png(out_path, img, &err) || (!float_path.empty() && !write_pfm(float_path, fimg, &err))) {
+        OutputGuard written;
+        if (!write_png(out_path, img, &err) || !written.add(out_path) ||
+            (!float_path.empty() && !write_pfm(float_path, fimg, &err))) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
+        written.commit();
         std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
                      info.device.c_str());
         std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
@@ -187,11 +192,13 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     int64_t clipped = 0;
-    if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+    OutputGuard written;
+    if ((!out_path.empty() && !(write_png(out_path, img, &err, &clipped) && written.add(out_path))) ||
         (!float_path.empty() && !write_pfm(float_path, img, &err))) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
+    written.commit();
     std::fprintf(io.out, "backend    exact (%s), %dx%d, %.1f ms\n", brdf->spec().c_str(), setup.width,
                  setup.height, ms);
     std::fprintf(io.out, "pixels     %lld covered, %lld back-facing, %lld degenerate frames\n",

@@ -88,4 +88,8 @@ std::string file_extension(const std::string& path) {
     return e;
 }
 
+OutputGuard::~OutputGuard() {
+    for (const std::string& p : paths_) std::remove(p.c_str());
+}
+
 }  // namespace sepal

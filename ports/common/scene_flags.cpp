@@ -111,6 +111,10 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
             *err = flag + " '" + value + "': expected three numbers X,Y,Z";
             return -1;
         }
+        if (flag == "--background" && !(dst[0] >= 0 && dst[1] >= 0 && dst[2] >= 0)) {
+            *err = "--background '" + value + "': linear RGB, each channel >= 0";
+            return -1;
+        }
     } else if (flag == "--fov") {
         if (!parse_floats(value, 1, &cam.fovy_degrees)) {
             *err = "--fov '" + value + "': expected a number of degrees";
