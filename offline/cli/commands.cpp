@@ -1,5 +1,6 @@
 // The table of `sepal` subcommands and the dispatcher (CLI11).
 #include <algorithm>
+#include <new>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -98,7 +99,18 @@ int run_sepal_args(const std::vector<std::string>& args, const CommandIO& io) {
         return kExitBadInput;
     }
     for (size_t i = 0; i < commands().size(); ++i)
-        if (app->got_subcommand(commands()[i].name)) return runs[i](io);
+        if (app->got_subcommand(commands()[i].name)) {
+            // The tool boundary: an allocation that fails past every estimate is a message and
+            // exit 2, not an abort (outputs are written atomically, so none is half done).
+            try {
+                return runs[i](io);
+            } catch (const std::bad_alloc&) {
+                std::fprintf(io.err, "%s: out of memory (a larger input or setting than this machine can hold; "
+                                     "lower --res, --size or the term count)\n",
+                             who.c_str());
+                return kExitBadInput;
+            }
+        }
     return kExitBadInput;  // require_subcommand makes this unreachable
 }
 

@@ -1,6 +1,8 @@
 // Sampling, orchestration and output of the factorization engine (see factor.h).
 #include "factor/factor.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -14,6 +16,14 @@
 #include "util/parallel.h"
 
 namespace sepal {
+
+namespace {
+// Physical memory in MB (0 when unknown).
+double physical_memory_mb() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? double(pages) * double(page) / (1024.0 * 1024.0) : 0.0;
+}
+}  // namespace
 
 using detail::LowRank;
 using detail::Matrix;
@@ -629,6 +639,18 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
                           "or raise --max-memory",
                           method_name(o.method), r.rows, r.cols, channels_of(o), r.memory_mb,
                           o.res, o.max_memory_mb);
+        if (err) *err = buf;
+        return false;
+    }
+    // Whatever --max-memory allows, not more than the machine has: past it the allocation
+    // fails (or the kernel kills the process) after minutes of work.
+    const double physical_mb = physical_memory_mb();
+    if (physical_mb > 0 && r.memory_mb > physical_mb) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "--method %s at --res %d needs about %.0f MB; this machine has %.0f MB of memory "
+                      "(use --method nd, --colour luminance or a lower --res)",
+                      method_name(o.method), o.res, r.memory_mb, physical_mb);
         if (err) *err = buf;
         return false;
     }

@@ -143,12 +143,16 @@ bool parse_merl(const std::vector<uint8_t>& bytes, const std::string& name, Tabu
             return fail("wrong byte order: the header reads 90 x 90 x 180 only when "
                         "byte-swapped (big-endian); MERL files are little-endian");
         const bool positive = le[0] > 0 && le[1] > 0 && le[2] > 0;
-        const int64_t product = le[0] * le[1] * le[2];  // |dims| < 2^31: no overflow
-        if (positive && product == int64_t(kMerlCells))
+        // In double: three dims below 2^31 multiply past int64 (signed overflow); a double
+        // is exact up to 2^53 and only approximate (never undefined) beyond.
+        const double product = double(le[0]) * double(le[1]) * double(le[2]);
+        char product_text[40];
+        std::snprintf(product_text, sizeof product_text, product < 9007199254740992.0 ? "%.0f" : "about %.3g", product);
+        if (positive && product == double(kMerlCells))
             return fail("header dims " + dims_text(le[0], le[1], le[2]) +
                         " multiply to 1458000 but are not MERL's layout 90 x 90 x 180");
         return fail("header dims " + dims_text(le[0], le[1], le[2]) +
-                    (positive ? " (product " + std::to_string(product) + ")" : "") +
+                    (positive ? std::string(" (product ") + product_text + ")" : "") +
                     " do not match MERL's 90 x 90 x 180 = 1458000 samples");
     }
     if (bytes.size() != kMerlFileBytes)

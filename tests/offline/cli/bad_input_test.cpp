@@ -94,3 +94,30 @@ TEST_CASE("bad input, class 10: scene flags refuse what they cannot draw, and sa
     CHECK(run(sepal::cmd_render, {"lambert", "--size", "16x16", "--fov", "1", "-o", dir + "/f.png"}, &out) == 2);
     CHECK(contains(out, "both ends excluded"));
 }
+
+TEST_CASE("bad input, class 1: MERL header dims whose product overflows int64 are reported, not wrapped") {
+    const std::string dir = sepal_test::temp_dir();
+    // Three dims of 2^31 - 1: their product (~9.9e27) overflows a signed 64-bit integer.
+    std::string bytes(12, '\0');
+    for (int k = 0; k < 3; ++k) {
+        bytes[size_t(4 * k) + 0] = char(0xff);
+        bytes[size_t(4 * k) + 1] = char(0xff);
+        bytes[size_t(4 * k) + 2] = char(0xff);
+        bytes[size_t(4 * k) + 3] = char(0x7f);
+    }
+    write_text(dir + "/big.binary", bytes);
+    std::string out;
+    CHECK(run(sepal::cmd_info, {dir + "/big.binary"}, &out) == 2);
+    CHECK(contains(out, "2147483647 x 2147483647 x 2147483647"));
+    CHECK(contains(out, "(product about 9.9e+27)"));
+}
+
+TEST_CASE("bad input, class 6: a factorization larger than the machine is refused before it allocates") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    CHECK(run(sepal::cmd_bake, {"lambert", "--param", "gs-half", "--res", "256", "--terms", "1", "--method", "acls",
+                                "--max-memory", "1e30", "-o", dir + "/m.sepal"},
+              &out) == 2);
+    CHECK(contains(out, "MB of memory"));
+    CHECK_FALSE(exists(dir + "/m.sepal"));
+}
