@@ -22,7 +22,7 @@ endif
 # running this Makefile goes; everything else is checked and installed by `make deps`.
 DEB_PACKAGES := g++ make pkg-config libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
                 libglm-dev libstb-dev doctest-dev libeigen3-dev \
-                nlohmann-json3-dev
+                nlohmann-json3-dev libcli11-dev libx11-dev xvfb xauth xdotool emscripten chromium
 
 WARN     := -Wall -Wextra -Werror
 CXXSTD   := -std=c++17
@@ -55,6 +55,9 @@ RUNTIME_SRC  := $(wildcard runtime/src/*.cpp)
 SEPAL_MAIN   := offline/cli/sepal_main.cpp
 OFFLINE_SRC  := $(filter-out $(SEPAL_MAIN),$(call rwildcard,offline,*.cpp))
 HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
+# stb_image + stb_image_write, compiled once for offline/ and ports/ (third_party/stb/stb.cpp).
+STB_SRC      := third_party/stb/stb.cpp
+WINDOWED_SRC := $(wildcard ports/windowed/*.cpp)
 VIEW_MAIN    := ports/view/sepal_view.cpp
 TEST_SRC     := $(filter-out tests/bench/%,$(call rwildcard,tests,*.cpp))
 # Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
@@ -69,6 +72,8 @@ obj = $(patsubst %.cpp,$(BUILD)/obj/%.o,$(1))
 RUNTIME_OBJ  := $(call obj,$(RUNTIME_SRC))
 OFFLINE_OBJ  := $(call obj,$(OFFLINE_SRC))
 HEADLESS_OBJ := $(call obj,$(HEADLESS_SRC))
+STB_OBJ      := $(call obj,$(STB_SRC))
+WINDOWED_OBJ := $(call obj,$(WINDOWED_SRC))
 TEST_OBJ     := $(call obj,$(TEST_SRC))
 BENCH_OBJ    := $(call obj,$(BENCH_SRC))
 BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
@@ -76,24 +81,58 @@ BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
 LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
+LIB_STB      := $(BUILD)/lib/libsepal_stb.a
+LIB_WINDOWED := $(BUILD)/lib/libsepal_windowed.a
 BIN_SEPAL    := $(BUILD)/bin/sepal
 BIN_VIEW     := $(BUILD)/bin/sepal-view
 BIN_TESTS    := $(BUILD)/bin/sepal-tests
 BENCH_OUT    := $(BUILD)/bench
 
 RUN_OUT      := $(BUILD)/out/sepal-run.png
-# The default material of `make run`: an anisotropic Ward, 2 NMF terms in gs-half at
-# 32x32, peaks above 2/sr capped (see README, "Dynamic range").
+# The default material of `make run`: an anisotropic Ward (Ward 1992), baked with the
+# defaults a new user gets (no flags: the best image on GL ES 1.1, docs/fidelity.md).
 RUN_SPEC     := ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15
-RUN_BAKE     := --param gs-half --res 32 --method nmf --terms 2 --cap 2
+RUN_BAKE     :=
 RUN_ASSET    := $(BUILD)/out/ward.sepal
+RUN_SHEET    := $(BUILD)/out/sepal-run-sheet.png
+
+# Installing (make install PREFIX=DIR [DESTDIR=staging]): the version is defined once, in
+# the umbrella header; the shared libraries' soname carries its major number.
+PREFIX     ?= /usr/local
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+SEPAL_VERSION := $(shell sed -n 's/^\#define SEPAL_VERSION_STRING "\(.*\)"/\1/p' runtime/include/sepal/sepal_version.h)
+SOVERSION  := $(firstword $(subst ., ,$(SEPAL_VERSION)))
+DIST       := $(BUILD)/dist
+HEADLESS_PORT_OBJ := $(call obj,ports/headless/sepal_headless.cpp)
+PUBLIC_HEADERS := $(wildcard runtime/include/sepal/*.h) ports/headless/sepal_headless.h
+DIST_FILES := $(DIST)/libsepal.a $(DIST)/libsepal.so.$(SEPAL_VERSION) \
+              $(DIST)/libsepal_headless.a $(DIST)/libsepal_headless.so.$(SEPAL_VERSION)
+
+# The web port (make web): the runtime's GL ES 2 paths and ports/web through Emscripten
+# (Debian's emcc works offline; it needs Debian's node modules on NODE_PATH). One tree
+# whatever CXX or SAN say: emcc is its compiler.
+EMCC       ?= emcc
+EMENV      := NODE_PATH=/usr/share/nodejs
+WEB_DIR    := build/web
+WEB_SRC    := $(filter-out runtime/src/draw_gles1.cpp runtime/src/preview_gles1.cpp,$(RUNTIME_SRC)) \
+              $(wildcard ports/web/*.cpp) ports/common/scene_flags.cpp ports/common/orbit.cpp \
+              ports/common/term_prefix.cpp ports/common/scene_args.cpp ports/common/scene_draw.cpp
+WEB_OBJ    := $(patsubst %.cpp,build/web-obj/%.o,$(WEB_SRC))
+WEB_CXXFLAGS := -std=c++17 -O2 $(WARN) -fno-exceptions -fno-rtti -DSEPAL_NO_GLES1 -MMD -MP
+WEB_EXPORTS := $(foreach f,$(shell grep -o '^EMSCRIPTEN_KEEPALIVE.* sepal_web_[a-z_]*' ports/web/sepal_web.cpp 2>/dev/null | grep -o 'sepal_web_[a-z_]*$$'),"_$(f)",)
+WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s ENVIRONMENT=web -s FILESYSTEM=0 -s ALLOW_MEMORY_GROWTH=1 \
+               -s EXPORTED_FUNCTIONS='[$(WEB_EXPORTS)"_malloc","_free"]' \
+               -s EXPORTED_RUNTIME_METHODS='["cwrap","UTF8ToString"]'
+WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_DIR)/default.sepal
 
 .SECONDARY:
-.PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime
+.PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 FORCE \
+        install uninstall examples web
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) check-runtime ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) check-runtime check-c99 ## build everything into build/ (-Wall -Wextra -Werror)
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -112,7 +151,8 @@ run: deps ## build, bake the default material, render it headless on GL ES 1.1 t
 	@$(MAKE) --no-print-directory -s -j$(NPROC) $(BIN_VIEW) $(BIN_SEPAL) $(RUN_ASSET)
 	@$(BIN_SEPAL) render '$(RUN_SPEC)' --backend exact -o $(BUILD)/out/sepal-run-exact.png > /dev/null
 	@$(BIN_VIEW) --headless $(RUN_ASSET) --backend gles1 -o $(RUN_OUT) > /dev/null
-	@$(BIN_SEPAL) diff $(BUILD)/out/sepal-run-exact.png $(RUN_OUT) | sed -n 's/^psnr */PSNR against the exact render: /p'
+	@$(BIN_SEPAL) diff $(BUILD)/out/sepal-run-exact.png $(RUN_OUT) --sheet $(RUN_SHEET) | sed -n 's/^psnr */PSNR against the exact render: /p'
+	@echo "exact | gles1 | error heatmap: $(RUN_SHEET)"
 	@echo $(RUN_OUT)
 
 # Re-baked when the tool changes; the bake is deterministic.
@@ -121,19 +161,19 @@ $(RUN_ASSET): $(BIN_SEPAL)
 	@echo "sepal: baking $(RUN_SPEC)"
 	@$(BIN_SEPAL) bake '$(RUN_SPEC)' $(RUN_BAKE) -o $@ > $(BUILD)/out/ward.bake.txt
 
-test: deps ## build and run every doctest suite
-	@$(MAKE) --no-print-directory -j$(NPROC) build
+test: deps ## build and run every doctest suite (the web port's test needs `make web`: built here too)
+	@$(MAKE) --no-print-directory -j$(NPROC) build web
 	@sh tests/run.sh $(BIN_TESTS)
 
 test-asan: deps ## run the test suites under AddressSanitizer + UndefinedBehaviorSanitizer
-	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build
+	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build web
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  sh tests/run.sh build/asan/bin/sepal-tests
 
-update-goldens: deps ## rewrite fixtures/golden/*.png from the current renders
-	@$(MAKE) --no-print-directory -j$(NPROC) build
-	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*'
+update-goldens: deps ## rewrite fixtures/golden/*.png, the ports' screenshots in docs/img and docs/cli.md from the current build
+	@$(MAKE) --no-print-directory -j$(NPROC) build web
+	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*,*Xvfb*,*Chromium*,docs/cli.md*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
 	@$(MAKE) --no-print-directory -j$(NPROC) $(BENCH_BINS)
@@ -141,6 +181,44 @@ bench: deps ## benchmarks that produce the README figures (long sweeps live here
 
 clean: ## remove build/
 	rm -rf build
+
+install: $(BIN_SEPAL) $(BIN_VIEW) $(DIST_FILES) ## install libsepal (static + shared), headers, sepal.pc and the tools under PREFIX (default /usr/local)
+	@echo "sepal: installing $(SEPAL_VERSION) into $(DESTDIR)$(PREFIX)"
+	@install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCLUDEDIR)/sepal
+	@install -m 755 $(BIN_SEPAL) $(BIN_VIEW) $(DESTDIR)$(PREFIX)/bin/
+	@install -m 644 $(PUBLIC_HEADERS) $(DESTDIR)$(INCLUDEDIR)/sepal/
+	@install -m 644 $(DIST)/libsepal.a $(DIST)/libsepal_headless.a $(DESTDIR)$(LIBDIR)/
+	@for lib in libsepal libsepal_headless; do \
+	  install -m 755 $(DIST)/$$lib.so.$(SEPAL_VERSION) $(DESTDIR)$(LIBDIR)/ && \
+	  ln -sf $$lib.so.$(SEPAL_VERSION) $(DESTDIR)$(LIBDIR)/$$lib.so.$(SOVERSION) && \
+	  ln -sf $$lib.so.$(SOVERSION) $(DESTDIR)$(LIBDIR)/$$lib.so; done
+	@sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' \
+	  -e 's|@VERSION@|$(SEPAL_VERSION)|' packaging/sepal.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/sepal.pc
+
+uninstall: ## remove what `make install PREFIX=...` installed
+	rm -f $(DESTDIR)$(PREFIX)/bin/sepal $(DESTDIR)$(PREFIX)/bin/sepal-view $(DESTDIR)$(LIBDIR)/pkgconfig/sepal.pc
+	rm -f $(addprefix $(DESTDIR)$(INCLUDEDIR)/sepal/,$(notdir $(PUBLIC_HEADERS)))
+	rm -f $(foreach l,libsepal libsepal_headless,$(addprefix $(DESTDIR)$(LIBDIR)/$(l),.a .so .so.$(SOVERSION) .so.$(SEPAL_VERSION)))
+	-rmdir $(DESTDIR)$(INCLUDEDIR)/sepal 2>/dev/null
+
+# examples/*.c built in a fresh folder against the installed tree only (pkg-config), once
+# with the shared libraries and once with the static ones, and run on an asset the
+# installed `sepal` bakes.
+examples: ## build examples/ against an installed tree (PREFIX) through pkg-config, and run them
+	@test -f $(LIBDIR)/pkgconfig/sepal.pc || { echo "make examples: $(LIBDIR)/pkgconfig/sepal.pc is missing: run make install PREFIX=$(PREFIX) first"; exit 1; }
+	@rm -rf $(BUILD)/examples && mkdir -p $(BUILD)/examples && cp examples/*.c $(BUILD)/examples/
+	@cd $(BUILD)/examples && export PKG_CONFIG_PATH=$(LIBDIR)/pkgconfig && set -e && \
+	  for c in *.c; do n=$${c%.c}; \
+	    echo "  CC    $$n (shared) and $$n-static: pkg-config --cflags --libs sepal"; \
+	    $(CC) -std=c99 -Wall -Wextra -pedantic -Werror $$c $$(pkg-config --cflags --libs sepal) -o $$n; \
+	    $(CC) -std=c99 -Wall -Wextra -pedantic -Werror $$c $$(pkg-config --cflags sepal) \
+	      $$(pkg-config --static --libs sepal | sed 's/-lsepal_headless -lsepal/-l:libsepal_headless.a -l:libsepal.a/') -o $$n-static; \
+	  done && \
+	  $(PREFIX)/bin/sepal bake '$(RUN_SPEC)' $(RUN_BAKE) -o ward.sepal > bake.txt && \
+	  LD_LIBRARY_PATH=$(LIBDIR) ./minimal ward.sepal 2 minimal.ppm && ./minimal-static ward.sepal 1
+
+web: $(WEB_FILES) ## the web port into build/web/ (Emscripten, WebGL 1): open index.html through any static server
+	@printf '  %-5s %s (%s bytes)\n' WASM $(WEB_DIR)/sepal.wasm $$(stat -c %s $(WEB_DIR)/sepal.wasm)
 
 # ---- rules -----------------------------------------------------------------------------
 $(BUILD)/gen/shaders/%.inc: shaders/%
@@ -168,28 +246,79 @@ $(BUILD)/lib/lib%.a:
 $(LIB_RUNTIME): $(RUNTIME_OBJ)
 $(LIB_OFFLINE): $(OFFLINE_OBJ)
 $(LIB_HEADLESS): $(HEADLESS_OBJ)
+$(LIB_STB): $(STB_OBJ)
+$(LIB_WINDOWED): $(WINDOWED_OBJ)
 
-$(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+$(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
 
-# sepal-view: the runtime and the ports only, no offline code.
-$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_HEADLESS) $(LIB_RUNTIME)
+# sepal-view: the runtime and the ports only, no offline code (the window through Xlib).
+$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_WINDOWED) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -lX11 -o $@
 
-$(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(BIN_SEPAL)
+$(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME) $(BIN_SEPAL)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME) $(LIBS) -o $@
+	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME) $(LIBS) -o $@
 
 # sepal-bench-<name>: one program per tests/bench/<name>.cpp (`make bench`).
-$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_RUNTIME)
+$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+
+# ---- the installed libraries -----------------------------------------------------------
+# Objects of the shared libraries are position-independent. PIC_FLAGS is recorded in a
+# file that changes only when the flags do, so objects built without them are rebuilt.
+PIC_FLAGS := -fPIC
+$(RUNTIME_OBJ) $(HEADLESS_PORT_OBJ): CXXFLAGS_ALL += $(PIC_FLAGS)
+$(RUNTIME_OBJ) $(HEADLESS_PORT_OBJ): $(BUILD)/obj/pic.flags
+$(BUILD)/obj/pic.flags: FORCE
+	@mkdir -p $(dir $@) && echo '$(PIC_FLAGS)' | cmp -s - $@ || echo '$(PIC_FLAGS)' > $@
+FORCE:
+
+$(DIST)/libsepal.a: $(LIB_RUNTIME)
+	@mkdir -p $(dir $@) && cp $< $@
+$(DIST)/libsepal_headless.a: $(HEADLESS_PORT_OBJ)
+	@mkdir -p $(dir $@) && rm -f $@
+	$(call say,AR,$@)
+	$(Q)ar rcs $@ $^
+# Exports are the C API only (packaging/*.map); --no-undefined: every GL symbol resolved;
+# -z text: refuse objects that are not position-independent instead of shipping them.
+$(DIST)/libsepal.so.$(SEPAL_VERSION): $(RUNTIME_OBJ) packaging/libsepal.map
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) -shared -Wl,-soname,libsepal.so.$(SOVERSION) -Wl,--version-script=packaging/libsepal.map \
+	  -Wl,--no-undefined -Wl,-z,text $(LDFLAGS) $(RUNTIME_OBJ) -lGLESv1_CM -lGLESv2 -lm -o $@
+$(DIST)/libsepal_headless.so.$(SEPAL_VERSION): $(HEADLESS_PORT_OBJ) packaging/libsepal_headless.map
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) -shared -Wl,-soname,libsepal_headless.so.$(SOVERSION) -Wl,--version-script=packaging/libsepal_headless.map \
+	  -Wl,--no-undefined -Wl,-z,text $(LDFLAGS) $(HEADLESS_PORT_OBJ) -lEGL -lGLESv2 -o $@
+
+# The public headers are C99 (every build checks, as a C compiler sees them).
+check-c99:
+	@printf '#include "sepal/sepal.h"\n#include "headless/sepal_headless.h"\nint main(void) { return SEPAL_VERSION_MAJOR; }\n' | \
+	  $(CC) -std=c99 -pedantic -Wall -Wextra -Werror -Iruntime/include -Iports -x c -fsyntax-only - || \
+	  { echo "runtime/include/sepal/*.h or the headless port's header is not C99 (above)"; exit 1; }
+
+# ---- the web port ----------------------------------------------------------------------
+$(WEB_OBJ): build/web-obj/%.o: %.cpp | $(SHADER_INCS)
+	@mkdir -p $(dir $@)
+	$(call say,EMCC,$<)
+	$(Q)$(EMENV) $(EMCC) -Iruntime/include -Iports -I$(BUILD)/gen $(WEB_CXXFLAGS) -c $< -o $@
+$(WEB_DIR)/sepal.js: $(WEB_OBJ)
+	@mkdir -p $(dir $@)
+	$(call say,EMCC,$@)
+	$(Q)$(EMENV) $(EMCC) $(WEB_LDFLAGS) $(WEB_OBJ) -o $@
+$(WEB_DIR)/%: ports/web/%
+	@mkdir -p $(dir $@) && cp $< $@
+$(WEB_DIR)/default.sepal: $(RUN_ASSET)
+	@mkdir -p $(dir $@) && cp $< $@
 
 # The runtime's rules, checked on every build: no iostream, no exceptions, no RTTI use,
 # no std::string in its headers (it is also compiled with -fno-exceptions -fno-rtti).
@@ -197,4 +326,4 @@ check-runtime: $(LIB_RUNTIME)
 	@bad=$$(grep -nE '#include *<(iostream|sstream|fstream|string)>|std::string|\bthrow\b|\bdynamic_cast\b|\btypeid\b' runtime/include/sepal/*.h runtime/src/*.h runtime/src/*.cpp | grep -vE '^[^:]+:[0-9]+: *//'); \
 	if [ -n "$$bad" ]; then echo "runtime/ breaks its rules:"; echo "$$bad"; exit 1; fi
 
--include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj build/web-obj -name '*.d' 2>/dev/null)

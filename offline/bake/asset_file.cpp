@@ -46,6 +46,14 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
         append(&p.bytes, asset.passes.data(), asset.passes.size() * sizeof(sepal_fmt_pass));
         chunks.push_back(std::move(p));
     }
+    if (!asset.diffuse_profile.empty()) {
+        Payload p{SEPAL_FMT_TAG_DIFFUSE, {}};
+        sepal_fmt_diffuse d{};
+        d.side = asset.diffuse_side;
+        append(&p.bytes, &d, sizeof d);
+        append(&p.bytes, asset.diffuse_profile.data(), asset.diffuse_profile.size() * sizeof(float));
+        chunks.push_back(std::move(p));
+    }
     if (!asset.meta.empty()) {
         Payload p{SEPAL_FMT_TAG_META, {}};
         append(&p.bytes, asset.meta.data(), asset.meta.size());
@@ -71,8 +79,11 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     std::memcpy(file.data() + sizeof(sepal_fmt_header), table.data(), table.size() * sizeof(sepal_fmt_chunk));
     sepal_fmt_header h{};
     std::memcpy(h.magic, SEPAL_FMT_MAGIC, 8);
-    h.version_major = SEPAL_FMT_VERSION_MAJOR;
-    h.version_minor = SEPAL_FMT_VERSION_MINOR;
+    // The oldest version that can say it: assets without version-2 features stay 1.0,
+    // byte-identical to what earlier writers produced.
+    const bool v2 = asset_needs_version2(asset);
+    h.version_major = v2 ? SEPAL_FMT_VERSION_MAJOR : 1;
+    h.version_minor = v2 ? SEPAL_FMT_VERSION_MINOR : 0;
     h.header_bytes = sizeof h;
     h.file_bytes = file.size();
     h.chunk_count = uint32_t(chunks.size());
@@ -89,6 +100,14 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     }
     *out = std::move(file);
     return true;
+}
+
+bool asset_needs_version2(const AssetData& a) {
+    const sepal_fmt_material& m = a.material;
+    bool v2 = m.flags != 0 || m.diffuse[0] != 0.0f || m.diffuse[1] != 0.0f || m.diffuse[2] != 0.0f ||
+              !a.diffuse_profile.empty();
+    for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE;
+    return v2;
 }
 
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err) {

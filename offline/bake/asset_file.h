@@ -28,10 +28,16 @@ struct AssetData {
     std::vector<AssetTexture> textures;
     sepal_fmt_plan plan{};  // pass_count is filled in by the encoder
     std::vector<sepal_fmt_pass> passes;
+    // The diffuse profile (format 2, DIFF chunk): side * side RGB samples, or empty.
+    uint32_t diffuse_side = 0;
+    std::vector<float> diffuse_profile;
     std::string meta;  // JSON manifest; may be empty
 };
 
 bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string* err);
+// True when the asset uses a version-2 feature (radiance flag, diffuse part or profile, DIFFUSE pass);
+// encode_asset writes version 1.0 otherwise.
+bool asset_needs_version2(const AssetData& asset);
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
 
 }  // namespace sepal

@@ -1,23 +1,32 @@
 // Baking: from a BRDF to the asset a game ships (quantized texture pairs, a pass plan).
 //
 // Usage:
-//   sepal::BakeOptions o;                 // search space and budgets, see below
-//   o.max_error = 0.1;                    // relative cosine-weighted RMS
+//   sepal::BakeOptions o;                 // defaults: the image on GL ES 1.1 decides
+//   o.target = sepal::Target::Gles1;      // gles1 | gles2 | cpu
 //   sepal::BakeResult r; std::string err;
 //   if (!sepal::bake(*brdf, o, &r, &err)) ...
 //   sepal::write_asset("ward.sepal", r.asset, &err);
 //
-// The search: every combination of the listed parameterizations, maps, resolutions and
-// methods is factored once with the largest term count (factor.h); each k-term prefix (or
-// k-term solution, for nmf and acls) is quantized (quantize.h), given a plan (plan.h),
-// encoded, and measured again with the same metric as the float factors (factor_error.h:
-// 8000 Monte Carlo pairs, fixed seed), so every candidate knows its passes, bytes, float
-// error, quantized error and predicted frame time (cost_model.h: a linear model of the
-// chosen backend fitted to `make bench`'s measured frames). The winner is the fastest
-// predicted frame that meets every budget, then the lowest error, then the fewest bytes;
-// it lies on the Pareto front of (predicted ms, quantized error), which every candidate is
-// marked on. Without --max-error the lowest quantized error within the pass and byte
-// budgets wins.
+// What is fitted (radiance.h): by default f cos(theta_i), capped at the white level of the
+// bake's views (f cos above 1 / the smallest irradiance they show is white in every one),
+// minus the diffuse part (a constant BRDF drawn by an untextured pass): format-2 radiance
+// assets. `radiance = false` factors f itself (format 1, the bake before issue 13).
+// How candidates are judged (image_score.h): every candidate asset is drawn on its target
+// (the GL ES pipeline emulated on the CPU, or the CPU backend) in every view (by default
+// the default scene and a grazing-light view) and scored by PSNR against the exact
+// render, 8-bit, as a display shows it. The direction-space figures (relative cosine-
+// weighted RMS over 8000 fixed pairs, factor_error.h) stay as diagnostics and budgets.
+// The search, coarse to fine: with more than one (parameterization, map, method) listed,
+// each is first factored at coarse_res and judged on small images; only the best (and
+// those within keep_db of it, at most keep) go on to the listed resolutions, where every
+// k-term solution (prefix for svd) and depth is quantized (quantize.h), planned (plan.h),
+// encoded, judged at judge_size and measured. The winner: with min_psnr (or max_error), the
+// fastest predicted frame (cost_model.h) that meets every budget; otherwise the highest PSNR
+// within the pass and byte budgets, where anything within tie_db of it that needs fewer
+// passes, then fewer bytes, is preferred. The winner's asset is kept, never refactored.
+// Methods come from one table (bake_methods()): a row per factorization with the targets it
+// may ship on (signed factors need bias passes, which an 8-bit framebuffer cannot hold:
+// svd ships on cpu only).
 // Determinism: equal inputs give byte-identical assets whatever the thread count; the
 // asset's META chunk holds no timings.
 // Limits: resolutions must be powers of two in 1..256 (GL ES 1.1 textures; 1 gives constant
@@ -36,67 +45,125 @@
 #include "bake/cost_model.h"
 #include "factor/factor.h"
 #include "factor/factored.h"
+#include "bake/image_score.h"
 #include "bake/quantize.h"
+#include "bake/radiance.h"
 
 namespace sepal {
 
 struct BakeOptions {
     std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf};
     std::vector<HemiMap> maps = {HemiMap::XY};
-    // Defaults keep a bake under a minute on two cores; widen them for the best asset.
-    std::vector<int> resolutions = {32};
-    std::vector<int> terms = {1, 2, 3, 4};
-    std::vector<Method> methods = {Method::SVD, Method::NMF};
+    // Texels per side: of both factors, or with smooth_resolutions given, of the half-angle
+    // factor (gs-half's G, vh's H) while the other one takes each of smooth_resolutions not
+    // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
+    // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
+    // factors at ladder_iv), and the best one climbs while a rung gains climb_db.
+    std::vector<int> resolutions;
+    std::vector<int> smooth_resolutions;
+    std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
+    int ladder_iv = 32;
+    double climb_db = 0.5;
+    // With terms empty (and climb_terms), the winner's configuration is factored again with
+    // more_terms when it is below goal_db and its largest term count still gained climb_db
+    // over the one before (passes cost frame time; above goal_db a better image is not
+    // worth them).
+    bool climb_terms = true;
+    double goal_db = 40;
+    std::vector<int> more_terms = {6, 8};
+    // Term counts; empty: 1..4, and more_terms when the winner is below goal_db (climb_terms).
+    std::vector<int> terms;
+    // Empty: the default methods of bake_methods() that may ship on the target (acls, the
+    // non-negative fit by exact block updates, on gles1/gles2; acls and svd on cpu).
+    std::vector<Method> methods;
     ColourMode colour = ColourMode::PerChannel;
     std::vector<int> bits = {8};  // 8 and/or 16 per texel channel
     bool mips = true;
-    // The frame-time model the winner minimizes; an empty backend means the built-in
-    // gles1 model (cost_model.h).
+    // The image that decides: the backend the asset ships on.
+    Target target = Target::Gles1;
+    // Views to judge by (image_score.h); empty: default_bake_views().
+    std::vector<BakeView> views;
+    int judge_size = 128;   // pixels per side of the judged images
+    // Coarse stage (only with more than one parameterization, map or method listed): every
+    // pair factored at coarse_res (0: no coarse stage) with up to coarse_terms terms and
+    // judged at coarse_size; the best pair and those within keep_db of it (at most keep) go on.
+    int coarse_res = 16;
+    int coarse_terms = 3;
+    int coarse_size = 64;
+    double keep_db = 1.5;
+    int keep = 2;
+    double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best PSNR
+    // Radiance fit (radiance.h, format 2): the factors hold f cos(theta_i) capped at white,
+    // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the views (1.25 /
+    // their smallest lit irradiance); < 0: no cap. diffuse: estimated (estimate_diffuse)
+    // unless diffuse_given.
+    bool radiance = true;
+    double white = 0;
+    // The diffuse part: a profile over (cos theta_i, cos theta_o) of diffuse_side^2 nodes
+    // (estimate_diffuse_profile; constant when flat), or with diffuse_side 0 a constant, the
+    // diffuse_quantile of f (estimate_diffuse); or given (diffuse_given: the constant diffuse).
+    int diffuse_side = 16;
+    double diffuse_quantile = 0.005;
+    bool diffuse_given = false;
+    glm::dvec3 diffuse{0, 0, 0};
+    // The frame-time model the budgets use; an empty backend means the built-in gles1
+    // model (cost_model.h).
     CostModel cost;
+    double min_psnr = -1;   // dB on the target; < 0: none
     double max_error = -1;  // relative cosine-weighted RMS after quantization; < 0: none
     int max_passes = -1;    // plan passes per light; < 0: none
     int64_t max_bytes = -1;  // encoded asset size; < 0: none
     int supersample = 1;
-    // SVD fitted to the entries above the horizon only (factor.h's svd_weighted): the
-    // plain zero-filled SVD spends its rank on the horizon's edge (Lambert: 22% error
-    // plain, 0.9% weighted, at 32x32 gs-half).
-    bool svd_weighted = true;
+    // nmf/acls outer iterations per term count (0: 12 for acls, factor.h's default otherwise).
+    int iterations = 0;
     int threads = 0;
     double max_memory_mb = 2048;
     bool progress = false;  // a line per factorization on stderr
     // Values of f above `cap` (per steradian) are clamped before factoring; <= 0: none.
-    // GL ES 1.1 draws through an 8-bit framebuffer whose scale-up multiplies its step by
-    // the largest factor product: BRDFs with huge grazing peaks (Ward, Cook-Torrance) lose
-    // every mid-tone there unless the peaks, white on screen anyway, are capped. The error
-    // is still measured against the uncapped BRDF, and the clamped share is reported.
+    // (The radiance fit's white level is the better tool; kept for factors of f.) The
+    // error is still measured against the uncapped BRDF, and the clamped share is reported.
     double cap = -1;
     // Stored in the asset's manifest as "bake_key" (bake-scene's up-to-date check).
     std::string key;
     // Keep every candidate's asset in BakeCandidate::asset (sweeps; memory grows with the
-    // search), which also spares the winner's second factorization; BakeResult::counts then
-    // holds the input's counts only (the factor and quantizer counts come from that rebuild).
+    // search).
     bool keep_assets = false;
 };
+
+// One row of the bake's method table: a factorization and where its assets may ship.
+struct BakeMethod {
+    const char* name;
+    Method method;
+    bool non_negative;      // no bias passes: fit for an 8-bit framebuffer
+    bool default_method;    // searched when BakeOptions::methods is empty (on its targets)
+};
+const std::vector<BakeMethod>& bake_methods();
+// Whether a method's assets may ship on a target (signed ones only on cpu).
+bool method_allowed(Method m, Target t);
 
 struct BakeCandidate {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
-    int res = 0, terms = 0, bits = 8;
+    int res = 0, res_h = 0, terms = 0, bits = 8;  // res: G's side, res_h: H's
     Method method = Method::SVD;
+    bool coarse = false;        // judged in the coarse stage (small images)
     bool ok = false;            // factored and encoded; else `note` says why not
     std::string note;
-    double error_float = 0;     // relative cosine-weighted RMS of the float factors
+    double psnr = 0;            // image PSNR on the target, pooled over the views
+    std::vector<double> psnr_views;
+    double error_float = 0;     // relative cosine-weighted RMS of the float factors (diagnostic)
     double error_quantized = 0;  // the same after quantization
     double rms_quantized = 0;   // absolute
     int passes = 0;             // plan passes per light
-    int doublings = 0;
+    int doublings = 0;          // framebuffer doublings of the frame (first view, GL targets)
     bool non_negative = false;  // no correction passes
     int64_t bytes = 0;
     double ms = 0;              // predicted frame time (BakeOptions::cost)
+    double factor_seconds = 0;  // its factorization's sampling and fitting time (shared by its term counts)
     bool on_front = false;      // no other candidate is as fast and as accurate, and better in one
     bool meets = false;         // within every budget
-    AssetData asset;            // with BakeOptions::keep_assets
-    std::string label() const;  // "gs-half/xy 64 svd x2 8b"
+    AssetData asset;            // with BakeOptions::keep_assets (and the winner's, always)
+    std::string label() const;  // "gs-half/xy 64 nmf x2 8b", "gs-half/xy 128/16 nmf x1 8b"
 };
 
 // Every clamp, replacement and fallback behind a bake, counted (never silent): printed by
@@ -120,6 +187,10 @@ struct BakeCounts {
 
 struct BakeResult {
     std::vector<BakeCandidate> candidates;
+    Target target = Target::Gles1;
+    std::vector<std::string> views;  // the judged views' names
+    double white = 0;                // the radiance fit's cap (0: none or not a radiance fit)
+    DiffusePart diffuse;             // the radiance fit's diffuse part
     double capped_share = 0;  // share of sampled f values the cap clamped
     BakeCounts counts;        // filled as far as the bake got (input counts always)
     std::vector<std::string> notes;  // one line each: what was clamped, replaced or special
@@ -131,12 +202,14 @@ struct BakeResult {
 };
 
 bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::string* err);
-// Sets on_front on every candidate: ok, and no ok candidate has ms and error both <= its
-// own with one of them < (the Pareto front of predicted frame time and quantized error).
-void mark_front(std::vector<BakeCandidate>* candidates);
-// Sets meets on every candidate from the options' budgets and returns the winner's index
-// (-1: none meets): with max_error, the fastest predicted frame, then the lowest error, then
-// the fewest bytes; without, the lowest error, then the fastest, then the fewest bytes.
+// Sets on_front on every fine-stage candidate: ok, and no such candidate has ms and image
+// error both at most its own with one of them lower (the Pareto front of predicted frame
+// time and PSNR; with max_error and no min_psnr, of frame time and quantized error).
+void mark_front(std::vector<BakeCandidate>* candidates, const BakeOptions& options);
+// Sets meets on every fine-stage candidate from the options' budgets and returns the
+// winner's index (-1: none meets): with min_psnr or max_error, the fastest predicted frame,
+// then the highest PSNR, then the fewest bytes; without, the highest PSNR, preferring within
+// tie_db of it the fewest passes, then the fewest bytes.
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& options);
 
 // The first `terms` terms of a factorization as a quantized asset with its plan;
@@ -144,12 +217,20 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& opt
 // An all-zero factorization gives the constant-zero plan (plan.h). With counts, the
 // textures' and plan's counts (zero textures, zero-scale channels, clamped codes, all_zero)
 // are added to it.
+// Radiance factors (Factored::radiance) give a format-2 radiance material with its diffuse part.
 bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetData* out, std::string* err,
                 BakeCounts* counts = nullptr);
 // The float factors an asset stands for (level 0, scale * q + bias), for measuring it.
 Factored dequantize(const AssetData& asset, const Factored& like);
-// The JSON manifest (scales, biases, parameterization, map, plan, errors).
+// What the bake fitted and judged, for the manifest ("fit").
+struct ManifestFit {
+    double white = 0;      // the radiance fit's cap; 0: none
+    std::string target;    // "gles1", ...
+    double psnr = 0;       // on the target, pooled over the views
+    std::vector<std::string> views;
+};
+// The JSON manifest (scales, biases, parameterization, map, plan, errors, and the fit).
 std::string asset_manifest(const AssetData& asset, const std::string& spec, const std::string& method, int res,
-                           const std::string& bake_key = "");
+                           const std::string& bake_key = "", const ManifestFit* fit = nullptr);
 
 }  // namespace sepal

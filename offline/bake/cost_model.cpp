@@ -6,7 +6,7 @@
 #include <Eigen/Dense>
 
 #include "util/io.h"
-#include "util/json_read.h"
+#include "util/json.h"
 
 namespace sepal {
 
@@ -98,42 +98,41 @@ bool default_cost_model(const std::string& backend, CostModel* out, std::string*
 }
 
 bool read_cost_model(const std::string& path, const std::string& backend, CostModel* out, std::string* err) {
-    std::vector<uint8_t> bytes;
-    if (!read_file(path, &bytes, err, uint64_t(1) << 20)) return false;  // parse_json's limit
-    JsonValue v;
-    std::string jerr;
-    if (!parse_json(std::string(bytes.begin(), bytes.end()), &v, &jerr)) {
-        if (err) *err = path + ": " + jerr;
-        return false;
-    }
-    const JsonValue* models = v.find("cost_models");
-    if (!models || models->kind != JsonValue::Array) {
+    Json v;
+    if (!read_json_file(path, &v, err)) return false;
+    const JsonField top{v, path + ":"};
+    if (!v.is_object() || !v.contains("cost_models") || !v["cost_models"].is_array()) {
         if (err) *err = path + ": no \"cost_models\" array (write one with `make bench`)";
         return false;
     }
-    const JsonValue* device = v.find("device");
-    for (const JsonValue& m : models->array) {
-        const JsonValue* b = m.find("backend");
-        if (!b || b->kind != JsonValue::String || b->string != backend) continue;
+    const Json& models = v["cost_models"];
+    for (size_t i = 0; i < models.size(); ++i) {
+        const Json& m = models[i];
+        if (!m.is_object() || !m.contains("backend") || m["backend"] != backend) continue;
         CostModel c;
         c.backend = backend;
-        c.device = device && device->kind == JsonValue::String ? device->string : path;
-        double* fields[] = {&c.base_ms, &c.per_pass_ms, &c.per_term_ms, &c.per_kib_ms, &c.fit_error};
-        const char* names[] = {"base_ms", "per_pass_ms", "per_term_ms", "per_kib_ms", "fit_error"};
-        for (int i = 0; i < 5; ++i) {
-            const JsonValue* f = m.find(names[i]);
-            if (!f || f->kind != JsonValue::Number || !std::isfinite(f->number) || f->number < 0) {
-                if (err) *err = path + ": cost model '" + backend + "': \"" + names[i] + "\" missing or not a number >= 0";
+        c.device = path;
+        const JsonField f{m, path + ": cost_models[" + std::to_string(i) + "] ('" + backend + "')"};
+        const std::pair<const char*, double*> fields[] = {{"base_ms", &c.base_ms},
+                                                          {"per_pass_ms", &c.per_pass_ms},
+                                                          {"per_term_ms", &c.per_term_ms},
+                                                          {"per_kib_ms", &c.per_kib_ms},
+                                                          {"fit_error", &c.fit_error}};
+        for (const auto& field : fields)
+            if (!json_number(f, field.first, 0.0, 1e9, field.second, err, /*required=*/true)) return false;
+        if (!json_int(f, "rows", 0, 1 << 30, &c.rows, err) || !json_string(top, "device", &c.device, err))
+            return false;
+        if (v.contains("size")) {
+            const Json& size = v["size"];
+            int64_t w = 0, h = 0;
+            if (!size.is_array() || size.size() != 2) {
+                if (err) *err = path + ": \"size\" must be [width, height]";
                 return false;
             }
-            *fields[i] = f->number;
-        }
-        const JsonValue* rows = m.find("rows");
-        c.rows = rows && rows->kind == JsonValue::Number ? int(rows->number) : 0;
-        const JsonValue* size = v.find("size");
-        if (size && size->kind == JsonValue::Array && size->array.size() == 2) {
-            c.width = int(size->array[0].number);
-            c.height = int(size->array[1].number);
+            if (!json_to_int(size[0], path + ": size[0]", 1, 16384, &w, err) ||
+                !json_to_int(size[1], path + ": size[1]", 1, 16384, &h, err))
+                return false;
+            c.width = int(w), c.height = int(h);
         }
         *out = c;
         return true;

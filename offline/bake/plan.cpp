@@ -102,6 +102,17 @@ bool build_plan(AssetData* a, std::string* err, bool allow_all_zero) {
         }
         for (const Coef& c : {prod, tg, th, cst}) coefs.push_back(c);
     }
+    // A radiance material's diffuse part: one untextured pass whose colour the runtime
+    // multiplies by E cos(theta_i) (format 2).
+    const float* d = a->material.diffuse;
+    if (d[0] > 0 || d[1] > 0 || d[2] > 0) {
+        for (int c = 0; c < 3; ++c)
+            if (!(d[c] >= 0) || !std::isfinite(d[c])) {
+                if (err) *err = "plan: the diffuse part must be finite and >= 0";
+                return false;
+            }
+        coefs.push_back(Coef{SEPAL_OP_DIFFUSE, SEPAL_FMT_NO_TEXTURE, SEPAL_FMT_NO_TEXTURE, {d[0], d[1], d[2]}});
+    }
     // Split by sign per channel into added and subtracted passes.
     std::vector<std::pair<sepal_blend, Coef>> passes;
     for (sepal_blend blend : {SEPAL_BLEND_ADD, SEPAL_BLEND_SUBTRACT})
@@ -179,7 +190,7 @@ double plan_value(const AssetData& a, const double* q, int channel) {
     double sum = 0;
     for (const sepal_fmt_pass& p : a.passes) {
         double v = p.color[channel];
-        if (p.op != SEPAL_OP_CONSTANT) v *= q[p.tex0];
+        if (p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_TEXTURE) v *= q[p.tex0];
         if (p.op == SEPAL_OP_PRODUCT) v *= q[p.tex1];
         sum += p.blend == SEPAL_BLEND_ADD ? v : -v;
     }

@@ -19,6 +19,8 @@
 // unless f itself is negative there. Coefficients are scaled by 2^-D so that every pass
 // colour and the sum of all added passes (a bound on any partial sum, since q <= 1) stay
 // within [0,1] at unit irradiance; plan.doublings = D undoes it.
+// A radiance material's diffuse part (material.diffuse, format 2) becomes one DIFFUSE pass
+// (untextured, added; the runtime multiplies its colour by E cos(theta_i)).
 #pragma once
 #include <string>
 
@@ -40,7 +42,8 @@ bool plan_all_zero(const AssetData& asset);
 double partial_sum_peak(const AssetData& asset);
 
 // f at one point from decoded factor values, as the plan computes it (for tests):
-// sum over passes of sign * colour * operands, times 2^doublings.
+// sum over passes of sign * colour * operands, times 2^doublings (a DIFFUSE pass counts
+// its colour: the cosine the runtime multiplies it by is not included).
 double plan_value(const AssetData& asset, const double* q, int channel);
 
 }  // namespace sepal

@@ -22,6 +22,7 @@ static const std::vector<const ModelEntry*>& registry() {
         &blinn_entry(),
         &lafortune_entry(),
         &ward_entry(),
+        &ward_duer_entry(),
         &cook_torrance_entry(),
         &ashikhmin_shirley_entry(),
         &poulin_fournier_entry(),

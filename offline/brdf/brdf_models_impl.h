@@ -62,6 +62,7 @@ const ModelEntry& lafortune_entry();
 const ModelEntry& oren_nayar_entry();
 const ModelEntry& hapke_lommel_entry();
 const ModelEntry& ward_entry();
+const ModelEntry& ward_duer_entry();
 const ModelEntry& cook_torrance_entry();
 const ModelEntry& ashikhmin_shirley_entry();
 const ModelEntry& velvet_entry();

@@ -1,13 +1,37 @@
-// Command-line plumbing shared by sepal's subcommands (offline/cli/commands.cpp).
+// sepal's command line: the table of subcommands and how each declares its flags (CLI11).
 //
-// Each subcommand is a function taking its arguments and two streams and returning the
-// process exit code, so tests can run it in-process:
+// Each subcommand runs in-process with its own streams and returns the exit code, so tests
+// call it like the shell does:
 //   0 success, 1 a check failed (e.g. a tolerance), 2 bad usage or unreadable input.
+//   std::vector<std::string> args = {"lambert", "--res", "16"};
+//   int code = sepal::cmd_factor(args, sepal::CommandIO{out_file, err_file});
+//
+// Adding a command (offline/cli/cmd_foo.cpp):
+//   namespace { struct FooArgs { std::string spec; int res = 32; }; }
+//   CommandRun setup_foo(CLI::App& app) {
+//       auto a = std::make_shared<FooArgs>();
+//       app.add_option("SPEC", a->spec, "BRDF spec or measured file")->required();
+//       add_int(app, "--res", &a->res, 1, 256, "texels per side");   // cli/options.h
+//       return [a](const CommandIO& io) { return run_foo(*a, io); };
+//   }
+//   int cmd_foo(const std::vector<std::string>& args, const CommandIO& io) {
+//       return run_command("foo", args, io);
+//   }
+// plus one row in commands.cpp's table. Parsing, `--help` (generated from the declared
+// flags: every flag is listed, tests/offline/cli/cli_test.cpp checks), unknown flags and
+// bad values are handled once, in run_command: a parse error prints
+// "sepal foo: <what>" and "run 'sepal foo --help' ..." on io.err and returns 2.
+// `sepal --version` prints SEPAL_VERSION_STRING (runtime/include/sepal/sepal_version.h).
 #pragma once
 #include <cstdio>
-#include <map>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace CLI {
+class App;
+}
 
 namespace sepal {
 
@@ -19,49 +43,56 @@ struct CommandIO {
 };
 
 using CommandFn = int (*)(const std::vector<std::string>& args, const CommandIO& io);
+// What a command does once its flags are parsed.
+using CommandRun = std::function<int(const CommandIO& io)>;
+// Declares a command's flags on `app`, bound to state the returned CommandRun owns.
+using CommandSetup = CommandRun (*)(CLI::App& app);
 
 struct Command {
     const char* name;
-    const char* usage;    // one line of arguments
     const char* summary;  // one line
-    CommandFn run;
+    CommandSetup setup;
+    CommandFn run;  // cmd_<name>: run_command(name, ...)
 };
 
 // The table of subcommands (commands.cpp).
 const std::vector<Command>& commands();
-// Dispatches argv (argv[1] is the subcommand); the whole of `sepal`'s main.
+// `sepal`'s parser: every command a subcommand with its flags declared; (*runs)[i] is
+// commands()[i]'s run. For the flag-table test and for run_sepal.
+std::unique_ptr<CLI::App> make_sepal_app(std::vector<CommandRun>* runs);
+// Parses args (without the program name) and runs the command they name.
+int run_sepal_args(const std::vector<std::string>& args, const CommandIO& io);
+// The whole of `sepal`'s main.
 int run_sepal(int argc, char** argv, const CommandIO& io = CommandIO{});
+// Runs one command: run_sepal_args({name, args...}).
+int run_command(const std::string& name, const std::vector<std::string>& args, const CommandIO& io);
+// "sepal 0.9.0 (asset format 1.0)"
+std::string version_line(const char* program);
 
-// Minimal option parser: `--name value` options from a known list, `--flag` switches,
-// the rest positional. Unknown options and missing values are errors.
-class Args {
-  public:
-    Args(const std::vector<std::string>& args, const std::vector<std::string>& valued,
-         const std::vector<std::string>& switches = {});
-    bool ok() const { return error_.empty(); }
-    const std::string& error() const { return error_; }
-    const std::vector<std::string>& positional() const { return positional_; }
-    bool has(const std::string& name) const;
-    std::string get(const std::string& name, const std::string& fallback = "") const;
-    // Parses a finite number; on failure sets error() and returns false.
-    bool number(const std::string& name, double* value);
-    bool integer(const std::string& name, long* value);
-
-  private:
-    std::map<std::string, std::string> values_;
-    std::vector<std::string> positional_;
-    std::string error_;
-};
-
-// Subcommands.
+// Subcommands: setup_<name> declares the flags, cmd_<name> parses and runs.
+CommandRun setup_diff(CLI::App& app);
 int cmd_diff(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_eval(CLI::App& app);
+CommandRun setup_ist(CLI::App& app);
+int cmd_ist(const std::vector<std::string>& args, const CommandIO& io);
 int cmd_eval(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_info(CLI::App& app);
 int cmd_info(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_gen_merl(CLI::App& app);
 int cmd_gen_merl(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_factor(CLI::App& app);
 int cmd_factor(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_render(CLI::App& app);
 int cmd_render(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_bake(CLI::App& app);
 int cmd_bake(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_inspect(CLI::App& app);
 int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_bake_scene(CLI::App& app);
 int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_fit(CLI::App& app);
+int cmd_fit(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_measure(CLI::App& app);
+int cmd_measure(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

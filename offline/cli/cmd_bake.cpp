@@ -1,11 +1,15 @@
-// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--max-error E]
+// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
+//   [--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E]
 //   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "bake/bake.h"
+#include "bake/export.h"
 #include "cli/cli.h"
+#include "cli/options.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"
@@ -14,73 +18,27 @@
 namespace sepal {
 namespace {
 
-// Splits "a,b,c" and parses each with fn; false with *err naming the option.
-template <typename T, typename Fn>
-bool parse_list(const std::string& option, const std::string& text, Fn fn, std::vector<T>* out, std::string* err) {
-    out->clear();
-    size_t start = 0;
-    while (start <= text.size()) {
-        const size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        T v;
-        if (item.empty() || !fn(item, &v)) {
-            *err = "--" + option + ": '" + item + "' is not valid";
-            return false;
-        }
-        out->push_back(v);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return true;
-}
-
-bool parse_int(const std::string& s, int* v) {
-    char* end = nullptr;
-    const long x = std::strtol(s.c_str(), &end, 10);
-    if (*end || x < -1000000 || x > 1000000) return false;
-    *v = int(x);
-    return true;
-}
-
-// One PNG per texture (level 0; signed values shown through their scale and bias as
-// stored) and the manifest, for people and tools.
-bool export_asset(const AssetData& a, const std::string& dir, std::string* err) {
-    if (!make_dirs(dir, err)) return false;
-    for (size_t i = 0; i < a.textures.size(); ++i) {
-        const AssetTexture& t = a.textures[i];
-        Image img(int(t.desc.width), int(t.desc.height), int(t.desc.channels));
-        const size_t count = img.data.size();
-        for (size_t k = 0; k < count; ++k) img.data[k] = float(texel_q(t, k));
-        // Image rows go top first; texture row 0 is v = 0: flip so v grows upwards.
-        Image flipped = img;
-        const size_t row = size_t(img.width) * img.channels;
-        for (int y = 0; y < img.height; ++y)
-            std::copy(img.data.begin() + long(size_t(img.height - 1 - y) * row),
-                      img.data.begin() + long(size_t(img.height - y) * row), flipped.data.begin() + long(size_t(y) * row));
-        const std::string name = dir + "/term" + std::to_string(t.desc.term) + (t.desc.role == SEPAL_ROLE_G ? "_G" : "_H") + ".png";
-        if (!write_png(name, flipped, err)) return false;
-    }
-    return write_file_atomic(dir + "/manifest.json", a.meta.data(), a.meta.size(), err);
-}
-
 // BakeResult::counts and notes: every clamp or fallback, zeros included (never silent).
-void write_counts_json(const BakeResult& r, JsonWriter* j) {
+void add_counts_json(const BakeResult& r, Json* j) {
     const BakeCounts& c = r.counts;
-    j->key("counts").begin_object();
-    j->key("evaluations").value(c.evaluations).key("capped").value(c.capped);
-    j->key("negative_clamped").value(c.negative_clamped).key("frame_fallbacks").value(c.frame_fallbacks);
-    j->key("solver_fallbacks").value(c.solver_fallbacks).key("zero_textures").value(c.zero_textures);
-    j->key("zero_scale_channels").value(c.zero_scale_channels).key("quantize_clamped").value(c.quantize_clamped);
-    j->key("all_zero").value(c.all_zero);
-    j->key("input").begin_object();
-    j->key("values").value(c.input.values).key("nonfinite").value(c.input.nonfinite);
-    j->key("negative").value(c.input.negative).key("huge").value(c.input.huge);
-    j->key("missing").value(c.input.missing).key("filled").value(c.input.filled);
-    j->key("clamped").value(c.input.clamped).end_object();
-    j->end_object();
-    j->key("notes").begin_array();
-    for (const std::string& n : r.notes) j->value(n);
-    j->end_array();
+    (*j)["counts"] = {{"evaluations", c.evaluations},
+                      {"capped", c.capped},
+                      {"negative_clamped", c.negative_clamped},
+                      {"frame_fallbacks", c.frame_fallbacks},
+                      {"solver_fallbacks", c.solver_fallbacks},
+                      {"zero_textures", c.zero_textures},
+                      {"zero_scale_channels", c.zero_scale_channels},
+                      {"quantize_clamped", c.quantize_clamped},
+                      {"all_zero", c.all_zero},
+                      {"input",
+                       {{"values", c.input.values},
+                        {"nonfinite", c.input.nonfinite},
+                        {"negative", c.input.negative},
+                        {"huge", c.input.huge},
+                        {"missing", c.input.missing},
+                        {"filled", c.input.filled},
+                        {"clamped", c.input.clamped}}}};
+    (*j)["notes"] = r.notes;
 }
 
 void print_counts(const BakeResult& r, std::FILE* out) {
@@ -101,135 +59,194 @@ void print_counts(const BakeResult& r, std::FILE* out) {
     for (const std::string& n : r.notes) std::fprintf(out, "note: %s\n", n.c_str());
 }
 
-}  // namespace
-
-int cmd_bake(const std::vector<std::string>& argv, const CommandIO& io) {
-    // The output is given as "-o": the parser knows long options only.
-    std::vector<std::string> fixed;
-    for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
-    Args args(fixed, {"o", "param", "map", "res", "terms", "method", "colour", "bits", "max-error", "max-passes",
-                        "max-bytes", "report", "export", "threads", "supersample", "max-memory", "cap", "backend",
-                        "timings"},
-              {"no-mips"});
+struct BakeArgs {
+    std::string spec, out, report, export_dir, backend = "gles1", timings;
+    std::string white = "auto", fit = "radiance";
+    bool no_mips = false;
     BakeOptions o;
+};
+
+int run_bake(BakeArgs& args, const CommandIO& io) {
+    BakeOptions& o = args.o;
     std::string err;
     auto bad = [&](const std::string& m) {
         std::fprintf(io.err, "sepal bake: %s\n", m.c_str());
         return kExitBadInput;
     };
-    if (!args.ok()) return bad(args.error());
-    if (args.positional().size() != 1 || !args.has("o"))
-        return bad("usage: sepal bake SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] "
-                   "[--method M,..] [--colour rgb|luminance] [--bits 8,16] [--max-error E] [--max-passes P] "
-                   "[--max-bytes B] [--backend gles1|gles2-fused|cpu] [--timings tradeoff.json] [--report r.json] "
-                   "[--export DIR] [--threads N]");
-    if (args.has("param") && !parse_list<Param>("param", args.get("param"), parse_param, &o.params, &err)) return bad(err);
-    if (args.has("map") && !parse_list<HemiMap>("map", args.get("map"), parse_map, &o.maps, &err)) return bad(err);
-    if (args.has("method") && !parse_list<Method>("method", args.get("method"), parse_method, &o.methods, &err))
-        return bad(err);
-    if (args.has("res") && !parse_list<int>("res", args.get("res"), parse_int, &o.resolutions, &err)) return bad(err);
-    if (args.has("terms") && !parse_list<int>("terms", args.get("terms"), parse_int, &o.terms, &err)) return bad(err);
-    if (args.has("colour") && !parse_colour(args.get("colour"), &o.colour)) return bad("--colour: rgb or luminance");
-    long v = 0;
-    double d = 0;
-    if (args.has("bits")) {
-        if (!parse_list<int>("bits", args.get("bits"), parse_int, &o.bits, &err)) return bad(err);
-        for (int b : o.bits)
-            if (b != 8 && b != 16) return bad("--bits: 8, 16 or 8,16");
-    }
     // The frame-time model the winner minimizes: measured by `make bench` on the target
     // (--timings), else the built-in one for the backend.
-    const std::string backend = args.has("backend") ? args.get("backend") : "gles1";
-    if (args.has("timings") ? !read_cost_model(args.get("timings"), backend, &o.cost, &err)
-                            : !default_cost_model(backend, &o.cost, &err))
+    if (!args.timings.empty() ? !read_cost_model(args.timings, args.backend, &o.cost, &err)
+                              : !default_cost_model(args.backend, &o.cost, &err))
         return bad(err);
-    if (args.has("max-error")) {
-        if (!args.number("max-error", &d) || d <= 0) return bad("--max-error: a relative error > 0, e.g. 0.1");
-        o.max_error = d;
+    // What the factors hold (the image that decides is o.target).
+    if (args.white == "auto") o.white = 0;
+    else if (args.white == "none") o.white = -1;
+    else {
+        char* end = nullptr;
+        const double w = std::strtod(args.white.c_str(), &end);
+        if (args.white.empty() || *end || !std::isfinite(w) || w <= 0)
+            return bad("--white " + args.white + ": auto, none, or f cos(theta_i) per steradian > 0");
+        o.white = w;
     }
-    if (args.has("max-passes")) {
-        if (!args.integer("max-passes", &v) || v < 1) return bad("--max-passes: an integer >= 1");
-        o.max_passes = int(v);
-    }
-    if (args.has("max-bytes")) {
-        if (!args.integer("max-bytes", &v) || v < 1) return bad("--max-bytes: an integer >= 1");
-        o.max_bytes = v;
-    }
-    if (args.has("threads")) {
-        if (!args.integer("threads", &v) || v < 0 || v > 256) return bad("--threads: 0 (all cores) .. 256");
-        o.threads = int(v);
-    }
-    if (args.has("supersample")) {
-        if (!args.integer("supersample", &v) || v < 1 || v > 4) return bad("--supersample: 1..4");
-        o.supersample = int(v);
-    }
-    if (args.has("max-memory")) {
-        if (!args.number("max-memory", &d) || d <= 0) return bad("--max-memory: megabytes > 0");
-        o.max_memory_mb = d;
-    }
-    if (args.has("cap")) {
-        if (!args.number("cap", &d) || d <= 0) return bad("--cap: a value of f per steradian > 0");
-        o.cap = d;
-    }
-    o.mips = !args.has("no-mips");
+    o.radiance = args.fit == "radiance";
+    o.mips = !args.no_mips;
     o.progress = true;  // shown only when stderr is a terminal
-    std::unique_ptr<Brdf> brdf = make_brdf(args.positional()[0], &err);
+    std::unique_ptr<Brdf> brdf = make_brdf(args.spec, &err);
     if (!brdf) return bad(err);
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
-    // The candidates, for people, whether or not one won.
+    // The candidates, for people, whether or not one won: the image first, the direction-
+    // space error as a diagnostic.
     if (!r.candidates.empty())
-        std::fprintf(io.out, "%-32s %9s %9s %7s %8s %8s %s\n", "candidate", "err float", "err quant", "passes", "bytes",
-                     "ms", "(* on the front)");
+        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
+                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
+        const std::string label = c.label() + (c.coarse ? " (c)" : "");
         if (!c.ok) {
-            std::fprintf(io.out, "%-32s  skipped: %s\n", c.label().c_str(), c.note.c_str());
+            std::fprintf(io.out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
         }
-        std::fprintf(io.out, "%-32s %9.4f %9.4f %7d %8lld %8.2f %s %s%s\n", c.label().c_str(), c.error_float,
-                     c.error_quantized, c.passes, (long long)c.bytes, c.ms, c.on_front ? "*" : " ",
+        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
+                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
+                     c.on_front ? "*" : " ",
                      int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
                      c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
     }
-    if (args.has("report")) {
-        JsonWriter j;
-        j.begin_object().key("spec").value(brdf->spec()).key("seconds").value(r.seconds);
-        j.key("budgets").begin_object();
-        j.key("max_error").value(o.max_error).key("max_passes").value(o.max_passes).key("max_bytes").value(o.max_bytes);
-        j.end_object();
-        j.key("cost_model").begin_object().key("backend").value(r.cost.backend).key("device").value(r.cost.device);
-        j.key("base_ms").value(r.cost.base_ms).key("per_pass_ms").value(r.cost.per_pass_ms);
-        j.key("per_term_ms").value(r.cost.per_term_ms).key("per_kib_ms").value(r.cost.per_kib_ms);
-        j.key("fit_error").value(r.cost.fit_error).end_object();
-        j.key("winner").value(r.winner).key("why").value(r.why);
-        j.key("candidates").begin_array();
+    if (!r.views.empty()) {
+        std::string names;
+        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
+        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the views %s; (c): coarse stage\n",
+                     target_name(r.target), names.c_str());
+    }
+    if (!args.report.empty()) {
+        Json j;
+        j["spec"] = brdf->spec();
+        j["seconds"] = r.seconds;
+        j["target"] = target_name(r.target);
+        j["white_level"] = r.white;
+        j["diffuse"] = {r.diffuse.scale.x, r.diffuse.scale.y, r.diffuse.scale.z};
+        j["diffuse_profile_side"] = r.diffuse.side;
+        j["views"] = r.views;
+        j["budgets"] = {{"max_error", o.max_error},
+                        {"max_passes", o.max_passes},
+                        {"max_bytes", o.max_bytes},
+                        {"min_psnr", o.min_psnr}};
+        j["cost_model"] = {{"backend", r.cost.backend},         {"device", r.cost.device},
+                           {"base_ms", r.cost.base_ms},         {"per_pass_ms", r.cost.per_pass_ms},
+                           {"per_term_ms", r.cost.per_term_ms}, {"per_kib_ms", r.cost.per_kib_ms},
+                           {"fit_error", r.cost.fit_error}};
+        j["winner"] = r.winner;
+        j["why"] = r.why;
+        j["candidates"] = Json::array();
         for (const BakeCandidate& c : r.candidates) {
-            j.begin_object().key("label").value(c.label()).key("param").value(param_name(c.param));
-            j.key("map").value(map_name(c.map)).key("res").value(c.res).key("terms").value(c.terms).key("bits").value(c.bits);
-            j.key("method").value(method_name(c.method)).key("ok").value(c.ok);
-            if (!c.ok) j.key("note").value(c.note);
-            j.key("error_float_relative").value(c.error_float).key("error_quantized_relative").value(c.error_quantized);
-            j.key("rms_quantized").value(c.rms_quantized).key("passes").value(c.passes);
-            j.key("doublings").value(c.doublings).key("non_negative").value(c.non_negative);
-            j.key("bytes").value(c.bytes).key("ms_predicted").value(c.ms).key("on_front").value(c.on_front);
-            j.key("meets").value(c.meets).end_object();
+            Json x = {{"label", c.label()}, {"param", param_name(c.param)}, {"map", map_name(c.map)},
+                      {"res", c.res},       {"res_h", c.res_h > 0 ? c.res_h : c.res},
+                      {"terms", c.terms},   {"bits", c.bits},
+                      {"method", method_name(c.method)}, {"ok", c.ok}, {"coarse", c.coarse}};
+            x["psnr"] = c.psnr;
+            x["psnr_views"] = c.psnr_views;
+            if (!c.ok) x["note"] = c.note;
+            x["error_float_relative"] = c.error_float;
+            x["error_quantized_relative"] = c.error_quantized;
+            x["rms_quantized"] = c.rms_quantized;
+            x["passes"] = c.passes;
+            x["doublings"] = c.doublings;
+            x["non_negative"] = c.non_negative;
+            x["bytes"] = c.bytes;
+            x["ms_predicted"] = c.ms;
+            x["on_front"] = c.on_front;
+            x["factor_seconds"] = c.factor_seconds;
+            x["meets"] = c.meets;
+            j["candidates"].push_back(std::move(x));
         }
-        j.end_array();
-        write_counts_json(r, &j);
-        j.end_object();
+        add_counts_json(r, &j);
         std::string werr;
-        if (!write_file_atomic(args.get("report"), j.str().data(), j.str().size(), &werr)) return bad(werr);
+        if (!write_json_file(args.report, j, &werr)) return bad(werr);
     }
     if (!ok) return bad(err);
-    if (!write_asset(args.get("o"), r.asset, &err)) return bad(err);
-    if (args.has("export") && !export_asset(r.asset, args.get("export"), &err)) return bad(err);
+    // The asset and its export succeed or fail together (the report above is written either
+    // way: it says why a bake failed).
+    OutputGuard written;
+    if (!write_asset(args.out, r.asset, &err)) return bad(err);
+    written.add(args.out);
+    if (!args.export_dir.empty() && !export_asset(r.asset, args.export_dir, &err)) return bad(err);
+    written.commit();
     if (o.cap > 0)
         std::fprintf(io.out, "cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", o.cap,
                      100.0 * r.capped_share);
     print_counts(r, io.out);
-    std::fprintf(io.out, "winner: %s\nwrote %s (%.1f s)\n", r.why.c_str(), args.get("o").c_str(), r.seconds);
+    std::fprintf(io.out, "winner: %s\nwrote %s (%.1f s)\n", r.why.c_str(), args.out.c_str(), r.seconds);
     return kExitOk;
 }
+
+}  // namespace
+
+CommandRun setup_bake(CLI::App& app) {
+    auto a = std::make_shared<BakeArgs>();
+    BakeOptions& o = a->o;
+    app.add_option("SPEC", a->spec, "BRDF spec (sepal info --models) or measured file (.binary, .brdf)")->required();
+    app.add_option("-o,--output", a->out, "the asset to write (.sepal)")->required();
+    // The search space: every combination is factored once (bake.h).
+    app.add_option("--param", o.params, "parameterizations to try")
+        ->delimiter(',')->transform(param_names())->capture_default_str();
+    app.add_option("--map", o.maps, "hemisphere maps to try")->delimiter(',')->transform(map_names())->capture_default_str();
+    app.add_option("--res", o.resolutions, "texels per side to try (powers of two; default: a ladder from 32)")
+        ->delimiter(',')->check(CLI::Range(1, 256));
+    app.add_option("--terms", o.terms, "term counts to try (default: 1..4, more while below 40 dB)")
+        ->delimiter(',')->check(CLI::Range(1, 16));
+    app.add_option("--method", o.methods,
+                   "factorization methods to try (default: acls on gles1/gles2; acls and wsvd on cpu)")
+        ->delimiter(',')->transform(method_names());
+    app.add_option("--smooth-res", o.smooth_resolutions,
+                   "with --res: the other (smooth) factor's sides to try, each not above --res")
+        ->delimiter(',')->check(CLI::Range(1, 256));
+    // The image that decides and what the factors hold (bake.h, radiance.h).
+    app.add_option("--target", o.target, "the backend the asset ships on; candidates are ranked by PSNR there")
+        ->transform(target_names())->capture_default_str();
+    app.add_option("--fit", a->fit, "radiance: factor f cos(theta_i) capped at the white level, diffuse apart "
+                                    "(format 2); brdf: factor f (format 1)")
+        ->check(CLI::IsMember({"radiance", "brdf"}))->capture_default_str();
+    app.add_option("--white", a->white, "the radiance fit's cap: auto (from the views), none, or f cos per steradian")
+        ->capture_default_str();
+    app.add_option("--diffuse-quantile", o.diffuse_quantile, "the quantile of f taken as the constant diffuse part")
+        ->check(finite_range(0, 1))->capture_default_str();
+    app.add_option("--judge-size", o.judge_size, "pixels per side of the judged images")
+        ->check(CLI::Range(8, 2048))->capture_default_str();
+    app.add_option("--iters", o.iterations, "nmf/acls outer iterations per term count (0: the method's default)")
+        ->check(CLI::Range(0, 100000))->capture_default_str();
+    app.add_option("--min-psnr", o.min_psnr, "budget: dB on the target, e.g. 35")->check(positive());
+    app.add_option("--colour", o.colour, "rgb: factors per channel; luminance: one factor and a colour ratio")
+        ->transform(colour_names())->capture_default_str();
+    app.add_option("--bits", o.bits, "bits per texel channel to try: 8, 16 or 8,16")
+        ->delimiter(',')->check(CLI::IsMember({8, 16}))->capture_default_str();
+    app.add_option("--supersample", o.supersample, "S x S sub-samples per texel")
+        ->check(CLI::Range(1, 4))->capture_default_str();
+    app.add_option("--cap", o.cap, "clamp f above this value per steradian before factoring (see bake.h)")
+        ->check(positive());
+    app.add_flag("--no-mips", a->no_mips, "store level 0 only (no MIP chain)");
+    // Budgets and the frame-time model the winner minimizes.
+    app.add_option("--max-error", o.max_error, "budget: relative cosine-weighted RMS after quantization, e.g. 0.1")
+        ->check(positive());
+    app.add_option("--max-passes", o.max_passes, "budget: plan passes per light")->check(CLI::Range(1, 1 << 20));
+    app.add_option("--max-bytes", o.max_bytes, "budget: encoded asset size in bytes")
+        ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
+    // Not a fixed list: a --timings file may hold a model of any backend its sweep measured.
+    app.add_option("--backend", a->backend,
+                   "the backend whose frame time the winner minimizes: gles1, gles2-fused, cpu (built-in models) "
+                   "or one in --timings")
+        ->capture_default_str();
+    app.add_option("--timings", a->timings, "a trade-off JSON from `make bench` with measured cost models");
+    // Resources and outputs.
+    app.add_option("--threads", o.threads, "worker threads, 0 = all cores (results do not depend on it)")
+        ->check(CLI::Range(0, 256))->capture_default_str();
+    app.add_option("--max-memory", o.max_memory_mb, "refuse factorizations above this estimate, MB")
+        ->check(positive())->capture_default_str();
+    app.add_option("--report", a->report, "write every candidate, the budgets and the counts as JSON");
+    app.add_option("--export", a->export_dir, "write every texture as PNG per MIP level (16-bit for --bits 16), level 0 as PFM, and manifest.json into DIR");
+    return [a](const CommandIO& io) { return run_bake(*a, io); };
+}
+
+int cmd_bake(const std::vector<std::string>& args, const CommandIO& io) { return run_command("bake", args, io); }
 
 }  // namespace sepal

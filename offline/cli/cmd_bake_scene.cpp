@@ -7,8 +7,13 @@
 //      "param": ["gs-half"], "res": [32], "terms": [1, 2], "method": ["nmf"],
 //      "bits": 8, "cap": 2},
 //     {"name": "paint", "spec": "cornell/garnet_red.brdf"}]}
-// Only "name" and "spec" are required; the rest default as in `sepal bake`. A relative
-// measured-file spec is read relative to the scene file. Each material becomes
+// Only "name" and "spec" are required; the rest default as in `sepal bake`, plus "target"
+// ("gles1", "gles2", "cpu"), "min_psnr" (dB) and "white" (a number, "auto" or "none").
+// Optional top-level "views": the scene's views the bake judges candidates by (and takes its
+// white level from) instead of the default scene and its grazing twin, each a name and
+// scene flags as `sepal render` takes them:
+//   "views": [{"name": "hall", "flags": "--mesh torus --camera 0,-4,1.5 --light point:3,1,2:40"}]
+// A relative measured-file spec is read relative to the scene file. Each material becomes
 // DIR/<name>.sepal; one whose asset already holds the same bake key (a checksum of the
 // canonical spec, the measured file's bytes, the options and the format version) is
 // skipped. A failing material does not stop the others; the exit code says whether all
@@ -20,8 +25,10 @@
 
 #include "bake/bake.h"
 #include "cli/cli.h"
+#include "cli/options.h"
+#include "common/scene_flags.h"
 #include "util/io.h"
-#include "util/json_read.h"
+#include "util/json.h"
 #include "sepal/sepal_format.h"
 
 namespace sepal {
@@ -34,21 +41,38 @@ bool valid_name(const std::string& n) {
     return true;
 }
 
+// A member that is one value or an array of them, each parsed by fn(value, where, &t, err).
 template <typename T, typename Fn>
-bool list(const JsonValue* v, Fn parse, std::vector<T>* out, std::string* err, const char* what) {
-    if (!v) return true;
+bool list(const JsonField& f, const char* key, Fn parse, std::vector<T>* out, std::string* err) {
+    if (!f.object.contains(key)) return true;
+    const Json& v = f.object[key];
+    const std::string where = f.where + "." + key;
+    const Json items = v.is_array() ? v : Json::array({v});
+    if (items.empty()) return *err = where + ": empty list", false;
     out->clear();
-    const std::vector<JsonValue> one = {*v};
-    const std::vector<JsonValue>& items = v->kind == JsonValue::Array ? v->array : one;
-    for (const JsonValue& x : items) {
+    for (size_t i = 0; i < items.size(); ++i) {
         T t;
-        if (!parse(x, &t)) {
-            *err = std::string("bad \"") + what + "\" value";
-            return false;
-        }
+        if (!parse(items[i], v.is_array() ? where + "[" + std::to_string(i) + "]" : where, &t, err)) return false;
         out->push_back(t);
     }
-    return !out->empty() || (*err = std::string("empty \"") + what + "\" list", false);
+    return true;
+}
+
+// A string member parsed by a name parser (parse_param, ...); accepted names in the message.
+template <typename T>
+auto named(bool (*parse)(const std::string&, T*), const char* accepted) {
+    return [parse, accepted](const Json& x, const std::string& where, T* out, std::string* err) {
+        if (x.is_string() && parse(x.get<std::string>(), out)) return true;
+        *err = where + ": " + x.dump() + " is not one of " + accepted;
+        return false;
+    };
+}
+
+bool int_item(const Json& x, const std::string& where, int* out, std::string* err) {
+    int64_t v = 0;
+    if (!json_to_int(x, where, 1, 1 << 20, &v, err)) return false;
+    *out = int(v);
+    return true;
 }
 
 // The bake key already in DIR/name.sepal, or "" if there is none (or it is invalid).
@@ -57,69 +81,105 @@ std::string existing_key(const std::string& path) {
     if (!read_file(path, &bytes, nullptr, SEPAL_FMT_MAX_FILE_BYTES)) return "";
     auto a = std::make_unique<sepal_asset>();
     if (sepal_asset_parse(bytes.data(), bytes.size(), a.get(), nullptr) != SEPAL_OK || !a->meta) return "";
-    const std::string meta(a->meta, a->meta_bytes);
-    JsonValue v;
-    if (!parse_json(meta, &v, nullptr)) return "";
-    const JsonValue* k = v.find("bake_key");
-    return k && k->kind == JsonValue::String ? k->string : "";
+    Json v;
+    std::string key;
+    if (!parse_json(std::string(a->meta, a->meta_bytes), path + " META", &v, nullptr) ||
+        !json_string(JsonField{v, ""}, "bake_key", &key, nullptr))
+        return "";
+    return key;
 }
 
-}  // namespace
+struct BakeSceneArgs {
+    std::string scene, dir;
+    int threads = 0;
+    bool force = false;
+};
 
-int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
-    std::vector<std::string> fixed;
-    for (const std::string& a : argv) fixed.push_back(a == "-o" ? "--o" : a);
-    Args args(fixed, {"o", "threads"}, {"force"});
+int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
     auto bad = [&](const std::string& m) {
         std::fprintf(io.err, "sepal bake-scene: %s\n", m.c_str());
         return kExitBadInput;
     };
-    if (!args.ok()) return bad(args.error());
-    if (args.positional().size() != 1 || !args.has("o"))
-        return bad("usage: sepal bake-scene scene.json -o DIR [--threads N] [--force]");
-    long threads = 0;
-    if (args.has("threads") && (!args.integer("threads", &threads) || threads < 0 || threads > 256))
-        return bad("--threads: 0..256");
-    const std::string scene_path = args.positional()[0], dir = args.get("o");
-    std::vector<uint8_t> bytes;
+    const std::string& scene_path = args.scene;
+    const std::string& dir = args.dir;
+    const int threads = args.threads;
     std::string err;
-    if (!read_file(scene_path, &bytes, &err, 1u << 20)) return bad(err);
-    JsonValue scene;
-    if (!parse_json(std::string(bytes.begin(), bytes.end()), &scene, &err)) return bad(scene_path + ": " + err);
-    const JsonValue* mats = scene.find("materials");
-    if (scene.kind != JsonValue::Object || !mats || mats->kind != JsonValue::Array || mats->array.empty())
+    Json scene;
+    if (!read_json_file(scene_path, &scene, &err, 1u << 20)) return bad(err);
+    if (!scene.is_object() || !scene.contains("materials") || !scene["materials"].is_array() ||
+        scene["materials"].empty())
         return bad(scene_path + ": expected {\"materials\": [ ... ]} with at least one material");
-    if (mats->array.size() > 256) return bad(scene_path + ": more than 256 materials");
+    const Json& mats = scene["materials"];
+    if (mats.size() > 256) return bad(scene_path + ": more than 256 materials");
+    // The scene's own views, shared by every material (and part of each bake key).
+    std::vector<BakeView> views;
+    std::string views_key;
+    if (scene.contains("views")) {
+        const Json& vs = scene["views"];
+        if (!vs.is_array() || vs.empty() || vs.size() > 8)
+            return bad(scene_path + ": \"views\" must be a list of 1..8 {\"name\", \"flags\"} objects");
+        for (size_t i = 0; i < vs.size(); ++i) {
+            const JsonField vf{vs[i], scene_path + ": views[" + std::to_string(i) + "]"};
+            std::string vname, flags;
+            if (!vs[i].is_object() || !json_string(vf, "name", &vname, &err, true) ||
+                !json_string(vf, "flags", &flags, &err, true) || !valid_name(vname))
+                return bad(vf.where + ": needs a \"name\" (1-64 letters, digits, '_' or '-') and a \"flags\" string");
+            sepal_ports::SceneSetup setup;
+            std::vector<std::string> words;
+            for (size_t a = 0; a < flags.size();) {
+                const size_t e = flags.find(' ', a);
+                const std::string w = flags.substr(a, e == std::string::npos ? std::string::npos : e - a);
+                if (!w.empty()) words.push_back(w);
+                if (e == std::string::npos) break;
+                a = e + 1;
+            }
+            std::vector<char*> argv;
+            for (std::string& w : words) argv.push_back(&w[0]);
+            std::string ferr;
+            for (int k = 0; k < int(argv.size());) {
+                const int used = sepal_ports::parse_scene_flag(int(argv.size()), argv.data(), k, &setup, &ferr);
+                if (used <= 0)
+                    return bad(vf.where + ": " + (used < 0 ? ferr : "'" + words[size_t(k)] + "' is not a scene flag"));
+                k += used;
+            }
+            if (!sepal_ports::load_scene_mesh(&setup, &ferr)) return bad(vf.where + ": " + ferr);
+            BakeView bv;
+            bv.name = vname;
+            bv.scene = setup.scene;
+            bv.vertices.assign(setup.mesh.vertices, setup.mesh.vertices + setup.mesh.vertex_count);
+            bv.indices.assign(setup.mesh.indices, setup.mesh.indices + setup.mesh.index_count);
+            views.push_back(std::move(bv));
+            views_key += vname + "=" + flags + ";";
+        }
+    }
     if (!make_dirs(dir, &err)) return bad(err);
     const size_t slash = scene_path.find_last_of('/');
     const std::string base = slash == std::string::npos ? "" : scene_path.substr(0, slash + 1);
     int failed = 0, baked = 0, skipped = 0;
     std::vector<std::string> seen;
-    for (size_t m = 0; m < mats->array.size(); ++m) {
-        const JsonValue& mat = mats->array[m];
-        const JsonValue* name = mat.find("name");
-        const JsonValue* spec = mat.find("spec");
+    for (size_t m = 0; m < mats.size(); ++m) {
+        const Json& mat = mats[m];
         std::string label = "material " + std::to_string(m);
+        const JsonField f{mat, scene_path + ": materials[" + std::to_string(m) + "]"};
         auto material_fail = [&](const std::string& why) {
             std::fprintf(io.out, "%-20s FAILED: %s\n", label.c_str(), why.c_str());
             ++failed;
         };
-        if (mat.kind != JsonValue::Object || !name || name->kind != JsonValue::String || !spec ||
-            spec->kind != JsonValue::String) {
-            material_fail("needs string \"name\" and \"spec\"");
+        std::string name, spec_text, perr;
+        if (!json_string(f, "name", &name, &perr, true) || !json_string(f, "spec", &spec_text, &perr, true)) {
+            material_fail(perr);
             continue;
         }
-        label = name->string;
-        if (!valid_name(name->string)) {
+        label = name;
+        if (!valid_name(name)) {
             material_fail("name must be 1-64 letters, digits, '_' or '-'");
             continue;
         }
-        if (std::find(seen.begin(), seen.end(), name->string) != seen.end()) {
+        if (std::find(seen.begin(), seen.end(), name) != seen.end()) {
             material_fail("duplicate name");
             continue;
         }
-        seen.push_back(name->string);
-        std::string spec_text = spec->string;
+        seen.push_back(name);
         const std::string ext = file_extension(spec_text);
         std::vector<uint8_t> measured;
         if (spec_text.find(':') == std::string::npos && (ext == "binary" || ext == "brdf")) {
@@ -131,50 +191,44 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
         }
         BakeOptions o;
         o.threads = int(threads);
-        std::string perr;
-        auto num = [](const JsonValue& x, double* d) {
-            if (x.kind != JsonValue::Number) return false;
-            *d = x.number;
-            return true;
-        };
-        auto integer = [](const JsonValue& x, int* v) {
-            if (x.kind != JsonValue::Number || x.number != std::floor(x.number) || std::fabs(x.number) > 1e6) return false;
-            *v = int(x.number);
-            return true;
-        };
-        auto str = [](auto fn) {
-            return [fn](const JsonValue& x, auto* out) { return x.kind == JsonValue::String && fn(x.string, out); };
-        };
-        double d = 0;
-        bool ok = list<Param>(mat.find("param"), str(parse_param), &o.params, &perr, "param") &&
-                  list<HemiMap>(mat.find("map"), str(parse_map), &o.maps, &perr, "map") &&
-                  list<Method>(mat.find("method"), str(parse_method), &o.methods, &perr, "method") &&
-                  list<int>(mat.find("res"), integer, &o.resolutions, &perr, "res") &&
-                  list<int>(mat.find("terms"), integer, &o.terms, &perr, "terms");
-        for (const char* key : {"max_error", "max_passes", "max_bytes", "bits", "cap"}) {
-            const JsonValue* v = mat.find(key);
-            if (!ok || !v) continue;
-            if (!num(*v, &d) || !(d > 0)) {
-                ok = false;
-                perr = std::string("\"") + key + "\" must be a number > 0";
-                break;
-            }
-            if (!std::strcmp(key, "max_error")) o.max_error = d;
-            if (!std::strcmp(key, "max_passes")) o.max_passes = int(d);
-            if (!std::strcmp(key, "max_bytes")) o.max_bytes = int64_t(d);
-            if (!std::strcmp(key, "cap")) o.cap = d;
-            if (!std::strcmp(key, "bits")) {
-                if (d != 8 && d != 16) ok = false, perr = "\"bits\" must be 8 or 16";
-                o.bits = {int(d)};
-            }
-        }
-        for (const auto& member : mat.object) {
-            static const char* const kKnown[] = {"name", "spec", "param", "map", "method", "res", "terms",
-                                                 "max_error", "max_passes", "max_bytes", "bits", "cap"};
+        o.views = views;
+        static const char* const kKnown[] = {"name",       "spec",      "param", "map",  "method", "res",
+                                             "terms",      "max_error", "max_passes", "max_bytes", "bits", "cap",
+                                             "target",     "white",     "min_psnr"};
+        bool ok = true;
+        for (const auto& member : mat.items()) {
             bool known = false;
-            for (const char* k : kKnown) known = known || member.first == k;
-            if (!known && ok) ok = false, perr = "unknown key \"" + member.first + "\"";
+            for (const char* k : kKnown) known = known || member.key() == k;
+            if (!known && ok) {
+                ok = false;
+                perr = f.where + ": unknown key \"" + member.key() + "\" (known: name, spec, param, map, method, "
+                       "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr)";
+            }
         }
+        int bits = 8;
+        ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, rusinkiewicz, elev-azim"), &o.params, &perr) &&
+             list<HemiMap>(f, "map", named(parse_map, "xy, parabolic"), &o.maps, &perr) &&
+             list<Method>(f, "method", named(parse_method, "acls, wsvd, svd, nmf, nd"), &o.methods, &perr) &&
+             list<int>(f, "res", int_item, &o.resolutions, &perr) && list<int>(f, "terms", int_item, &o.terms, &perr) &&
+             json_number(f, "max_error", 1e-12, 1e12, &o.max_error, &perr) &&
+             json_int(f, "max_passes", 1, 1 << 20, &o.max_passes, &perr) &&
+             json_int(f, "max_bytes", int64_t(1), int64_t(1) << 40, &o.max_bytes, &perr) &&
+             json_int(f, "bits", 8, 16, &bits, &perr) && json_number(f, "cap", 1e-12, 1e30, &o.cap, &perr) &&
+             json_number(f, "min_psnr", 1e-3, 1e3, &o.min_psnr, &perr);
+        std::string target, white;
+        if (ok && json_string(f, "target", &target, &perr) && !target.empty() && !parse_target(target, &o.target))
+            ok = false, perr = f.where + ".target: \"" + target + "\" is not one of gles1, gles2, cpu";
+        if (ok && mat.contains("white")) {
+            if (mat["white"].is_string()) {
+                if (!json_string(f, "white", &white, &perr)) ok = false;
+                else if (white == "auto" || white == "none") o.white = white == "none" ? -1 : 0;
+                else ok = false, perr = f.where + ".white: \"" + white + "\" is not auto, none or a number > 0";
+            } else {
+                ok = json_number(f, "white", 1e-12, 1e30, &o.white, &perr);
+            }
+        }
+        if (ok && bits != 8 && bits != 16) ok = false, perr = f.where + ".bits: " + std::to_string(bits) + " is not 8 or 16";
+        o.bits = {bits};
         if (!ok) {
             material_fail(perr);
             continue;
@@ -193,16 +247,16 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
         for (int r : o.resolutions) desc += std::to_string(r) + ",";
         for (int t : o.terms) desc += std::to_string(t) + ",";
         char tail[160];
-        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g", o.max_error, o.max_passes, (long long)o.max_bytes,
-                      o.bits[0], o.cap);
-        desc += tail;
+        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|", o.max_error, o.max_passes,
+                      (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr);
+        desc += tail + views_key;
         uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
         crc = sepal_crc32(crc, measured.data(), measured.size());
         char key[16];
         std::snprintf(key, sizeof key, "%08x", crc);
         o.key = key;
-        const std::string out_path = dir + "/" + name->string + ".sepal";
-        if (!args.has("force") && existing_key(out_path) == key) {
+        const std::string out_path = dir + "/" + name + ".sepal";
+        if (!args.force && existing_key(out_path) == key) {
             std::fprintf(io.out, "%-20s up to date (%s)\n", label.c_str(), out_path.c_str());
             ++skipped;
             continue;
@@ -213,14 +267,33 @@ int cmd_bake_scene(const std::vector<std::string>& argv, const CommandIO& io) {
             continue;
         }
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
-        std::fprintf(io.out, "%-20s baked %s: %s, error %.4g, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
-                     out_path.c_str(), w.label().c_str(), w.error_quantized, w.passes, (long long)w.bytes, r.seconds);
+        std::fprintf(io.out, "%-20s baked %s: %s, %.2f dB on %s, %d passes, %lld bytes (%.1f s)\n", label.c_str(),
+                     out_path.c_str(), w.label().c_str(), w.psnr, target_name(r.target), w.passes, (long long)w.bytes,
+                     r.seconds);
         // Clamps, replacements and fallbacks (bake.h, BakeCounts): never silent.
         for (const std::string& n : r.notes) std::fprintf(io.out, "%-20s note: %s\n", "", n.c_str());
         ++baked;
     }
     std::fprintf(io.out, "%d baked, %d up to date, %d failed\n", baked, skipped, failed);
     return failed ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace
+
+CommandRun setup_bake_scene(CLI::App& app) {
+    auto a = std::make_shared<BakeSceneArgs>();
+    app.add_option("SCENE", a->scene, "scene file (JSON): {\"materials\": [{\"name\", \"spec\", budgets...}]}")
+        ->required();
+    app.add_option("-o,--output", a->dir, "folder for the assets (DIR/<name>.sepal)")->required();
+    app.add_option("--threads", a->threads, "worker threads, 0 = all cores")
+        ->check(CLI::Range(0, 256))
+        ->capture_default_str();
+    app.add_flag("--force", a->force, "bake every material, even the up-to-date ones");
+    return [a](const CommandIO& io) { return run_bake_scene(*a, io); };
+}
+
+int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io) {
+    return run_command("bake-scene", args, io);
 }
 
 }  // namespace sepal

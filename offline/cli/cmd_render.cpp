@@ -1,69 +1,104 @@
-// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu
-//   [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
+// sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu|
+//   gles1-model|gles2-model [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
 #include <chrono>
+#include <memory>
 #include <cstring>
 
 #include "cli/cli.h"
+#include "cli/options.h"
 #include "util/io.h"
 #include "reference/render_exact.h"
+#include "sepal/sepal_format.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "cli/scene_options.h"
 
 namespace sepal {
 
-int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
+namespace {
+
+struct RenderArgs {
     sepal_ports::SceneSetup setup;
-    std::string backend = "exact", out_path, float_path, mask_text, diffuse_path, err;
+    std::string input, backend, out_path, float_path, mask_text, diffuse_path;
     bool float_target = false;
-    std::vector<std::string> positional;
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    const int argc = int(argv.size());
-    for (int i = 0; i < argc; ++i) {
-        const int used = sepal_ports::parse_scene_flag(argc, argv.data(), i, &setup, &err);
-        if (used < 0) {
+};
+
+// Without --backend: a BRDF renders exactly; an asset on what it was baked for, GL ES 1.1,
+// or the CPU backend when its parameterization needs per-pixel evaluation (gles1 refuses it).
+bool default_backend(const std::string& input, std::string* backend, std::string* why, std::string* err) {
+    if (file_extension(input) != "sepal") {
+        *backend = "exact";
+        *why = "the default for a BRDF";
+        return true;
+    }
+    std::vector<uint8_t> bytes;
+    if (!sepal_ports::read_asset_file(input, &bytes, err)) return false;
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e{};
+    if (sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) != SEPAL_OK) {
+        *err = input + ": not a valid asset: " + e.message;
+        return false;
+    }
+    const uint32_t p = asset->material.param;
+    const bool per_vertex = p == SEPAL_PARAM_IV || p == SEPAL_PARAM_GS_HALF || p == SEPAL_PARAM_VH;
+    *backend = per_vertex ? "gles1" : "cpu";
+    *why = per_vertex ? "the default for an asset" : "its parameterization needs per-pixel evaluation, which gles1 lacks";
+    return true;
+}
+
+int run_render(RenderArgs& args, const CommandIO& io) {
+    sepal_ports::SceneSetup& setup = args.setup;
+    std::string chosen_why;
+    if (args.backend.empty()) {
+        std::string err;
+        if (!default_backend(args.input, &args.backend, &chosen_why, &err)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
-        if (used > 0) {
-            i += used - 1;
-            continue;
-        }
-        const std::string a = args[size_t(i)];
-        const bool has_value = i + 1 < argc;
-        if ((a == "--backend" || a == "-o" || a == "--float" || a == "--mask" || a == "--diffuse") && !has_value) {
-            std::fprintf(io.err, "sepal render: %s needs a value\n", a.c_str());
-            return kExitBadInput;
-        }
-        if (a == "--backend") {
-            backend = args[size_t(++i)];
-        } else if (a == "-o") {
-            out_path = args[size_t(++i)];
-        } else if (a == "--float") {
-            float_path = args[size_t(++i)];
-        } else if (a == "--float-target") {
-            float_target = true;
-        } else if (a == "--mask") {
-            mask_text = args[size_t(++i)];
-        } else if (a == "--diffuse") {
-            diffuse_path = args[size_t(++i)];
-        } else if (a.size() > 1 && a[0] == '-') {
-            std::fprintf(io.err, "sepal render: unknown option %s\nscene flags:\n%s", a.c_str(),
-                         sepal_ports::scene_flags_help());
-            return kExitBadInput;
-        } else {
-            positional.push_back(a);
-        }
-    }
-    if (positional.size() != 1 || (out_path.empty() && float_path.empty())) {
+        if (args.backend != "exact")  // an asset: say which of several backends it got
+            std::fprintf(io.out, "backend    %s: %s (--backend picks another)\n", args.backend.c_str(),
+                         chosen_why.c_str());
+    } else if (args.backend == "exact" && file_extension(args.input) == "sepal") {
         std::fprintf(io.err,
-                     "usage: sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|"
-                     "gles2-fused-pixel|cpu [--mask LIST] [--diffuse PNG] [scene flags] -o out.png "
-                     "[--float out.pfm]\nscene flags:\n%s",
-                     sepal_ports::scene_flags_help());
+                     "sepal render: %s is a baked asset; --backend exact renders a BRDF spec or measured file. "
+                     "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, gles1-model, gles2-model) or leave "
+                     "--backend out\n",
+                     args.input.c_str());
+        return kExitBadInput;
+    }
+    const std::string& backend = args.backend;
+    const std::string& out_path = args.out_path;
+    const std::string& float_path = args.float_path;
+    const std::string& mask_text = args.mask_text;
+    const std::string& diffuse_path = args.diffuse_path;
+    const bool float_target = args.float_target;
+    std::string err;
+    if (out_path.empty() && float_path.empty()) {
+        std::fprintf(io.err, "sepal render: give -o out.png or --float out.pfm\n");
         return kExitBadInput;
     }
     sepal_ports::GlRenderOptions opt;
+    const bool model = backend == "gles1-model" || backend == "gles2-model";
+    if (model) {
+        // The GL ES 1.1 emulator: what gles1 (or the gles2 multipass path) shows, on the CPU.
+        std::vector<uint8_t> bytes, rgba;
+        uint32_t mask = 0;
+        sepal_draw_stats stats = {};
+        if (!diffuse_path.empty() || !float_path.empty() || float_target || out_path.empty())
+            err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
+        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
+            !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(args.input, &bytes, &err) ||
+            !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
+                                                mask, &rgba, &err, &stats) ||
+            !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
+                     backend.c_str(), setup.width, setup.height, stats.doublings);
+        std::fprintf(io.out, "png        %s\n", out_path.c_str());
+        return kExitOk;
+    }
     if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") {
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
@@ -77,11 +112,11 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         if (float_target && opt.gles_version != 2) err = "--float-target needs a gles2 backend";
         if (!float_path.empty() && backend != "cpu" && !float_target)
             err = "--float: the GL backends render 8-bit images (add --float-target on gles2 backends)";
-        if (err.empty() && file_extension(positional[0]) != "sepal")
-            err = "backend " + backend + " renders a baked asset (.sepal); '" + positional[0] + "' is not one";
+        if (err.empty() && file_extension(args.input) != "sepal")
+            err = "backend " + backend + " renders a baked asset (.sepal); '" + args.input + "' is not one";
         if (!err.empty() || !sepal_ports::parse_mask(mask_text, &opt.mask, &err) ||
             !sepal_ports::load_scene_mesh(&setup, &err) ||
-            !sepal_ports::read_asset_file(positional[0], &bytes, &err)) {
+            !sepal_ports::read_asset_file(args.input, &bytes, &err)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
@@ -95,11 +130,13 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
             Image img(setup.width, setup.height, 3);
             img.data = rgb;
             int64_t clipped = 0;
-            if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+            OutputGuard written;
+            if ((!out_path.empty() && !(write_png(out_path, img, &err, &clipped) && written.add(out_path))) ||
                 (!float_path.empty() && !write_pfm(float_path, img, &err))) {
                 std::fprintf(io.err, "sepal render: %s\n", err.c_str());
                 return kExitBadInput;
             }
+            written.commit();
             std::fprintf(io.out, "backend    cpu, %dx%d, %.1f ms\n", setup.width, setup.height, ms);
             if (!out_path.empty())
                 std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
@@ -115,10 +152,13 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
         Image fimg(setup.width, setup.height, 3);
         fimg.data = info.float_rgb;
-        if (!write_png(out_path, img, &err) || (!float_path.empty() && !write_pfm(float_path, fimg, &err))) {
+        OutputGuard written;
+        if (!write_png(out_path, img, &err) || !written.add(out_path) ||
+            (!float_path.empty() && !write_pfm(float_path, fimg, &err))) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
+        written.commit();
         std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
                      info.device.c_str());
         std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
@@ -128,7 +168,8 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         return kExitOk;
     }
     if (backend != "exact") {
-        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu)\n",
+        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, "
+                     "gles1-model, gles2-model)\n",
                      backend.c_str());
         return kExitBadInput;
     }
@@ -136,7 +177,7 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal render: --mask and --diffuse apply to the baked-asset backends only\n");
         return kExitBadInput;
     }
-    std::unique_ptr<Brdf> brdf = make_brdf(positional[0], &err);
+    std::unique_ptr<Brdf> brdf = make_brdf(args.input, &err);
     if (!brdf || !sepal_ports::load_scene_mesh(&setup, &err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
@@ -151,11 +192,13 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     int64_t clipped = 0;
-    if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+    OutputGuard written;
+    if ((!out_path.empty() && !(write_png(out_path, img, &err, &clipped) && written.add(out_path))) ||
         (!float_path.empty() && !write_pfm(float_path, img, &err))) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
+    written.commit();
     std::fprintf(io.out, "backend    exact (%s), %dx%d, %.1f ms\n", brdf->spec().c_str(), setup.width,
                  setup.height, ms);
     std::fprintf(io.out, "pixels     %lld covered, %lld back-facing, %lld degenerate frames\n",
@@ -167,5 +210,30 @@ int cmd_render(const std::vector<std::string>& args, const CommandIO& io) {
     if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
     return kExitOk;
 }
+
+}  // namespace
+
+CommandRun setup_render(CLI::App& app) {
+    auto a = std::make_shared<RenderArgs>();
+    app.add_option("INPUT", a->input, "a BRDF spec or measured file (exact backend), or a baked .sepal asset")
+        ->required();
+    app.add_option("--backend", a->backend,
+                   "exact: the BRDF per pixel on the CPU; gles1, gles2, gles2-fused, gles2-fused-pixel: a baked "
+                   "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend; gles1-model, "
+                   "gles2-model: the GL ES pipeline emulated on the CPU (8-bit texels and framebuffer). Default: "
+                   "exact for a BRDF, gles1 for an asset (cpu when its parameterization is per-pixel only)")
+        ->check(CLI::IsMember(
+            {"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu", "gles1-model", "gles2-model"}));
+    app.add_option("-o,--output", a->out_path, "the PNG to write (8-bit, clipped to [0,1])");
+    app.add_option("--float", a->float_path, "also write linear floats as PFM (exact, cpu; GL with --float-target)");
+    app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");
+    app.add_option("--mask", a->mask_text,
+                   "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot (comma-separated)");
+    app.add_option("--diffuse", a->diffuse_path, "a diffuse texture map (PNG, power-of-two sides) modulating the material");
+    sepal::add_scene_options(app, &a->setup);
+    return [a](const CommandIO& io) { return run_render(*a, io); };
+}
+
+int cmd_render(const std::vector<std::string>& args, const CommandIO& io) { return run_command("render", args, io); }
 
 }  // namespace sepal

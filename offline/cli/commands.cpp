@@ -1,68 +1,129 @@
-// The table of `sepal` subcommands and the dispatcher.
-#include <cstring>
+// The table of `sepal` subcommands and the dispatcher (CLI11).
+#include <algorithm>
+#include <new>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
 
 #include "cli/cli.h"
+#include "sepal/sepal_format.h"
+#include "sepal/sepal_version.h"
 
 namespace sepal {
 
 const std::vector<Command>& commands() {
     static const std::vector<Command> table = {
-        {"diff", "A B [--max-diff N] [--max-share P] [--min-psnr D] [--heatmap out.png]",
-         "compare two images (PNG or PFM): PSNR, max difference, share over it", cmd_diff},
-        {"eval", "SPEC theta_i phi_i theta_o phi_o   (degrees)",
-         "evaluate a BRDF at one direction pair; prints R G B", cmd_eval},
-        {"info", "SPEC", "describe a BRDF: parameters, albedo, samples and coverage", cmd_info},
-        {"gen-merl", "SPEC -o out.binary",
-         "tabulate any BRDF into a MERL-format .binary file", cmd_gen_merl},
-        {"factor",
-         "SPEC [--param P] [--map M] [--res N] [--terms K] [--method M] [--report r.json] "
-         "[--plot p.png] [--export DIR]",
-         "separable factors of a BRDF with the error per number of terms", cmd_factor},
-        {"bake",
-         "SPEC -o out.sepal [--param P,..] [--map M,..] [--res N,..] [--terms K,..] [--method M,..] "
-         "[--colour rgb|luminance] [--bits 8|16] [--max-error E] [--max-passes P] [--max-bytes B] "
-         "[--cap F] [--report r.json] [--export DIR] [--threads N]",
-         "bake a BRDF into a shipping asset: the cheapest candidate meeting the budgets", cmd_bake},
-        {"bake-scene", "scene.json -o DIR [--threads N] [--force]",
-         "bake the materials a scene lists, each with its budget; skip up-to-date ones", cmd_bake_scene},
-        {"inspect", "FILE.sepal", "validate and print an asset", cmd_inspect},
-        {"render",
-         "SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu [--mask LIST] "
-         "[--diffuse PNG] [--float-target] [scene flags] -o out.png [--float out.pfm]",
-         "render a scene: exact (a BRDF per pixel), or a baked asset on GL ES (headless) or the CPU",
-         cmd_render},
+        {"diff", "compare two images (PNG or PFM): PSNR, max difference, share over it", setup_diff, cmd_diff},
+        {"eval", "evaluate a BRDF at one direction pair; prints R G B", setup_eval, cmd_eval},
+        {"info", "describe a BRDF: parameters, albedo, samples and coverage", setup_info, cmd_info},
+        {"gen-merl", "tabulate an isotropic BRDF into a MERL-format .binary file", setup_gen_merl, cmd_gen_merl},
+        {"factor", "separable factors of a BRDF with the error per number of terms", setup_factor, cmd_factor},
+        {"bake", "bake a BRDF into a shipping asset: the cheapest candidate meeting the budgets", setup_bake,
+         cmd_bake},
+        {"bake-scene", "bake the materials a scene lists, each with its budget; skip up-to-date ones",
+         setup_bake_scene, cmd_bake_scene},
+        {"inspect", "validate and print an asset", setup_inspect, cmd_inspect},
+        {"fit", "fit a model to scattered samples: lafortune, with each parameter's 95% interval", setup_fit,
+         cmd_fit},
+        {"measure", "measure: plan, simulate, reconstruct from the MERL database (~800 samples); capture a photograph of the virtual setup",
+         setup_measure, cmd_measure},
+        {"ist", "inverse shade trees: generate an SVBRDF, decompose it into an editable tree, edit, render",
+         setup_ist, cmd_ist},
+        {"render", "render a scene: exact (a BRDF per pixel), or a baked asset on GL ES (headless) or the CPU",
+         setup_render, cmd_render},
     };
     return table;
 }
 
-static void usage(FILE* f) {
-    std::fprintf(f, "usage: sepal <command> [arguments]\n\ncommands:\n");
-    for (const Command& c : commands()) std::fprintf(f, "  %-10s %s\n", c.name, c.summary);
-    std::fprintf(f, "\n'sepal <command> --help' shows a command's arguments.\n");
+std::string version_line(const char* program) {
+    return std::string(program) + " " SEPAL_VERSION_STRING " (asset format " +
+           std::to_string(SEPAL_FMT_VERSION_MAJOR) + "." + std::to_string(SEPAL_FMT_VERSION_MINOR) + ")";
+}
+
+std::unique_ptr<CLI::App> make_sepal_app(std::vector<CommandRun>* runs) {
+    auto app = std::make_unique<CLI::App>(
+        "sepal: measured and analytic BRDFs baked into small texture pairs for fixed-function GL ES.\n"
+        "'sepal <command> --help' lists a command's flags.",
+        "sepal");
+    app->set_version_flag("--version", version_line("sepal"));
+    app->require_subcommand(1, 1);
+    app->get_formatter()->column_width(34);
+    runs->clear();
+    for (const Command& c : commands()) {
+        CLI::App* sub = app->add_subcommand(c.name, c.summary);
+        runs->push_back(c.setup(*sub));
+    }
+    return app;
+}
+
+int run_sepal_args(const std::vector<std::string>& args, const CommandIO& io) {
+    std::vector<CommandRun> runs;
+    std::unique_ptr<CLI::App> app = make_sepal_app(&runs);
+    const bool known = !args.empty() && std::any_of(commands().begin(), commands().end(),
+                                                    [&](const Command& c) { return args[0] == c.name; });
+    const std::string who = known ? "sepal " + args[0] : "sepal";
+    if (args.empty() || args[0] == "help") {
+        std::fputs(app->help().c_str(), args.empty() ? io.err : io.out);
+        return args.empty() ? kExitBadInput : kExitOk;
+    }
+    if (known && args.size() > 1 && !args[1].empty() && args[1][0] != '-') {
+        // A command made of subcommands (measure): name the ones it has.
+        const CLI::App* sub = app->get_subcommand(args[0]);
+        const auto subs = sub->get_subcommands([](const CLI::App*) { return true; });
+        if (!subs.empty() && std::none_of(subs.begin(), subs.end(), [&](const CLI::App* s) { return s->get_name() == args[1]; })) {
+            std::string names;
+            for (const CLI::App* s : subs) names += (names.empty() ? "" : ", ") + s->get_name();
+            std::fprintf(io.err, "%s: unknown subcommand '%s' (one of %s)\nrun '%s --help' for the accepted flags\n",
+                         who.c_str(), args[1].c_str(), names.c_str(), who.c_str());
+            return kExitBadInput;
+        }
+    }
+    try {
+        std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+        app->parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        std::fputs(app->help().c_str(), io.out);  // the selected subcommand's, when there is one
+        return kExitOk;
+    } catch (const CLI::CallForAllHelp&) {
+        std::fputs(app->help("", CLI::AppFormatMode::All).c_str(), io.out);
+        return kExitOk;
+    } catch (const CLI::CallForVersion&) {
+        std::fprintf(io.out, "%s\n", version_line("sepal").c_str());
+        return kExitOk;
+    } catch (const CLI::ParseError& e) {
+        // What went wrong, the usage line, and where the whole list is.
+        std::string usage;
+        const CLI::App* sub = known ? app->get_subcommand(args[0]) : app.get();
+        if (auto f = std::dynamic_pointer_cast<CLI::Formatter>(sub->get_formatter()))
+            usage = f->make_usage(sub, who);  // ends with a newline
+        std::fprintf(io.err, "%s: %s\n%srun '%s --help' for the accepted flags\n", who.c_str(), e.what(),
+                     usage.c_str(), who.c_str());
+        return kExitBadInput;
+    }
+    for (size_t i = 0; i < commands().size(); ++i)
+        if (app->got_subcommand(commands()[i].name)) {
+            // The tool boundary: an allocation that fails past every estimate is a message and
+            // exit 2, not an abort (outputs are written atomically, so none is half done).
+            try {
+                return runs[i](io);
+            } catch (const std::bad_alloc&) {
+                std::fprintf(io.err, "%s: out of memory (a larger input or setting than this machine can hold; "
+                                     "lower --res, --size or the term count)\n",
+                             who.c_str());
+                return kExitBadInput;
+            }
+        }
+    return kExitBadInput;  // require_subcommand makes this unreachable
 }
 
 int run_sepal(int argc, char** argv, const CommandIO& io) {
-    if (argc < 2) {
-        usage(io.err);
-        return kExitBadInput;
-    }
-    const char* name = argv[1];
-    if (!std::strcmp(name, "help") || !std::strcmp(name, "--help") || !std::strcmp(name, "-h")) {
-        usage(io.out);
-        return kExitOk;
-    }
-    for (const Command& c : commands()) {
-        if (std::strcmp(c.name, name) != 0) continue;
-        std::vector<std::string> args(argv + 2, argv + argc);
-        if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-            std::fprintf(io.out, "usage: sepal %s %s\n  %s\n", c.name, c.usage, c.summary);
-            return kExitOk;
-        }
-        return c.run(args, io);
-    }
-    std::fprintf(io.err, "sepal: unknown command '%s'\n", name);
-    usage(io.err);
-    return kExitBadInput;
+    return run_sepal_args(std::vector<std::string>(argv + 1, argv + argc), io);
+}
+
+int run_command(const std::string& name, const std::vector<std::string>& args, const CommandIO& io) {
+    std::vector<std::string> all = {name};
+    all.insert(all.end(), args.begin(), args.end());
+    return run_sepal_args(all, io);
 }
 
 }  // namespace sepal

@@ -1,12 +1,13 @@
 // Sampling, orchestration and output of the factorization engine (see factor.h).
 #include "factor/factor.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <numeric>
 
 #include <glm/geometric.hpp>
@@ -15,6 +16,14 @@
 #include "util/parallel.h"
 
 namespace sepal {
+
+namespace {
+// Physical memory in MB (0 when unknown).
+double physical_memory_mb() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? double(pages) * double(page) / (1024.0 * 1024.0) : 0.0;
+}
+}  // namespace
 
 using detail::LowRank;
 using detail::Matrix;
@@ -29,7 +38,7 @@ double now_seconds() {
 int channels_of(const FactorOptions& o) { return o.colour == ColourMode::PerChannel ? 3 : 1; }
 
 int count_valid(const FactorOptions& o, int which) {
-    const std::vector<uint8_t> v = valid_texels(o.param, o.map, which, o.res);
+    const std::vector<uint8_t> v = valid_texels(o.param, o.map, which, factor_res(o, which));
     return int(std::count(v.begin(), v.end(), uint8_t(1)));
 }
 }  // namespace
@@ -40,12 +49,13 @@ const char* method_name(Method m) {
         case Method::ND: return "nd";
         case Method::NMF: return "nmf";
         case Method::ACLS: return "acls";
+        case Method::WSVD: return "wsvd";
     }
     return "?";
 }
 
 bool parse_method(const std::string& name, Method* m) {
-    for (Method x : {Method::SVD, Method::ND, Method::NMF, Method::ACLS})
+    for (Method x : {Method::SVD, Method::ND, Method::NMF, Method::ACLS, Method::WSVD})
         if (name == method_name(x)) {
             *m = x;
             return true;
@@ -60,6 +70,7 @@ bool validate_factor_options(const FactorOptions& o, std::string* err) {
     };
     // 1 is allowed: a 1 x 1 factor is a constant (Lambert is exact at 1 term, 1 x 1).
     if (o.res < 1 || o.res > 256) return fail("--res must be 1..256 (texels per side)");
+    if (o.res_h < 0 || o.res_h > 256) return fail("the H factor's resolution must be 1..256 (0: --res)");
     if (o.terms < 1 || o.terms > 16) return fail("--terms must be 1..16");
     if (o.supersample < 1 || o.supersample > 4) return fail("--supersample must be 1..4");
     if (!(o.nd_p >= 1 && o.nd_p <= 16)) return fail("--p must be 1..16");
@@ -97,9 +108,11 @@ double estimate_memory_mb(const FactorOptions& o) {
         return (double(chunks) * cols * c * 2 * 8 + (rows + cols) * c * k * 8 +
                 cols * (3 * 4 + 2 + 8 * c) * 4.0 + tex) * mb;
     }
-    // the matrix (float weight x value per channel plus the float weights), the SVD's double chunk
+    // the matrix (float weight x value per channel plus the float weights; the weighted fits
+    // also hold one channel's weights and values as doubles), the SVD's double chunk
     // buffers and blocks, the ALS normal equations
-    const double matrix = double(rows) * cols * (4 * c + 4);
+    const bool weighted = o.method == Method::NMF || o.method == Method::ACLS || (o.method == Method::SVD && o.svd_weighted);
+    const double matrix = double(rows) * cols * (4 * c + 4 + (weighted ? 16 : 0));
     const double l = k + 8;
     const double svd = 2.0 * 64 * std::max(rows, cols) * 8 * 2 + 6.0 * (rows + cols) * l * 8;
     const double als = double(std::max(rows, cols)) * (k * k + k + 1) * 8 * 2;
@@ -107,43 +120,9 @@ double estimate_memory_mb(const FactorOptions& o) {
 }
 
 // ---- progress ---------------------------------------------------------------------------
-struct detail::Progress::State {
-    std::string what;
-    size_t total = 0;
-    std::atomic<size_t> done{0};
-    std::mutex mutex;
-    int shown = -1;
-};
-
-detail::Progress::Progress(bool enabled, const std::string& what, size_t total)
-    : state_(nullptr) {
-    if (!enabled || total == 0) return;
-    state_ = new State;
-    state_->what = what;
-    state_->total = total;
-}
-
-detail::Progress::~Progress() {
-    if (!state_) return;
-    std::fprintf(stderr, "\r%-60s\r", "");
-    delete state_;
-}
-
-void detail::Progress::advance() {
-    if (!state_) return;
-    const size_t d = ++state_->done;
-    const int pct = int(100.0 * double(d) / double(state_->total));
-    std::lock_guard<std::mutex> lock(state_->mutex);
-    if (pct != state_->shown) {
-        state_->shown = pct;
-        std::fprintf(stderr, "\rsepal factor: %s %3d%%", state_->what.c_str(), pct);
-        std::fflush(stderr);
-    }
-}
-
 // ---- sampling ---------------------------------------------------------------------------
 PairSampler::PairSampler(const Brdf& brdf, const FactorOptions& o)
-    : brdf_(brdf), confidence_(o.confidence), param_(o.param), map_(o.map), n_(o.res), s_(o.supersample),
+    : brdf_(brdf), confidence_(o.confidence), param_(o.param), map_(o.map), n_{factor_res(o, 0), factor_res(o, 1)}, s_(o.supersample),
       pairs_(o.supersample * o.supersample * o.supersample * o.supersample) {
     prepare(0, &row_texel_, &row_points_);
     prepare(1, &col_texel_, &col_points_);
@@ -158,16 +137,17 @@ PairSampler::PairSampler(const Brdf& brdf, const FactorOptions& o)
 }
 
 void PairSampler::prepare(int which, std::vector<int>* texels, std::vector<Point>* points) const {
-    const std::vector<uint8_t> valid = valid_texels(param_, map_, which, n_);
-    for (int t = 0; t < n_ * n_; ++t)
+    const int n = n_[which];
+    const std::vector<uint8_t> valid = valid_texels(param_, map_, which, n);
+    for (int t = 0; t < n * n; ++t)
         if (valid[size_t(t)]) texels->push_back(t);
     points->resize(texels->size() * size_t(s_) * s_);
     for (size_t k = 0; k < texels->size(); ++k) {
-        const int i = (*texels)[k] % n_, j = (*texels)[k] / n_;
+        const int i = (*texels)[k] % n, j = (*texels)[k] / n;
         for (int b = 0; b < s_; ++b)
             for (int a = 0; a < s_; ++a) {
                 Point& p = (*points)[k * s_ * s_ + size_t(b) * s_ + a];
-                const glm::dvec2 uv((i + (a + 0.5) / s_) / n_, (j + (b + 0.5) / s_) / n_);
+                const glm::dvec2 uv((i + (a + 0.5) / s_) / n, (j + (b + 0.5) / s_) / n);
                 p.valid = factor_point(param_, map_, which, uv, &p.p);
                 if (!p.valid || which != 0) continue;
                 // eq. 6's frame depends on h only: computed once per sub-sample
@@ -368,18 +348,18 @@ struct Layout {
     std::vector<uint8_t> row_has, col_has;
 };
 
-Layout make_layout(const PairSampler& s, int n, std::vector<uint8_t> row_has,
+Layout make_layout(const PairSampler& s, int n, int n_h, std::vector<uint8_t> row_has,
                    std::vector<uint8_t> col_has) {
     Layout l;
     l.row_texel = &s.row_texels();
     l.col_texel = &s.col_texels();
-    std::vector<uint8_t> kg(size_t(n) * n, 0), kh(size_t(n) * n, 0);
+    std::vector<uint8_t> kg(size_t(n) * n, 0), kh(size_t(n_h) * n_h, 0);
     for (size_t r = 0; r < row_has.size(); ++r)
         if (row_has[r]) kg[size_t((*l.row_texel)[r])] = 1;
     for (size_t c = 0; c < col_has.size(); ++c)
         if (col_has[c]) kh[size_t((*l.col_texel)[c])] = 1;
     l.dil_g = plan_dilation(n, kg);
-    l.dil_h = plan_dilation(n, kh);
+    l.dil_h = plan_dilation(n_h, kh);
     l.row_has = std::move(row_has);
     l.col_has = std::move(col_has);
     return l;
@@ -394,11 +374,11 @@ Factored build_factored(const FactorOptions& o, const std::string& source, glm::
     f.n = o.res;
     f.channels = channels_of(o);
     f.ratio = ratio;
-    f.method = method_name(o.method);
+    f.method = method_name(o.method == Method::SVD && o.svd_weighted ? Method::WSVD : o.method);
     f.source = source;
     const int k = lr[0].k, rows = int(l.row_texel->size()), cols = int(l.col_texel->size());
     for (int a = 0; a < k; ++a) {
-        FactorTerm term{FactorTexture(o.res, f.channels), FactorTexture(o.res, f.channels)};
+        FactorTerm term{FactorTexture(factor_res(o, 0), f.channels), FactorTexture(factor_res(o, 1), f.channels)};
         for (int ch = 0; ch < f.channels; ++ch) {
             const LowRank& x = lr[size_t(ch)];
             // Scale G and H to equal largest magnitudes: the product is unchanged and
@@ -634,6 +614,18 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
         if (err) *err = buf;
         return false;
     }
+    // Whatever --max-memory allows, not more than the machine has: past it the allocation
+    // fails (or the kernel kills the process) after minutes of work.
+    const double physical_mb = physical_memory_mb();
+    if (physical_mb > 0 && r.memory_mb > physical_mb) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "--method %s at --res %d needs about %.0f MB; this machine has %.0f MB of memory "
+                      "(use --method nd, --colour luminance or a lower --res)",
+                      method_name(o.method), o.res, r.memory_mb, physical_mb);
+        if (err) *err = buf;
+        return false;
+    }
     const int ch = channels_of(o), k = o.terms;
     PairSampler sampler(brdf, o);
     r.frame_fallbacks = sampler.frame_fallback_pairs();
@@ -674,8 +666,9 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
             r.notes.push_back(std::to_string(r.clamped_negative) +
                               " negative matrix entries clamped to 0 for a non-negative fit");
         lr.resize(size_t(ch));
-        const bool weighted_svd = o.method == Method::SVD && o.svd_weighted && partial;
-        if (o.method == Method::SVD && !weighted_svd) {
+        const bool svd = o.method == Method::SVD || o.method == Method::WSVD;
+        const bool weighted_svd = svd && (o.method == Method::WSVD || o.svd_weighted) && partial;
+        if (svd && !weighted_svd) {
             for (int c = 0; c < ch; ++c)
                 detail::truncated_svd(m, c, k, o.seed, o.threads, &lr[size_t(c)], nullptr);
         } else {
@@ -687,7 +680,7 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
             const int hside = half_angle_factor(o.param);
             std::vector<int> parent, order;
             if (acls && o.acls_monotonic)
-                monotone_forest(hside == 0 ? sampler.row_texels() : sampler.col_texels(), o.res,
+                monotone_forest(hside == 0 ? sampler.row_texels() : sampler.col_texels(), factor_res(o, hside),
                                 &parent, &order);
             detail::AlsSettings s;
             s.rule = acls ? detail::AlsRule::Constrained
@@ -758,7 +751,7 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
                               " solver updates fell back to 0 (a non-finite solution or no data)");
     }
 
-    const Layout layout = make_layout(sampler, o.res, row_has, col_has);
+    const Layout layout = make_layout(sampler, factor_res(o, 0), factor_res(o, 1), row_has, col_has);
     r.factored = build_factored(o, brdf.spec(), ratio, lr, layout);
     if (stages.empty()) {
         for (int kk = 1; kk <= k; ++kk) r.by_terms.push_back(r.factored.prefix(kk));

@@ -14,9 +14,11 @@
 // Decompositions (each per colour channel, or of the luminance with per-channel ratios):
 //   svd   truncated SVD, signed, of the matrix with entries below the horizon as 0 (the
 //         paper's): the top K triplets only, by randomized subspace iteration with a fixed
-//         seed; k-term results are prefixes. With svd_weighted, a weighted fit instead:
+//         seed; k-term results are prefixes.
+//   wsvd  weighted SVD (what `sepal bake` uses by default): a weighted fit instead,
 //         alternating least squares over the entries by their weight (entries wholly below
 //         the horizon by horizon_weight), one solution per term count, re-orthogonalized.
+//         The same as svd with svd_weighted (kept for existing callers).
 //   nd    normalized decomposition (Kautz-McCool 4.2) with a p-norm; multi-term on signed
 //         residuals (a row's sign is that of its correlation with the largest-norm
 //         residual row). Streams rows: memory = output; 1 + 2 (K - 1) sampling passes.
@@ -50,14 +52,18 @@
 
 namespace sepal {
 
-enum class Method { SVD, ND, NMF, ACLS };
-const char* method_name(Method m);  // "svd", "nd", "nmf", "acls"
+// WSVD last: the others keep their values.
+enum class Method { SVD, ND, NMF, ACLS, WSVD };
+const char* method_name(Method m);  // "svd", "nd", "nmf", "acls", "wsvd"
 bool parse_method(const std::string& name, Method* m);
 
 struct FactorOptions {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
     int res = 32;        // N: texels per side of each factor texture, 1..256
+    // Texels per side of the H factors when they differ from G's (0: res). A half-angle
+    // factor holds a sharp lobe where the other one is smooth: both need not pay for it.
+    int res_h = 0;
     int terms = 1;       // K, 1..16
     Method method = Method::SVD;
     ColourMode colour = ColourMode::PerChannel;
@@ -66,7 +72,7 @@ struct FactorOptions {
     int iterations = 0;   // nmf/acls: most outer iterations per term count; 0 = default
     double tolerance = 0;  // nmf/acls: stop when the error drops by less than this share
                            // per iteration; 0 = default
-    bool svd_weighted = false;   // svd: weighted fit (stages) instead of the plain SVD
+    bool svd_weighted = false;   // svd: weighted fit (stages) instead of the plain SVD: wsvd
     // Weighted fits (nmf, acls, weighted svd): entries wholly below the horizon count with
     // this weight toward 0 (the BRDF's value there); 0 leaves them out (anchored to the
     // previous term count's reconstruction).
@@ -86,6 +92,9 @@ struct FactorOptions {
     // factoring time alone turn it off.
     bool matrix_error = true;
 };
+
+// Texels per side of factor `which` (0 = G, 1 = H).
+inline int factor_res(const FactorOptions& o, int which) { return which == 1 && o.res_h > 0 ? o.res_h : o.res; }
 
 // Checks ranges and combinations; false with a message naming the option.
 bool validate_factor_options(const FactorOptions& o, std::string* err);

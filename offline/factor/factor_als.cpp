@@ -73,19 +73,36 @@ void sums_of_squares(const Matrix& m, int ch, const LowRank* anchor, double anch
         }
 }
 
-// Scratch per worker thread, kept across the passes of one solve (a pass would otherwise
-// allocate and fault in megabytes per chunk).
-struct Scratch {
-    std::vector<double> w, wm, cp, bp;  // sized once for a full chunk, viewed by Maps
+// The weights and weighted values of one channel as doubles, entries without data filled
+// in (toward 0 with the horizon weight, or toward the anchor): built once per solve, so the
+// passes are matrix products only.
+struct Weighted {
+    RowMat w, wm;
 };
 
-// All normal equations of one side in two matrix products per chunk of 64 rows (or
+void build_weighted(const Matrix& m, int ch, const LowRank* anchor, double anchor_weight, Weighted* out) {
+    out->w = Eigen::Map<const RowMatF>(m.w.data(), m.rows, m.cols).cast<double>();
+    out->wm = Eigen::Map<const RowMatF>(m.wv[size_t(ch)].data(), m.rows, m.cols).cast<double>();
+    if (!(anchor_weight > 0)) return;
+    for (int r = 0; r < m.rows; ++r)
+        for (int c = 0; c < m.cols; ++c) {
+            if (out->w(r, c) > 0) continue;
+            out->w(r, c) = anchor_weight;
+            out->wm(r, c) = anchor ? anchor_weight * anchor_value(*anchor, r, c) : 0.0;
+        }
+}
+
+// Scratch per worker thread, kept across the passes of one solve.
+struct Scratch {
+    std::vector<double> cp, bp;  // sized once for a full chunk, viewed by Maps
+};
+
+// All normal equations of one side in two matrix products per chunk of 32 rows (or
 // columns), so the work runs at GEMM speed: with P[c][ab] = h_c[a] h_c[b] (a >= b),
 //   C_r[a][b] = sum_c w_rc P[c][ab]   ->  C = W P,      b_r = (W.M) H.
-void build_normals(const Matrix& m, int ch, int side, const std::vector<double>& other, int k,
-                   const LowRank* anchor, double anchor_weight, const std::vector<double>& ssq,
-                   Normals* out, std::vector<Scratch>* scratch, int threads) {
-    const int rows = m.rows, cols = m.cols;
+void build_normals(const Weighted& wt, int side, const std::vector<double>& other, int k,
+                   const std::vector<double>& ssq, Normals* out, std::vector<Scratch>* scratch, int threads) {
+    const int rows = int(wt.w.rows()), cols = int(wt.w.cols());
     const int n = side == 0 ? rows : cols, n_other = side == 0 ? cols : rows;
     const int kk = k * (k + 1) / 2;
     out->c.assign(size_t(n) * k * k, 0.0);
@@ -96,45 +113,20 @@ void build_normals(const Matrix& m, int ch, int side, const std::vector<double>&
     for (int c = 0; c < n_other; ++c)
         for (int a = 0, q = 0; a < k; ++a)
             for (int bb = 0; bb <= a; ++bb, ++q) p(c, q) = o(c, a) * o(c, bb);
-    const Eigen::Map<const RowMatF> wf(m.w.data(), rows, cols);
-    const Eigen::Map<const RowMatF> wvf(m.wv[size_t(ch)].data(), rows, cols);
     const int step = 32;
     const size_t chunks = size_t((n + step - 1) / step);
     scratch->resize(size_t(workers(chunks, threads)));
     parallel_for_workers(chunks, threads, [&](size_t chunk, int worker) {
         const int i0 = int(chunk) * step, ni = std::min(n, i0 + step) - i0;
-        // The chunk's block, rows x columns as stored: ni x cols, or rows x ni.
         Scratch& sc = (*scratch)[size_t(worker)];
-        const size_t full = size_t(step) * n_other;
-        if (sc.w.size() < full) {
-            sc.w.resize(full), sc.wm.resize(full);
-            sc.cp.resize(size_t(step) * kk), sc.bp.resize(size_t(step) * k);
-        }
-        const int br = side == 0 ? ni : rows, bc = side == 0 ? cols : ni;
-        Eigen::Map<RowMat> w(sc.w.data(), br, bc), wm(sc.wm.data(), br, bc);
-        if (side == 0) {
-            w = wf.middleRows(i0, ni).cast<double>();
-            wm = wvf.middleRows(i0, ni).cast<double>();
-        } else {
-            w = wf.middleCols(i0, ni).cast<double>();
-            wm = wvf.middleCols(i0, ni).cast<double>();
-        }
-        if (anchor_weight > 0) {
-            for (int r = 0; r < w.rows(); ++r)
-                for (int c = 0; c < w.cols(); ++c) {
-                    if (w(r, c) > 0) continue;
-                    const int rr = side == 0 ? i0 + r : r, cc = side == 0 ? c : i0 + c;
-                    w(r, c) = anchor_weight;
-                    wm(r, c) = anchor ? anchor_weight * anchor_value(*anchor, rr, cc) : 0.0;
-                }
-        }
+        if (sc.cp.size() < size_t(step) * kk) sc.cp.resize(size_t(step) * kk), sc.bp.resize(size_t(step) * k);
         Eigen::Map<RowMat> cp(sc.cp.data(), ni, kk), bp(sc.bp.data(), ni, k);
         if (side == 0) {
-            cp.noalias() = w * p;
-            bp.noalias() = wm * o;
+            cp.noalias() = wt.w.middleRows(i0, ni) * p;
+            bp.noalias() = wt.wm.middleRows(i0, ni) * o;
         } else {
-            cp.noalias() = w.transpose() * p;
-            bp.noalias() = wm.transpose() * o;
+            cp.noalias() = wt.w.middleCols(i0, ni).transpose() * p;
+            bp.noalias() = wt.wm.middleCols(i0, ni).transpose() * o;
         }
         for (int line = 0; line < ni; ++line) {
             double* cr = &out->c[size_t(i0 + line) * k * k];
@@ -393,11 +385,13 @@ double als_solve(const Matrix& m, int channel, const AlsSettings& s, LowRank* f,
     std::vector<double> ssq_rows, ssq_cols;
     sums_of_squares(m, channel, anchor, inv_w, &ssq_rows, &ssq_cols);
     const bool rescale = s.rule != AlsRule::Sparse && !s.energy;
+    Weighted wt;
+    build_weighted(m, channel, anchor, inv_w, &wt);
     while (it < s.max_iters) {
         ++it;
-        build_normals(m, channel, 0, f->h, k, anchor, inv_w, ssq_rows, &nm, &scratch, s.threads);
+        build_normals(wt, 0, f->h, k, ssq_rows, &nm, &scratch, s.threads);
         const double penalty = solve_side(nm, &f->g, rows, k, 0, s);
-        build_normals(m, channel, 1, f->g, k, anchor, inv_w, ssq_cols, &nm, &scratch, s.threads);
+        build_normals(wt, 1, f->g, k, ssq_cols, &nm, &scratch, s.threads);
         solve_side(nm, &f->h, cols, k, 1, s);
         err = side_error(nm, f->h, cols, k) + penalty;
         if (rescale) balance(f, rows, cols, skip);
@@ -418,7 +412,9 @@ double als_project(const Matrix& m, int channel, const AlsSettings& s, LowRank* 
     sums_of_squares(m, channel, anchor, inv_w, &ssq_rows, &ssq_cols);
     Normals nm;
     std::vector<Scratch> scratch;
-    build_normals(m, channel, 0, f->h, f->k, anchor, inv_w, ssq_rows, &nm, &scratch, s.threads);
+    Weighted wt;
+    build_weighted(m, channel, anchor, inv_w, &wt);
+    build_normals(wt, 0, f->h, f->k, ssq_rows, &nm, &scratch, s.threads);
     const double penalty = solve_side(nm, &f->g, m.rows, f->k, 0, s);
     return side_error(nm, f->g, m.rows, f->k) + penalty;
 }

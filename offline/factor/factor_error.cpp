@@ -129,7 +129,7 @@ ApproxError ErrorEvaluator::measure(const Factored& f) const {
     if (!ready_) return e;
     auto term = [&](const std::vector<glm::dvec3>& ref) {
         return [&f, &ref](int64_t k, const glm::dvec3& wi, const glm::dvec3& wo, Sums* s) {
-            const glm::dvec3 d = (evaluate(f, wi, wo) - ref[size_t(k)]) * wi.z;
+            const glm::dvec3 d = evaluate_radiance(f, wi, wo) - ref[size_t(k)] * wi.z;
             const double l = luminance(d);
             s->lum += l * l;
             s->rgb += (d.x * d.x + d.y * d.y + d.z * d.z) / 3;

@@ -11,6 +11,7 @@
 #include "brdf/brdf.h"
 #include "factor/als.h"
 #include "factor/factor.h"
+#include "util/progress.h"
 
 namespace sepal {
 namespace detail {
@@ -50,7 +51,7 @@ class PairSampler {
     std::function<double(const glm::dvec3&, const glm::dvec3&)> confidence_;
     Param param_;
     HemiMap map_;
-    int n_, s_, pairs_;
+    int n_[2], s_, pairs_;  // n_: texels per side of G (0) and H (1)
     std::vector<int> row_texel_, col_texel_;
     std::vector<Point> row_points_, col_points_;  // s^2 per texel
     int64_t frame_fallback_pairs_ = 0;
@@ -68,15 +69,10 @@ bool nd_factor(const PairSampler& s, const FactorOptions& o, int channels,
                std::string* err);
 
 // Progress on stderr for long runs ("sepal factor: sampling 42%"); silent when disabled.
-class Progress {
+class Progress : public ::sepal::Progress {
   public:
-    Progress(bool enabled, const std::string& what, size_t total);
-    ~Progress();
-    void advance();  // thread-safe
-
-  private:
-    struct State;
-    State* state_;
+    Progress(bool enabled, const std::string& what, size_t total)
+        : ::sepal::Progress(enabled, "sepal factor: " + what, total) {}
 };
 
 }  // namespace detail

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sepal/sepal_format.h"
+
 namespace sepal {
 
 const char* colour_name(ColourMode c) { return c == ColourMode::PerChannel ? "rgb" : "luminance"; }
@@ -39,8 +41,10 @@ bool validate_factored(const Factored& f, std::string* err) {
         return fail("non-finite colour ratio");
     for (const FactorTerm& t : f.terms)
         for (const FactorTexture* tex : {&t.g, &t.h}) {
-            if (tex->n != f.n || tex->channels != f.channels ||
-                tex->data.size() != size_t(f.n) * f.n * f.channels)
+            // G is f.n texels per side; H may differ (FactorOptions::res_h), alike across terms.
+            const int n = tex == &t.g ? f.n : f.terms[0].h.n;
+            if (n < 1 || n > 4096 || tex->n != n || tex->channels != f.channels ||
+                tex->data.size() != size_t(n) * n * f.channels)
                 return fail("factor texture size does not match");
             for (float v : tex->data)
                 if (!std::isfinite(v)) return fail("non-finite factor value");
@@ -107,6 +111,18 @@ void evaluate_prefixes(const Factored& f, const glm::dvec3& wi, const glm::dvec3
 glm::dvec3 evaluate(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo, int terms) {
     const int k_count = terms < 0 || terms > f.term_count() ? f.term_count() : terms;
     return sum_terms(f, wi, wo, k_count, nullptr);
+}
+
+glm::dvec3 evaluate_radiance(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo, int terms) {
+    if (!(wi.z > 0) || !(wo.z > 0)) return glm::dvec3(0);
+    const glm::dvec3 sum = evaluate(f, wi, wo, terms);
+    if (!f.radiance) return sum * wi.z;
+    glm::dvec3 d = f.diffuse;
+    if (f.diffuse_side >= 2)
+        for (int c = 0; c < 3; ++c)
+            d[c] *= double(sepal_diffuse_profile(f.diffuse_profile.data(), uint32_t(f.diffuse_side), float(wi.z),
+                                                 float(wo.z), c));
+    return sum + d * wi.z;
 }
 
 }  // namespace sepal

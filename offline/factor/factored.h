@@ -58,12 +58,21 @@ struct Factored {
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
     ColourMode colour = ColourMode::PerChannel;
-    int n = 0;         // texture side
+    int n = 0;         // texture side of the G factors (H's may differ: terms[k].h.n)
     int channels = 3;  // of every texture: 3 (PerChannel) or 1 (Luminance)
     glm::dvec3 ratio{1, 1, 1};
     std::vector<FactorTerm> terms;
     std::string method;  // "svd", "nd", "nmf", "acls"
     std::string source;  // the BRDF's spec
+    // Radiance factors (the bake's, format version 2): the terms approximate
+    // f cos(theta_i) - diffuse cos(theta_i) rather than f, and f = sum / cos + diffuse.
+    // factor_brdf never sets these; evaluate() returns the sum of the terms either way.
+    bool radiance = false;
+    glm::dvec3 diffuse{0, 0, 0};
+    // Optional profile of the diffuse part over (cos theta_i, cos theta_o): side x side RGB
+    // in [0,1], the format's DIFF chunk (sepal_diffuse_profile); side 0: constant.
+    int diffuse_side = 0;
+    std::vector<float> diffuse_profile;
 
     int term_count() const { return int(terms.size()); }
     bool non_negative() const;
@@ -88,6 +97,10 @@ void bilinear_lookup(const FactorTexture& t, const glm::dvec2& uv, bool wrap, do
 // Reconstructs f(wi, wo) from the first `terms` terms (all when terms < 0).
 glm::dvec3 evaluate(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo,
                     int terms = -1);
+// The reflected radiance per unit irradiance the approximation stands for, f~ cos(theta_i):
+// evaluate() x cos(theta_i), or for radiance factors evaluate() + diffuse profile cos(theta_i).
+// 0 at or below the horizon.
+glm::dvec3 evaluate_radiance(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo, int terms = -1);
 // Every prefix at once: out[k] = the reconstruction from the first k + 1 terms;
 // out must hold term_count() values.
 void evaluate_prefixes(const Factored& f, const glm::dvec3& wi, const glm::dvec3& wo,

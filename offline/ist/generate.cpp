@@ -245,19 +245,22 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
 
 bool write_truth(const std::string& dir, const SvbrdfTruth& t, std::string* err) {
     if (!make_dirs(dir + "/truth", err)) return false;
-    JsonWriter j;
-    j.begin_object().key("format").value("sepal-svbrdf-truth").key("version").value(1);
-    j.key("materials").begin_array();
+    Json j = Json::object();
+    j["format"] = "sepal-svbrdf-truth";
+    j["version"] = 1;
+    Json& mats = j["materials"] = Json::array();
     for (int m = 0; m < t.blend.count; ++m) {
         Image img(t.blend.width, t.blend.height, 1);
         for (int i = 0; i < t.blend.width * t.blend.height; ++i) img.data[size_t(i)] = t.blend.at(i, m);
         const std::string name = "truth/blend" + std::to_string(m) + ".pfm";
         if (!write_pfm(dir + "/" + name, img, err)) return false;
-        j.begin_object().key("name").value(t.names[size_t(m)]).key("spec").value(t.bases[size_t(m)]);
-        j.key("blend").value(name).end_object();
+        Json mat = Json::object();
+        mat["name"] = t.names[size_t(m)];
+        mat["spec"] = t.bases[size_t(m)];
+        mat["blend"] = name;
+        mats.push_back(std::move(mat));
     }
-    j.end_array().end_object();
-    return write_file_atomic(dir + "/truth.json", j.str().data(), j.str().size(), err);
+    return write_json_file(dir + "/truth.json", j, err);
 }
 
 bool read_truth(const std::string& dir, SvbrdfTruth* out, std::string* err) {

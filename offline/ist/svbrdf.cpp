@@ -177,11 +177,13 @@ bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCo
 bool write_svbrdf(const std::string& dir, const Svbrdf& s, std::string* err) {
     if (!validate_svbrdf(s, err)) return false;
     if (!make_dirs(dir + "/pairs", err)) return false;
-    JsonWriter j;
-    j.begin_object().key("format").value("sepal-svbrdf").key("version").value(1);
-    j.key("width").value(s.width).key("height").value(s.height);
-    j.key("units").value("BRDF values per steradian, linear RGB; cosine not included");
-    j.key("pairs").begin_array();
+    Json j = Json::object();
+    j["format"] = "sepal-svbrdf";
+    j["version"] = 1;
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["units"] = "BRDF values per steradian, linear RGB; cosine not included";
+    Json& pairs = j["pairs"] = Json::array();
     const int np = s.pair_count();
     for (int p = 0; p < np; ++p) {
         const DirPair& d = s.pairs[size_t(p)];
@@ -196,21 +198,20 @@ bool write_svbrdf(const std::string& dir, const Svbrdf& s, std::string* err) {
         }
         const std::string name = pair_file("p", p, "pfm");
         if (!write_pfm(dir + "/" + name, img, err)) return false;
-        j.begin_object();
-        j.key("wi").begin_array().value(d.wi.x).value(d.wi.y).value(d.wi.z).end_array();
-        j.key("wo").begin_array().value(d.wo.x).value(d.wo.y).value(d.wo.z).end_array();
-        j.key("image").value(name);
+        Json pj = Json::object();
+        pj["wi"] = Json::array({d.wi.x, d.wi.y, d.wi.z});
+        pj["wo"] = Json::array({d.wo.x, d.wo.y, d.wo.z});
+        pj["image"] = name;
         if (partial) {
             const std::string cname = pair_file("c", p, "png");
             if (!write_png(dir + "/" + cname, conf, err)) return false;
-            j.key("confidence").value(cname);
+            pj["confidence"] = cname;
         }
-        if (d.view >= 0) j.key("view").value(d.view);
-        if (d.albedo_weight > 0) j.key("albedo_weight").value(d.albedo_weight);
-        j.end_object();
+        if (d.view >= 0) pj["view"] = d.view;
+        if (d.albedo_weight > 0) pj["albedo_weight"] = d.albedo_weight;
+        pairs.push_back(std::move(pj));
     }
-    j.end_array().end_object();
-    return write_file_atomic(dir + "/svbrdf.json", j.str().data(), j.str().size(), err);
+    return write_json_file(dir + "/svbrdf.json", j, err);
 }
 
 int64_t drop_samples(Svbrdf* s, double share, uint64_t seed) {

@@ -648,46 +648,56 @@ std::string curve_file(int j, int k, int i) {
 bool write_tree(const std::string& dir, const ShadeTree& t, std::string* err) {
     if (!validate_tree(t, err)) return false;
     if (!make_dirs(dir + "/blend", err) || !make_dirs(dir + "/curves", err)) return false;
-    JsonWriter j;
-    j.begin_object().key("format").value("sepal-ist-tree").key("version").value(1);
-    j.key("param").value(param_name(t.param)).key("map").value(map_name(t.map)).key("res").value(t.res);
-    j.key("provenance").value(t.provenance);
-    j.key("blend").begin_object().key("width").value(t.blend.width).key("height").value(t.blend.height);
-    j.key("maps").begin_array();
+    Json j = Json::object();
+    j["format"] = "sepal-ist-tree";
+    j["version"] = 1;
+    j["param"] = param_name(t.param);
+    j["map"] = map_name(t.map);
+    j["res"] = t.res;
+    j["provenance"] = t.provenance;
+    Json& blend = j["blend"] = Json::object();
+    blend["width"] = t.blend.width;
+    blend["height"] = t.blend.height;
+    Json& maps = blend["maps"] = Json::array();
     for (int b = 0; b < t.blend.count; ++b) {
         Image img(t.blend.width, t.blend.height, 1);
         for (int i = 0; i < t.blend.width * t.blend.height; ++i) img.data[size_t(i)] = t.blend.at(i, b);
         const std::string name = "blend/" + std::to_string(b) + ".pfm";
         if (!write_pfm(dir + "/" + name, img, err)) return false;
-        j.value(name);
+        maps.push_back(name);
     }
-    j.end_array().end_object();
-    j.key("bases").begin_array();
+    Json& bases = j["bases"] = Json::array();
     for (int b = 0; b < t.basis_count(); ++b) {
         const TreeBasis& tb = t.bases[size_t(b)];
-        j.begin_object().key("name").value(tb.name).key("source").value(tb.source);
+        Json bj = Json::object();
+        bj["name"] = tb.name;
+        bj["source"] = tb.source;
         if (size_t(b) < t.level_errors.size()) {
             const LevelErrors& le = t.level_errors[size_t(b)];
-            j.key("rms").begin_object().key("tabular").value(le.tabular).key("factors").value(le.factors);
-            j.key("curves").value(le.curves).end_object();
+            Json rms = Json::object();
+            rms["tabular"] = le.tabular;
+            rms["factors"] = le.factors;
+            rms["curves"] = le.curves;
+            bj["rms"] = std::move(rms);
         }
-        j.key("terms").begin_array();
+        Json& terms = bj["terms"] = Json::array();
         for (size_t k = 0; k < tb.terms.size(); ++k) {
-            j.begin_object().key("curves").begin_array();
+            Json curves = Json::array();
             for (int i = 0; i < 4; ++i) {
                 const std::string name = curve_file(b, int(k), i);
                 const std::string what = std::string(kCurveNames[i]) + " of basis " + std::to_string(b) + ", term " +
                                          std::to_string(k) + " (curve " + std::to_string(b) + "." +
                                          std::to_string(4 * k + size_t(i)) + ")";
                 if (!write_curve_csv(dir + "/" + name, tb.terms[k].curve(i), what, err)) return false;
-                j.value(name);
+                curves.push_back(name);
             }
-            j.end_array().end_object();
+            Json term = Json::object();
+            term["curves"] = std::move(curves);
+            terms.push_back(std::move(term));
         }
-        j.end_array().end_object();
+        bases.push_back(std::move(bj));
     }
-    j.end_array().end_object();
-    return write_file_atomic(dir + "/tree.json", j.str().data(), j.str().size(), err);
+    return write_json_file(dir + "/tree.json", j, err);
 }
 
 bool read_tree(const std::string& dir, ShadeTree* out, std::string* err) {

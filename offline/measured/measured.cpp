@@ -1,6 +1,9 @@
 #include "measured/measured.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "measured/cornell.h"
@@ -23,6 +26,15 @@ bool looks_like_merl(const std::vector<uint8_t>& b) {
     }
     return is_le || is_be;
 }
+// BRDF Explorer (Disney) also uses .brdf, for GLSL shader text: "analytic", then
+// "::begin parameters" ... "::begin shader" blocks. Cornell files are numbers and '#' comments.
+bool looks_like_brdf_explorer(const std::vector<uint8_t>& b) {
+    const std::string head(b.begin(), b.begin() + long(std::min<size_t>(b.size(), 1 << 16)));
+    size_t i = 0;
+    while (i < head.size() && std::isspace(static_cast<unsigned char>(head[i]))) ++i;
+    return head.compare(i, 8, "analytic") == 0 || head.find("::begin shader") != std::string::npos ||
+           head.find("::begin parameters") != std::string::npos;
+}
 }  // namespace
 
 std::unique_ptr<Brdf> load_measured_brdf(const std::string& path, std::string* err) {
@@ -30,6 +42,13 @@ std::unique_ptr<Brdf> load_measured_brdf(const std::string& path, std::string* e
     if (!read_file(path, &bytes, err, 64u << 20)) return nullptr;
     if (looks_like_merl(bytes) || file_extension(path) == "binary")
         return make_merl_brdf(bytes, path, err);
+    if (looks_like_brdf_explorer(bytes)) {
+        if (err)
+            *err = path + ": a BRDF Explorer file (GLSL shader text: 'analytic', '::begin shader'), not Cornell "
+                          "measured data. sepal reads measured data (Cornell .brdf, MERL .binary); for an analytic "
+                          "model give a spec such as blinn:n=20 (sepal info --models)";
+        return nullptr;
+    }
     return make_cornell_brdf(std::string(bytes.begin(), bytes.end()), path, err);
 }
 

@@ -12,7 +12,6 @@ const double kMerlScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Values beyond this (after scaling) would overflow the float table: counted as missing.
 constexpr double kHugeValue = 1e30;
 
@@ -57,15 +56,7 @@ std::string dims_text(int64_t a, int64_t b, int64_t c) {
 }
 
 HalfDiff merl_center(size_t i) {
-    const int ip = int(i % kMerlPhiD);
-    const int id = int((i / kMerlPhiD) % kMerlThetaD);
-    const int ih = int(i / (size_t(kMerlPhiD) * kMerlThetaD));
-    HalfDiff a;
-    const double u = (ih + 0.5) / kMerlThetaH;  // MERL's theta_h index is sqrt-spaced
-    a.theta_h = u * u * (kPi / 2);
-    a.theta_d = (id + 0.5) / kMerlThetaD * (kPi / 2);
-    a.phi_d = (ip + 0.5) / kMerlPhiD * kPi;
-    return a;
+    return table_cell_center(kMerlThetaH, kMerlThetaD, kMerlPhiD, ThetaHMapping::kSqrt, i);
 }
 
 class MerlBrdf : public Brdf {
@@ -152,12 +143,16 @@ bool parse_merl(const std::vector<uint8_t>& bytes, const std::string& name, Tabu
             return fail("wrong byte order: the header reads 90 x 90 x 180 only when "
                         "byte-swapped (big-endian); MERL files are little-endian");
         const bool positive = le[0] > 0 && le[1] > 0 && le[2] > 0;
-        const int64_t product = le[0] * le[1] * le[2];  // |dims| < 2^31: no overflow
-        if (positive && product == int64_t(kMerlCells))
+        // In double: three dims below 2^31 multiply past int64 (signed overflow); a double
+        // is exact up to 2^53 and only approximate (never undefined) beyond.
+        const double product = double(le[0]) * double(le[1]) * double(le[2]);
+        char product_text[40];
+        std::snprintf(product_text, sizeof product_text, product < 9007199254740992.0 ? "%.0f" : "about %.3g", product);
+        if (positive && product == double(kMerlCells))
             return fail("header dims " + dims_text(le[0], le[1], le[2]) +
                         " multiply to 1458000 but are not MERL's layout 90 x 90 x 180");
         return fail("header dims " + dims_text(le[0], le[1], le[2]) +
-                    (positive ? " (product " + std::to_string(product) + ")" : "") +
+                    (positive ? std::string(" (product ") + product_text + ")" : "") +
                     " do not match MERL's 90 x 90 x 180 = 1458000 samples");
     }
     if (bytes.size() != kMerlFileBytes)
@@ -225,7 +220,12 @@ bool read_merl(const std::string& path, Tabulated* table, MerlStats* stats, std:
     return parse_merl(bytes, path, table, stats, err);
 }
 
-bool encode_merl(const Brdf& f, std::vector<uint8_t>* bytes, std::string* err) {
+namespace {
+// Writes the header and every cell's values: value(i, rgb) fills a cell's BRDF (1/sr) and
+// returns true, or returns false for a cell without data (written as MERL's -1 marker).
+// Refuses (clearing *bytes) a negative or non-finite value, naming the cell.
+template <class CellValue>
+bool encode_cells(CellValue value, std::vector<uint8_t>* bytes, std::string* err) {
     const size_t n = kMerlCells;
     bytes->assign(kMerlFileBytes, 0);
     uint8_t* out = bytes->data();
@@ -233,11 +233,9 @@ bool encode_merl(const Brdf& f, std::vector<uint8_t>* bytes, std::string* err) {
     store_i32le(kMerlThetaD, out + 4);
     store_i32le(kMerlPhiD, out + 8);
     for (size_t i = 0; i < n; ++i) {
-        glm::dvec3 wi, wo;
-        from_half_diff(merl_center(i), &wi, &wo);
+        double rgb[3];
         double v[3] = {-1.0, -1.0, -1.0};  // MERL's marker: no data (below the horizon)
-        if (wi.z > 0.0 && wo.z > 0.0) {
-            const glm::dvec3 rgb = f.eval(wi, wo);
+        if (value(i, rgb)) {
             for (int c = 0; c < 3; ++c) {
                 if (!std::isfinite(rgb[c]) || rgb[c] < 0.0) {
                     const HalfDiff a = merl_center(i);
@@ -256,6 +254,42 @@ bool encode_merl(const Brdf& f, std::vector<uint8_t>* bytes, std::string* err) {
         for (int c = 0; c < 3; ++c) store_f64le(v[c], out + 12 + 8 * (c * n + i));
     }
     return true;
+}
+}  // namespace
+
+bool encode_merl(const Brdf& f, std::vector<uint8_t>* bytes, std::string* err) {
+    return encode_cells(
+        [&](size_t i, double rgb[3]) {
+            glm::dvec3 wi, wo;
+            from_half_diff(merl_center(i), &wi, &wo);
+            if (!(wi.z > 0.0 && wo.z > 0.0)) return false;
+            const glm::dvec3 v = f.eval(wi, wo);
+            for (int c = 0; c < 3; ++c) rgb[c] = v[c];
+            return true;
+        },
+        bytes, err);
+}
+
+bool encode_merl_table(const Tabulated& t, std::vector<uint8_t>* bytes, std::string* err) {
+    if (t.n_theta_h() != kMerlThetaH || t.n_theta_d() != kMerlThetaD || t.n_phi_d() != kMerlPhiD ||
+        t.mapping() != ThetaHMapping::kSqrt) {
+        if (err) *err = "a MERL file holds a 90 x 90 x 180 table with sqrt-spaced theta_h";
+        return false;
+    }
+    return encode_cells(
+        [&](size_t i, double rgb[3]) {
+            if (!t.usable(i)) return false;
+            const glm::dvec3 v = t.value(i);
+            for (int c = 0; c < 3; ++c) rgb[c] = v[c];
+            return true;
+        },
+        bytes, err);
+}
+
+bool write_merl_table(const std::string& path, const Tabulated& t, std::string* err) {
+    std::vector<uint8_t> bytes;
+    if (!encode_merl_table(t, &bytes, err)) return false;
+    return write_file_atomic(path, bytes.data(), bytes.size(), err);
 }
 
 bool write_merl(const std::string& path, const Brdf& f, std::string* err) {

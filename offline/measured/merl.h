@@ -51,6 +51,11 @@ bool read_merl(const std::string& path, Tabulated* table, MerlStats* stats, std:
 bool encode_merl(const Brdf& f, std::vector<uint8_t>* bytes, std::string* err);
 bool write_merl(const std::string& path, const Brdf& f, std::string* err);
 
+// Writes a MERL-layout table as it is: usable cells with their values, missing cells as -1.
+// Refuses another layout and (never writing) negative or non-finite values.
+bool encode_merl_table(const Tabulated& t, std::vector<uint8_t>* bytes, std::string* err);
+bool write_merl_table(const std::string& path, const Tabulated& t, std::string* err);
+
 // The bin-centre direction pair the writer evaluates for cell i (phi_h = 0).
 void merl_bin_center_dirs(size_t i, glm::dvec3* wi, glm::dvec3* wo);
 

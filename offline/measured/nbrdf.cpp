@@ -1,7 +1,5 @@
 #include "measured/nbrdf.h"
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -97,15 +95,6 @@ bool read_array(const nlohmann::ordered_json& m, const std::string& where, const
             if (!number(row[size_t(c)], rat + "[" + std::to_string(c) + "]")) return false;
     }
     return true;
-}
-
-std::string exe_dir() {
-    char buf[4096];
-    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-    if (n <= 0) return "";
-    std::string p(buf, size_t(n));
-    const size_t slash = p.rfind('/');
-    return slash == std::string::npos ? std::string() : p.substr(0, slash);
 }
 
 bool file_exists(const std::string& p) {
@@ -283,7 +272,7 @@ std::string nbrdf_data_path(std::string* err) {
             return "";
         }
     }
-    std::string dir = exe_dir(), tried;
+    std::string dir = executable_dir(), tried;
     for (int up = 0; up < 8 && !dir.empty(); ++up) {
         const std::string p = dir + "/data/" + rel;
         if (file_exists(p)) return p;

@@ -135,16 +135,21 @@ size_t Tabulated::cell_index(const HalfDiff& a) const {
     return index(ih, id, ip);
 }
 
-HalfDiff Tabulated::cell_center(size_t i) const {
-    const int ip = int(i % size_t(n_[2]));
-    const int id = int((i / size_t(n_[2])) % size_t(n_[1]));
-    const int ih = int(i / (size_t(n_[2]) * size_t(n_[1])));
+HalfDiff table_cell_center(int n_theta_h, int n_theta_d, int n_phi_d, ThetaHMapping mapping,
+                           size_t i) {
+    const int ip = int(i % size_t(n_phi_d));
+    const int id = int((i / size_t(n_phi_d)) % size_t(n_theta_d));
+    const int ih = int(i / (size_t(n_phi_d) * size_t(n_theta_d)));
     HalfDiff a;
-    const double uh = (ih + 0.5) / n_[0];
-    a.theta_h = (mapping_ == ThetaHMapping::kSqrt ? uh * uh : uh) * kHalfPi;
-    a.theta_d = (id + 0.5) / n_[1] * kHalfPi;
-    a.phi_d = (ip + 0.5) / n_[2] * kPi;
+    const double uh = (ih + 0.5) / n_theta_h;
+    a.theta_h = (mapping == ThetaHMapping::kSqrt ? uh * uh : uh) * kHalfPi;
+    a.theta_d = (id + 0.5) / n_theta_d * kHalfPi;
+    a.phi_d = (ip + 0.5) / n_phi_d * kPi;
     return a;
+}
+
+HalfDiff Tabulated::cell_center(size_t i) const {
+    return table_cell_center(n_[0], n_[1], n_[2], mapping_, i);
 }
 
 void Tabulated::coords(const HalfDiff& a, double c[3]) const {

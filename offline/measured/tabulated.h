@@ -48,6 +48,11 @@ void from_half_diff(const HalfDiff& a, glm::dvec3* wi, glm::dvec3* wo);
 
 enum class ThetaHMapping { kLinear, kSqrt };
 
+// The angles at the centre of cell i of an n_theta_h x n_theta_d x n_phi_d table (the layout
+// and index formulas above); Tabulated::cell_center of a table of that shape.
+HalfDiff table_cell_center(int n_theta_h, int n_theta_d, int n_phi_d, ThetaHMapping mapping,
+                           size_t i);
+
 class Tabulated {
   public:
     enum class State : uint8_t { kMissing = 0, kMeasured = 1, kFilled = 2 };

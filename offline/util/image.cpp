@@ -3,27 +3,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
 #include "util/io.h"
 
-// stb_image / stb_image_write are the project's PNG codec (Debian's libstb-dev); only the
-// PNG decoder is compiled in.
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#define STBI_NO_STDIO
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STB_IMAGE_WRITE_STATIC
-#define STBI_WRITE_NO_STDIO
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
+// stb_image / stb_image_write are the project's PNG codec (Debian's libstb-dev), compiled
+// once in third_party/stb/stb.cpp.
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
+
+#include "sepal/sepal_format.h"  // sepal_crc32: PNG's CRC-32
+
+// stb_image_write's deflate (defined in its implementation, not declared by its header):
+// the 16-bit PNG writer below feeds it the filtered rows.
+extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int data_len, int* out_len, int quality);
 
 namespace sepal {
 namespace {
@@ -62,6 +57,29 @@ bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Imag
     *out = Image(w, h, want);
     for (size_t i = 0; i < out->data.size(); ++i) out->data[i] = float(px[i]) / 255.0f;
     stbi_image_free(px);
+    return true;
+}
+
+bool decode_hdr(const std::string& path, const std::vector<uint8_t>& bytes, Image* out,
+                std::string* err) {
+    if (bytes.size() > size_t(std::numeric_limits<int>::max())) return fail(err, path + ": HDR file too large");
+    if (!stbi_is_hdr_from_memory(bytes.data(), int(bytes.size())))
+        return fail(err, path + ": not a Radiance HDR file (bad signature)");
+    int w = 0, h = 0, c = 0;
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
+        return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": HDR size " + std::to_string(w) + "x" + std::to_string(h) +
+                             " out of range 1.." + std::to_string(kMaxImageSide));
+    float* px = stbi_loadf_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 3);
+    if (!px) return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
+    *out = Image(w, h, 3);
+    std::copy(px, px + out->data.size(), out->data.begin());
+    stbi_image_free(px);
+    for (size_t i = 0; i < out->data.size(); ++i)
+        if (!std::isfinite(out->data[i]) || out->data[i] < 0)
+            return fail(err, path + ": value at pixel (" + std::to_string(i / 3 % size_t(w)) + ", " +
+                                 std::to_string(i / 3 / size_t(w)) + ") is negative or not finite");
     return true;
 }
 
@@ -145,6 +163,11 @@ bool read_pfm(const std::string& path, Image* out, std::string* err) {
     return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_pfm(path, bytes, out, err);
 }
 
+bool read_hdr(const std::string& path, Image* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_hdr(path, bytes, out, err);
+}
+
 bool write_png(const std::string& path, const Image& img, std::string* err, int64_t* clipped) {
     if (img.width < 1 || img.height < 1 || img.channels < 1 || img.channels > 4 ||
         img.data.size() != size_t(img.width) * img.height * img.channels)
@@ -163,6 +186,66 @@ bool write_png(const std::string& path, const Image& img, std::string* err, int6
                                 px.data(), img.width * img.channels))
         return fail(err, path + ": PNG encoding failed");
     return write_file_atomic(path, png.data(), png.size(), err);
+}
+
+// stb_image_write has no 16-bit PNG (the asset's 16-bit textures need one): the chunks are
+// written here, the deflate is stb's.
+bool write_png16(const std::string& path, int width, int height, int channels, const std::vector<uint16_t>& samples,
+                 std::string* err) {
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide || channels < 1 || channels > 4 ||
+        samples.size() != size_t(width) * height * channels)
+        return fail(err, path + ": cannot write an empty or malformed 16-bit image");
+    const size_t row = size_t(width) * channels * 2;
+    std::vector<uint8_t> filtered(size_t(height) * (row + 1));
+    for (int y = 0; y < height; ++y) {
+        uint8_t* out = &filtered[size_t(y) * (row + 1)];
+        *out++ = 0;  // filter: none
+        for (size_t i = 0; i < size_t(width) * channels; ++i) {
+            const uint16_t v = samples[size_t(y) * width * channels + i];
+            *out++ = uint8_t(v >> 8), *out++ = uint8_t(v & 0xff);  // big-endian
+        }
+    }
+    int zlen = 0;
+    unsigned char* z = stbi_zlib_compress(filtered.data(), int(filtered.size()), &zlen, 8);
+    if (!z) return fail(err, path + ": PNG encoding failed");
+    std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    auto be32 = [&](uint32_t v) {
+        for (int k = 3; k >= 0; --k) png.push_back(uint8_t(v >> (8 * k)));
+    };
+    auto chunk = [&](const char* type, const uint8_t* data, size_t n) {
+        be32(uint32_t(n));
+        const size_t start = png.size();
+        png.insert(png.end(), type, type + 4);
+        png.insert(png.end(), data, data + n);
+        be32(sepal_crc32(0, &png[start], n + 4));
+    };
+    static const uint8_t kColourType[5] = {0, 0, 4, 2, 6};  // by channel count
+    const uint8_t ihdr[13] = {uint8_t(width >> 24), uint8_t(width >> 16), uint8_t(width >> 8), uint8_t(width),
+                              uint8_t(height >> 24), uint8_t(height >> 16), uint8_t(height >> 8), uint8_t(height),
+                              16, kColourType[channels], 0, 0, 0};
+    chunk("IHDR", ihdr, sizeof ihdr);
+    chunk("IDAT", z, size_t(zlen));
+    chunk("IEND", nullptr, 0);
+    std::free(z);  // stb allocates with malloc (STBIW_MALLOC is not overridden)
+    return write_file_atomic(path, png.data(), png.size(), err);
+}
+
+bool read_png16(const std::string& path, int* width, int* height, int* channels, std::vector<uint16_t>* samples,
+                std::string* err) {
+    std::vector<uint8_t> bytes;
+    if (!read_file(path, &bytes, err, kMaxImageFileBytes)) return false;
+    if (!is_png(bytes)) return fail(err, path + ": not a PNG file (bad signature)");
+    if (bytes.size() > size_t(std::numeric_limits<int>::max())) return fail(err, path + ": PNG file too large");
+    int w = 0, h = 0, c = 0;
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c) || w < 1 || h < 1 ||
+        w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": corrupt PNG or size out of range 1.." + std::to_string(kMaxImageSide));
+    uint16_t* px = stbi_load_16_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 0);
+    if (!px) return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
+    samples->assign(px, px + size_t(w) * h * c);
+    stbi_image_free(px);
+    *width = w, *height = h, *channels = c;
+    return true;
 }
 
 bool write_pfm(const std::string& path, const Image& img, std::string* err) {
@@ -240,13 +323,36 @@ Image diff_heatmap(const Image& a, const Image& b, double full_scale) {
         double worst = 0;
         for (int c = 0; c < 3; ++c)
             worst = std::max(worst, std::fabs(double(ra.data[p * 3 + c]) - rb.data[p * 3 + c]) * 255.0);
-        // black -> red -> yellow -> white over [0, 1/3, 2/3, 1] of the scale.
-        const float t = float(std::min(1.0, worst / scale)) * 3.0f;
-        out.data[p * 3 + 0] = std::min(1.0f, t);
-        out.data[p * 3 + 1] = std::clamp(t - 1.0f, 0.0f, 1.0f);
-        out.data[p * 3 + 2] = std::clamp(t - 2.0f, 0.0f, 1.0f);
+        heat_colour(worst / scale, &out.data[p * 3]);
     }
     return out;
+}
+
+std::string describe_tolerance(const Tolerance& t) {
+    std::string s;
+    char buf[160];
+    if (t.max_diff >= 0 || t.max_share >= 0) {
+        const double share = t.max_share >= 0 ? t.max_share : 0.0;
+        if (share > 0)
+            std::snprintf(buf, sizeof buf, "at most %g%% of pixels over %g (8-bit units)", 100.0 * share,
+                          tolerance_threshold(t));
+        else
+            std::snprintf(buf, sizeof buf, "no pixel over %g (8-bit units)", tolerance_threshold(t));
+        s = buf;
+    }
+    if (t.min_psnr >= 0) {
+        std::snprintf(buf, sizeof buf, "PSNR >= %g dB", t.min_psnr);
+        s += (s.empty() ? "" : "; ") + std::string(buf);
+    }
+    return s;
+}
+
+void heat_colour(double t, float rgb[3]) {
+    // black -> red -> yellow -> white over [0, 1/3, 2/3, 1].
+    const float x = float(std::clamp(t, 0.0, 1.0)) * 3.0f;
+    rgb[0] = std::min(1.0f, x);
+    rgb[1] = std::clamp(x - 1.0f, 0.0f, 1.0f);
+    rgb[2] = std::clamp(x - 2.0f, 0.0f, 1.0f);
 }
 
 double tolerance_threshold(const Tolerance& t) { return t.max_diff >= 0 ? t.max_diff : 0.0; }

@@ -34,11 +34,20 @@ constexpr int kMaxImageSide = 16384;
 bool read_image(const std::string& path, Image* out, std::string* err);
 bool read_png(const std::string& path, Image* out, std::string* err);
 bool read_pfm(const std::string& path, Image* out, std::string* err);
+// Radiance .hdr (RGBE) as linear RGB floats; negative or non-finite values are refused.
+bool read_hdr(const std::string& path, Image* out, std::string* err);
 // 8-bit PNG with the image's channel count. Values outside [0,1] are clipped (an 8-bit
 // encoding has no other choice); *clipped, if given, receives how many values were.
 bool write_png(const std::string& path, const Image& img, std::string* err,
                int64_t* clipped = nullptr);
 bool write_pfm(const std::string& path, const Image& img, std::string* err);
+// 16-bit PNG: channels 1 (grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA); samples row by row,
+// top row first, interleaved. read_png16 reads any PNG into 16-bit samples (8-bit ones
+// scaled by 257).
+bool write_png16(const std::string& path, int width, int height, int channels, const std::vector<uint16_t>& samples,
+                 std::string* err);
+bool read_png16(const std::string& path, int* width, int* height, int* channels, std::vector<uint16_t>* samples,
+                std::string* err);
 // Writes by extension: .png or .pfm.
 bool write_image(const std::string& path, const Image& img, std::string* err);
 
@@ -68,6 +77,8 @@ ImageDiff diff_images(const Image& a, const Image& b, double threshold);
 // Per-pixel largest channel difference mapped through a black-red-yellow-white ramp;
 // full_scale (8-bit units) maps to white. Sizes must match.
 Image diff_heatmap(const Image& a, const Image& b, double full_scale);
+// The heatmap's ramp at t in [0, 1] (clamped): black, red, yellow, white.
+void heat_colour(double t, float rgb[3]);
 
 struct Tolerance {
     double max_diff = -1;   // per-channel threshold in 8-bit units; < 0: not set
@@ -80,5 +91,8 @@ struct Tolerance {
 bool tolerance_holds(const ImageDiff& d, const Tolerance& t, std::string* why);
 // Threshold the diff should be computed with for this tolerance.
 double tolerance_threshold(const Tolerance& t);
+// The tolerance in words ("at most 1% of pixels over 10 (8-bit units); PSNR >= 40 dB"),
+// or "" when none of its checks is set.
+std::string describe_tolerance(const Tolerance& t);
 
 }  // namespace sepal

@@ -70,6 +70,15 @@ bool make_dirs(const std::string& path, std::string* err) {
     return true;
 }
 
+std::string executable_dir() {
+    char buf[4096];
+    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n <= 0) return "";
+    const std::string p(buf, size_t(n));
+    const size_t slash = p.rfind('/');
+    return slash == std::string::npos ? std::string() : p.substr(0, slash);
+}
+
 std::string file_extension(const std::string& path) {
     const size_t slash = path.find_last_of('/');
     const size_t dot = path.find_last_of('.');
@@ -77,6 +86,10 @@ std::string file_extension(const std::string& path) {
     std::string e = path.substr(dot + 1);
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
     return e;
+}
+
+OutputGuard::~OutputGuard() {
+    for (const std::string& p : paths_) std::remove(p.c_str());
 }
 
 }  // namespace sepal

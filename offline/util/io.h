@@ -15,8 +15,32 @@ bool read_file(const std::string& path, std::vector<uint8_t>* out, std::string* 
                uint64_t max_bytes = uint64_t(1) << 31);
 bool write_file_atomic(const std::string& path, const void* data, size_t size,
                        std::string* err);
+// The files one command has written: unless commit() is called, the destructor removes them,
+// so a command that fails part-way (the second of two outputs cannot be written) leaves none
+// of its outputs behind.
+//   OutputGuard written;
+//   if (!write_png(a, ...) || !written.add(a) || !write_pfm(b, ...)) return fail;  // a removed
+//   written.commit();
+class OutputGuard {
+  public:
+    OutputGuard() = default;
+    OutputGuard(const OutputGuard&) = delete;
+    OutputGuard& operator=(const OutputGuard&) = delete;
+    ~OutputGuard();
+    bool add(const std::string& path) {  // true, to chain after a successful write
+        paths_.push_back(path);
+        return true;
+    }
+    void commit() { paths_.clear(); }
+
+  private:
+    std::vector<std::string> paths_;
+};
 // Creates a directory and its parents (like mkdir -p).
 bool make_dirs(const std::string& path, std::string* err);
+// The folder of the running executable (Linux: /proc/self/exe), or "" when unknown. Run-time
+// data (data/) and caches (build/cache) are found relative to it.
+std::string executable_dir();
 // Lower-cased extension without the dot ("png"), or "" when there is none.
 std::string file_extension(const std::string& path);
 

@@ -1,49 +1,67 @@
-// A minimal JSON writer for reports (no reader: sepal only writes JSON).
+// JSON for sepal's reports, manifests and input files: nlohmann-json (Debian
+// nlohmann-json3-dev) with the project's conventions on top.
 //
 // Usage:
-//   sepal::JsonWriter j;
-//   j.begin_object().key("res").value(32).key("errors").begin_array();
-//   j.value(0.5).end_array().end_object();
-//   write_file_atomic(path, j.str().data(), j.str().size(), &err);
+//   sepal::Json j;                                   // members keep insertion order
+//   j["res"] = 32;
+//   j["errors"] = sepal::Json::array({0.5, 0.25});
+//   std::string err;
+//   sepal::write_json_file("r.json", j, &err);       // atomic
 //
-// Output is indented by two spaces, one member or element per line. Numbers are written
-// with 9 significant digits ("%.9g", "C" locale behaviour of snprintf), NaN and inf as
-// null (JSON has neither). Strings are escaped (quote, backslash, control characters);
-// other bytes pass through, so give it UTF-8. Misuse (a value without a key inside an
-// object, unbalanced ends) is not diagnosed: the writer trusts its caller.
+//   sepal::Json v;
+//   if (!sepal::parse_json(text, "scene.json", &v, &err)) ...  // err says where
+//   int passes = 0;
+//   if (!sepal::json_int(v, "max_passes", 1, 64, &passes, &err)) ...
+//
+// Writing (dump_json): two-space indent, one member or element per line, a final newline.
+// Doubles are rounded to 9 significant digits first (a float's round-trip precision: a
+// float widened to double prints 0.100000001, not 0.10000000149011612; the digits the
+// hand-written writer before it printed), NaN and inf become null
+// (JSON has neither), and bytes that are not UTF-8 are replaced (U+FFFD) instead of failing.
+// The same value always gives the same bytes.
+// Reading (parse_json): RFC 8259 JSON, stricter than nlohmann's default: a key repeated in
+// one object is refused (naming the key and its path, e.g. materials[1].name), nesting
+// deeper than 64 and texts over 16 MiB are refused, numbers beyond the double range are
+// refused; a UTF-8 byte-order mark at the start is skipped. Messages read
+// "scene.json: line 2, column 5: syntax error while parsing value ...".
+// The typed readers check kind and range before converting (an out-of-range double is never
+// cast to int) and name the member: "scene.json: materials[0].max_passes: 1e+12 is outside 1..64".
 #pragma once
 #include <cstdint>
 #include <string>
-#include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace sepal {
 
-class JsonWriter {
-  public:
-    JsonWriter& begin_object();
-    JsonWriter& end_object();
-    JsonWriter& begin_array();
-    JsonWriter& end_array();
-    JsonWriter& key(const std::string& k);
-    JsonWriter& value(double v);
-    JsonWriter& value(int v) { return value(int64_t(v)); }
-    JsonWriter& value(int64_t v);
-    JsonWriter& value(bool v);
-    JsonWriter& value(const std::string& v);
-    JsonWriter& value(const char* v) { return value(std::string(v)); }
-    JsonWriter& null();
-    // The document so far, with a final newline once the outermost value is closed.
-    const std::string& str() const { return out_; }
+using Json = nlohmann::ordered_json;
 
-    static std::string escape(const std::string& s);
+std::string dump_json(const Json& value);
+bool write_json_file(const std::string& path, const Json& value, std::string* err);
 
-  private:
-    void before_value();
-    void open(char c);
-    void close(char c);
-    std::string out_;
-    std::vector<bool> empty_;  // per open container: nothing written into it yet
-    bool after_key_ = false;
+constexpr size_t kMaxJsonBytes = size_t(16) << 20;
+// `source` names the text in messages (a path, or "asset META").
+bool parse_json(const std::string& text, const std::string& source, Json* out, std::string* err);
+// Reads and parses a file of at most max_bytes (and kMaxJsonBytes).
+bool read_json_file(const std::string& path, Json* out, std::string* err, size_t max_bytes = kMaxJsonBytes);
+
+// Typed members of an object. `where` prefixes messages (e.g. "scene.json: materials[0]");
+// absent members leave *out unchanged and return true when `required` is false.
+struct JsonField {
+    const Json& object;
+    std::string where;
 };
+bool json_int(const JsonField& f, const char* key, int64_t lo, int64_t hi, int64_t* out, std::string* err,
+              bool required = false);
+bool json_int(const JsonField& f, const char* key, int lo, int hi, int* out, std::string* err,
+              bool required = false);
+bool json_number(const JsonField& f, const char* key, double lo, double hi, double* out, std::string* err,
+                 bool required = false);
+bool json_string(const JsonField& f, const char* key, std::string* out, std::string* err, bool required = false);
+// The same checks on a value (an array element, or the value itself).
+bool json_to_int(const Json& v, const std::string& where, int64_t lo, int64_t hi, int64_t* out, std::string* err);
+bool json_to_number(const Json& v, const std::string& where, double lo, double hi, double* out, std::string* err);
+// "string", "number", ...: for messages.
+const char* json_kind(const Json& v);
 
 }  // namespace sepal

@@ -311,4 +311,43 @@ Image render_plot(const std::vector<PlotPanel>& panels, int columns, int panel_w
     return img;
 }
 
+Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
+                       const std::string& test_title, double full_scale) {
+    const Image a = to_rgb(reference), b = to_rgb(test);
+    const Image heat = diff_heatmap(a, b, full_scale);
+    const int w = a.width, h = a.height, gap = 8, title = 24, bar = 14, ticks = 22;
+    Image out(3 * w + 4 * gap, title + h + gap + bar + ticks, 3);
+    for (float& v : out.data) v = 1.0f;
+    const glm::dvec3 black(0, 0, 0);
+    const Image* panels[3] = {&a, &b, &heat};
+    char scale_text[64];
+    std::snprintf(scale_text, sizeof scale_text, "|difference|, 8-bit levels");
+    const std::string titles[3] = {reference_title, test_title, scale_text};
+    for (int k = 0; k < 3; ++k) {
+        const int x0 = gap + k * (w + gap);
+        draw_text(&out, x0 + (w - int(titles[k].size()) * 6 * 2) / 2, 4, titles[k], black, 2);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) out.at(x0 + x, title + y, c) = panels[k]->at(x, y, c);
+    }
+    // The colour bar under the heatmap, with its scale in 8-bit levels.
+    const int bx = gap + 2 * (w + gap), by = title + h + gap;
+    for (int x = 0; x < w; ++x) {
+        float rgb[3];
+        heat_colour(double(x) / std::max(1, w - 1), rgb);
+        for (int y = 0; y < bar; ++y)
+            for (int c = 0; c < 3; ++c) out.at(bx + x, by + y, c) = rgb[c];
+    }
+    for (int t = 0; t <= 4; ++t) {
+        char label[32];
+        std::snprintf(label, sizeof label, "%g", full_scale * t / 4);
+        const int x = bx + (w - 1) * t / 4;
+        for (int y = by + bar; y < by + bar + 4; ++y)
+            for (int c = 0; c < 3; ++c) out.at(std::min(x, out.width - 1), y, c) = 0.0f;
+        const int tw = int(std::string(label).size()) * 6;
+        draw_text(&out, std::clamp(x - tw / 2, 0, out.width - tw), by + bar + 6, label, black);
+    }
+    return out;
+}
+
 }  // namespace sepal

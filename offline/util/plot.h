@@ -47,6 +47,12 @@ Image render_plot(const std::vector<PlotPanel>& panels, int columns, int panel_w
 // A palette of distinguishable series colours.
 glm::dvec3 plot_colour(int index);
 
+// Three panels side by side for people: a reference image, a test image and the heatmap of
+// their difference (diff_heatmap, full_scale 8-bit levels to white), each titled, with a
+// labelled colour bar under the heatmap. Both images the same size (RGB or grey).
+Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
+                       const std::string& test_title, double full_scale);
+
 // Draws text with the built-in font at (x, y) = top-left corner, scale >= 1 (pixel size).
 // Exposed for tests; returns the width drawn.
 int draw_text(Image* img, int x, int y, const std::string& text, const glm::dvec3& colour,

@@ -9,18 +9,11 @@
 
 #include <GLES/gl.h>
 
+#include "common/scene_draw.h"
 #include "headless/sepal_headless.h"
 
-// stb_image reads diffuse maps (the ports' PNG decoder; offline/ has its own copy).
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
+// stb_image reads diffuse maps (compiled once: third_party/stb/stb.cpp).
 #include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace sepal_ports {
 
@@ -48,17 +41,26 @@ std::string describe_counters(const sepal_draw_stats& s) {
     return out.empty() ? "none" : out;
 }
 
+namespace {
+const struct {
+    const char* name;
+    uint32_t bit;
+} kMaskNames[] = {{"subtract", SEPAL_MASK_BLEND_SUBTRACT},
+                  {"multitexture", SEPAL_MASK_MULTITEXTURE},
+                  {"fbo", SEPAL_MASK_FBO},
+                  {"npot", SEPAL_MASK_NPOT}};
+}  // namespace
+
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
     *mask = 0;
     size_t start = 0;
     while (start <= text.size()) {
         const size_t comma = text.find(',', start);
         const std::string word = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (word == "subtract") *mask |= SEPAL_MASK_BLEND_SUBTRACT;
-        else if (word == "multitexture") *mask |= SEPAL_MASK_MULTITEXTURE;
-        else if (word == "fbo") *mask |= SEPAL_MASK_FBO;
-        else if (word == "npot") *mask |= SEPAL_MASK_NPOT;
-        else if (!word.empty()) {
+        bool known = word.empty();
+        for (const auto& m : kMaskNames)
+            if (word == m.name) *mask |= m.bit, known = true;
+        if (!known) {
             *err = "--mask '" + text + "': use a comma-separated list of subtract, multitexture, fbo, npot";
             return false;
         }
@@ -68,24 +70,47 @@ bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
     return true;
 }
 
-bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err) {
+std::string mask_names(uint32_t mask) {
+    std::string out;
+    for (const auto& m : kMaskNames)
+        if (mask & m.bit) out += (out.empty() ? "" : ",") + std::string(m.name);
+    return out;
+}
+
+bool read_png_rgba8(const std::string& path, Rgba8Image* out, std::string* err) {
     int w = 0, h = 0, c = 0;
-    unsigned char* px = stbi_load(path.c_str(), &w, &h, &c, 4);
+    std::vector<uint8_t> bytes;
+    if (!read_bounded_file(path, size_t(64) << 20, &bytes, err)) return false;
+    unsigned char* px = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 4);
     if (!px) {
         *err = path + ": cannot read PNG: " + stbi_failure_reason();
         return false;
     }
-    const bool pow2 = w > 0 && h > 0 && !(w & (w - 1)) && !(h & (h - 1)) && w <= 4096 && h <= 4096;
-    if (pow2) {
-        out->width = w;
-        out->height = h;
-        out->pixels.assign(px, px + size_t(w) * h * 4);
-    } else {
-        *err = path + ": " + std::to_string(w) + "x" + std::to_string(h) +
-               " diffuse map: sides must be powers of two up to 4096 (GL ES 1.1)";
-    }
+    out->width = w;
+    out->height = h;
+    out->pixels.assign(px, px + size_t(w) * h * 4);
     stbi_image_free(px);
-    return pow2;
+    return true;
+}
+
+bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err) {
+    if (!read_png_rgba8(path, out, err)) return false;
+    const int w = out->width, h = out->height;
+    if (!(w & (w - 1)) && !(h & (h - 1)) && w <= 4096 && h <= 4096) return true;
+    *err = path + ": " + std::to_string(w) + "x" + std::to_string(h) +
+           " diffuse map: sides must be powers of two up to 4096 (GL ES 1.1)";
+    *out = Rgba8Image{};
+    return false;
+}
+
+void rgb_to_rgba8(const float* rgb, size_t pixels, uint8_t* rgba) {
+    for (size_t p = 0; p < pixels; ++p) {
+        for (int c = 0; c < 3; ++c) {
+            const float v = rgb[p * 3 + c];
+            rgba[p * 4 + c] = (uint8_t)(v <= 0.0f ? 0 : v >= 1.0f ? 255 : (int)(v * 255.0f + 0.5f));
+        }
+        rgba[p * 4 + 3] = 255;
+    }
 }
 
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
@@ -124,16 +149,8 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
     }
     ok = ok && sepal_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SEPAL_OK;
     if (ok) {
-        std::vector<float> scratch(sepal_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
-        sepal_draw_desc d = {};
-        d.material = material.get();
-        d.mesh = &setup.mesh;
-        d.scene = &setup.scene;
-        d.width = setup.width;
-        d.height = setup.height;
-        d.scratch = scratch.data();
-        d.scratch_floats = scratch.size();
-        d.mode = options.mode;
+        std::vector<float> scratch;
+        sepal_draw_desc d = scene_draw_desc(material.get(), setup, options.mode, &scratch);
         if (diffuse && sepal_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
                                                 &d.diffuse_texture, &e) != SEPAL_OK)
             ok = false;
@@ -192,20 +209,8 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
         *err = e.message;
         return false;
     }
-    const size_t pixels = size_t(setup.width) * setup.height;
-    rgb->assign(pixels * 3, 0.0f);
-    std::vector<float> depth(pixels), scratch(sepal_cpu_scratch_floats(setup.mesh.vertex_count));
-    sepal_cpu_desc d = {};
-    d.asset = asset.get();
-    d.mesh = &setup.mesh;
-    d.scene = &setup.scene;
-    d.width = setup.width;
-    d.height = setup.height;
-    d.color = rgb->data();
-    d.depth = depth.data();
-    d.scratch = scratch.data();
-    d.scratch_floats = scratch.size();
-    d.stats = stats;
+    CpuFrame frame;
+    sepal_cpu_desc d = scene_cpu_desc(asset.get(), setup, &frame, stats);
     if (diffuse) {
         d.diffuse_rgba = diffuse->pixels.data();
         d.diffuse_width = diffuse->width;
@@ -215,7 +220,38 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
     const bool ok = sepal_draw_cpu(&d, &e) == SEPAL_OK;
     if (ms) *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!ok) *err = e.message;
+    rgb->swap(frame.rgb);
     return ok;
+}
+
+bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
+                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats) {
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
+        *err = e.message;
+        return false;
+    }
+    rgba->assign(size_t(setup.width) * setup.height * 4, 0);
+    std::vector<float> scratch(
+        sepal_emulate_scratch_floats(setup.width, setup.height, setup.mesh.vertex_count, setup.scene.light_count));
+    sepal_emulate_desc d = {};
+    d.asset = asset.get();
+    d.mesh = &setup.mesh;
+    d.scene = &setup.scene;
+    d.width = setup.width;
+    d.height = setup.height;
+    d.gles_version = gles_version;
+    d.mask = mask;
+    d.rgba = rgba->data();
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    d.stats = stats;
+    if (sepal_emulate_draw(&d, &e) != SEPAL_OK) {
+        *err = e.message;
+        return false;
+    }
+    return true;
 }
 
 bool parse_gl_backend(const std::string& name, GlRenderOptions* o) {

@@ -49,12 +49,21 @@ struct GlRenderOptions {
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
                            const GlRenderOptions& options, std::vector<uint8_t>* rgba,
                            GlRenderInfo* info, std::string* err);
-// Reads a PNG (stb_image) as RGBA8; refuses non-power-of-two sizes.
+// Reads a PNG (stb_image) as RGBA8, any size.
+bool read_png_rgba8(const std::string& path, Rgba8Image* out, std::string* err);
+// The same, refusing non-power-of-two sizes (diffuse maps).
 bool read_diffuse_png(const std::string& path, Rgba8Image* out, std::string* err);
+// Linear RGB floats (the CPU backend's output) as displayed: clamped to [0,1], rounded to
+// 8 bits, alpha 255.
+void rgb_to_rgba8(const float* rgb, size_t pixels, uint8_t* rgba);
 // The CPU backend: linear radiance floats (RGB, top row first), no GL. stats (optional)
 // receives the frame's counters.
 bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, const Rgba8Image* diffuse,
                       std::vector<float>* rgb, double* ms, std::string* err, sepal_draw_stats* stats = nullptr);
+// The GL ES 1.1 emulator (sepal_emulate_draw): what gles1 (gles_version 1) or the gles2
+// multipass path (2) shows, computed on the CPU; RGBA8, top row first. mask: SEPAL_MASK_*.
+bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
+                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats = nullptr);
 // Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
 // false for others (cpu is not a GL backend).
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
@@ -66,5 +75,7 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
 std::string describe_counters(const sepal_draw_stats& s);
 // Parses "subtract,multitexture,fbo,npot" into SEPAL_MASK_* bits.
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err);
+// The reverse: SEPAL_MASK_* bits as the comma-separated names parse_mask reads.
+std::string mask_names(uint32_t mask);
 
 }  // namespace sepal_ports

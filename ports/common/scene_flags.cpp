@@ -105,9 +105,14 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
     } else if (flag == "--mesh") {
         s->mesh_name = value;
     } else if (flag == "--camera" || flag == "--target" || flag == "--background") {
+        if (flag != "--background") s->camera_given = true;
         float* dst = flag == "--camera" ? cam.eye : flag == "--target" ? cam.target : s->scene.background;
         if (!parse_floats(value, 3, dst)) {
             *err = flag + " '" + value + "': expected three numbers X,Y,Z";
+            return -1;
+        }
+        if (flag == "--background" && !(dst[0] >= 0 && dst[1] >= 0 && dst[2] >= 0)) {
+            *err = "--background '" + value + "': linear RGB, each channel >= 0";
             return -1;
         }
     } else if (flag == "--fov") {
@@ -151,6 +156,47 @@ bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<ui
     return !failed;
 }
 
+namespace {
+// See load_scene_mesh in the header. Built-in meshes keep the default scene (the goldens).
+void frame_by_bounds(SceneSetup* s) {
+    const sepal_mesh& m = s->mesh;
+    if (m.vertex_count < 1) return;
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = m.vertices[0].position[k];
+    for (int i = 0; i < m.vertex_count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::fmin(lo[k], m.vertices[i].position[k]);
+            hi[k] = std::fmax(hi[k], m.vertices[i].position[k]);
+        }
+    const double c[3] = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+    double r2 = 0;
+    for (int i = 0; i < m.vertex_count; ++i) {
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) d2 += (m.vertices[i].position[k] - c[k]) * (m.vertices[i].position[k] - c[k]);
+        r2 = std::fmax(r2, d2);
+    }
+    const double r = std::fmax(std::sqrt(r2), 1e-6);
+    sepal_camera& cam = s->scene.camera;
+    if (!s->camera_given) {
+        static const double kEye[3] = {0.0, -3.2, 1.4};
+        for (int k = 0; k < 3; ++k) cam.eye[k] = float(c[k] + r * kEye[k]), cam.target[k] = float(c[k]);
+    }
+    if (!s->lights_given && s->scene.light_count == 1 && s->scene.lights[0].type == SEPAL_LIGHT_POINT) {
+        static const double kLight[3] = {2.0, -2.5, 3.0};
+        sepal_light& l = s->scene.lights[0];
+        for (int k = 0; k < 3; ++k) l.position[k] = float(c[k] + r * kLight[k]), l.intensity[k] *= float(r * r);
+    }
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (cam.eye[k] - c[k]) * (cam.eye[k] - c[k]);
+    const double d = std::sqrt(d2);
+    // The sphere lies between d - r and d + r from the eye; 1% slack, and a near plane at
+    // most 1000 times closer than the far one (depth precision) when the eye is inside.
+    cam.z_far = float((d + r) * 1.01);
+    cam.z_near = float(std::fmax((d - r) * 0.99, cam.z_far * 1e-3));
+    s->framed = true;
+}
+}  // namespace
+
 bool load_scene_mesh(SceneSetup* s, std::string* err) {
     sepal_error e = {};
     sepal_result r;
@@ -184,6 +230,7 @@ bool load_scene_mesh(SceneSetup* s, std::string* err) {
             *err = name + ": " + e.message;
             return false;
         }
+        frame_by_bounds(s);
     }
     if (r != SEPAL_OK || sepal_scene_validate(&s->scene, &e) != SEPAL_OK) {
         *err = e.message;

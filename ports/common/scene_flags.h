@@ -15,6 +15,7 @@
 //   for (i...) { int used = parse_scene_flag(argc, argv, i, &s, &err); if (used < 0) fail;
 //                if (used > 0) { i += used - 1; continue; } ... other flags ... }
 //   if (!load_scene_mesh(&s, &err)) fail;
+// (the sepal tool declares the same flags on its CLI11 parser: offline/cli/scene_options.h)
 #pragma once
 #include <string>
 #include <vector>
@@ -28,6 +29,8 @@ struct SceneSetup {
     int width = 512, height = 512;
     std::string mesh_name = "sphere";
     bool lights_given = false;
+    bool camera_given = false;  // --camera or --target
+    bool framed = false;        // load_scene_mesh framed an OBJ by its bounds (below)
     // Mesh storage, filled by load_scene_mesh; mesh points into it.
     std::vector<sepal_vertex> vertices;
     std::vector<uint16_t> indices;
@@ -39,7 +42,11 @@ struct SceneSetup {
 // Returns how many arguments it consumed at argv[i] (0: not a scene flag), or -1 with
 // the reason in *err.
 int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* err);
-// Builds or loads the mesh named by mesh_name and validates the scene.
+// Builds or loads the mesh named by mesh_name and validates the scene. An OBJ mesh is framed
+// from its bounding sphere (centre c, radius r) as the default scene frames the unit sphere:
+// without --camera/--target the eye is c + r (0, -3.2, 1.4) looking at c; without --light the
+// point light is at c + r (2, -2.5, 3) with intensity 60 r^2 (the same irradiance); near and
+// far planes always enclose the sphere as seen from the eye.
 bool load_scene_mesh(SceneSetup* s, std::string* err);
 // Reads a whole file, refusing one larger than max_bytes (used for OBJ meshes and assets).
 bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<uint8_t>* out, std::string* err);

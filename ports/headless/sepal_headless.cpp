@@ -1,11 +1,12 @@
 // Headless EGL port: see sepal_headless.h.
 #include "headless/sepal_headless.h"
 
+#include "common/port_util.h"
+
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GLES2/gl2.h>
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,42 +19,7 @@ struct sepal_headless_context {
     char description[512];
 };
 
-static void set_err(char* err, size_t n, const char* fmt, ...) {
-    if (!err || n == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, n, fmt, ap);
-    va_end(ap);
-}
-
-static const char* egl_error_name(EGLint e) {
-    switch (e) {
-        case EGL_SUCCESS: return "EGL_SUCCESS";
-        case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-        case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-        case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-        case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-        case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-        case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-        case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-        case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-        case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-        case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-        default: return "EGL error";
-    }
-}
-
-// Whole-word match in a space-separated extension string.
-static bool has_ext(const char* list, const char* name) {
-    if (!list) return false;
-    size_t n = strlen(name);
-    for (const char* p = list; (p = strstr(p, name)) != nullptr; p += n) {
-        bool start = (p == list) || p[-1] == ' ';
-        bool end = p[n] == '\0' || p[n] == ' ';
-        if (start && end) return true;
-    }
-    return false;
-}
+using sepal_ports::set_error;
 
 // Opens and initializes a display; returns the platform's name in *platform.
 static EGLDisplay open_display(const char** platform, char* err, size_t n) {
@@ -72,14 +38,14 @@ static EGLDisplay open_display(const char** platform, char* err, size_t n) {
         const char* name = order[i];
         EGLDisplay d = EGL_NO_DISPLAY;
         if (strcmp(name, "surfaceless") == 0) {
-            if (get_platform_display && has_ext(client, "EGL_MESA_platform_surfaceless"))
+            if (get_platform_display && sepal_ports::egl_has_ext(client, "EGL_MESA_platform_surfaceless"))
                 d = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
                                          nullptr);
         } else if (strcmp(name, "device") == 0) {
             auto query_devices =
                 (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
             if (get_platform_display && query_devices &&
-                has_ext(client, "EGL_EXT_platform_device")) {
+                sepal_ports::egl_has_ext(client, "EGL_EXT_platform_device")) {
                 EGLDeviceEXT devices[8];
                 EGLint num = 0;
                 if (query_devices(8, devices, &num) && num > 0)
@@ -88,7 +54,7 @@ static EGLDisplay open_display(const char** platform, char* err, size_t n) {
         } else if (strcmp(name, "default") == 0) {
             d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
         } else {
-            set_err(err, n, "SEPAL_EGL_PLATFORM='%s' is not one of surfaceless, device, default",
+            set_error(err, n, "SEPAL_EGL_PLATFORM='%s' is not one of surfaceless, device, default",
                     name);
             return EGL_NO_DISPLAY;
         }
@@ -102,7 +68,7 @@ static EGLDisplay open_display(const char** platform, char* err, size_t n) {
         size_t len = strlen(tried);
         snprintf(tried + len, sizeof tried - len, "%s%s", len ? ", " : "", name);
     }
-    set_err(err, n,
+    set_error(err, n,
             "no usable EGL display (tried: %s). Install Mesa's EGL (libegl-mesa0, "
             "libgl1-mesa-dri) or set SEPAL_EGL_PLATFORM; client extensions: %s",
             tried, client ? client : "(none: EGL 1.5 client extensions unsupported)");
@@ -115,23 +81,15 @@ extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_de
     if (d.height == 0) d.height = 256;
     if (d.gles_version == 0) d.gles_version = 1;
     if (d.depth_bits == 0) d.depth_bits = 16;
-    if (d.width < 1 || d.height < 1 || d.width > 16384 || d.height > 16384) {
-        set_err(err, err_len, "image size %dx%d out of range 1..16384", d.width, d.height);
-        return nullptr;
-    }
-    if (d.gles_version != 1 && d.gles_version != 2) {
-        set_err(err, err_len, "gles_version %d: only 1 (GL ES 1.1) and 2 (GL ES 2.0) exist",
-                d.gles_version);
-        return nullptr;
-    }
+    if (!sepal_ports::check_request("image", d.width, d.height, 16384, d.gles_version, err, err_len)) return nullptr;
 
     const char* platform = "";
     EGLDisplay display = open_display(&platform, err, err_len);
     if (display == EGL_NO_DISPLAY) return nullptr;
 
     if (!eglBindAPI(EGL_OPENGL_ES_API)) {
-        set_err(err, err_len, "eglBindAPI(EGL_OPENGL_ES_API) failed: %s",
-                egl_error_name(eglGetError()));
+        set_error(err, err_len, "eglBindAPI(EGL_OPENGL_ES_API) failed: %s",
+                sepal_ports::egl_error_name(eglGetError()));
         return nullptr;
     }
     const EGLint renderable = d.gles_version == 1 ? EGL_OPENGL_ES_BIT : EGL_OPENGL_ES2_BIT;
@@ -144,7 +102,7 @@ extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_de
     EGLint num_configs = 0;
     if (!eglChooseConfig(display, config_attribs, &config, 1, &num_configs) ||
         num_configs < 1) {
-        set_err(err, err_len,
+        set_error(err, err_len,
                 "EGL platform '%s' has no RGBA8 pbuffer config with %d depth bits for GL ES %d "
                 "(vendor %s)",
                 platform, d.depth_bits, d.gles_version, eglQueryString(display, EGL_VENDOR));
@@ -153,27 +111,27 @@ extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_de
     const EGLint surface_attribs[] = {EGL_WIDTH, d.width, EGL_HEIGHT, d.height, EGL_NONE};
     EGLSurface surface = eglCreatePbufferSurface(display, config, surface_attribs);
     if (surface == EGL_NO_SURFACE) {
-        set_err(err, err_len, "eglCreatePbufferSurface %dx%d failed: %s", d.width, d.height,
-                egl_error_name(eglGetError()));
+        set_error(err, err_len, "eglCreatePbufferSurface %dx%d failed: %s", d.width, d.height,
+                sepal_ports::egl_error_name(eglGetError()));
         return nullptr;
     }
     const EGLint context_attribs[] = {EGL_CONTEXT_CLIENT_VERSION, d.gles_version, EGL_NONE};
     EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
     if (context == EGL_NO_CONTEXT) {
-        set_err(err, err_len, "EGL platform '%s' cannot create a GL ES %d context: %s",
-                platform, d.gles_version, egl_error_name(eglGetError()));
+        set_error(err, err_len, "EGL platform '%s' cannot create a GL ES %d context: %s",
+                platform, d.gles_version, sepal_ports::egl_error_name(eglGetError()));
         eglDestroySurface(display, surface);
         return nullptr;
     }
     if (!eglMakeCurrent(display, surface, surface, context)) {
-        set_err(err, err_len, "eglMakeCurrent failed: %s", egl_error_name(eglGetError()));
+        set_error(err, err_len, "eglMakeCurrent failed: %s", sepal_ports::egl_error_name(eglGetError()));
         eglDestroyContext(display, context);
         eglDestroySurface(display, surface);
         return nullptr;
     }
     sepal_headless_context* c = (sepal_headless_context*)calloc(1, sizeof(sepal_headless_context));
     if (!c) {
-        set_err(err, err_len, "out of memory");
+        set_error(err, err_len, "out of memory");
         eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(display, context);
         eglDestroySurface(display, surface);
@@ -202,19 +160,7 @@ extern "C" int sepal_headless_read_rgba(sepal_headless_context* c, uint8_t* out)
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, c->width, c->height, GL_RGBA, GL_UNSIGNED_BYTE, out);
     if (glGetError() != GL_NO_ERROR) return 0;
-    // GL's first row is the bottom one; images are stored top row first.
-    const size_t row = (size_t)c->width * 4;
-    uint8_t tmp[4096];
-    for (int y = 0; y < c->height / 2; ++y) {
-        uint8_t* a = out + (size_t)y * row;
-        uint8_t* b = out + (size_t)(c->height - 1 - y) * row;
-        for (size_t off = 0; off < row; off += sizeof tmp) {
-            size_t k = row - off < sizeof tmp ? row - off : sizeof tmp;
-            memcpy(tmp, a + off, k);
-            memcpy(a + off, b + off, k);
-            memcpy(b + off, tmp, k);
-        }
-    }
+    sepal_ports::flip_rows(out, c->width, c->height);
     return 1;
 }
 

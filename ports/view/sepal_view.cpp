@@ -1,8 +1,9 @@
 // sepal-view: the runtime's own viewer. Built from runtime/ and ports/ only (no offline
 // code). With an asset it draws the baked material; without one, the runtime's preview
-// (a lit, textured mesh).
+// (a lit, textured mesh). Without --headless it opens a window (ports/windowed/viewer.h).
 //
 //   sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [scene flags] -o out.png
+//   sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,27 +13,23 @@
 #include <string>
 #include <vector>
 
+#include "common/png_write.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "sepal/sepal_version.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_rt.h"
-
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STB_IMAGE_WRITE_STATIC
-#define STBI_WRITE_NO_STDIO
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
+#include "windowed/viewer.h"
 
 namespace {
 
 int usage(FILE* f, int code) {
     fprintf(f,
             "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [scene flags] -o out.png\n"
+            "       sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]\n"
             "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"
-            "  --headless            render offscreen through EGL (the only mode in this build)\n"
+            "  --headless            render offscreen through EGL; without it: a window (X11),\n"
+            "                        keys and mouse as `h` prints there\n"
             "  --gles N              GL ES version: 1 (fixed function, default) or 2\n"
             "  --mode M              GL ES 2: multipass (default), fused (per-vertex\n"
             "                        coordinates) or fused-pixel\n"
@@ -42,29 +39,10 @@ int usage(FILE* f, int code) {
             "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
             "                        multitexture, fbo, npot (comma-separated)\n"
             "  -o PATH               output PNG\n"
+            "viewer flags (window only):\n%s"
             "scene flags:\n%s",
-            sepal_ports::scene_flags_help());
+            sepal_ports::viewer_flags_help(), sepal_ports::scene_flags_help());
     return code;
-}
-
-void append(void* ctx, void* data, int size) {
-    auto* v = static_cast<std::vector<unsigned char>*>(ctx);
-    v->insert(v->end(), (unsigned char*)data, (unsigned char*)data + size);
-}
-
-// Writes next to the target and renames, so a failed run leaves no half-written PNG.
-bool write_png_atomic(const char* path, int w, int h, const uint8_t* rgba) {
-    std::vector<unsigned char> png;
-    if (!stbi_write_png_to_func(append, &png, w, h, 4, rgba, w * 4)) return false;
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
-    FILE* f = fopen(tmp, "wb");
-    if (!f) return false;
-    bool ok = fwrite(png.data(), 1, png.size(), f) == png.size();
-    ok = fclose(f) == 0 && ok;
-    if (ok && rename(tmp, path) != 0) ok = false;
-    if (!ok) remove(tmp);
-    return ok;
 }
 
 }  // namespace
@@ -79,9 +57,11 @@ int main(int argc, char** argv) {
     const char* asset_path = nullptr;
     const char* diffuse_path = nullptr;
     sepal_ports::SceneSetup setup;
+    sepal_ports::ViewerOptions viewer;
     std::string flag_err;
     for (int i = 1; i < argc; ++i) {
-        const int used = sepal_ports::parse_scene_flag(argc, argv, i, &setup, &flag_err);
+        int used = sepal_ports::parse_scene_flag(argc, argv, i, &setup, &flag_err);
+        if (used == 0) used = sepal_ports::parse_viewer_flag(argc, argv, i, &viewer, &flag_err);
         if (used < 0) {
             fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
             return 2;
@@ -127,6 +107,9 @@ int main(int argc, char** argv) {
             }
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             return usage(stdout, 0);
+        } else if (!strcmp(a, "--version")) {
+            printf("sepal-view " SEPAL_VERSION_STRING "\n");
+            return 0;
         } else if (a[0] != '-' && !asset_path) {
             asset_path = a;
         } else {
@@ -134,9 +117,17 @@ int main(int argc, char** argv) {
             return usage(stderr, 2);
         }
     }
-    if (!headless) {
-        fprintf(stderr, "sepal-view: this build has only the headless port; pass --headless\n");
+    if (!headless && (out || diffuse_path)) {
+        fprintf(stderr, "sepal-view: %s --headless; without it sepal-view opens a window\n",
+                out ? "-o writes a PNG with" : "--diffuse is drawn only with");
         return 2;
+    }
+    if (!headless) {
+        viewer.input = asset_path ? asset_path : "";
+        viewer.backend = !backend.empty() ? backend : gles == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2"
+                                                     : mode == SEPAL_MODE_FUSED_VERTEX ? "gles2-fused" : "gles2-fused-pixel";
+        viewer.mask = mask;
+        return sepal_ports::run_viewer(viewer, &setup);
     }
     if (!out) return usage(stderr, 2);
     if (gles != 1 && gles != 2) {
@@ -167,16 +158,10 @@ int main(int argc, char** argv) {
                 return 1;
             }
             rgba.resize(size_t(width) * height * 4);
-            for (size_t p = 0; p < size_t(width) * height; ++p) {
-                for (int c = 0; c < 3; ++c) {
-                    const float v = rgb[p * 3 + c];
-                    rgba[p * 4 + c] = (uint8_t)(v <= 0.0f ? 0 : v >= 1.0f ? 255 : (int)(v * 255.0f + 0.5f));
-                }
-                rgba[p * 4 + 3] = 255;
-            }
+            sepal_ports::rgb_to_rgba8(rgb.data(), size_t(width) * height, rgba.data());
             fprintf(stderr, "sepal-view: cpu backend, %.1f ms; counters: %s\n", ms,
                     sepal_ports::describe_counters(stats).c_str());
-            if (!write_png_atomic(out, width, height, rgba.data())) {
+            if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
                 fprintf(stderr, "sepal-view: could not write %s\n", out);
                 return 1;
             }
@@ -196,7 +181,7 @@ int main(int argc, char** argv) {
                 info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
                 info.stats.fullscreen_passes, info.stats.copies, info.ms,
                 sepal_ports::describe_counters(info.stats).c_str());
-        if (!write_png_atomic(out, width, height, rgba.data())) {
+        if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
             fprintf(stderr, "sepal-view: could not write %s\n", out);
             return 1;
         }
@@ -263,7 +248,7 @@ int main(int argc, char** argv) {
     const bool read = sepal_headless_read_rgba(ctx, pixels.data()) != 0;
     fprintf(stderr, "sepal-view: %s\n", sepal_headless_describe(ctx));
     sepal_headless_destroy(ctx);
-    if (!read || !write_png_atomic(out, width, height, pixels.data())) {
+    if (!read || !sepal_ports::write_png_atomic(out, width, height, pixels.data())) {
         fprintf(stderr, "sepal-view: could not read back or write %s\n", out);
         return 1;
     }

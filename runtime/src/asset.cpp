@@ -11,6 +11,25 @@ static_assert(sizeof(sepal_fmt_material) == 64, "material layout");
 static_assert(sizeof(sepal_fmt_texture) == 72, "texture layout");
 static_assert(sizeof(sepal_fmt_plan) == 32, "plan layout");
 static_assert(sizeof(sepal_fmt_pass) == 24, "pass layout");
+static_assert(sizeof(sepal_fmt_diffuse) == 16, "diffuse profile layout");
+
+extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
+    if (!profile || side < 2) return 1.0f;
+    const float n = (float)(side - 1);
+    const float x = (cos_i < 0.0f ? 0.0f : cos_i > 1.0f ? 1.0f : cos_i) * n;
+    const float y = (cos_o < 0.0f ? 0.0f : cos_o > 1.0f ? 1.0f : cos_o) * n;
+    int i0 = (int)x, j0 = (int)y;
+    if (i0 > (int)side - 2) i0 = (int)side - 2;
+    if (j0 > (int)side - 2) j0 = (int)side - 2;
+    const float ax = x - (float)i0, ay = y - (float)j0;
+    const uint8_t* b = (const uint8_t*)profile;
+    auto at = [&](int i, int j) {
+        float v;
+        memcpy(&v, b + 4 * (((size_t)j * side + (size_t)i) * 3 + (size_t)c), 4);
+        return v;
+    };
+    return (1 - ay) * ((1 - ax) * at(i0, j0) + ax * at(i0 + 1, j0)) + ay * ((1 - ax) * at(i0, j0 + 1) + ax * at(i0 + 1, j0 + 1));
+}
 
 namespace {
 
@@ -111,10 +130,11 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     memcpy(&h, base, sizeof h);
     if (memcmp(h.magic, SEPAL_FMT_MAGIC, 8) != 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: bad magic (not a .sepal file)");
-    if (h.version_major != SEPAL_FMT_VERSION_MAJOR)
+    if (h.version_major < SEPAL_FMT_VERSION_MAJOR_OLDEST || h.version_major > SEPAL_FMT_VERSION_MAJOR)
         return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
-                         "asset: format version %u.%u; this runtime reads version %d.x",
-                         h.version_major, h.version_minor, SEPAL_FMT_VERSION_MAJOR);
+                         "asset: format version %u.%u; this runtime reads versions %d.x to %d.x",
+                         h.version_major, h.version_minor, SEPAL_FMT_VERSION_MAJOR_OLDEST,
+                         SEPAL_FMT_VERSION_MAJOR);
     if (h.file_bytes != size)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: header says %llu bytes, the buffer holds %zu (truncated or padded)",
@@ -173,6 +193,25 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             plan_payload = p;
             plan_size = c.size;
             have_plan = true;
+        } else if (c.tag == SEPAL_FMT_TAG_DIFFUSE) {
+            sepal_fmt_diffuse dh;
+            if (out->diffuse_profile || h.version_major < 2 || c.size < sizeof dh)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk duplicated, too small or in a version-1 file");
+            memcpy(&dh, p, sizeof dh);
+            if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE ||
+                c.size != sizeof dh + (uint64_t)dh.side * dh.side * 3 * sizeof(float))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: diffuse profile of side %u (2..%d) in a %llu-byte chunk", dh.side,
+                                 SEPAL_FMT_MAX_DIFFUSE_SIDE, (unsigned long long)c.size);
+            out->diffuse_profile = p + sizeof dh;
+            out->diffuse_side = dh.side;
+            for (uint32_t k = 0; k < dh.side * dh.side * 3; ++k) {
+                float v;
+                memcpy(&v, out->diffuse_profile + 4 * (size_t)k, 4);
+                if (!(v >= 0.0f && v <= 1.0f))
+                    return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse profile value %g outside [0,1]",
+                                     (double)v);
+            }
         } else if (c.tag == SEPAL_FMT_TAG_META) {
             if (c.size > SEPAL_FMT_MAX_META_BYTES)
                 return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: META over %u bytes",
@@ -198,6 +237,21 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
                          m.channels, m.color_mode);
+    // Version 1 left these words reserved (written as 0): they mean "no flags, no diffuse".
+    if (h.version_major < 2) {
+        out->material.flags = 0;
+        out->material.diffuse[0] = out->material.diffuse[1] = out->material.diffuse[2] = 0.0f;
+    }
+    if (m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: unknown material flags 0x%x",
+                         m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS);
+    bool has_diffuse = false;
+    for (int c = 0; c < 3; ++c) {
+        if (!(m.diffuse[c] >= 0.0f) || !isfinite(m.diffuse[c]))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse %g is not finite and >= 0",
+                             (double)m.diffuse[c]);
+        has_diffuse = has_diffuse || m.diffuse[c] > 0.0f;
+    }
     if (m.terms < 1 || m.terms > SEPAL_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u terms (1..%d), %u channels (1 or 3)",
                          m.terms, SEPAL_FMT_MAX_TERMS, m.channels);
@@ -232,12 +286,20 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                          "asset: plan has %u doublings (0..%d) or peak partial sum %g (0..1]",
                          plan.doublings, SEPAL_FMT_MAX_DOUBLINGS, (double)plan.peak_partial_sum);
     memcpy(out->passes, plan_payload + sizeof(sepal_fmt_plan), plan.pass_count * sizeof(sepal_fmt_pass));
+    uint32_t diffuse_passes = 0;
     for (uint32_t i = 0; i < plan.pass_count; ++i) {
         const sepal_fmt_pass& p = out->passes[i];
         const int needs = p.op == SEPAL_OP_PRODUCT ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
-        if (p.op >= SEPAL_OP_COUNT || p.blend >= SEPAL_BLEND_COUNT)
+        // Op 3 is reserved for another branch's reciprocal product.
+        if (p.op >= SEPAL_OP_COUNT || p.op == 3 || p.blend >= SEPAL_BLEND_COUNT ||
+            (p.op == SEPAL_OP_DIFFUSE && h.version_major < 2))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has unknown op %u or blend %u",
                              i, p.op, p.blend);
+        if (p.op == SEPAL_OP_DIFFUSE) {
+            ++diffuse_passes;
+            if (p.blend != SEPAL_BLEND_ADD)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u subtracts the diffuse part", i);
+        }
         const uint16_t tex[2] = {p.tex0, p.tex1};
         for (int k = 0; k < 2; ++k) {
             const bool used = k < needs;
@@ -255,5 +317,13 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
                              p.rgb_scale);
     }
+    if (out->diffuse_profile && !has_diffuse)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: a diffuse profile without a diffuse part");
+    // The diffuse part is drawn by exactly one DIFFUSE pass (the other backends read it from
+    // the material): both or neither.
+    if (diffuse_passes != (has_diffuse ? 1u : 0u))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: %u DIFFUSE passes for a material %s a diffuse part (one iff it has one)",
+                         diffuse_passes, has_diffuse ? "with" : "without");
     return srt::ok(err);
 }

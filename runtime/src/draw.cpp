@@ -1,15 +1,17 @@
-// sepal_draw: validation, per-vertex set-up and exposure shared by the GL backends, then
-// dispatch to the GL ES 1.1 or GL ES 2 executor.
+// sepal_draw: validation, per-vertex set-up and exposure shared by the GL backends (and the
+// GL ES 1.1 emulator), then dispatch to the GL ES 1.1 or GL ES 2 executor.
 #include <math.h>
 #include <string.h>
 
 #include "draw_internal.h"
 
-extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* stats_out, sepal_error* err) {
+namespace srt {
+
+sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_stats* stats, sepal_error* err) {
     if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
     const sepal_material* m = d->material;
-    if (m->texture_count == 0)
+    if (m->plan.pass_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
     if (d->width < 1 || d->height < 1 || d->width > m->max_width || d->height > m->max_height)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
@@ -21,11 +23,9 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
     if (d->scratch_floats < need)
         return srt::fail(err, SEPAL_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
                          d->scratch_floats, need);
-    srt::FramePrep prep;
+    FramePrep& prep = *out;
     sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, prep.view, prep.proj, err);
     if (r != SEPAL_OK) return r;
-    sepal_draw_stats local_stats;
-    sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;
     memset(stats, 0, sizeof *stats);
     prep.vertices = srt::setup_vertices((sepal_param)m->info.param, (sepal_hemi_map)m->info.map, *d->mesh,
                                         *d->scene, d->scratch);
@@ -45,24 +45,31 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
     int e = -plan_doublings;
     // A float target holds any value: no headroom, no exposure, no doublings.
     const bool float_target = m->float_fbo != 0;
+    const bool radiance = (m->info.flags & SEPAL_MATERIAL_RADIANCE) != 0;
     // Only a plan that subtracts needs headroom: without subtractions a partial sum never
     // exceeds the final value, and a final value above 1 is white on screen either way.
-    const float need_sum = m->has_negative_passes ? prep.vertices.max_irradiance_sum * m->plan.peak_partial_sum : 0.0f;
-    float need_color = prep.vertices.max_irradiance_single * m->max_pass_color;
-    // One texture unit: colour x tex0 is formed and clamped at 1 before the blend
-    // multiplies it by tex1, so it must fit too (else a product whose final value is
-    // below 1 comes out short; measured: 13.5 levels on a mirror scene).
-    if (m->single_unit && prep.vertices.max_irradiance_single * m->max_first_stage > need_color)
-        need_color = prep.vertices.max_irradiance_single * m->max_first_stage;
+    // (A radiance material's sum is bounded with E alone: cos(theta_i) <= 1.)
+    const float irradiance_sum = radiance ? prep.vertices.max_lit_sum : prep.vertices.max_irradiance_sum;
+    const float need_sum = m->has_negative_passes ? irradiance_sum * m->plan.peak_partial_sum : 0.0f;
+    // Per pass, the largest value GL clamps at 1 (the vertex colour; on one texture unit also
+    // colour x tex0, formed and clamped before the blend multiplies it by tex1, else a
+    // product whose final value is below 1 comes out short: measured 13.5 levels on a
+    // mirror scene), times the largest irradiance it is multiplied by this frame.
+    float pass_peak[SEPAL_FMT_MAX_PASSES];
+    float need_color = 0.0f;
+    for (uint32_t p = 0; p < m->plan.pass_count; ++p) {
+        pass_peak[p] = m->pass_need[p] * pass_irradiance_peak(prep.vertices, pass_uses_cosine(m->info, m->passes[p]));
+        if (pass_peak[p] > need_color) need_color = pass_peak[p];
+    }
     // The fused shaders compute f E directly: no exposure, no doublings.
     const bool fused = d->mode != SEPAL_MODE_MULTIPASS;
     // Past 2^-30 (irradiance times pass colour over 2^30, infinity included) the exposure
     // stops: vertex colours clamp at 1, the lit surface shows white, and it is counted.
     const int kMaxShift = 30;
     const float needs[2] = {need_sum, need_color};
-    for (float need : needs) {
-        if (float_target || !(need > 0.0f)) continue;
-        const float shift = ceilf(log2f(need));
+    for (float n : needs) {
+        if (float_target || !(n > 0.0f)) continue;
+        const float shift = ceilf(log2f(n));
         const int want = shift < (float)kMaxShift ? (int)shift : kMaxShift + 1;
         if (want > e) e = want;
     }
@@ -79,10 +86,9 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
         int previous = e + 1;
         stats->exposure_stages = 0;
         for (uint32_t p = 0; p < m->plan.pass_count; ++p) {
-            const float need = prep.vertices.max_irradiance_single * m->pass_need[p];
             int shift = -plan_doublings;
-            if (need > 0.0f) {
-                const float want = ceilf(log2f(need));
+            if (pass_peak[p] > 0.0f) {
+                const float want = ceilf(log2f(pass_peak[p]));
                 if (want > (float)shift) shift = want < (float)e ? (int)want : e;
             }
             prep.pass_shift[p] = shift;
@@ -100,5 +106,58 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
     prep.exposure = fused ? 1.0f : ldexpf(1.0f, -e);
     stats->exposure = prep.exposure;
     stats->doublings = fused ? 0 : plan_doublings + e;
-    return m->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err) : srt::draw_gles2(d, prep, stats, err);
+    return SEPAL_OK;
+}
+
+void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order) {
+    // The plan's order; staged (add-only plans): by falling exposure shift, stable.
+    const uint32_t count = m->plan.pass_count;
+    for (uint32_t p = 0; p < count; ++p) {
+        uint32_t k = p;
+        for (; prep.staged && k > 0 && prep.pass_shift[order[k - 1]] < prep.pass_shift[p]; --k) order[k] = order[k - 1];
+        order[k] = (uint16_t)p;
+    }
+}
+
+int gles1_schedule(const sepal_material* m, const FramePrep& prep, int total_doublings, Gles1Step* steps) {
+    uint16_t order[SEPAL_FMT_MAX_PASSES];
+    const uint32_t count = m->plan.pass_count;
+    pass_order(m, prep, order);
+    int n = 0;
+    int shift = count > 0 && prep.staged ? prep.pass_shift[order[0]] : 0;
+    int remaining = total_doublings;  // doublings still to draw
+    float exposure = prep.exposure;
+    bool inverted = false;
+    for (uint32_t i = 0; i < count; ++i) {
+        const sepal_fmt_pass& pass = m->passes[order[i]];
+        if (prep.staged && prep.pass_shift[order[i]] < shift) {
+            // Next stage: double what is drawn so far up to this stage's exposure.
+            steps[n++] = {Gles1Step::kDouble, shift - prep.pass_shift[order[i]], 0, 0.0f, inverted};
+            remaining -= shift - prep.pass_shift[order[i]];
+            shift = prep.pass_shift[order[i]];
+            exposure = ldexpf(1.0f, -shift);
+        }
+        if (pass.blend == SEPAL_BLEND_SUBTRACT && m->subtract_by_inversion && !inverted) {
+            steps[n++] = {Gles1Step::kInvert, 0, 0, 0.0f, false};
+            inverted = true;
+        }
+        steps[n++] = {Gles1Step::kPass, 0, order[i], exposure, inverted};
+    }
+    if (inverted) steps[n++] = {Gles1Step::kInvert, 0, 0, 0.0f, true};
+    steps[n++] = {Gles1Step::kDouble, remaining, 0, 0.0f, false};
+    return n;
+}
+
+}  // namespace srt
+
+extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* stats_out, sepal_error* err) {
+    if (d && d->material && d->material->texture_count == 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
+    srt::FramePrep prep;
+    sepal_draw_stats local_stats;
+    sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;
+    const sepal_result r = srt::prepare_frame(d, &prep, stats, err);
+    if (r != SEPAL_OK) return r;
+    return d->material->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err)
+                                               : srt::draw_gles2(d, prep, stats, err);
 }

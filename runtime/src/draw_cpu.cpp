@@ -102,7 +102,13 @@ void shade(void* user, int x, int y, float, const float* v) {
         // A signed factorization can dip below 0 where f is near 0: clamp per light, as
         // the fused shaders do (a BRDF is never negative).
         if (f[0] < 0.0f || f[1] < 0.0f || f[2] < 0.0f) ++s.st.negative_clamped;
-        for (int c = 0; c < 3; ++c) sum[c] += (f[c] > 0.0f ? f[c] : 0.0f) * wi[2] * falloff * light.intensity[c];
+        // Radiance materials hold cos(theta_i) in their factors and add the diffuse part.
+        const bool radiance = (a.material.flags & SEPAL_MATERIAL_RADIANCE) != 0;
+        for (int c = 0; c < 3; ++c)
+            sum[c] += ((f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? 1.0f : wi[2]) +
+                       a.material.diffuse[c] * wi[2] *
+                           sepal_diffuse_profile(a.diffuse_profile, a.diffuse_side, wi[2], wo[2], c)) *
+                      falloff * light.intensity[c];
     }
     float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;
     for (int c = 0; c < 3; ++c) {

@@ -120,27 +120,21 @@ void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
 // Textured passes send colour / boost and scale by 4 in their last combiner stage
 // (GL_RGB_SCALE accepts 1, 2 or 4): vertex colours stay below 1 at a 4x higher exposure.
 float color_boost(const sepal_fmt_pass& pass) {
-    return pass.op == SEPAL_OP_CONSTANT ? 1.0f : 4.0f / (float)pass.rgb_scale;
+    return srt::pass_color_boost(pass);
 }
 
 // Fills the colour array for one pass and light: pass colour x irradiance x exposure.
 void fill_colors(const Frame& f, const sepal_fmt_pass& pass, int light) {
     const int n = f.mesh->vertex_count;
-    const float scale = f.exposure / color_boost(pass);
-    const float* e = srt::light_irradiance(f.scratch, n, light);
-    float* c = srt::pass_colors(f.scratch, n, f.scene->light_count);
-    for (int i = 0; i < n; ++i) {
-        // Per channel: a luminance material's colour ratio is in the pass colour.
-        for (int k = 0; k < 3; ++k) c[4 * i + k] = pass.color[k] * e[3 * i + k] * scale;
-        c[4 * i + 3] = 1.0f;
-    }
+    srt::fill_pass_colors(f.m->info, pass, srt::pass_inputs(f.m, f.scratch, n, f.scene->light_count, light),
+                          f.exposure / color_boost(pass), n, srt::pass_colors(f.scratch, n, f.scene->light_count));
 }
 
 // Two texture units: tex0 x tex1 x colour, added or subtracted by blending.
 void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inverted) {
     const GLint scale = (GLint)(pass.rgb_scale * color_boost(pass));
     mesh_arrays(f, true);
-    if (pass.op == SEPAL_OP_CONSTANT) {
+    if (srt::pass_texture_count(pass) == 0) {
         bind_unit(GL_TEXTURE1, 0, nullptr);
         bind_unit(GL_TEXTURE0, 0, nullptr);
     } else {
@@ -191,7 +185,7 @@ void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inve
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
     }
     mesh_arrays(f, true);
-    if (pass.op == SEPAL_OP_CONSTANT) {
+    if (srt::pass_texture_count(pass) == 0) {
         bind_unit(GL_TEXTURE0, 0, nullptr);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
@@ -269,44 +263,33 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glDepthFunc(GL_EQUAL);
     if ((r = srt::gl_check("depth pre-pass", err)) != SEPAL_OK) return r;
 
-    // The plan's order; staged (add-only plans): by falling exposure shift, stable.
-    uint16_t order[SEPAL_FMT_MAX_PASSES];
-    const uint32_t count = m->plan.pass_count;
-    for (uint32_t p = 0; p < count; ++p) {
-        uint32_t k = p;
-        for (; prep.staged && k > 0 && prep.pass_shift[order[k - 1]] < prep.pass_shift[p]; --k) order[k] = order[k - 1];
-        order[k] = (uint16_t)p;
-    }
-    int shift = count > 0 && prep.staged ? prep.pass_shift[order[0]] : 0;
-    int remaining = stats->doublings;  // doublings still to draw
-    bool inverted = false;
-    for (uint32_t i = 0; i < count; ++i) {
-        const sepal_fmt_pass& pass = m->passes[order[i]];
-        if (prep.staged && prep.pass_shift[order[i]] < shift) {
-            // Next stage: double what is drawn so far up to this stage's exposure.
-            const int n = shift - prep.pass_shift[order[i]];
-            doublings(f, n);
-            if (m->single_unit) copy_to_accumulator(f);  // the running sum, doubled
-            glEnable(GL_DEPTH_TEST);
-            remaining -= n;
-            shift = prep.pass_shift[order[i]];
-            f.exposure = ldexpf(1.0f, -shift);
+    srt::Gles1Step steps[srt::kMaxGles1Steps];  // ~12 KB of stack
+    const int step_count = srt::gles1_schedule(m, prep, stats->doublings, steps);
+    for (int i = 0; i < step_count; ++i) {
+        const srt::Gles1Step& step = steps[i];
+        if (step.kind == srt::Gles1Step::kDouble) {
+            doublings(f, step.count);
+            if (i + 1 < step_count) {  // a stage: the next passes test depth again
+                if (m->single_unit) copy_to_accumulator(f);  // the running sum, doubled
+                glEnable(GL_DEPTH_TEST);
+            }
+            continue;
         }
-        if (pass.blend == SEPAL_BLEND_SUBTRACT && m->subtract_by_inversion && !inverted) {
+        if (step.kind == srt::Gles1Step::kInvert) {
             invert(f);
-            inverted = true;
+            continue;
         }
+        const sepal_fmt_pass& pass = m->passes[step.pass];
+        f.exposure = step.exposure;
         for (int l = 0; l < d->scene->light_count; ++l) {
             fill_colors(f, pass, l);
             if (m->single_unit)
-                pass_single_unit(f, pass, l, inverted);
+                pass_single_unit(f, pass, l, step.inverted);
             else
-                pass_multitexture(f, pass, l, inverted);
+                pass_multitexture(f, pass, l, step.inverted);
             if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
         }
     }
-    if (inverted) invert(f);
-    doublings(f, remaining);
     // Diffuse map (Fig. 13): one more mesh pass multiplying the framebuffer by the
     // texture at the mesh's UVs; after the doublings, so the product keeps their precision.
     if (d->diffuse_texture) {

@@ -38,7 +38,7 @@ const char kFusedPixelFrag[] =
 
 const char* const kPassAttribs[] = {"a_position", "a_color", "a_uv0", "a_uv1", nullptr};
 const char* const kFullscreenAttribs[] = {"a_position", "a_uv", nullptr};
-const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g", "a_uv_h", "a_irradiance", nullptr};
+const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g", "a_uv_h", "a_irradiance", "a_diffuse", nullptr};
 const char* const kFusedPixelAttribs[] = {"a_position", "a_normal", "a_tangent", nullptr};
 
 struct Frame {
@@ -61,9 +61,9 @@ void mat4_mul(const float* a, const float* b, float* out) {
         }
 }
 
-// Enables attribute arrays 0..count-1 and disables the rest of the 4 the programs use.
+// Enables attribute arrays 0..count-1 and disables the rest of the 5 the programs use.
 void attribs(int count) {
-    for (GLuint i = 0; i < 4; ++i) (int)i < count ? glEnableVertexAttribArray(i) : glDisableVertexAttribArray(i);
+    for (GLuint i = 0; i < 5; ++i) (int)i < count ? glEnableVertexAttribArray(i) : glDisableVertexAttribArray(i);
 }
 
 GLint loc(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
@@ -128,16 +128,12 @@ void multipass(const Frame& f) {
             glBlendFunc(GL_ONE, GL_ONE);
         }
         glBlendEquation(pass.blend == SEPAL_BLEND_SUBTRACT && !inverted ? GL_FUNC_REVERSE_SUBTRACT : GL_FUNC_ADD);
-        glUniform1i(op_loc, pass.op == SEPAL_OP_PRODUCT ? 2 : pass.op == SEPAL_OP_TEXTURE ? 1 : 0);
+        glUniform1i(op_loc, srt::pass_texture_count(pass));
         glUniform1f(scale_loc, (float)pass.rgb_scale);
-        if (pass.op != SEPAL_OP_CONSTANT) bind_texture(GL_TEXTURE0, m->gl_textures[pass.tex0]);
+        if (srt::pass_texture_count(pass) >= 1) bind_texture(GL_TEXTURE0, m->gl_textures[pass.tex0]);
         if (pass.op == SEPAL_OP_PRODUCT) bind_texture(GL_TEXTURE1, m->gl_textures[pass.tex1]);
         for (int l = 0; l < lights; ++l) {
-            const float* e = srt::light_irradiance(f.scratch, n, l);
-            for (int v = 0; v < n; ++v) {
-                for (int k = 0; k < 3; ++k) colors[4 * v + k] = pass.color[k] * e[3 * v + k] * f.exposure;
-                colors[4 * v + 3] = 1.0f;
-            }
+            srt::fill_pass_colors(m->info, pass, srt::pass_inputs(m, f.scratch, n, lights, l), f.exposure, n, colors);
             auto uv = [&](uint16_t tex) {
                 return m->texture_role[tex] == SEPAL_ROLE_G ? srt::light_g_uv(f.scratch, n, l) : srt::light_h_uv(f.scratch, n, l);
             };
@@ -146,7 +142,7 @@ void multipass(const Frame& f) {
             glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, colors);
             // Unused coordinates still need a valid array: point them at the G ones.
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0,
-                                  pass.op != SEPAL_OP_CONSTANT ? uv(pass.tex0) : srt::light_g_uv(f.scratch, n, l));
+                                  srt::pass_texture_count(pass) >= 1 ? uv(pass.tex0) : srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0,
                                   pass.op == SEPAL_OP_PRODUCT ? uv(pass.tex1) : srt::light_g_uv(f.scratch, n, l));
             draw_mesh(f);
@@ -185,6 +181,19 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
     }
     glUniform1i(loc(p, "u_terms"), count);
     glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
+    // Version 1: the factors are f, times cos(theta_i); radiance materials hold the cosine
+    // in the factors and add the diffuse part times it (once: with the first group).
+    if (p == m->program_fused_pixel) {
+        const float zero[3] = {0, 0, 0};
+        glUniform1f(loc(p, "u_factor_cosine"), (m->info.flags & SEPAL_MATERIAL_RADIANCE) ? 0.0f : 1.0f);
+        glUniform3fv(loc(p, "u_diffuse"), 1, first == 0 ? m->info.diffuse : zero);
+        // The diffuse profile at (cos theta_i, cos theta_o), in the unit after the factors'.
+        const int unit = 2 * m->fused_group;
+        bind_texture(GL_TEXTURE0 + unit, m->diffuse_texture);
+        glUniform1i(loc(p, "u_profile"), unit);
+        glUniform1f(loc(p, "u_profile_on"), m->diffuse_texture ? 1.0f : 0.0f);
+        glUniform1f(loc(p, "u_profile_side"), (float)(m->diffuse_side ? m->diffuse_side : 2));
+    }
     // The fused shaders compute f itself: scaled by the frame's fused exposure.
     glUniform1f(loc(p, "u_out_scale"), f.exposure);
     glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
@@ -237,11 +246,26 @@ void fused(const Frame& f, bool per_pixel) {
             continue;
         }
         for (int l = 0; l < scene.light_count; ++l) {
-            attribs(4);
+            // The factors' irradiance (E cos for factors of f, E for radiance factors) and the
+            // diffuse part's radiance (the DIFFUSE pass's colour: diffuse E cos profile), in the
+            // colour scratch; the diffuse part once, with the first group.
+            const srt::PassInputs in = srt::pass_inputs(m, f.scratch, n, scene.light_count, l);
+            sepal_fmt_pass textured = {};
+            textured.op = SEPAL_OP_PRODUCT;
+            textured.color[0] = textured.color[1] = textured.color[2] = 1.0f;
+            sepal_fmt_pass diffuse = {};
+            diffuse.op = SEPAL_OP_DIFFUSE;
+            for (int k = 0; k < 3; ++k) diffuse.color[k] = first == 0 ? m->info.diffuse[k] : 0.0f;
+            float* irr = srt::pass_colors(f.scratch, n, scene.light_count);
+            float* dif = srt::second_colors(f.scratch, n, scene.light_count);
+            srt::fill_pass_colors(m->info, textured, in, 1.0f, n, irr);
+            srt::fill_pass_colors(m->info, diffuse, in, 1.0f, n, dif);
+            attribs(5);
             glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
             glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, srt::light_h_uv(f.scratch, n, l));
-            glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, 0, srt::light_irradiance(f.scratch, n, l));
+            glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, irr);
+            glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, 0, dif);
             draw_mesh(f);
         }
     }
@@ -290,6 +314,24 @@ sepal_result create_gles2_programs(sepal_material* m, sepal_error* err) {
         sepal_result r = gl_check("half-float target", err);
         if (r != SEPAL_OK) return r;
     }
+    if (m->diffuse_side) {
+        // The diffuse profile for the fused per-pixel shader: RGB8 (a smooth function in
+        // [0,1]), sample (i, j) at texel (i, j), linear, clamped.
+        uint8_t rgb[SEPAL_FMT_MAX_DIFFUSE_SIDE * SEPAL_FMT_MAX_DIFFUSE_SIDE * 3];
+        const uint32_t count = m->diffuse_side * m->diffuse_side * 3;
+        for (uint32_t k = 0; k < count; ++k) rgb[k] = (uint8_t)(m->diffuse_profile[k] * 255.0f + 0.5f);
+        glGenTextures(1, &m->diffuse_texture);
+        glBindTexture(GL_TEXTURE_2D, m->diffuse_texture);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, (GLsizei)m->diffuse_side, (GLsizei)m->diffuse_side, 0, GL_RGB,
+                     GL_UNSIGNED_BYTE, rgb);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        sepal_result r = gl_check("diffuse profile texture", err);
+        if (r != SEPAL_OK) return r;
+    }
     m->program_pass = build("pass", kPassVert, kPassFrag, kPassAttribs, 0, err);
     if (!m->program_pass) return err ? err->code : SEPAL_ERR_GL;
     m->program_fullscreen = build("fullscreen", kFullscreenVert, kFullscreenFrag, kFullscreenAttribs, 0, err);
@@ -306,6 +348,8 @@ sepal_result create_gles2_programs(sepal_material* m, sepal_error* err) {
 }
 
 void destroy_gles2_programs(sepal_material* m) {
+    if (m->diffuse_texture) glDeleteTextures(1, &m->diffuse_texture);
+    m->diffuse_texture = 0;
     if (m->float_fbo) glDeleteFramebuffers(1, &m->float_fbo);
     if (m->float_depth) glDeleteRenderbuffers(1, &m->float_depth);
     if (m->float_color) glDeleteTextures(1, &m->float_color);

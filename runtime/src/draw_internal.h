@@ -19,6 +19,31 @@ struct FramePrep {
     int pass_shift[SEPAL_FMT_MAX_PASSES];
 };
 
+// Everything sepal_material_create sets up except GL objects: validation against caps, the
+// plan, per-pass needs, the paths (one unit, subtraction by inversion, fused groups).
+sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
+                           sepal_material* out, sepal_error* err);
+// Validates the draw, sets up the vertices (scratch), and sizes the exposure, the doublings
+// and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. stats is
+// cleared and filled with the frame's counters.
+sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_stats* stats, sepal_error* err);
+// The order passes are drawn in (the plan's; staged: by falling exposure shift, stable).
+void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order);
+
+// The GL ES 1.1 executor's sequence of framebuffer operations, shared with the emulator so
+// both do the same thing: passes (each with its exposure, drawn once per light), stage
+// doublings between them (staged plans), the inversion around subtracted passes (no blend
+// subtract), and the final doublings.
+struct Gles1Step {
+    enum Kind { kPass, kDouble, kInvert } kind;
+    int count;        // kDouble: doublings
+    uint16_t pass;    // kPass: index into the plan
+    float exposure;   // kPass: 2^-shift on its vertex colours
+    bool inverted;    // kPass: drawn into the inverted framebuffer (subtract becomes add)
+};
+constexpr int kMaxGles1Steps = 2 * SEPAL_FMT_MAX_PASSES + 3;  // a stage and a pass per pass, 2 inversions, the end
+int gles1_schedule(const sepal_material* m, const FramePrep& prep, int total_doublings, Gles1Step* steps);
+
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 sepal_result create_gles2_programs(sepal_material* m, sepal_error* err);
 void destroy_gles2_programs(sepal_material* m);

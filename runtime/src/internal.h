@@ -61,6 +61,17 @@ int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const fl
 // (1/d^2 for point lights, 1 for directional ones).
 float light_direction(const struct sepal_light& light, const float position[3], float dir[3]);
 
+// Textures a pass reads: PRODUCT 2, TEXTURE 1, CONSTANT and DIFFUSE none.
+inline int pass_texture_count(const sepal_fmt_pass& p) {
+    return p.op == SEPAL_OP_PRODUCT ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
+}
+// GL ES 1.1 clamps vertex colours at 1: textured passes send colour / boost and scale by 4
+// in their last combiner stage (GL_RGB_SCALE accepts 1, 2 or 4), boost = 4 / rgb_scale;
+// untextured passes have no combiner stage to scale in.
+inline float pass_color_boost(const sepal_fmt_pass& p) {
+    return pass_texture_count(p) == 0 ? 1.0f : 4.0f / (float)p.rgb_scale;
+}
+
 // Returns SEPAL_OK, or drains GL's error flags and fills err naming `what`. Works on
 // either GL ES version (glGetError is common to both).
 sepal_result gl_check(const char* what, sepal_error* err);

@@ -77,9 +77,10 @@ int next_pow2(int v) {
 
 }  // namespace
 
-extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset,
-                                          int max_width, int max_height, sepal_material* out,
-                                          sepal_error* err) {
+namespace srt {
+
+sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
+                           sepal_material* out, sepal_error* err) {
     if (!caps || !asset || !out)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: NULL argument");
     memset(out, 0, sizeof *out);
@@ -110,11 +111,10 @@ extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepa
         const sepal_fmt_pass& pass = asset->passes[p];
         // GL ES 1.1 clamps vertex colours at 1: textured passes send colour / 4 and scale
         // by 4 in the combiner (GL_RGB_SCALE), which buys two doublings of framebuffer
-        // precision; constant passes have no combiner. GL ES 2 attributes are not clamped.
-        const float boost = pass.op == SEPAL_OP_CONSTANT ? 1.0f : 4.0f / (float)pass.rgb_scale;
+        // precision; untextured passes have no combiner. GL ES 2 attributes are not clamped.
+        const float boost = srt::pass_color_boost(pass);
         for (int c = 0; c < 3; ++c) {
             const float v = caps->gles_version == 1 ? pass.color[c] / boost : 0.0f;
-            if (v > out->max_pass_color) out->max_pass_color = v;
             if (v > out->pass_need[p]) out->pass_need[p] = v;
         }
         if (pass.blend == SEPAL_BLEND_SUBTRACT) out->has_negative_passes = 1;
@@ -125,7 +125,6 @@ extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepa
             const float q = max_q(asset->textures[pass.tex0]);
             for (int c = 0; c < 3; ++c) {
                 const float v = pass.color[c] * q * (float)pass.rgb_scale;
-                if (v > out->max_first_stage) out->max_first_stage = v;
                 if (v > out->pass_need[p]) out->pass_need[p] = v;
             }
         }
@@ -136,18 +135,37 @@ extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepa
     }
     // GL ES 2 guarantees 8 texture units; the one-unit path exists for GL ES 1.1.
     out->single_unit = caps->gles_version == 1 && caps->texture_units < 2;
-    int group = caps->texture_units / 2;
+    // GL ES 2's fused per-pixel shader also samples the diffuse profile: one unit fewer.
+    int group = (caps->texture_units - (asset->diffuse_profile && caps->gles_version == 2 ? 1 : 0)) / 2;
     if (group > 8) group = 8;
     if (group > (int)info.terms) group = (int)info.terms;
     out->fused_group = group > 0 ? group : 1;
     out->subtract_by_inversion = out->has_negative_passes && !caps->has_blend_subtract;
     out->texture_count = asset->texture_count;
-    glGenTextures((GLsizei)asset->texture_count, out->gl_textures);
+    if (asset->diffuse_profile) {
+        out->diffuse_side = asset->diffuse_side;
+        memcpy(out->diffuse_profile, asset->diffuse_profile, (size_t)asset->diffuse_side * asset->diffuse_side * 3 * sizeof(float));
+    }
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
         const sepal_fmt_texture& td = asset->textures[i].desc;
         out->texture_role[i] = td.role;
         out->term_textures[td.term][td.role] = i;  // the reader checked one G and one H per term
         for (int c = 0; c < 3; ++c) out->texture_scale[i][c] = td.scale[c], out->texture_bias[i][c] = td.bias[c];
+    }
+    return srt::ok(err);
+}
+
+}  // namespace srt
+
+extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset,
+                                          int max_width, int max_height, sepal_material* out,
+                                          sepal_error* err) {
+    sepal_result r0 = srt::material_plan(caps, asset, max_width, max_height, out, err);
+    if (r0 != SEPAL_OK) return r0;
+    const sepal_fmt_material& info = asset->material;
+    glGenTextures((GLsizei)asset->texture_count, out->gl_textures);
+    for (uint32_t i = 0; i < asset->texture_count; ++i) {
+        const sepal_fmt_texture& td = asset->textures[i].desc;
         const bool wrap = info.param == SEPAL_PARAM_ELEV_AZIM && td.role == SEPAL_ROLE_H;
         // The per-pixel-only parameterizations' H coordinates jump where their frame is
         // undefined (rusinkiewicz: phi_h at h = n; elev-azim: the phi seam), so GL's

@@ -41,7 +41,7 @@ extern "C" sepal_result sepal_scene_validate(const sepal_scene* s, sepal_error* 
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "camera: eye equals target, or up is parallel to the view direction");
     if (!(c.fovy_degrees > 1.0f && c.fovy_degrees < 170.0f))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "camera: fov %g outside 1..170 degrees",
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "camera: fov %g outside (1, 170) degrees, both ends excluded",
                          (double)c.fovy_degrees);
     if (!(c.z_near > 0.0f) || !(c.z_far > c.z_near) || !isfinite(c.z_far))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "camera: need 0 < near < far");

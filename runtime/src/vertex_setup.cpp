@@ -8,7 +8,7 @@ namespace srt {
 
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
                                  const sepal_scene& scene, float* scratch) {
-    VertexSetupResult r = {0.0f, 0.0f, 0, 0, 0, 0, 0};
+    VertexSetupResult r = {0.0f, 0.0f, 0.0f, 0.0f, 0, 0, 0, 0, 0};
     const int n = mesh.vertex_count;
     float* frames = vertex_frames(scratch, n, scene.light_count);
     for (int i = 0; i < n; ++i) {
@@ -25,6 +25,8 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
                 float* e = light_irradiance(scratch, n, l) + 3 * (size_t)i;
                 g[0] = g[1] = h[0] = h[1] = 0.5f;
                 e[0] = e[1] = e[2] = 0.0f;
+                light_cosine(scratch, n, l)[i] = 0.0f;
+                view_cosine(scratch, n, scene.light_count)[i] = 0.0f;
             }
             continue;
         }
@@ -35,7 +37,8 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
         normalize3(to_eye);
         float wo[3];
         fr.to_local(to_eye, wo);
-        float sum = 0.0f;
+        view_cosine(scratch, n, scene.light_count)[i] = wo[2] > 0.0f ? wo[2] : 0.0f;
+        float sum = 0.0f, lit_sum = 0.0f;
         for (int l = 0; l < scene.light_count; ++l) {
             const sepal_light& light = scene.lights[l];
             float to_light[3];
@@ -49,23 +52,55 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
             // their horizon test and fallbacks count (the fused-pixel path's stats).
             const int above = param_texcoords(param, map, wi, wo, g, h, true, &r.param_fallbacks);
             const float cosine = above > 0 ? wi[2] : 0.0f;
+            light_cosine(scratch, n, l)[i] = cosine;
             if (above <= 0) ++r.below_horizon;
-            float peak = 0.0f;
+            float peak = 0.0f, lit = 0.0f;
             for (int k = 0; k < 3; ++k) {
-                e[k] = light.intensity[k] * cosine * falloff;
+                e[k] = above > 0 ? light.intensity[k] * falloff : 0.0f;
                 if (!(e[k] <= FLT_MAX)) {  // overflow (a huge intensity over a tiny distance)
                     e[k] = isnan(e[k]) ? 0.0f : FLT_MAX;
                     ++r.nonfinite_clamped;
                 }
-                if (e[k] > peak) peak = e[k];
+                if (e[k] > lit) lit = e[k];
+                if (e[k] * cosine > peak) peak = e[k] * cosine;
             }
             sum += peak;
+            lit_sum += lit;
             if (!(sum <= FLT_MAX)) sum = FLT_MAX;
+            if (!(lit_sum <= FLT_MAX)) lit_sum = FLT_MAX;
             if (peak > r.max_irradiance_single) r.max_irradiance_single = peak;
+            if (lit > r.max_lit_single) r.max_lit_single = lit;
         }
         if (sum > r.max_irradiance_sum) r.max_irradiance_sum = sum;
+        if (lit_sum > r.max_lit_sum) r.max_lit_sum = lit_sum;
     }
     return r;
+}
+
+PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light) {
+    PassInputs in;
+    in.irradiance = light_irradiance(scratch, n, light);
+    in.cosine = light_cosine(scratch, n, light);
+    in.view_cosine = view_cosine(scratch, n, lights);
+    in.profile = m->diffuse_side ? m->diffuse_profile : nullptr;
+    in.profile_side = m->diffuse_side;
+    return in;
+}
+
+void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass, const PassInputs& in, float scale,
+                      int n, float* rgba) {
+    const bool uses_cosine = pass_uses_cosine(info, pass);
+    const bool profile = pass.op == SEPAL_OP_DIFFUSE && in.profile;
+    for (int i = 0; i < n; ++i) {
+        // Per channel: a luminance material's colour ratio is in the pass colour.
+        const float s = uses_cosine ? scale * in.cosine[i] : scale;
+        for (int k = 0; k < 3; ++k) {
+            float v = pass.color[k] * in.irradiance[3 * i + k] * s;
+            if (profile) v *= sepal_diffuse_profile(in.profile, in.profile_side, in.cosine[i], in.view_cosine[i], k);
+            rgba[4 * i + k] = v;
+        }
+        rgba[4 * i + 3] = 1.0f;
+    }
 }
 
 TriangleCheck check_triangles(const sepal_mesh& mesh, int bad_vertices) {

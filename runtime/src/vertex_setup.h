@@ -5,33 +5,71 @@
 #pragma once
 #include "internal.h"
 #include "sepal/sepal_format.h"
+#include "sepal/sepal_material.h"
 #include "sepal/sepal_scene.h"
 
 namespace srt {
 
-// Scratch layout for N vertices and L lights: per light l, at l * 7N: G uv (2N), H uv
-// (2N), irradiance RGB (3N); then 4N floats of colours for the pass being drawn; then
-// 7N floats of per-vertex attributes as the per-pixel paths interpolate them (normal 3,
-// tangent 4: the mesh's, with unusable tangents replaced; see repaired_attributes).
+// Scratch layout for N vertices and L lights: per light l, at l * 8N: G uv (2N), H uv
+// (2N), irradiance RGB E = I / d^2 (3N; 0 where the light or the eye is below the
+// horizon), cos(theta_i) (1N; 0 there too); then 4N floats of colours for the pass being
+// drawn; then 7N floats of per-vertex attributes as the per-pixel paths interpolate them
+// (normal 3, tangent 4: the mesh's, with unusable tangents replaced; see
+// repaired_attributes); then N floats of cos(theta_o) (0 for an eye below the horizon);
+// then 4N floats of a second colour array (the fused path's diffuse term).
+constexpr size_t kLightFloats = 8;
 inline size_t scratch_floats(int vertices, int lights) {
-    return (size_t)vertices * (7 * (size_t)lights + 4 + 7);
+    return (size_t)vertices * (kLightFloats * (size_t)lights + 4 + 7 + 1 + 4);
 }
-inline float* light_g_uv(float* s, int n, int l) { return s + (size_t)l * 7 * n; }
-inline float* light_h_uv(float* s, int n, int l) { return s + (size_t)l * 7 * n + 2 * (size_t)n; }
-inline float* light_irradiance(float* s, int n, int l) { return s + (size_t)l * 7 * n + 4 * (size_t)n; }
-inline float* pass_colors(float* s, int n, int lights) { return s + (size_t)lights * 7 * n; }
-inline float* vertex_frames(float* s, int n, int lights) { return s + (size_t)lights * 7 * n + 4 * (size_t)n; }
+inline float* light_g_uv(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n; }
+inline float* light_h_uv(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 2 * (size_t)n; }
+inline float* light_irradiance(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 4 * (size_t)n; }
+inline float* light_cosine(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 7 * (size_t)n; }
+inline float* pass_colors(float* s, int n, int lights) { return s + (size_t)lights * kLightFloats * n; }
+inline float* vertex_frames(float* s, int n, int lights) {
+    return s + (size_t)lights * kLightFloats * n + 4 * (size_t)n;
+}
 constexpr int kFrameFloats = 7;
+inline float* view_cosine(float* s, int n, int lights) { return vertex_frames(s, n, lights) + kFrameFloats * (size_t)n; }
+inline float* second_colors(float* s, int n, int lights) { return view_cosine(s, n, lights) + (size_t)n; }
 
 struct VertexSetupResult {
+    // Of E cos(theta_i), what version-1 passes and DIFFUSE passes send:
     float max_irradiance_sum;     // max over vertices of sum over lights of the max channel
     float max_irradiance_single;  // max over vertices, lights and channels
+    // Of E alone (lit vertex-light pairs), what a radiance material's textured passes send:
+    float max_lit_sum, max_lit_single;
     int below_horizon;            // vertex-light pairs with light or eye below the horizon
     int fallback_tangents;        // vertices whose tangent was replaced
     int bad_vertices;             // vertices that cannot be drawn (see vertex_usable)
     int param_fallbacks;          // vertex-light pairs whose parameterization frame was undefined
     int nonfinite_clamped;        // irradiance channels that overflowed (or were NaN)
 };
+
+// Whether a pass's vertex colour carries cos(theta_i): every pass of a version-1 material
+// (the factors are f), and DIFFUSE passes (the factors of a radiance material hold the cosine).
+inline bool pass_uses_cosine(const sepal_fmt_material& m, const sepal_fmt_pass& p) {
+    return p.op == SEPAL_OP_DIFFUSE || !(m.flags & SEPAL_MATERIAL_RADIANCE);
+}
+// The largest irradiance a pass's colour is multiplied by this frame (one light).
+inline float pass_irradiance_peak(const VertexSetupResult& v, bool uses_cosine) {
+    return uses_cosine ? v.max_irradiance_single : v.max_lit_single;
+}
+
+// What a pass's vertex colour is made of, for one light: E, cos(theta_i), and for DIFFUSE
+// passes with a profile, cos(theta_o) and the profile.
+struct PassInputs {
+    const float* irradiance;    // 3 per vertex
+    const float* cosine;        // cos(theta_i) per vertex
+    const float* view_cosine;   // cos(theta_o) per vertex
+    const float* profile;       // the material's diffuse profile, or NULL
+    uint32_t profile_side;
+};
+PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light);
+// RGBA vertex colours of one pass and light: color * E (* cos) (* profile) * scale per
+// vertex, alpha 1.
+void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass, const PassInputs& in, float scale,
+                      int n, float* rgba);
 
 // Bad vertices get zero irradiance and finite coordinates; the draws skip their triangles.
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,

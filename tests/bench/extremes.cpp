@@ -5,7 +5,7 @@
 // tile: case, backend, finite, PSNR and largest difference against the CPU backend and
 // against exact, every sepal_draw_stats counter, the GL path taken; or refused and why).
 //
-//   build/bin/sepal-bench-extremes [OUT_DIR]     (default build/bench)
+//   build/bin/sepal-bench-extremes [--out DIR]     (default build/bench)
 //
 // The cases are tests/extremes_test.cpp's (tests/extremes_runtime_cases.h), plus
 // the encoder's side where this branch's encoder can be asked: an all-zero BRDF and 1x1
@@ -27,6 +27,7 @@
 #include "util/json.h"
 #include "measured/merl.h"
 #include "util/plot.h"
+#include "bench/bench_cli.h"
 #include "reference/render_exact.h"
 
 using namespace extremes;
@@ -229,17 +230,23 @@ void fill(sepal::Image* sheet, int x0, int y0, int w, int h, const glm::dvec3& c
             for (int c = 0; c < 3; ++c) sheet->at(x, y, c) = float(colour[c]);
 }
 
-void stats_json(sepal::JsonWriter& j, const sepal_draw_stats& s) {
-    j.key("stats").begin_object();
-    j.key("draw_calls").value(s.draw_calls).key("fullscreen_passes").value(s.fullscreen_passes);
-    j.key("copies").value(s.copies).key("doublings").value(s.doublings).key("exposure").value(double(s.exposure));
-    j.key("exposure_stages").value(s.exposure_stages).key("below_horizon").value(s.below_horizon);
-    j.key("fallback_tangents").value(s.fallback_tangents).key("bad_vertices").value(s.bad_vertices);
-    j.key("skipped_triangles").value(s.skipped_triangles).key("zero_area_triangles").value(s.zero_area_triangles);
-    j.key("param_fallbacks").value(s.param_fallbacks).key("exposure_clamped").value(s.exposure_clamped);
-    j.key("nonfinite_clamped").value(s.nonfinite_clamped).key("negative_clamped").value(s.negative_clamped);
-    j.key("pixel_frame_fallbacks").value(s.pixel_frame_fallbacks);
-    j.end_object();
+sepal::Json stats_json(const sepal_draw_stats& s) {
+    return {{"draw_calls", s.draw_calls},
+            {"fullscreen_passes", s.fullscreen_passes},
+            {"copies", s.copies},
+            {"doublings", s.doublings},
+            {"exposure", double(s.exposure)},
+            {"exposure_stages", s.exposure_stages},
+            {"below_horizon", s.below_horizon},
+            {"fallback_tangents", s.fallback_tangents},
+            {"bad_vertices", s.bad_vertices},
+            {"skipped_triangles", s.skipped_triangles},
+            {"zero_area_triangles", s.zero_area_triangles},
+            {"param_fallbacks", s.param_fallbacks},
+            {"exposure_clamped", s.exposure_clamped},
+            {"nonfinite_clamped", s.nonfinite_clamped},
+            {"negative_clamped", s.negative_clamped},
+            {"pixel_frame_fallbacks", s.pixel_frame_fallbacks}};
 }
 
 // The counters worth a glance, as short tokens that fit under a tile.
@@ -273,13 +280,19 @@ std::string fmt_db(double psnr) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Flags are not folders: --help prints the usage; any other option is refused.
+    for (int i = 1; i < argc; ++i)
+        if (argv[i][0] == '-') {
+            const bool help = std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h";
+            std::fprintf(help ? stdout : stderr, "%s%s", help ? "" : "unknown option\n",
+                         "usage: sepal-bench-extremes [OUT_DIR]  (default build/bench)\n  the runtime's extreme cases on every backend as a contact sheet (extremes.png, extremes.json)\n");
+            return help ? 0 : 2;
+        }
     const auto start = std::chrono::steady_clock::now();
-    const std::string out_dir = argc > 1 ? argv[1] : "build/bench";
+    BenchCli cli("sepal-bench-extremes", "The runtime's extreme cases on every backend: a contact sheet and JSON.");
+    if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    const std::string& out_dir = cli.out;
     std::string err;
-    if (!sepal::make_dirs(out_dir, &err)) {
-        std::fprintf(stderr, "sepal-bench-extremes: %s\n", err.c_str());
-        return 2;
-    }
     const std::vector<Row> rows = make_rows();
     std::vector<Column> cols;
     for (const Backend& b : all_backends()) cols.push_back({short_label(b), false, b});
@@ -293,17 +306,15 @@ int main(int argc, char** argv) {
     const glm::dvec3 ink(0.1, 0.1, 0.1), red(0.8, 0.1, 0.1), grey(0.45, 0.45, 0.45), blue(0.1, 0.25, 0.7);
     for (size_t c = 0; c < cols.size(); ++c)
         sepal::draw_text(&sheet, kLabelW + int(c) * (kTile + kPad) + kPad, 7, cols[c].label, ink);
-    sepal::JsonWriter j;
-    j.begin_object();
-    j.key("what").value("the runtime's extreme cases on every backend (tests/extremes_test.cpp)");
-    j.key("tile").value(kTile);
-    j.key("reference").value("psnr_cpu / max_diff_cpu: against the CPU backend (the precise reference of the same "
+    sepal::Json j;
+    j["what"] = "the runtime's extreme cases on every backend (tests/extremes_test.cpp)";
+    j["tile"] = kTile;
+    j["reference"] = ("psnr_cpu / max_diff_cpu: against the CPU backend (the precise reference of the same "
                              "factored material); psnr_exact / max_diff_exact: against the exact render of the "
                              "analytic BRDF, where the row has one; 8-bit display levels of the clamped images");
-    j.key("columns").begin_array();
-    for (const Column& c : cols) j.value(c.label);
-    j.end_array();
-    j.key("tiles").begin_array();
+    j["columns"] = sepal::Json::array();
+    for (const Column& c : cols) j["columns"].push_back(c.label);
+    j["tiles"] = sepal::Json::array();
     int tiles = 0, refused_tiles = 0, nonfinite_tiles = 0;
     for (size_t r = 0; r < rows.size(); ++r) {
         const Row& row = rows[r];
@@ -331,10 +342,12 @@ int main(int argc, char** argv) {
         for (size_t c = 0; c < cols.size(); ++c) {
             const Column& col = cols[c];
             const int x0 = kLabelW + int(c) * (kTile + kPad) + kPad;
-            j.begin_object();
-            j.key("case").value(row.name).key("group").value(row.group).key("note").value(row.note);
-            j.key("backend").value(col.exact ? std::string("exact") : col.backend.name);
-            j.key("row").value(int(r)).key("column").value(int(c));
+            sepal::Json t = {{"case", row.name},
+                             {"group", row.group},
+                             {"note", row.note},
+                             {"backend", col.exact ? std::string("exact") : col.backend.name},
+                             {"row", int(r)},
+                             {"column", int(c)}};
             ++tiles;
             Frame f;
             if (col.exact) {
@@ -342,7 +355,7 @@ int main(int argc, char** argv) {
                 f.err = row.exact ? err : "no analytic BRDF for this case";
                 f.image = exact_image;
                 f.finite = have_exact && all_finite(exact_image);
-                if (have_exact) j.key("exact_spec").value(row.exact_spec);
+                if (have_exact) t["exact_spec"] = row.exact_spec;
             } else if (!row.refused.empty()) {
                 f.ok = false;
                 f.err = row.refused;
@@ -366,34 +379,39 @@ int main(int argc, char** argv) {
                     ++refused_tiles;
                 }
                 // refused: the encoder or the runtime declined, with its reason in not_drawn.
-                j.key("drawn").value(false).key("refused").value(!no_brdf && refused).key("not_drawn").value(f.err);
-                j.end_object();
+                t["drawn"] = false;
+                t["refused"] = !no_brdf && refused;
+                t["not_drawn"] = f.err;
+                j["tiles"].push_back(std::move(t));
                 std::printf(" %c", col.exact ? '-' : 'x');
                 std::fflush(stdout);
                 continue;
             }
             blit(&sheet, display(f.image), x0, y0);
-            j.key("drawn").value(true).key("finite").value(f.finite);
+            t["drawn"] = true;
+            t["finite"] = f.finite;
             if (!f.finite) ++nonfinite_tiles;
             std::string caption;
             if (have_cpu && !col.backend.cpu && !col.exact) {
                 const sepal::ImageDiff d = sepal::diff_images(display(cpu_image), display(f.image), 0);
-                j.key("psnr_cpu").value(d.psnr).key("max_diff_cpu").value(d.max_diff);
+                t["psnr_cpu"] = d.psnr;
+                t["max_diff_cpu"] = d.max_diff;
                 caption = fmt_db(d.psnr);
             }
             if (have_exact && !col.exact) {
                 const sepal::ImageDiff d = sepal::diff_images(display(exact_image), display(f.image), 0);
-                j.key("psnr_exact").value(d.psnr).key("max_diff_exact").value(d.max_diff);
+                t["psnr_exact"] = d.psnr;
+                t["max_diff_exact"] = d.max_diff;
                 if (col.backend.cpu) caption = "ex " + fmt_db(d.psnr);
             }
             if (col.backend.cpu && !have_exact) caption = "reference";
             if (col.exact) caption = "exact";
             if (!f.finite) caption = "NOT FINITE";
             if (!col.exact) {
-                stats_json(j, f.stats);
-                j.key("path").value(f.path);
+                t["stats"] = stats_json(f.stats);
+                t["path"] = f.path;
             }
-            j.end_object();
+            j["tiles"].push_back(std::move(t));
             sepal::draw_text(&sheet, x0, y0 + kTile + 3, caption, f.finite ? ink : red);
             if (!col.exact) sepal::draw_text(&sheet, x0, y0 + kTile + 12, counters(f.stats), blue);
             std::printf(" .");
@@ -401,13 +419,9 @@ int main(int argc, char** argv) {
         }
         std::printf("\n");
     }
-    j.end_array();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    j.key("summary").begin_object();
-    j.key("tiles").value(tiles).key("refused_or_failed").value(refused_tiles).key("not_finite").value(nonfinite_tiles);
-    j.key("seconds").value(seconds);
-    j.end_object();
-    j.end_object();
+    j["summary"] = {{"tiles", tiles}, {"refused_or_failed", refused_tiles}, {"not_finite", nonfinite_tiles},
+                    {"seconds", seconds}};
     // Legend.
     const char* legend[] = {
         "dB: PSNR of the displayed tile against the cpu tile; cpu column: 'ex' against the exact render.",
@@ -419,7 +433,7 @@ int main(int argc, char** argv) {
         sepal::draw_text(&sheet, kPad, H - legend_h + 4 + 10 * i, legend[i], ink);
     const std::string png = out_dir + "/extremes.png", json = out_dir + "/extremes.json";
     if (!sepal::write_png(png, sheet, &err) ||
-        !sepal::write_file_atomic(json, j.str().data(), j.str().size(), &err)) {
+        !sepal::write_json_file(json, j, &err)) {
         std::fprintf(stderr, "sepal-bench-extremes: %s\n", err.c_str());
         return 1;
     }

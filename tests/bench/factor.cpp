@@ -39,6 +39,7 @@
 #include "util/io.h"
 #include "util/parallel.h"
 #include "util/plot.h"
+#include "bench/bench_cli.h"
 
 using namespace sepal;
 
@@ -343,23 +344,17 @@ void run_svd() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string what = "all", dir = "build/bench";
+    BenchCli cli("sepal-bench-factor", "Factorization benchmarks: Figure 5 of Kautz-McCool, blinn, SVD variants, timing.");
+    std::string what = "all";
     int runs = 3;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--out" && i + 1 < argc) dir = argv[++i];
-        else if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-        else if (a == "all" || a == "timing" || a == "figure5" || a == "blinn" || a == "svd") what = a;
-        else {
-            std::fprintf(stderr, "usage: sepal-bench-factor [all|timing|figure5|blinn|svd] [--out DIR] [--runs N]\n");
-            return 2;
-        }
-    }
-    std::string err;
-    if (!make_dirs(dir, &err)) {
-        std::fprintf(stderr, "sepal-bench-factor: %s\n", err.c_str());
-        return 2;
-    }
+    cli.app.add_option("WHAT", what, "which part to run")
+        ->check(CLI::IsMember({"all", "timing", "figure5", "blinn", "svd"}))
+        ->capture_default_str();
+    cli.app.add_option("--runs", runs, "timing: runs per configuration (median)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    const std::string& dir = cli.out;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     if (what == "all" || what == "figure5") run_figure5(dir);
     if (what == "all" || what == "blinn") run_blinn();

@@ -34,6 +34,7 @@
 #include "reference/render_exact.h"
 #include "util/image.h"
 #include "util/io.h"
+#include "json_builder.h"
 #include "util/json.h"
 #include "util/parallel.h"
 
@@ -73,7 +74,7 @@ Row measure(const std::string& preset, const Svbrdf& s, const SvbrdfTruth& t, De
     return r;
 }
 
-void row_json(JsonWriter& j, const Row& r) {
+void row_json(JsonBuilder& j, const Row& r) {
     j.begin_object().key("preset").value(r.preset).key("method").value(r.method).key("l").value(r.l);
     j.key("rms").value(r.rms).key("rms_over_pca").value(r.rms_ratio).key("map_rms_mean").value(r.map_mean);
     j.key("map_rms_max").value(r.map_max).key("multi_material_share").value(r.multi).key("seconds").value(r.seconds);
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
     }
     std::string err;
     if (!make_dirs(out, &err)) die(err);
-    JsonWriter j;
+    JsonBuilder j;
     j.begin_object().key("size").value(size).key("big").value(big).key("runs").value(runs);
 
     // ---- fig5 -------------------------------------------------------------------------------
@@ -301,7 +302,8 @@ int main(int argc, char** argv) {
     j.key("tree_seconds").value(median(tt)).key("rms").value(big_rms).key("map_rms_mean").value(big_maps);
     j.key("threads").value(default_threads()).end_object();
     j.end_object();
-    if (!write_file_atomic(out + "/ist.json", j.str().data(), j.str().size(), &err)) die(err);
+    const std::string text = j.str();
+    if (!write_file_atomic(out + "/ist.json", text.data(), text.size(), &err)) die(err);
 
     // ---- tables -----------------------------------------------------------------------------
     std::printf("## Top level (%dx%d, 4 materials, %d pairs): ours beside the paper's Fig. 5 / 6 (Seasons Greetings)\n\n",

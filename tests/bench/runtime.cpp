@@ -27,6 +27,7 @@
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_material.h"
 #include "vertex_setup.h"
+#include "bench/bench_cli.h"
 
 namespace {
 
@@ -187,11 +188,13 @@ std::vector<BackendRow> backend_table() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const std::string out_dir = argc > 1 ? argv[1] : "build/bench";
-    const std::string bin_dir = argc > 2 ? argv[2] : "build";
+    BenchCli cli("sepal-bench-runtime",
+                 "Runtime benchmarks: GL ES 1.1 ms per frame against the fill limit, per-vertex set-up, shipped sizes.");
+    if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    const std::string& out_dir = cli.out;
+    const std::string& bin_dir = cli.build;
     const int W = 512, H = 512, frames = 7;
     std::string err;
-    sepal::make_dirs(out_dir, &err);
     sepal_headless_desc hd = {};
     hd.width = W;
     hd.height = H;

@@ -39,6 +39,7 @@
 #include "util/io.h"
 #include "util/json.h"
 #include "util/plot.h"
+#include "bench/bench_cli.h"
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
@@ -116,35 +117,26 @@ PlotSeries scatter(const std::vector<Row>& rows, int backend, const std::string&
     return sr;
 }
 
-std::string jstr(const std::string& s) { return JsonWriter::escape(s); }  // quoted and escaped
-
-std::string num(double v, const char* fmt = "%.6g") {
-    if (!std::isfinite(v)) return "null";
-    char b[64];
-    std::snprintf(b, sizeof b, fmt, v);
-    return b;
+// Milliseconds and dB to the digits the measurement carries (the JSON stays readable).
+double rounded(double v, int digits) {
+    const double p = std::pow(10.0, digits);
+    return std::isfinite(v) ? std::round(v * p) / p : v;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string dir = "build/bench";
+    BenchCli cli("sepal-bench-tradeoff", "Image error against frame time: every bake candidate rendered on every backend.");
     bool quick = false;
     int size = 512, frames = 7;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--out" && i + 1 < argc) dir = argv[++i];
-        else if (a == "--quick") quick = true;
-        else if (a == "--size" && i + 1 < argc) size = std::atoi(argv[++i]);
-        else if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
-        else {
-            std::fprintf(stderr, "usage: sepal-bench-tradeoff [--out DIR] [--quick] [--size N] [--frames N]\n");
-            return 2;
-        }
-    }
-    if (size < 16 || size > 2048 || frames < 1 || frames > 100) die("--size 16..2048, --frames 1..100");
+    cli.app.add_flag("--quick", quick, "two materials, 16 and 32, 1 and 2 terms (a smoke run, ~1 minute)");
+    cli.app.add_option("--size", size, "frame side, pixels")->check(CLI::Range(16, 2048))->capture_default_str();
+    cli.app.add_option("--frames", frames, "timed frames per measurement (after 2 warm-up frames)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    const std::string& dir = cli.out;
     std::string err;
-    if (!make_dirs(dir, &err)) die(err);
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     const std::string fx = SEPAL_SOURCE_DIR "/fixtures/cornell/";
     std::vector<Material> mats = {{"ward", "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", 2.0},
@@ -155,7 +147,7 @@ int main(int argc, char** argv) {
                                   {"garnet_red", fx + "garnet_red.brdf", -1},
                                   {"krylon_blue", fx + "krylon_blue.brdf", -1}};
     std::vector<int> resolutions = {16, 32, 64, 128}, terms = {1, 2, 3, 4, 6};
-    std::vector<Method> methods = {Method::SVD, Method::NMF};
+    std::vector<Method> methods = {Method::WSVD, Method::NMF};
     if (quick) {
         mats = {mats[0], mats[5]};
         resolutions = {16, 32};
@@ -324,41 +316,48 @@ int main(int argc, char** argv) {
         }
     }
 
-    // JSON: one row per line to stay small (read_cost_model reads up to 1 MB).
-    std::string j = "{\n  \"device\": " + jstr(device) + ",\n  \"size\": [" + std::to_string(size) + ", " +
-                    std::to_string(size) + "],\n  \"frames\": " + std::to_string(frames) + ",\n  \"param\": \"gs-half\",\n" +
-                    "  \"seconds\": " + num(seconds, "%.1f") + ",\n  \"cost_models\": [\n";
-    for (size_t i = 0; i < models.size(); ++i) {
-        const CostModel& c = models[i];
-        j += "    {\"backend\": " + jstr(c.backend) + ", \"base_ms\": " + num(c.base_ms) + ", \"per_pass_ms\": " +
-             num(c.per_pass_ms) + ", \"per_term_ms\": " + num(c.per_term_ms) + ", \"per_kib_ms\": " + num(c.per_kib_ms) +
-             ", \"fit_error\": " + num(c.fit_error) + ", \"rows\": " + std::to_string(c.rows) + "}" +
-             (i + 1 < models.size() ? ",\n" : "\n");
+    Json j;
+    j["device"] = device;
+    j["size"] = {size, size};
+    j["frames"] = frames;
+    j["param"] = "gs-half";
+    j["seconds"] = rounded(seconds, 1);
+    j["cost_models"] = Json::array();
+    for (const CostModel& c : models)
+        j["cost_models"].push_back({{"backend", c.backend},
+                                    {"base_ms", c.base_ms},
+                                    {"per_pass_ms", c.per_pass_ms},
+                                    {"per_term_ms", c.per_term_ms},
+                                    {"per_kib_ms", c.per_kib_ms},
+                                    {"fit_error", c.fit_error},
+                                    {"rows", c.rows}});
+    j["max_error_picks"] = {{"checked", picks},
+                            {"on_measured_front", picks_on_front},
+                            {"within_noise", picks_within_noise},
+                            {"noise", kNoise},
+                            {"misses", pick_misses}};
+    j["materials"] = Json::array();
+    for (const Material& m : mats) j["materials"].push_back({{"name", m.name}, {"spec", m.spec}, {"cap", m.cap}});
+    j["rows"] = Json::array();
+    for (const Row& r : rows) {
+        Json x = {{"material", r.material}, {"backend", r.backend}, {"method", r.method}, {"res", r.res},
+                  {"terms", r.terms},       {"bits", r.bits},       {"ok", r.ok}};
+        if (!r.ok) {
+            x["note"] = r.note;
+        } else {
+            x["passes"] = r.passes;
+            x["bytes"] = r.bytes;
+            x["psnr"] = rounded(r.psnr, 3);
+            x["cos_rms_relative"] = r.err_rel;
+            x["cos_rms_relative_float"] = r.err_float;
+            x["ms"] = rounded(r.ms, 3);
+            x["ms_predicted"] = rounded(r.ms_predicted, 3);
+            x["on_front"] = r.on_front;
+            x["on_backend_front"] = r.on_backend_front;
+        }
+        j["rows"].push_back(std::move(x));
     }
-    j += "  ],\n  \"max_error_picks\": {\"checked\": " + std::to_string(picks) + ", \"on_measured_front\": " +
-         std::to_string(picks_on_front) + ", \"within_noise\": " + std::to_string(picks_within_noise) +
-         ", \"noise\": " + num(kNoise) + ", \"misses\": " + jstr(pick_misses) + "},\n";
-    j += "  \"materials\": [";
-    for (size_t i = 0; i < mats.size(); ++i)
-        j += (i ? ", " : "") + std::string("{\"name\": ") + jstr(mats[i].name) + ", \"spec\": " + jstr(mats[i].spec) +
-             ", \"cap\": " + num(mats[i].cap) + "}";
-    j += "],\n  \"rows\": [\n";
-    for (size_t i = 0; i < rows.size(); ++i) {
-        const Row& r = rows[i];
-        j += "    {\"material\": " + jstr(r.material) + ", \"backend\": " + jstr(r.backend) + ", \"method\": " +
-             jstr(r.method) + ", \"res\": " + std::to_string(r.res) + ", \"terms\": " + std::to_string(r.terms) +
-             ", \"bits\": " + std::to_string(r.bits) + ", \"ok\": " + (r.ok ? "true" : "false");
-        if (!r.ok) j += ", \"note\": " + jstr(r.note);
-        else
-            j += ", \"passes\": " + std::to_string(r.passes) + ", \"bytes\": " + std::to_string(r.bytes) +
-                 ", \"psnr\": " + num(r.psnr, "%.3f") + ", \"cos_rms_relative\": " + num(r.err_rel, "%.5g") +
-                 ", \"cos_rms_relative_float\": " + num(r.err_float, "%.5g") + ", \"ms\": " + num(r.ms, "%.3f") +
-                 ", \"ms_predicted\": " + num(r.ms_predicted, "%.3f") + ", \"on_front\": " +
-                 (r.on_front ? "true" : "false") + ", \"on_backend_front\": " + (r.on_backend_front ? "true" : "false");
-        j += i + 1 < rows.size() ? "},\n" : "}\n";
-    }
-    j += "  ]\n}\n";
-    if (!write_file_atomic(dir + "/tradeoff.json", j.data(), j.size(), &err)) die(err);
+    if (!write_json_file(dir + "/tradeoff.json", j, &err)) die(err);
 
     // The plot: a panel per material, image RMS error against ms/frame, the front joined;
     // the last panel shows the cost model's predictions against the measured frames.

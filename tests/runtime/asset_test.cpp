@@ -153,7 +153,7 @@ TEST_CASE("asset: corrupt, truncated and oversized files are refused with a clea
         {"truncated", [](std::vector<uint8_t>* b) { b->pop_back(); }, "truncated"},
         {"padded", [](std::vector<uint8_t>* b) { b->push_back(0); }, "truncated or padded"},
         {"bad magic", [](std::vector<uint8_t>* b) { (*b)[0] = 'X'; }, "bad magic"},
-        {"newer major version", [](std::vector<uint8_t>* b) { poke<uint16_t>(b, 8, 2); }, "format version 2"},
+        {"newer major version", [](std::vector<uint8_t>* b) { poke<uint16_t>(b, 8, 3); }, "format version 3"},
         {"flipped header bit", [](std::vector<uint8_t>* b) { (*b)[40] ^= 1; }, "header checksum"},
         {"flipped table bit", [](std::vector<uint8_t>* b) { (*b)[64 + 4] ^= 1; }, "header checksum"},
         {"flipped pixel", [tex](std::vector<uint8_t>* b) { (*b)[tex + 80] ^= 0x10; }, "checksum mismatch"},

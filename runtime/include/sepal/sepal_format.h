@@ -1,7 +1,7 @@
 // sepal_format.h - the .sepal asset format, defined once for the writer (offline/) and
 // the reader (runtime/). Plain C structs; every integer and float is little-endian.
 //
-// File layout (version 1):
+// File layout (versions 1 and 2):
 //   sepal_fmt_header                       64 bytes, magic "SEPALBRD"
 //   sepal_fmt_chunk[chunk_count]           24 bytes each: tag, CRC-32, offset, size
 //   chunk payloads                       each at an 8-byte-aligned offset
@@ -11,6 +11,8 @@
 //                        level is rows of width*channels*(bits/8) bytes, row 0 first, row 0
 //                        being texture coordinate t = 0 (the order glTexImage2D takes)
 //   'PLAN' exactly one   sepal_fmt_plan followed by pass_count sepal_fmt_pass
+//   'DIFF' optional (v2) sepal_fmt_diffuse followed by side*side*3 floats: the shape of a
+//                        radiance material's diffuse part (see below)
 //   'META' optional      UTF-8 JSON for people and tools; the runtime ignores it
 //   unknown tags are skipped (forward compatibility), but still checksummed.
 // Bounds (enforced by the reader, respected by the writer): see SEPAL_FMT_MAX_*.
@@ -21,6 +23,16 @@
 // subtracts products of those stored values, each times a constant colour, into a
 // framebuffer that holds [0,1]; the final `doublings` passes double the framebuffer.
 // See sepal_rt.h for how the runtime executes the plan.
+// Version 2 adds radiance materials (SEPAL_MATERIAL_RADIANCE): the factors hold the
+// reflected radiance per unit irradiance, f(wi, wo) cos(theta_i) - diffuse cos(theta_i)
+// (usually capped where a display shows white), so a light contributes
+//   E (sum_k G_k H_k) + E cos(theta_i) diffuse,      E = I / d^2 (0 below the horizon),
+// instead of E cos(theta_i) f. The diffuse part, diffuse[c] times an optional profile
+// P_c(cos theta_i, cos theta_o) in [0,1] (the DIFF chunk; 1 without it: rho_d / pi for a
+// Lambert floor), costs no texture: one DIFFUSE pass whose vertex colour carries the cosine
+// and the profile, evaluated per vertex like the texture coordinates. A version-1 file means
+// what it always meant (flags 0, diffuse 0). Writers write 1.0 unless a version-2 feature
+// is used, so older assets stay byte-identical; readers of 1.x refuse 2.x (major).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -32,8 +44,10 @@ extern "C" {
 #endif
 
 #define SEPAL_FMT_MAGIC "SEPALBRD"
-#define SEPAL_FMT_VERSION_MAJOR 1
+// The newest version this header reads and writes; readers also take major 1.
+#define SEPAL_FMT_VERSION_MAJOR 2
 #define SEPAL_FMT_VERSION_MINOR 0
+#define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
 
 #define SEPAL_FMT_MAX_FILE_BYTES (64u << 20)
 #define SEPAL_FMT_MAX_CHUNKS 64
@@ -51,6 +65,8 @@ extern "C" {
 #define SEPAL_FMT_TAG_TEXTURE SEPAL_FMT_TAG('T', 'E', 'X', 'R')
 #define SEPAL_FMT_TAG_PLAN SEPAL_FMT_TAG('P', 'L', 'A', 'N')
 #define SEPAL_FMT_TAG_META SEPAL_FMT_TAG('M', 'E', 'T', 'A')
+#define SEPAL_FMT_TAG_DIFFUSE SEPAL_FMT_TAG('D', 'I', 'F', 'F')
+#define SEPAL_FMT_MAX_DIFFUSE_SIDE 32
 
 // Parameterizations (NOTES.md section 1). Per-vertex (GL ES 1.1) paths can use the first
 // three; the last two need per-pixel evaluation (shaders or the CPU).
@@ -77,7 +93,10 @@ typedef enum sepal_pass_op {
     SEPAL_OP_PRODUCT = 0,   // colour * tex0 * tex1
     SEPAL_OP_TEXTURE = 1,   // colour * tex0
     SEPAL_OP_CONSTANT = 2,  // colour
-    SEPAL_OP_COUNT = 3
+    // 3 is reserved (homomorphic factorization's reciprocal product, another branch).
+    SEPAL_OP_DIFFUSE = 4,   // colour, times cos(theta_i) (version 2): a radiance material's
+                            // diffuse part; no texture
+    SEPAL_OP_COUNT = 5
 } sepal_pass_op;
 
 typedef enum sepal_blend {
@@ -122,8 +141,15 @@ typedef struct sepal_fmt_material {
     // Per-channel multiplier of f: a luminance factorization (1 channel) times its colour;
     // (1, 1, 1) for per-channel factorizations. Finite, >= 0, not all 0.
     float ratio[3];
-    uint32_t reserved[4];
+    // Version 2 (0 in version 1): SEPAL_MATERIAL_* bits, and the diffuse part of a radiance
+    // material (a constant BRDF per channel, finite, >= 0; drawn by the plan's DIFFUSE pass).
+    uint32_t flags;
+    float diffuse[3];
 } sepal_fmt_material;
+
+// sepal_fmt_material.flags
+#define SEPAL_MATERIAL_RADIANCE 1u  // the factors include cos(theta_i) (see the top)
+#define SEPAL_MATERIAL_KNOWN_FLAGS 1u
 
 typedef struct sepal_fmt_texture {
     uint32_t width, height;  // powers of two, 1..SEPAL_FMT_MAX_TEXTURE_SIDE
@@ -147,12 +173,22 @@ typedef struct sepal_fmt_plan {
     uint32_t reserved[5];
 } sepal_fmt_plan;
 
+// The diffuse profile (version 2, radiance materials with a diffuse part): side x side RGB
+// samples of P(cos theta_i, cos theta_o) in [0,1], sample (i, j) at cos theta_i = i / (side
+// - 1), cos theta_o = j / (side - 1), row j = 0 first; looked up bilinearly (clamped).
+typedef struct sepal_fmt_diffuse {
+    uint32_t side;         // 2..SEPAL_FMT_MAX_DIFFUSE_SIDE
+    uint32_t reserved[3];  // 0
+} sepal_fmt_diffuse;
+
 typedef struct sepal_fmt_pass {
     uint16_t op;         // sepal_pass_op
     uint16_t blend;      // sepal_blend
     uint16_t tex0;       // texture index or SEPAL_FMT_NO_TEXTURE
     uint16_t tex1;
     float color[3];      // per-channel constant in [0,1], times the light's irradiance
+                         // (E cos(theta_i); E alone for a radiance material's textured
+                         // and constant passes)
     uint32_t rgb_scale;  // 1, 2 or 4: GL_RGB_SCALE of the pass's last combiner stage
 } sepal_fmt_pass;
 
@@ -174,7 +210,15 @@ typedef struct sepal_asset {
     sepal_fmt_pass passes[SEPAL_FMT_MAX_PASSES];
     const char* meta;  // not NUL-terminated; NULL when absent
     uint32_t meta_bytes;
+    // The diffuse profile: side * side * 3 floats in the caller's buffer (read them with
+    // memcpy: 4-byte aligned only), or NULL with side 0 (profile 1 everywhere).
+    const uint8_t* diffuse_profile;
+    uint32_t diffuse_side;
 } sepal_asset;
+
+// The diffuse profile at (cos theta_i, cos theta_o), channel c (bilinear, clamped to [0,1]
+// in both); 1 without a profile. profile: side * side * 3 floats (any alignment).
+float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c);
 
 // Validates everything (sizes, bounds, checksums, enums, cross references) and fills
 // out. Any failure returns a code and a message naming the problem; out is then

@@ -63,11 +63,14 @@ typedef struct sepal_material {
     uint32_t term_textures[SEPAL_FMT_MAX_TERMS][2];  // per term: its G and H texture index
     float texture_scale[SEPAL_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
     float texture_bias[SEPAL_FMT_MAX_TEXTURES][3];
-    float max_pass_color;     // largest vertex colour a pass sends per unit irradiance (GL ES 1.1)
-    float max_first_stage;    // one texture unit: largest colour x tex0 of a product pass (GL ES 1.1)
     // GL ES 1.1: per pass, the largest value GL clamps at 1 (vertex colour, or colour x tex0
     // on one texture unit) per unit irradiance: what its exposure must keep below 1.
     float pass_need[SEPAL_FMT_MAX_PASSES];
+    // A radiance material's diffuse profile (format 2), copied: the DIFFUSE pass's vertex
+    // colours are computed from it every frame. side 0: none (1 everywhere).
+    float diffuse_profile[SEPAL_FMT_MAX_DIFFUSE_SIDE * SEPAL_FMT_MAX_DIFFUSE_SIDE * 3];
+    uint32_t diffuse_side;
+    uint32_t diffuse_texture;  // GL ES 2: the profile as an RGB texture (fused per-pixel), or 0
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;
@@ -200,6 +203,32 @@ typedef struct sepal_cpu_desc {
 
 size_t sepal_cpu_scratch_floats(int vertex_count);
 sepal_result sepal_draw_cpu(const sepal_cpu_desc* desc, sepal_error* err);
+
+// ---- the GL ES 1.1 emulator ------------------------------------------------------------
+// What sepal_draw shows on a GL ES 1.1 context (or the GL ES 2 multipass path), computed on
+// the CPU with the same frame preparation and the GL pipeline's arithmetic: 8-bit texels
+// with MIP levels chosen from 2x2-quad derivatives, vertex colours clamped to [0,1],
+// perspective-correct interpolation, combiner stages clamped and scaled, every pass rounded
+// to the 8-bit framebuffer, saturating blends, doublings and inversions. The bake ranks its
+// candidates with it (a GL context per candidate would cost more and depend on the driver);
+// tests/runtime/emulate_test.cpp holds it to llvmpipe's images. Deterministic, single
+// threaded, no allocation (callers hand in the buffers). Not emulated: the one-texture-unit
+// path (SEPAL_MASK_MULTITEXTURE is refused) and diffuse texture maps.
+typedef struct sepal_emulate_desc {
+    const sepal_asset* asset;
+    const sepal_mesh* mesh;   // world space
+    const sepal_scene* scene;
+    int width, height;
+    int gles_version;         // 1: GL ES 1.1; 2: the GL ES 2 multipass path
+    uint32_t mask;            // SEPAL_MASK_BLEND_SUBTRACT: subtraction by inversion
+    uint8_t* rgba;            // width * height * 4 bytes out, top row first
+    float* scratch;           // sepal_emulate_scratch_floats() floats
+    size_t scratch_floats;
+    sepal_draw_stats* stats;  // optional: the frame's counters, as sepal_draw reports them
+} sepal_emulate_desc;
+
+size_t sepal_emulate_scratch_floats(int width, int height, int vertex_count, int light_count);
+sepal_result sepal_emulate_draw(const sepal_emulate_desc* desc, sepal_error* err);
 
 #ifdef __cplusplus
 }

@@ -561,10 +561,10 @@ TEST_CASE("measured: sepal gen-merl writes, exits 2 on bad input and is determin
     CHECK(m->model() == "merl");
 
     CHECK(run_cmd(sepal::cmd_gen_merl, {garnet}, &out) == 2);
-    CHECK(contains(out, "usage"));
+    CHECK(contains(out, "Usage: sepal gen-merl"));
     CHECK(run_cmd(sepal::cmd_gen_merl, {garnet, "-o"}, &out) == 2);
     CHECK(run_cmd(sepal::cmd_gen_merl, {garnet, "--frob", "-o", dir + "/c.binary"}, &out) == 2);
-    CHECK(contains(out, "unknown option --frob"));
+    CHECK(contains(out, "not expected: --frob"));
     CHECK(run_cmd(sepal::cmd_gen_merl, {dir + "/nope.brdf", "-o", dir + "/c.binary"}, &out) == 2);
     CHECK(contains(out, "nope.brdf"));
     CHECK(run_cmd(sepal::cmd_gen_merl, {garnet, "-o", dir + "/no/dir/c.binary"}, &out) == 2);

@@ -182,3 +182,24 @@ TEST_CASE("heatmap marks differing pixels") {
     CHECK(h.at(0, 0, 0) == 0.0f);
     CHECK(h.at(2, 1, 0) > 0.5f);
 }
+
+TEST_CASE("16-bit png round trip keeps every sample, for 1 to 4 channels") {
+    const std::string dir = sepal_test::temp_dir();
+    for (int ch = 1; ch <= 4; ++ch) {
+        CAPTURE(ch);
+        const int w = 5, h = 3;
+        std::vector<uint16_t> s(size_t(w) * h * ch);
+        for (size_t i = 0; i < s.size(); ++i) s[i] = uint16_t((i * 4099 + 7) & 0xffff);
+        std::string err;
+        REQUIRE_MESSAGE(sepal::write_png16(dir + "/p.png", w, h, ch, s, &err), err);
+        int rw = 0, rh = 0, rc = 0;
+        std::vector<uint16_t> back;
+        REQUIRE_MESSAGE(sepal::read_png16(dir + "/p.png", &rw, &rh, &rc, &back, &err), err);
+        CHECK(rw == w);
+        CHECK(rh == h);
+        CHECK(rc == ch);
+        CHECK(back == s);
+    }
+    std::string err;
+    CHECK_FALSE(sepal::write_png16(dir + "/bad.png", 2, 2, 5, std::vector<uint16_t>(20), &err));
+}

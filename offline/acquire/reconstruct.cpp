@@ -1,0 +1,349 @@
+#include "acquire/reconstruct.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <map>
+
+#include <glm/glm.hpp>
+
+#include "util/parallel.h"
+
+namespace sepal {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Samples of each atlas texel: (capture, index) pairs in capture order.
+struct TexelIndex {
+    std::vector<int> start;  // res*res + 1
+    std::vector<std::pair<int, int>> refs;
+    int count(int t) const { return start[size_t(t) + 1] - start[size_t(t)]; }
+};
+
+TexelIndex index_samples(size_t texels, const std::vector<Capture>& caps) {
+    TexelIndex ix;
+    ix.start.assign(texels + 1, 0);
+    for (const Capture& c : caps)
+        for (int t : c.texel) ++ix.start[size_t(t) + 1];
+    for (size_t t = 0; t < texels; ++t) ix.start[t + 1] += ix.start[t];
+    ix.refs.resize(size_t(ix.start[texels]));
+    std::vector<int> fill(ix.start.begin(), ix.start.end() - 1);
+    for (size_t ci = 0; ci < caps.size(); ++ci)
+        for (size_t i = 0; i < caps[ci].size(); ++i)
+            ix.refs[size_t(fill[size_t(caps[ci].texel[i])]++)] = {int(ci), int(i)};
+    return ix;
+}
+
+BrdfSample sample_of(const std::vector<Capture>& caps, const std::pair<int, int>& r) {
+    const Capture& c = caps[size_t(r.first)];
+    const size_t i = size_t(r.second);
+    BrdfSample s;
+    s.wi = glm::dvec3(c.wi[i]);
+    s.wo = glm::dvec3(c.wo[i]);
+    s.value = glm::dvec3(c.value[i]);
+    s.weight = c.weight[i];
+    return s;
+}
+
+// Weighted squared residual of a texel's samples under a model.
+double texel_residual(const LafortuneModel& m, const std::vector<Capture>& caps, const TexelIndex& ix, int t) {
+    double sum = 0;
+    for (int k = ix.start[size_t(t)]; k < ix.start[size_t(t) + 1]; ++k) {
+        const BrdfSample s = sample_of(caps, ix.refs[size_t(k)]);
+        const glm::dvec3 d = (m.eval(s.wi, s.wo) - s.value) * s.weight;
+        sum += glm::dot(d, d);
+    }
+    return sum;
+}
+
+// Non-negative least squares on K x K normal equations by projected Gauss-Seidel
+// (K <= 8: exact enough in a few dozen sweeps, no active-set bookkeeping).
+void nnls_small(const std::vector<double>& A, const std::vector<double>& b, int K, std::vector<double>* x) {
+    for (int sweep = 0; sweep < 60; ++sweep)
+        for (int j = 0; j < K; ++j) {
+            const double ajj = A[size_t(j * K + j)];
+            if (!(ajj > 0)) continue;
+            double r = b[size_t(j)];
+            for (int l = 0; l < K; ++l)
+                if (l != j) r -= A[size_t(j * K + l)] * (*x)[size_t(l)];
+            (*x)[size_t(j)] = std::max(0.0, r / ajj);
+        }
+}
+
+}  // namespace
+
+bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const ReconstructOptions& o,
+                 Reconstruction* out, std::string* err) {
+    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4) {
+        if (err) *err = "reconstruct: clusters must be 1..8 and lobes 1..4";
+        return false;
+    }
+    const SurfaceAtlas& a = obj.atlas;
+    const size_t n = a.valid.size();
+    const TexelIndex ix = index_samples(n, caps);
+    std::vector<int> measured;
+    for (int t : a.texels)
+        if (ix.count(t) > 0) measured.push_back(t);
+    if (measured.empty()) {
+        if (err) *err = "reconstruct: no texel has a sample";
+        return false;
+    }
+
+    // (1) Median colour per texel, k-means with a farthest-point start.
+    std::vector<glm::dvec3> colour(n, glm::dvec3(0));
+    for (int t : measured) {
+        std::vector<double> ch[3];
+        for (int k = ix.start[size_t(t)]; k < ix.start[size_t(t) + 1]; ++k) {
+            const glm::vec3& v = caps[size_t(ix.refs[size_t(k)].first)].value[size_t(ix.refs[size_t(k)].second)];
+            for (int c = 0; c < 3; ++c) ch[c].push_back(v[c] * kPi);
+        }
+        for (int c = 0; c < 3; ++c) {
+            std::nth_element(ch[c].begin(), ch[c].begin() + long(ch[c].size() / 2), ch[c].end());
+            colour[size_t(t)][c] = ch[c][ch[c].size() / 2];
+        }
+    }
+    const int K0 = std::min<int>(o.clusters, int(measured.size()));
+    std::vector<glm::dvec3> centre{colour[size_t(measured[0])]};
+    while (int(centre.size()) < K0) {
+        double far = -1;
+        int pick = measured[0];
+        for (int t : measured) {
+            double d = 1e300;
+            for (const glm::dvec3& c : centre) d = std::min(d, glm::dot(colour[size_t(t)] - c, colour[size_t(t)] - c));
+            if (d > far) {
+                far = d;
+                pick = t;
+            }
+        }
+        centre.push_back(colour[size_t(pick)]);
+    }
+    std::vector<int> cluster(n, -1);
+    for (int it = 0; it < 10; ++it) {
+        for (int t : measured) {
+            double best = 1e300;
+            for (size_t k = 0; k < centre.size(); ++k) {
+                const double d = glm::dot(colour[size_t(t)] - centre[k], colour[size_t(t)] - centre[k]);
+                if (d < best) {
+                    best = d;
+                    cluster[size_t(t)] = int(k);
+                }
+            }
+        }
+        std::vector<glm::dvec3> sum(centre.size(), glm::dvec3(0));
+        std::vector<int> cnt(centre.size(), 0);
+        for (int t : measured) {
+            sum[size_t(cluster[size_t(t)])] += colour[size_t(t)];
+            ++cnt[size_t(cluster[size_t(t)])];
+        }
+        for (size_t k = 0; k < centre.size(); ++k)
+            if (cnt[k]) centre[k] = sum[k] / double(cnt[k]);
+    }
+
+    // (2) Fit per cluster; reassign texels by residual; repeat. A cluster with too few
+    // samples for a fit, or whose fit fails, is dissolved into the nearest (by colour).
+    constexpr int kMinClusterSamples = 16;
+    auto dissolve = [&](int gone) {
+        std::map<int, std::pair<glm::dvec3, int>> centres;
+        for (int t : measured)
+            if (cluster[size_t(t)] != gone) {
+                auto& c = centres[cluster[size_t(t)]];
+                c.first += colour[size_t(t)];
+                ++c.second;
+            }
+        if (centres.empty()) return false;
+        for (int t : measured)
+            if (cluster[size_t(t)] == gone) {
+                double best = 1e300;
+                for (const auto& c : centres) {
+                    const glm::dvec3 d = colour[size_t(t)] - c.second.first / double(c.second.second);
+                    if (glm::dot(d, d) < best) {
+                        best = glm::dot(d, d);
+                        cluster[size_t(t)] = c.first;
+                    }
+                }
+            }
+        return true;
+    };
+    std::vector<LafortuneFit> fits;
+    for (int it = 0; it <= o.iterations; ++it) {
+        {
+            std::map<int, int> samples_of;
+            for (int t : measured) samples_of[cluster[size_t(t)]] += ix.count(t);
+            for (const auto& c : samples_of)
+                if (c.second < kMinClusterSamples && samples_of.size() > 1 && dissolve(c.first)) {
+                    fits.clear();
+                    break;  // one at a time: the next iteration looks again
+                }
+        }
+        // Drop empty clusters, renumbering in order.
+        int K = 0;
+        for (int t : measured) K = std::max(K, cluster[size_t(t)] + 1);
+        std::vector<int> cnt(size_t(K), 0), remap(size_t(K), -1);
+        for (int t : measured) ++cnt[size_t(cluster[size_t(t)])];
+        int kept = 0;
+        std::vector<LafortuneFit> kept_fits;
+        for (int k = 0; k < K; ++k)
+            if (cnt[size_t(k)] > 0) {
+                remap[size_t(k)] = kept++;
+                if (size_t(k) < fits.size()) kept_fits.push_back(fits[size_t(k)]);
+            }
+        for (int t : measured) cluster[size_t(t)] = remap[size_t(cluster[size_t(t)])];
+        const bool warm = kept_fits.size() == size_t(kept);
+        std::vector<LafortuneFit> next(static_cast<size_t>(kept));
+        std::vector<std::string> errors(static_cast<size_t>(kept));
+        std::vector<int> ok(size_t(kept), 0);
+        parallel_for(size_t(kept), o.threads, [&](size_t k) {
+            std::vector<std::pair<int, int>> refs;
+            for (int t : measured)
+                if (cluster[size_t(t)] == int(k))
+                    for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) refs.push_back(ix.refs[size_t(j)]);
+            const size_t stride = std::max<size_t>(1, (refs.size() + size_t(o.max_cluster_samples) - 1) /
+                                                          size_t(std::max(1, o.max_cluster_samples)));
+            std::vector<BrdfSample> s;
+            for (size_t j = 0; j < refs.size(); j += stride) s.push_back(sample_of(caps, refs[j]));
+            LafortuneFitOptions fo;
+            fo.lobes = o.lobes;
+            fo.sigma = 1.0;  // weights are 1 / std (capture.h)
+            if (warm) fo.start = &kept_fits[k].model;
+            ok[k] = fit_lafortune(s, fo, &next[k], &errors[k]);
+        });
+        bool redo = false;
+        for (int k = 0; k < kept && !redo; ++k)
+            if (!ok[size_t(k)]) {
+                if (kept == 1 || !dissolve(k)) {
+                    if (err) *err = "reconstruct: cluster " + std::to_string(k) + ": " + errors[size_t(k)];
+                    return false;
+                }
+                redo = true;
+            }
+        if (redo) {
+            fits.clear();
+            --it;  // the same iteration with one cluster fewer (terminates: clusters only go)
+            continue;
+        }
+        fits = std::move(next);
+        if (it == o.iterations) break;
+        std::vector<int> reassigned(n, -1);
+        parallel_for(64, o.threads, [&](size_t chunk) {
+            for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
+                const int t = measured[m];
+                double best = 1e300;
+                for (size_t k = 0; k < fits.size(); ++k) {
+                    const double r = texel_residual(fits[k].model, caps, ix, t);
+                    if (r < best) {
+                        best = r;
+                        reassigned[size_t(t)] = int(k);
+                    }
+                }
+            }
+        });
+        for (int t : measured) cluster[size_t(t)] = reassigned[size_t(t)];
+    }
+    const int K = int(fits.size());
+
+    // (3) Per-texel non-negative weights over the basis.
+    Reconstruction r;
+    r.basis = fits;
+    r.samples.assign(n, 0);
+    for (int t : a.texels) r.samples[size_t(t)] = ix.count(t);
+    r.svbrdf.res = a.res;
+    for (const LafortuneFit& f : fits) {
+        std::string e;
+        std::unique_ptr<Brdf> b = make_brdf(f.model.spec(), &e);
+        if (!b) {
+            if (err) *err = "reconstruct: " + e;
+            return false;
+        }
+        r.svbrdf.basis.emplace_back(std::move(b));
+    }
+    if (o.project) r.svbrdf.weights.assign(n * size_t(K), 0.0f);
+    if (o.project) parallel_for(64, o.threads, [&](size_t chunk) {
+        std::vector<double> A(static_cast<size_t>(K * K)), b(static_cast<size_t>(K)), x(static_cast<size_t>(K));
+        std::vector<glm::dvec3> fk(static_cast<size_t>(K));
+        for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
+            const int t = measured[m];
+            std::fill(A.begin(), A.end(), 0.0);
+            std::fill(b.begin(), b.end(), 0.0);
+            for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) {
+                const BrdfSample s = sample_of(caps, ix.refs[size_t(j)]);
+                const double w2 = s.weight * s.weight;
+                for (int k = 0; k < K; ++k) fk[size_t(k)] = fits[size_t(k)].model.eval(s.wi, s.wo);
+                for (int k = 0; k < K; ++k) {
+                    b[size_t(k)] += w2 * glm::dot(fk[size_t(k)], s.value);
+                    for (int l = 0; l < K; ++l) A[size_t(k * K + l)] += w2 * glm::dot(fk[size_t(k)], fk[size_t(l)]);
+                }
+            }
+            double trace = 0;
+            for (int k = 0; k < K; ++k) trace += A[size_t(k * K + k)];
+            const double ridge = o.ridge_share * trace / K + 1e-30;
+            const int c = cluster[size_t(t)];
+            for (int k = 0; k < K; ++k) {
+                A[size_t(k * K + k)] += ridge;
+                x[size_t(k)] = k == c ? 1.0 : 0.0;
+            }
+            b[size_t(c)] += ridge;
+            nnls_small(A, b, K, &x);
+            for (int k = 0; k < K; ++k) r.svbrdf.weights[size_t(t) * size_t(K) + size_t(k)] = float(x[size_t(k)]);
+        }
+    });
+    // Texels without samples: the nearest measured texel's cluster and weights (breadth
+    // first over the atlas grid, wrapping at its borders like the meshes' UVs).
+    std::deque<int> queue(measured.begin(), measured.end());
+    std::vector<uint8_t> done(n, 0);
+    for (int t : measured) done[size_t(t)] = 1;
+    const int res = a.res;
+    while (!queue.empty()) {
+        const int t = queue.front();
+        queue.pop_front();
+        const int x = t % res, y = t / res;
+        const int nb[4] = {y * res + (x + 1) % res, y * res + (x + res - 1) % res, ((y + 1) % res) * res + x,
+                           ((y + res - 1) % res) * res + x};
+        for (int q : nb) {
+            if (done[size_t(q)] || !a.valid[size_t(q)]) continue;
+            done[size_t(q)] = 1;
+            cluster[size_t(q)] = cluster[size_t(t)];
+            if (o.project)
+                for (int k = 0; k < K; ++k)
+                r.svbrdf.weights[size_t(q) * size_t(K) + size_t(k)] = r.svbrdf.weights[size_t(t) * size_t(K) + size_t(k)];
+            queue.push_back(q);
+        }
+    }
+    r.cluster = cluster;
+    r.texel_model.assign(n, LafortuneModel());
+    for (int t : a.texels)
+        if (cluster[size_t(t)] >= 0) r.texel_model[size_t(t)] = fits[size_t(cluster[size_t(t)])].model;
+    *out = std::move(r);
+    return true;
+}
+
+std::vector<TexelFit> fit_texels(const AcqObject& obj, const std::vector<Capture>& caps, const Reconstruction& r,
+                                 int min_samples, int threads) {
+    const size_t n = obj.atlas.valid.size();
+    const TexelIndex ix = index_samples(n, caps);
+    std::vector<TexelFit> out(n);
+    const std::vector<int>& texels = obj.atlas.texels;
+    parallel_for(64, threads, [&](size_t chunk) {
+        for (size_t m = texels.size() * chunk / 64; m < texels.size() * (chunk + 1) / 64; ++m) {
+            const int t = texels[m];
+            if (ix.count(t) < min_samples || r.cluster[size_t(t)] < 0) continue;
+            std::vector<BrdfSample> s;
+            for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) s.push_back(sample_of(caps, ix.refs[size_t(j)]));
+            LafortuneFitOptions fo;
+            fo.sigma = 1.0;
+            fo.start = &r.texel_model[size_t(t)];
+            fo.max_evaluations = 100;
+            LafortuneFit f;
+            if (!fit_lafortune(s, fo, &f, nullptr)) continue;
+            TexelFit& tf = out[size_t(t)];
+            tf.fitted = true;
+            tf.rank = f.rank;
+            tf.params = f.params;
+            tf.ci95.resize(f.params.size());
+            for (int j = 0; j < f.params.size(); ++j) tf.ci95[j] = f.ci95(j);
+        }
+    });
+    return out;
+}
+
+}  // namespace sepal

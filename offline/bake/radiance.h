@@ -1,0 +1,82 @@
+// What the bake's factors approximate: reflected radiance, bounded where a display is white.
+//
+// Usage:
+//   sepal::RadianceTarget t;
+//   t.white = 0.5;                                   // f cos(theta_i) above this shows white
+//   t.diffuse = sepal::estimate_diffuse(*brdf);      // the floor, drawn untextured
+//   sepal::RadianceBrdf g(*brdf, t);                 // g = max(0, min(f cos_i, white) - D cos_i)
+//   factor_brdf(g, options, &result, &err);          // factors of g; Factored::radiance set by the bake
+//
+// Why: a light of irradiance E (= I / d^2) shows f cos(theta_i) E, clipped at 1 by the
+// display. Beyond white = 1 / E_min no view can show a difference, so values above it are
+// spent precision: grazing peaks of Ward or Cook-Torrance (f ~ 1/cos) are 10-1000 times
+// what a sphere shows and, left in, set the textures' scale and the framebuffer doublings.
+// Fitting f cos(theta_i) (not f) also spends the factors' rank where light lands, and the
+// diffuse part D(cos theta_i, cos theta_o) is exact and free as an untextured pass whose
+// vertex colour carries it (format 2): a constant rho_d / pi, or a profile over the two
+// cosines (Ashikhmin-Shirley's and Oren-Nayar's diffuse, measured paints), which no
+// half-angle factorization holds in few terms.
+// Limits: white and diffuse are per bake; an asset baked for a scene renders its clipped
+// highlights grey under a dimmer light than the one it was baked for (its META records
+// "white_level"; `sepal bake --cap none` keeps everything).
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "brdf/brdf.h"
+
+namespace sepal {
+
+// The diffuse part: D_c(cos_i, cos_o) = scale_c * profile_c(cos_i, cos_o), the profile in
+// [0,1] on a side x side grid (the format's DIFF chunk, sepal_diffuse_profile's lookup), or
+// constant (side 0).
+struct DiffusePart {
+    glm::dvec3 scale{0, 0, 0};
+    int side = 0;
+    std::vector<float> profile;  // side * side * 3, sample (i, j) at cos_i = i/(side-1), cos_o = j/(side-1)
+    double eval(int c, double cos_i, double cos_o) const;
+    bool any() const { return scale.x > 0 || scale.y > 0 || scale.z > 0; }
+};
+
+struct RadianceTarget {
+    double white = 0;      // cap on f cos(theta_i), per steradian; <= 0: none
+    DiffusePart diffuse;   // subtracted times cos(theta_i)
+};
+
+// The diffuse part as a constant: per channel the `quantile` of f over a fixed grid of
+// direction pairs above 1.1 degrees from the horizon (a low quantile, not the minimum, so
+// one noisy measured cell cannot decide it). For models with a Lambert floor (rho_d/pi plus
+// a lobe that vanishes somewhere) this is rho_d / pi. Deterministic; threads as parallel.h.
+glm::dvec3 estimate_diffuse(const Brdf& f, double quantile = 0.005, int threads = 0);
+// The diffuse part as a profile over the two cosines: at each of side x side nodes, the
+// minimum of f over every azimuth (and, for anisotropic BRDFs, orientation) and over the
+// cosines of the cells around the node, so the bilinear profile stays at or below f (no
+// lobe leaks into it, not even at normal incidence, where every azimuth is the mirror
+// one). Returned constant (side 0) when the profile varies by under 2%, or all zero.
+DiffusePart estimate_diffuse_profile(const Brdf& f, int side = 16, int threads = 0);
+
+// g(wi, wo) = max(0, min(f cos_i, white) - diffuse cos_i) per channel, the function the bake
+// factors; counts how many evaluations the cap and the floor at 0 changed (thread-safe).
+class RadianceBrdf : public Brdf {
+  public:
+    RadianceBrdf(const Brdf& f, const RadianceTarget& t) : f_(f), t_(t) {}
+    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    std::string spec() const override { return f_.spec(); }
+    std::string model() const override { return f_.model(); }
+    std::string info() const override { return f_.info(); }
+    bool isotropic() const override { return f_.isotropic(); }
+    InputCounts input_counts() const override { return f_.input_counts(); }
+    int64_t evaluations() const { return calls_; }
+    int64_t capped() const { return capped_; }
+    int64_t floored() const { return floored_; }
+
+  private:
+    const Brdf& f_;
+    RadianceTarget t_;
+    mutable std::atomic<int64_t> calls_{0}, capped_{0}, floored_{0};
+};
+
+}  // namespace sepal

@@ -1,0 +1,115 @@
+// sepal fit lafortune SAMPLES -o fit.json [--lobes N] [--anisotropic] [--grey] [--sigma S]
+//
+// A Lafortune model fitted to scattered samples (Lensch et al. 2003, section 4; the library
+// is offline/fit/): SAMPLES is a samples.csv (what `sepal measure capture` writes; format in
+// fit/samples.h) or a Cornell .brdf file. Prints each parameter with its 95% interval (from
+// the covariance at the minimum; "unmeasured" when the samples do not determine it), the
+// rank, the residual and the model as a spec that `sepal bake` and `sepal render` take.
+// fit.json holds the same with the full covariance matrix (null where unmeasured).
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/cli.h"
+#include "cli/options.h"
+#include "fit/lafortune_fit.h"
+#include "fit/samples.h"
+#include "util/json.h"
+
+namespace sepal {
+namespace {
+
+struct FitArgs {
+    std::string samples, out;
+    LafortuneFitOptions o;
+    bool anisotropic = false, grey = false;
+};
+
+int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
+    const char* who = "sepal fit lafortune";
+    std::string err;
+    std::vector<BrdfSample> samples;
+    if (!read_brdf_samples(a.samples, &samples, &err)) {
+        std::fprintf(io.err, "%s: %s\n", who, err.c_str());
+        return kExitBadInput;
+    }
+    a.o.isotropic = !a.anisotropic;
+    a.o.channels = a.grey ? 1 : 3;
+    LafortuneFit r;
+    if (!fit_lafortune(samples, a.o, &r, &err)) {
+        std::fprintf(io.err, "%s: %s: %s\n", who, a.samples.c_str(), err.c_str());
+        return kExitBadInput;
+    }
+    bool clamped = false;
+    const std::string spec = r.model.spec(&clamped);
+    std::fprintf(io.out, "samples    %d (%d residuals), %d parameters, rank %d%s\n", r.samples, r.residuals,
+                 int(r.params.size()), r.rank, r.rank < int(r.params.size()) ? " (some parameters unmeasured)" : "");
+    std::fprintf(io.out, "%-12s %12s %14s\n", "parameter", "value", "95% interval");
+    Json params = Json::array();
+    for (int j = 0; j < int(r.params.size()); ++j) {
+        const double ci = r.ci95(j);
+        if (std::isfinite(ci))
+            std::fprintf(io.out, "%-12s %12.6g %14s\n", r.names[size_t(j)].c_str(), r.params(j),
+                         ("+-" + std::to_string(ci)).c_str());
+        else
+            std::fprintf(io.out, "%-12s %12.6g %14s\n", r.names[size_t(j)].c_str(), r.params(j), "unmeasured");
+        params.push_back({{"name", r.names[size_t(j)]}, {"value", r.params(j)}, {"ci95", ci}});
+    }
+    std::fprintf(io.out, "residual   rms %.6g /sr, noise scale %.6g (%s), %d evaluations\n", r.rms, r.sigma,
+                 a.o.sigma > 0 ? "given" : "estimated", r.evaluations);
+    std::fprintf(io.out, "spec       %s%s\n", spec.c_str(), clamped ? "  (clamped into the spec's ranges)" : "");
+    if (!a.out.empty()) {
+        Json cov = Json::array();
+        for (int i = 0; i < int(r.cov.rows()); ++i) {
+            Json row = Json::array();
+            for (int j = 0; j < int(r.cov.cols()); ++j) row.push_back(r.cov(i, j));  // inf -> null
+            cov.push_back(std::move(row));
+        }
+        Json j = {{"samples_file", a.samples},
+                  {"samples", r.samples},
+                  {"residuals", r.residuals},
+                  {"lobes", a.o.lobes},
+                  {"isotropic", a.o.isotropic},
+                  {"channels", a.o.channels},
+                  {"spec", spec},
+                  {"clamped", clamped},
+                  {"rank", r.rank},
+                  {"rss", r.rss},
+                  {"rms", r.rms},
+                  {"sigma", r.sigma},
+                  {"sigma_given", a.o.sigma > 0},
+                  {"evaluations", r.evaluations},
+                  {"parameters", std::move(params)},
+                  {"covariance", std::move(cov)}};
+        if (!write_json_file(a.out, j, &err)) {
+            std::fprintf(io.err, "%s: %s\n", who, err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "wrote      %s\n", a.out.c_str());
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+CommandRun setup_fit(CLI::App& app) {
+    auto a = std::make_shared<FitArgs>();
+    app.require_subcommand(1, 1);
+    CLI::App* laf = app.add_subcommand("lafortune", "fit a Lafortune model with its parameters' covariance");
+    laf->add_option("SAMPLES", a->samples, "samples.csv (sepal measure capture) or a Cornell .brdf file")->required();
+    laf->add_option("-o,--output", a->out, "write the fit, its intervals and covariance as JSON");
+    laf->add_option("--lobes", a->o.lobes, "specular lobes")->check(CLI::Range(1, 4))->capture_default_str();
+    laf->add_flag("--anisotropic", a->anisotropic, "fit Cx and Cy apart (default: Cx = Cy)");
+    laf->add_flag("--grey", a->grey, "one grey diffuse value from the samples' luminance (default: RGB)");
+    laf->add_option("--sigma", a->o.sigma,
+                    "the samples' known noise (weights are 1/std relative to it); default: estimated from the residual")
+        ->check(positive());
+    laf->add_option("--max-evaluations", a->o.max_evaluations, "model evaluations of the solver")
+        ->check(CLI::Range(10, 1000000))->capture_default_str();
+    return [a](const CommandIO& io) { return run_fit_lafortune(*a, io); };
+}
+
+int cmd_fit(const std::vector<std::string>& args, const CommandIO& io) { return run_command("fit", args, io); }
+
+}  // namespace sepal

@@ -1,0 +1,119 @@
+// Linear models of the BRDF database (database.h): PCA in linear and log space, and the
+// linear-combination-of-all-materials model of Matusik et al. 2003, section 7 (P c ~= b).
+//
+// Usage:
+//   // Error vs dimension (in-sample, or leave-one-out: the PCA of the other K-1 materials):
+//   std::vector<double> e = sepal::pca_projection_errors(db->gram(), K, k, true, 60, nullptr);
+//   // Fit a new material from samples at database rows (a plan), write it out:
+//   sepal::CombinationFit fit;
+//   sepal::fit_combination(*db, rows, values, columns, sepal::FitOptions{}, &fit, &err);
+//   std::vector<float> b = sepal::combination_values(*db, fit.coeffs);   // 3 per valid cell
+//
+// PCA works on the database's Gram matrices: materials are the samples, (cell, channel) rows the
+// dimensions; the mean material is removed first. The residual of a material after d
+// components is exact (no pass over the grid) and returned as a squared norm in the space's
+// units (1/sr for linear; log(f + eps) for log); callers normalise (relative RMS: divide by
+// the material's squared norm, G_kk; log RMS: divide by the row count).
+//
+// The combination model: columns are the database materials in use (all, or all but the one
+// left out), each scaled to unit norm over the whole grid so that conditioning measures the
+// geometry of the sample set, not the materials' brightness. Fitting: least squares on the
+// samples with Tikhonov regularisation chosen from the condition number (lambda = 0 while
+// cond(X^T X) <= max_condition, else the lambda that brings it to max_condition), and, for
+// Solver::kNonNegative, coefficients >= 0 (Lawson-Hanson active set), which keeps every
+// reconstructed value >= 0. Solver::kLeastSquares is the paper's pseudo-inverse; its output
+// can go negative, which combination_values reports (and the MERL writer clamps, counted).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "database/database.h"
+
+namespace sepal {
+
+// Eigenvalues (descending) of the centred K x K Gram: the PCA variances of the K materials.
+std::vector<double> pca_variances(const double* gram, int K);
+
+// Squared residual of material k after projection onto the mean + first d principal
+// components, for d = 0..max_dims (capped at the components available). leave_out: the PCA
+// is that of the other K-1 materials (how well the database generalises to a new one).
+// `use` (optional, size K): only materials with use[j] != 0 take part.
+std::vector<double> pca_projection_errors(const double* gram, int K, int k, bool leave_out,
+                                          int max_dims, const std::vector<uint8_t>* use);
+
+// How far a new material is expected to stray from the database's span, per row: the
+// leave-one-out residual of every database material j in use, r_j = p_j - P_{-j} c_j (the best
+// full-grid least-squares fit of j by the others, from the Gram matrix), relative to |p_j|;
+// sigma^2(row) = mean over j of r_j(row)^2, floored at 1% of its grid mean. Rows where the
+// materials are idiosyncratic (grazing angles, where the neural fits extrapolate) get a large
+// sigma; weighting a fit by 1/sigma^2 (generalized least squares) keeps them from dragging the
+// coefficients, and planning on rows scaled by 1/sigma picks samples that generalise.
+struct ResidualModel {
+    int K = 0;
+    std::vector<double> R;  // K x K row-major: sigma^2(row) = |P_row R|^2 / n_used + floor
+    double n_used = 0, floor = 0, grid_mean = 0;
+};
+ResidualModel residual_model(const BrdfDatabase& db, const std::vector<uint8_t>& use);
+double row_sigma2(const BrdfDatabase& db, const ResidualModel& m, size_t row);
+// The floor of any reconstruction from the database: for each material (in `use`), the
+// relative RMS over the whole grid of its best least-squares fit by the other materials
+// (the residual model's r_j; 0 for materials not in use).
+std::vector<double> loo_oracle_errors(const BrdfDatabase& db, const std::vector<uint8_t>& use);
+
+enum class Solver { kNonNegative, kLeastSquares };
+
+struct FitOptions {
+    // Non-negative by default, for the image: signed least squares fits the peaks better
+    // (leave-one-out median relative RMS 4.8% against 9.9%, 100 materials, 800 samples) but
+    // cancels wildly off the peak, and its renders are wrong (PSNR 8.6 and 10.6 dB for
+    // alum-bronze and specular-orange-phenolic against 24.6 and 21.4 dB non-negative;
+    // sepal-bench-database). kLeastSquares is the paper's pseudo-inverse (--solver ls).
+    Solver solver = Solver::kNonNegative;
+    // Regularisation: none while the condition number of the column-normalised normal
+    // matrix is at most this; above it, lambda brings it down to this value. 1e5 measured
+    // best over 1e3 .. 1e6 (sepal-bench-database, leave-one-out at 800 samples).
+    double max_condition = 1e5;
+    // Generalized least squares: rows weighted by 1/sigma^2 of the residual model (default).
+    // false: the paper's plain least squares.
+    bool weighted = true;
+};
+
+struct CombinationFit {
+    std::vector<double> coeffs;  // K (one per database material; 0 for unused ones), 1/sr units
+    double condition = 0;        // of the column-normalised X^T X, before regularisation
+    double lambda = 0;           // Tikhonov weight used (on the normalised system)
+    double sample_rms = 0;       // relative RMS residual on the samples
+    int nonzero = 0;             // coefficients != 0
+    int solver_iterations = 0;   // NNLS outer iterations (0 for least squares)
+};
+
+// Fits b ~= sum_j c_j P[row, j] over the materials with use[j] != 0 (use empty: all).
+// rows: database rows (3 * valid cell + channel); values: the measured BRDF there (1/sr).
+bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
+                     const std::vector<double>& values, const std::vector<uint8_t>& use,
+                     const FitOptions& opt, CombinationFit* fit, std::string* err);
+
+// Condition number of the column-normalised X^T X of these rows (the plan's figure of merit);
+// with `weighted`, rows scaled by 1/sigma (the system fit_combination solves by default).
+double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
+                      const std::vector<uint8_t>& use, bool weighted = true);
+
+// P c over every row (3 per valid cell), in float; *negative counts values below 0.
+std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<double>& coeffs,
+                                      size_t* negative = nullptr, int threads = 0);
+
+// Relative RMS over the whole grid of P c against database material k, exactly, from the
+// Gram matrix: sqrt((c - e_k)^T G (c - e_k) / G_kk).
+double combination_error_gram(const BrdfDatabase& db, const std::vector<double>& coeffs, int k);
+
+// Relative RMS over all rows of `approx` against `truth` (both 3 per valid cell).
+double relative_rms(const std::vector<float>& approx, const std::vector<float>& truth);
+
+// Non-negative least squares in Gram form: min 1/2 c^T A c - g^T c, c >= 0 (Lawson and Hanson
+// 1974, chapter 23, on the normal equations). A: n x n symmetric positive definite,
+// row-major. Hand-written: Eigen 3.4 has no NNLS. Returns the outer iterations used.
+int nnls_gram(const std::vector<double>& A, const std::vector<double>& g, int n,
+              std::vector<double>* c);
+
+}  // namespace sepal

@@ -1,0 +1,84 @@
+// Planning a reduced measurement (Matusik et al. 2003, section 7): which N (direction pair,
+// colour channel) samples let the database's linear combination be fitted robustly.
+//
+// Usage:
+//   sepal::PlanOptions o;  o.samples = 800;              // o.method = PlanMethod::kRandom ...
+//   sepal::MeasurementPlan plan;
+//   if (!sepal::plan_measurement(*db, o, &plan, &err)) ...;
+//   std::printf("condition number %.3g\n", plan.condition);
+//   sepal::write_plan_json("plan.json", *db, plan, &err);
+//
+// A sample is a database row: a valid cell of the grid (its bin-centre direction pair, phi_h
+// = 0) and one channel (the paper measures R, G or B at each point). The figure of merit is
+// the condition number of X^T X, X = the plan's rows of the database with every material's
+// column scaled to unit norm over the whole grid (linear_model.h, plan_condition).
+// Methods:
+//   greedy   (default) the paper's condition-number-driven selection, made fast: a forward
+//            pass adds, one at a time, the pool row of largest leverage r^T A^-1 r under the
+//            rows chosen so far (A = delta I + X^T X; Sherman-Morrison updates, applied to the
+//            whole pool in blocks of 32 rows as one matrix product), then the paper's swap
+//            loop exchanges a chosen row for a pool row whenever the exact condition number
+//            (eigenvalues of the 100 x 100 X^T X) drops; proposals are ranked by the
+//            first-order change of the extreme eigenvalues; it stops after `max_swaps` or
+//            when `swap_tries` proposals in a row fail.
+//            Candidates come from the database's planning pool (database.h).
+//   random   uniform over all rows (valid cells x channels), without repetition (seeded).
+//   uniform  evenly strided over the valid cells in grid order, channels in turn.
+// Deterministic: the same database, options and seed give the same plan (no threads).
+// Limits: 1 <= samples <= 100000 and at most the rows available.
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "database/database.h"
+
+namespace sepal {
+
+enum class PlanMethod { kGreedy, kRandom, kUniform };
+
+const char* plan_method_name(PlanMethod m);
+bool parse_plan_method(const std::string& s, PlanMethod* m);
+
+struct PlanOptions {
+    int samples = 800;
+    PlanMethod method = PlanMethod::kGreedy;
+    uint64_t seed = 1;
+    std::vector<uint8_t> use;  // materials taking part (size K), empty: all
+    bool weighted = true;      // plan the 1/sigma-weighted system (linear_model.h)
+    int pool_cells = 8192;     // greedy: candidates from this many pool cells (0: the whole pool)
+    int max_swaps = 400;       // greedy: swap iterations at most
+    int swap_tries = 24;       // greedy: proposals in a row without a gain before stopping
+    FILE* progress = nullptr;
+};
+
+struct MeasurementPlan {
+    PlanMethod method = PlanMethod::kGreedy;
+    uint64_t seed = 1;
+    std::vector<size_t> rows;          // database rows: 3 * valid cell + channel
+    std::vector<std::string> excluded;  // database materials left out of the model
+    double condition = 0;              // of the column-normalised X^T X
+    double condition_forward = 0;      // greedy: after the forward pass, before swaps
+    int swaps = 0;                     // greedy: accepted swaps
+};
+
+bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementPlan* plan,
+                      std::string* err);
+
+// plan.json: {"format": "sepal-measure-plan", "version": 1, "grid": [nh, nd, np],
+// "database": {"materials": K, "excluded": [...]}, "method", "seed", "samples": N,
+// "condition_number", "plan": [{"cell", "channel" (0 R, 1 G, 2 B), "theta_h", "theta_d",
+// "phi_d" (radians, the bin centre), "theta_i", "phi_i", "theta_o", "phi_o" (degrees: the
+// instrument setting, phi_h = 0)}, ...]}.
+bool write_plan_json(const std::string& path, const BrdfDatabase& db, const MeasurementPlan& p,
+                     std::string* err);
+// Reads a plan back against a database (grid must match; cells must be valid; names of
+// excluded materials must exist). Bounded: at most 100000 samples, file <= 64 MiB.
+bool read_plan_json(const std::string& path, const BrdfDatabase& db, MeasurementPlan* p,
+                    std::string* err);
+
+// The instrument directions of a database row's cell (bin centre, phi_h = 0).
+void plan_row_directions(const BrdfDatabase& db, size_t row, glm::dvec3* wi, glm::dvec3* wo);
+
+}  // namespace sepal

@@ -1,0 +1,48 @@
+// Per-pixel surface points of a mesh seen by the scene's camera: what the exact renderer and
+// the Monte Carlo renderer (offline/sampling/mc_render.h) shade.
+//
+// Usage:
+//   sepal::SurfaceBuffer sb; std::string err;
+//   if (!sepal::rasterize_surface(scene, mesh, 256, 256, &sb, &err)) ...
+//   sepal::SurfacePoint sp;
+//   if (sb.covered[p] && sepal::surface_point(sb, p, &sp) != sepal::FrameStatus::BadNormal) ...
+//
+// The mesh is rasterized by runtime/include/sepal/sepal_raster.h, so pixels line up with GL's;
+// vertex positions, normals and tangents (with handedness) are interpolated
+// perspective-correctly and the frame is re-orthonormalized per pixel (Gram-Schmidt).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "sepal/sepal_scene.h"
+
+namespace sepal {
+
+struct SurfaceBuffer {
+    static constexpr int kVaryings = 12;  // position 3, normal 3, tangent 4, uv 2
+    int width = 0, height = 0;
+    std::vector<float> varyings;  // kVaryings per pixel
+    std::vector<uint8_t> covered;
+};
+
+bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
+                       SurfaceBuffer* out, std::string* err);
+
+struct SurfacePoint {
+    glm::dvec3 position, t, s, n;  // world space; (t, s, n) orthonormal
+    glm::dvec2 uv;                 // texture coordinates (spatially varying BRDFs)
+    glm::dvec3 local(const glm::dvec3& w) const;  // world direction -> local frame
+    glm::dvec3 world(const glm::dvec3& w) const;  // local direction -> world
+};
+enum class FrameStatus {
+    Ok,
+    TangentFallback,  // tangent parallel to the normal or not finite: an axis made perpendicular
+    BadNormal,        // zero or non-finite normal: not shaded (the runtime skips such triangles)
+};
+FrameStatus surface_point(const SurfaceBuffer& sb, size_t pixel, SurfacePoint* out);
+
+}  // namespace sepal

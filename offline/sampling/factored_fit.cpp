@@ -1,0 +1,337 @@
+#include "sampling/factored_fit.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "brdf/brdf_util.h"
+#include "sampling/metrics.h"
+#include "sampling/nmf_kl.h"
+#include "util/parallel.h"
+#include "util/progress.h"
+
+namespace sepal {
+
+using glm::dvec3;
+
+const char* sample_param_name(SampleParam p) {
+    return p == SampleParam::Half ? "half" : p == SampleParam::Incident ? "incident" : "auto";
+}
+bool parse_sample_param(const std::string& s, SampleParam* p) {
+    if (s == "auto") *p = SampleParam::Auto;
+    else if (s == "half") *p = SampleParam::Half;
+    else if (s == "incident") *p = SampleParam::Incident;
+    else return false;
+    return true;
+}
+const char* phi_frame_name(PhiFrame f) {
+    return f == PhiFrame::Auto ? "auto" : f == PhiFrame::Absolute ? "absolute" : "view";
+}
+bool parse_phi_frame(const std::string& s, PhiFrame* f) {
+    if (s == "auto") *f = PhiFrame::Auto;
+    else if (s == "absolute") *f = PhiFrame::Absolute;
+    else if (s == "view") *f = PhiFrame::View;
+    else return false;
+    return true;
+}
+
+double luminance(const dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+std::vector<float> theta_bin_z_edges(int n, bool sqrt_theta) {
+    std::vector<float> z(static_cast<size_t>(n) + 1);
+    for (int i = 0; i <= n; ++i) {
+        double t = double(i) / n;
+        if (sqrt_theta) t *= t;
+        z[size_t(i)] = float(std::cos(t * 0.5 * kPi));
+    }
+    z[0] = 1.0f;
+    z[size_t(n)] = 0.0f;
+    // Float resolution near z = 1 is 6e-8 (theta ~ 3e-4 rad): tiny polar bins of the sqrt
+    // mapping are widened to the next representable value, so the edges strictly fall (the
+    // fit uses these very floats).
+    for (int i = 1; i < n; ++i) z[size_t(i)] = std::min(z[size_t(i)], std::nextafter(z[size_t(i) - 1], 0.0f));
+    for (int i = n - 1; i > 0 && !(z[size_t(i)] > z[size_t(i) + 1]); --i) z[size_t(i)] = std::nextafter(z[size_t(i) + 1], 1.0f);
+    return z;
+}
+
+bool validate_factored_options(const FactoredOptions& o, std::string* err) {
+    auto bad = [&](const std::string& m) {
+        if (err) *err = m;
+        return false;
+    };
+    if (o.n_theta_o < 1 || o.n_theta_o > SEPAL_SMP_MAX_VIEW_SIDE || o.n_phi_o < 1 ||
+        o.n_phi_o > SEPAL_SMP_MAX_VIEW_SIDE)
+        return bad("view grid " + std::to_string(o.n_theta_o) + "x" + std::to_string(o.n_phi_o) +
+                   ": each side 1.." + std::to_string(SEPAL_SMP_MAX_VIEW_SIDE));
+    if (o.n_theta_p < 1 || o.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || o.n_phi_p < 0 ||
+        o.n_phi_p > SEPAL_SMP_MAX_DIR_SIDE)
+        return bad("direction bins " + std::to_string(o.n_theta_p) + "x" + std::to_string(o.n_phi_p) +
+                   ": each side 1.." + std::to_string(SEPAL_SMP_MAX_DIR_SIDE));
+    if (o.J < 0 || o.K < 0 || (o.J == 0) != (o.K == 0) || o.J * o.K > SEPAL_SMP_MAX_TERMS)
+        return bad("terms " + std::to_string(o.J) + "x" + std::to_string(o.K) + ": J, K >= 1 and J K <= " +
+                   std::to_string(SEPAL_SMP_MAX_TERMS) + " (or both 0: the default)");
+    if (o.supersample < 1 || o.supersample > 8) return bad("supersample " + std::to_string(o.supersample) + ": 1..8");
+    if (o.iterations < 1 || o.iterations > 1000000) return bad("iterations: 1..1000000");
+    if (!(o.defensive >= 0 && o.defensive <= 1)) return bad("defensive share: 0..1");
+    if (!(o.tolerance >= 0 && o.tolerance < 1)) return bad("tolerance: 0..1");
+    // The whole matrix and its reconstruction are held (doubles), plus the colour masses.
+    const double entries = double(o.n_theta_o) * o.n_phi_o * o.n_theta_p * std::max(o.n_phi_p, 64);
+    if (entries * (8.0 * 3 + 4.0 * 3) > 8e9)
+        return bad("the data matrix (" + std::to_string(int64_t(entries)) +
+                   " entries) needs over 8 GB; lower the resolution");
+    return true;
+}
+
+namespace {
+
+// Masses of every wp bin for one view: lum (rows) and, optionally, the three channels.
+struct ViewColumn {
+    std::vector<double> lum;
+    std::vector<float> rgb;  // 3 * rows
+};
+
+}  // namespace
+
+bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out, FactoredReport* rep,
+                  std::string* err) {
+    if (!validate_factored_options(opt, err)) return false;
+    if (opt.param == SampleParam::Auto) {
+        // Both parameterizations; the one with the lower estimator variance wins. (Not the
+        // lower KL of the fit: each KL is measured on its own binning, and a coarse binning
+        // of a sharp lobe fits its own coarse data well.)
+        FactoredOptions a = opt, b = opt;
+        a.param = SampleParam::Half;
+        b.param = SampleParam::Incident;
+        SamplerData da, db;
+        FactoredReport ra, rb;
+        if (!fit_factored(brdf, a, &da, &ra, err) || !fit_factored(brdf, b, &db, &rb, err)) return false;
+        Sampler sa, sb;
+        if (!sa.build(da, err) || !sb.build(db, err)) return false;
+        const std::vector<glm::dvec3> views = judge_views(brdf.isotropic());
+        ra.relative_variance = relative_variance(brdf, sa.get(), views, 4096, opt.seed);
+        rb.relative_variance = relative_variance(brdf, sb.get(), views, 4096, opt.seed);
+        const bool half = ra.relative_variance <= rb.relative_variance;
+        FactoredReport& r = half ? ra : rb;
+        char note[160];
+        std::snprintf(note, sizeof note, "param auto: %s (relative variance %.4g; %s: %.4g)", half ? "half" : "incident",
+                      half ? ra.relative_variance : rb.relative_variance, half ? "incident" : "half",
+                      half ? rb.relative_variance : ra.relative_variance);
+        r.notes.push_back(note);
+        r.sample_seconds = ra.sample_seconds + rb.sample_seconds;
+        r.factor_seconds = ra.factor_seconds + rb.factor_seconds;
+        r.evaluations = ra.evaluations + rb.evaluations;
+        *out = std::move(half ? da : db);
+        if (rep) *rep = std::move(r);
+        return true;
+    }
+    FactoredOptions o = opt;
+    const bool iso = brdf.isotropic();
+    if (o.n_phi_p == 0) o.n_phi_p = iso ? 16 : 64;
+    if (o.J == 0) o.J = iso ? 4 : 2, o.K = iso ? 2 : 4;
+    const bool view_frame = o.phi == PhiFrame::View || (o.phi == PhiFrame::Auto && brdf.isotropic());
+    if (view_frame) o.n_phi_o = 1;
+    const bool colour = o.colour;
+    FactoredReport r;
+    r.param = sample_param_name(o.param);
+    r.phi_frame = view_frame ? "view" : "absolute";
+    r.n_theta_o = o.n_theta_o, r.n_phi_o = o.n_phi_o, r.n_theta_p = o.n_theta_p, r.n_phi_p = o.n_phi_p;
+    r.J = o.J, r.K = o.K;
+
+    const int Tp = o.n_theta_p, Pp = o.n_phi_p, To = o.n_theta_o, Po = o.n_phi_o, S = o.supersample;
+    const int rows = Tp * Pp, cols = To * Po;
+    const std::vector<float> z_edges = theta_bin_z_edges(Tp, o.sqrt_theta);
+    // Sub-points of every bin (view-frame coordinates = local coordinates for the columns'
+    // wo, whose phi_o is 0 in the view frame), and each bin's solid angle.
+    std::vector<dvec3> points(static_cast<size_t>(rows) * S * S);
+    std::vector<double> solid(static_cast<size_t>(rows));
+    for (int i = 0; i < Tp; ++i)
+        for (int j = 0; j < Pp; ++j) {
+            const int row = i * Pp + j;
+            const double z0 = z_edges[size_t(i)], z1 = z_edges[size_t(i) + 1];
+            solid[size_t(row)] = (z0 - z1) * 2.0 * kPi / Pp;
+            for (int a = 0; a < S; ++a)
+                for (int b = 0; b < S; ++b) {
+                    const double z = z0 + (a + 0.5) / S * (z1 - z0);
+                    const double phi = (j + (b + 0.5) / S) * 2.0 * kPi / Pp;
+                    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+                    points[(size_t(row) * S + a) * S + b] = dvec3(s * std::cos(phi), s * std::sin(phi), z);
+                }
+        }
+
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<ViewColumn> columns(static_cast<size_t>(cols));
+    std::vector<std::string> failures(static_cast<size_t>(cols));
+    {
+        Progress progress(o.progress, "sepal sampler: sampling", size_t(cols));
+        parallel_for(size_t(cols), o.threads, [&](size_t c) {
+            const int io = int(c) / Po, jo = int(c) % Po;
+            const double theta_o = (io + 0.5) / To * 0.5 * kPi;
+            const double phi_o = view_frame ? 0.0 : (jo + 0.5) / Po * 2.0 * kPi;
+            const dvec3 wo = dir_from_angles(theta_o, phi_o);
+            ViewColumn& col = columns[c];
+            col.lum.assign(size_t(rows), 0.0);
+            if (colour) col.rgb.assign(size_t(rows) * 3, 0.0f);
+            for (int row = 0; row < rows && failures[c].empty(); ++row) {
+                dvec3 sum(0.0);
+                for (int s = 0; s < S * S; ++s) {
+                    const dvec3& wp = points[size_t(row) * S * S + s];
+                    dvec3 wi = wp;
+                    double jac = 1.0;
+                    if (o.param == SampleParam::Half) {
+                        const double d = glm::dot(wo, wp);
+                        wi = 2.0 * d * wp - wo;
+                        if (o.jacobian) jac = 4.0 * std::fabs(d);
+                    }
+                    if (!(wi.z > 0)) continue;
+                    wi = glm::normalize(wi);
+                    const dvec3 f = brdf.eval(wi, wo);
+                    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
+                        failures[c] = "the BRDF returned a non-finite value at theta_i " +
+                                      std::to_string(rad2deg(std::acos(wi.z))) + ", theta_o " +
+                                      std::to_string(rad2deg(theta_o)) + " degrees";
+                        break;
+                    }
+                    sum += f * (wi.z * jac);
+                }
+                const double scale = solid[size_t(row)] / (S * S);
+                col.lum[size_t(row)] = std::max(0.0, luminance(sum)) * scale;
+                if (colour)
+                    for (int ch = 0; ch < 3; ++ch) col.rgb[size_t(row) * 3 + ch] = float(std::max(0.0, sum[ch]) * scale);
+            }
+            progress.advance();
+        });
+    }
+    for (const std::string& f : failures)
+        if (!f.empty()) {
+            if (err) *err = f;
+            return false;
+        }
+    r.evaluations = int64_t(rows) * cols * S * S;
+    const auto t1 = std::chrono::steady_clock::now();
+    r.sample_seconds = std::chrono::duration<double>(t1 - t0).count();
+
+    Eigen::MatrixXd Y(rows, cols);
+    for (int c = 0; c < cols; ++c)
+        for (int row = 0; row < rows; ++row) Y(row, c) = columns[size_t(c)].lum[size_t(row)];
+    NmfKlOptions no;
+    no.max_iterations = o.iterations;
+    no.tolerance = o.tolerance;
+    no.seed = o.seed;
+    NmfKl level1;
+    nmf_kl(Y, o.J, no, &level1);
+    r.kl_level1 = level1.relative;
+    r.iterations1 = level1.iterations;
+
+    const int L = o.J * o.K;
+    SamplerData d;
+    d.kind = SEPAL_SAMPLER_FACTORED;
+    d.desc.param = o.param == SampleParam::Half ? SEPAL_SMP_PARAM_HALF : SEPAL_SMP_PARAM_INCIDENT;
+    d.desc.phi_frame = view_frame ? SEPAL_SMP_PHI_VIEW : SEPAL_SMP_PHI_ABSOLUTE;
+    d.desc.n_theta_o = uint32_t(To), d.desc.n_phi_o = uint32_t(Po);
+    d.desc.n_theta_p = uint32_t(Tp), d.desc.n_phi_p = uint32_t(Pp);
+    d.desc.terms = uint32_t(L);
+    d.desc.colour = colour ? 1 : 0;
+    d.desc.defensive = float(o.defensive);
+    d.desc.jacobian = o.jacobian ? 1 : 0;
+    d.z_edges = z_edges;
+    d.F.assign(size_t(L) * cols, 0.0f);
+    d.u_cdf.assign(size_t(L) * (Tp + 1), 0.0f);
+    d.v_cdf.assign(size_t(L) * (Pp + 1), 0.0f);
+    double kl2 = 0, mass1 = 0;
+    int it2 = 0;
+    for (int j = 0; j < o.J; ++j) {
+        Eigen::MatrixXd G(Tp, Pp);
+        for (int i = 0; i < Tp; ++i)
+            for (int p = 0; p < Pp; ++p) G(i, p) = level1.W(i * Pp + p, j);
+        NmfKl level2;
+        NmfKlOptions no2 = no;
+        no2.seed = o.seed + 1000 + uint64_t(j);
+        nmf_kl(G, o.K, no2, &level2);
+        kl2 += level2.divergence;
+        mass1 += G.sum();
+        it2 = std::max(it2, level2.iterations);
+        for (int k = 0; k < o.K; ++k) {
+            const int l = j * o.K + k;
+            std::vector<double> um(static_cast<size_t>(Tp)), vm(static_cast<size_t>(Pp));
+            for (int i = 0; i < Tp; ++i) um[size_t(i)] = level2.W(i, k);
+            for (int p = 0; p < Pp; ++p) vm[size_t(p)] = level2.H(k, p);
+            const double su = masses_to_cdf(um.data(), Tp, &d.u_cdf[size_t(l) * (Tp + 1)]);
+            const double sv = masses_to_cdf(vm.data(), Pp, &d.v_cdf[size_t(l) * (Pp + 1)]);
+            for (int c = 0; c < cols; ++c)
+                d.F[size_t(l) * cols + c] = float(std::max(0.0, level1.H(j, c) * su * sv));
+        }
+    }
+    r.kl_level2 = mass1 > 0 ? kl2 / mass1 : 0.0;
+    r.iterations2 = it2;
+    {
+        // The stored sampler's own divergence from the data (both levels, float rounding):
+        // KL is invariant under a change of variables, so this compares parameterizations.
+        Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, cols);
+        for (int l = 0; l < L; ++l) {
+            const float* uc = &d.u_cdf[size_t(l) * (Tp + 1)];
+            const float* vc = &d.v_cdf[size_t(l) * (Pp + 1)];
+            for (int i = 0; i < Tp; ++i)
+                for (int p = 0; p < Pp; ++p) {
+                    const double m = double(uc[i + 1] - uc[i]) * double(vc[p + 1] - vc[p]);
+                    if (m > 0)
+                        for (int c = 0; c < cols; ++c) X(i * Pp + p, c) += m * d.F[size_t(l) * cols + c];
+                }
+        }
+        const double total = Y.sum();
+        r.kl_total = total > 0 ? kl_divergence(Y, X) / total : 0.0;
+    }
+
+    if (colour) {
+        // f_c / f_lum ~= a_c(wo) b_c(theta_p) c_c(phi_p): alternating closed-form updates, each
+        // the KL-optimal factor given the others with the luminance mass as exposure.
+        d.colour_a.assign(size_t(3) * cols, 1.0f);
+        d.colour_b.assign(size_t(3) * Tp, 1.0f);
+        d.colour_c.assign(size_t(3) * Pp, 1.0f);
+        for (int ch = 0; ch < 3; ++ch) {
+            std::vector<double> a(static_cast<size_t>(cols), 1.0), b(static_cast<size_t>(Tp), 1.0), cc(static_cast<size_t>(Pp), 1.0);
+            auto channel = [&](int c, int row) { return double(columns[size_t(c)].rgb[size_t(row) * 3 + ch]); };
+            for (int pass = 0; pass < 20; ++pass) {
+                std::vector<double> num(static_cast<size_t>(cols), 0.0), den(static_cast<size_t>(cols), 0.0);
+                for (int c = 0; c < cols; ++c)
+                    for (int row = 0; row < rows; ++row) {
+                        num[size_t(c)] += channel(c, row);
+                        den[size_t(c)] += Y(row, c) * b[size_t(row / Pp)] * cc[size_t(row % Pp)];
+                    }
+                for (int c = 0; c < cols; ++c) a[size_t(c)] = den[size_t(c)] > 0 ? num[size_t(c)] / den[size_t(c)] : 1.0;
+                std::vector<double> nb(static_cast<size_t>(Tp), 0.0), db(static_cast<size_t>(Tp), 0.0), nc(static_cast<size_t>(Pp), 0.0), dc(static_cast<size_t>(Pp), 0.0);
+                for (int c = 0; c < cols; ++c)
+                    for (int row = 0; row < rows; ++row) {
+                        nb[size_t(row / Pp)] += channel(c, row);
+                        db[size_t(row / Pp)] += Y(row, c) * a[size_t(c)] * cc[size_t(row % Pp)];
+                    }
+                for (int i = 0; i < Tp; ++i) b[size_t(i)] = db[size_t(i)] > 0 ? nb[size_t(i)] / db[size_t(i)] : 1.0;
+                for (int c = 0; c < cols; ++c)
+                    for (int row = 0; row < rows; ++row) {
+                        nc[size_t(row % Pp)] += channel(c, row);
+                        dc[size_t(row % Pp)] += Y(row, c) * a[size_t(c)] * b[size_t(row / Pp)];
+                    }
+                for (int p = 0; p < Pp; ++p) cc[size_t(p)] = dc[size_t(p)] > 0 ? nc[size_t(p)] / dc[size_t(p)] : 1.0;
+            }
+            for (int c = 0; c < cols; ++c) d.colour_a[size_t(ch) * cols + c] = float(a[size_t(c)]);
+            for (int i = 0; i < Tp; ++i) d.colour_b[size_t(ch) * Tp + i] = float(b[size_t(i)]);
+            for (int p = 0; p < Pp; ++p) d.colour_c[size_t(ch) * Pp + p] = float(cc[size_t(p)]);
+        }
+    }
+    r.factor_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    r.dense_bytes = double(rows) * cols * 4.0;
+    std::vector<uint8_t> bytes;
+    if (!encode_sampler(d, &bytes, err)) return false;
+    r.sampler_bytes = bytes.size();
+    bool any = false;
+    for (float f : d.F) any = any || f > 0;
+    if (!any) r.notes.push_back("the BRDF is 0 everywhere sampled: the sampler falls back to cosine sampling");
+    *out = std::move(d);
+    if (rep) *rep = std::move(r);
+    return true;
+}
+
+}  // namespace sepal

@@ -1,0 +1,31 @@
+// sepal.h - the sepal runtime in one include: capabilities, meshes, materials, scenes,
+// the software rasterizer and the asset format. C99 or C++.
+//
+// Usage (installed with `make install PREFIX=DIR`; DIR/lib/pkgconfig on PKG_CONFIG_PATH):
+//   #include <sepal/sepal.h>
+//   #include <sepal/sepal_headless.h>     // only if you let the headless EGL port make the context
+//   cc -std=c99 app.c $(pkg-config --cflags --libs sepal)
+// examples/minimal.c is a complete program (headless context, asset, one frame).
+//
+// What each header covers, and its usage block:
+//   sepal_rt.h        errors, GL capability checks, meshes (sphere, torus, OBJ...), preview
+//   sepal_scene.h     camera and lights: what every backend draws
+//   sepal_material.h  baked assets on the GPU (GL ES 1.1 and GL ES 2) and the CPU backend
+//   sepal_raster.h    the software rasterizer the CPU backend uses
+//   sepal_format.h    the .sepal file format (data only) and its reader
+//   sepal_sampler.h   factored importance sampling of a baked material (Lawrence 2004)
+//
+// sepal does NOT: create windows or GL contexts (a port hands the current context in),
+// read files (the caller passes bytes), allocate after loading (callers hand in memory),
+// raise C++ exceptions, or keep global state. Link: -lsepal and the platform's GL ES libraries
+// (libGLESv1_CM, libGLESv2); the headless port adds -lsepal_headless and EGL.
+#pragma once
+
+#include "sepal/sepal_version.h"  /* SEPAL_VERSION_*: defined there only */
+
+#include "sepal/sepal_rt.h"
+#include "sepal/sepal_scene.h"
+#include "sepal/sepal_format.h"
+#include "sepal/sepal_material.h"
+#include "sepal/sepal_raster.h"
+#include "sepal/sepal_sampler.h"

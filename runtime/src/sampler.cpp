@@ -1,0 +1,704 @@
+// Importance sampling of BRDFs: the sampler file reader and sample/pdf/eval (see
+// sepal_sampler.h). No allocation; all state lives in the caller's sepal_sampler_view.
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "sepal/sepal_format.h"
+#include "sepal/sepal_sampler.h"
+
+static_assert(sizeof(sepal_smp_header) == 64, "sampler header layout");
+static_assert(sizeof(sepal_smp_desc) == 64, "sampler desc layout");
+static_assert(sizeof(sepal_smp_lobe) == 32, "sampler lobe layout");
+
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kTwoPi = 2.0f * kPi;
+constexpr uint64_t kPrefix = sizeof(sepal_smp_header) + sizeof(sepal_smp_desc);
+// The largest float below 1: a u of exactly 1 (a caller's rounding) is treated as this.
+constexpr float kOneMinus = 0x1.fffffep-1f;
+
+// ---- layout --------------------------------------------------------------------------------
+enum Array {
+    kZ = SEPAL_SMP_ARRAY_Z_EDGES,
+    kF = SEPAL_SMP_ARRAY_F,
+    kU = SEPAL_SMP_ARRAY_U_CDF,
+    kV = SEPAL_SMP_ARRAY_V_CDF,
+    kCa = SEPAL_SMP_ARRAY_COLOUR_A,
+    kCb = SEPAL_SMP_ARRAY_COLOUR_B,
+    kCc = SEPAL_SMP_ARRAY_COLOUR_C,
+    kLobes = SEPAL_SMP_ARRAY_LOBES,
+    kTables = SEPAL_SMP_ARRAY_TABLES,
+    kArrays = SEPAL_SMP_ARRAY_COUNT
+};
+
+uint64_t pad8(uint64_t n) { return (n + 7) & ~uint64_t(7); }
+
+// Offsets and sizes of every array (from the file start) and the end; false on counts out
+// of range.
+bool layout(uint32_t kind, const sepal_smp_desc& d, uint64_t off[kArrays], uint64_t size[kArrays], uint64_t* end) {
+    for (int i = 0; i < kArrays; ++i) off[i] = 0, size[i] = 0;
+    uint64_t at = kPrefix;
+    auto put = [&](Array a, uint64_t floats) {
+        off[a] = at;
+        size[a] = floats * 4;
+        at += pad8(floats * 4);
+    };
+    const bool views = kind == SEPAL_SAMPLER_FACTORED || kind == SEPAL_SAMPLER_TABULATED;
+    if (views) {
+        if (d.n_theta_o < 1 || d.n_theta_o > SEPAL_SMP_MAX_VIEW_SIDE || d.n_phi_o < 1 ||
+            d.n_phi_o > SEPAL_SMP_MAX_VIEW_SIDE || d.n_theta_p < 1 ||
+            d.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || d.n_phi_p < 1 || d.n_phi_p > SEPAL_SMP_MAX_DIR_SIDE)
+            return false;
+    }
+    const uint64_t To = d.n_theta_o, Po = d.n_phi_o, Tp = d.n_theta_p, Pp = d.n_phi_p;
+    switch (kind) {
+        case SEPAL_SAMPLER_FACTORED:
+            if (d.terms < 1 || d.terms > SEPAL_SMP_MAX_TERMS || d.colour > 1) return false;
+            put(kZ, Tp + 1);
+            put(kF, d.terms * To * Po);
+            put(kU, d.terms * (Tp + 1));
+            put(kV, d.terms * (Pp + 1));
+            if (d.colour) {
+                put(kCa, 3 * To * Po);
+                put(kCb, 3 * Tp);
+                put(kCc, 3 * Pp);
+            }
+            break;
+        case SEPAL_SAMPLER_COSINE: break;
+        case SEPAL_SAMPLER_LOBES:
+            if (d.lobe_count < 1 || d.lobe_count > SEPAL_SMP_MAX_LOBES) return false;
+            off[kLobes] = at;
+            size[kLobes] = uint64_t(d.lobe_count) * sizeof(sepal_smp_lobe);
+            at += size[kLobes];
+            break;
+        case SEPAL_SAMPLER_TABULATED:
+            put(kZ, Tp + 1);
+            put(kTables, To * Po * ((Tp + 1) + Tp * (Pp + 1)));
+            break;
+        default: return false;
+    }
+    *end = at;
+    return true;
+}
+
+const char* kind_name(uint32_t k) {
+    static const char* names[] = {"factored", "cosine", "lobes", "tabulated"};
+    return k < SEPAL_SAMPLER_KIND_COUNT ? names[k] : "unknown";
+}
+
+bool all_finite(const float* p, uint64_t n, bool non_negative) {
+    for (uint64_t i = 0; i < n; ++i)
+        if (!isfinite(p[i]) || (non_negative && p[i] < 0.0f)) return false;
+    return true;
+}
+
+// A CDF of n bins: n + 1 finite values from exactly 0 to exactly 1, non-decreasing.
+bool valid_cdf(const float* c, uint32_t n) {
+    if (c[0] != 0.0f || c[n] != 1.0f) return false;
+    for (uint32_t i = 0; i < n; ++i)
+        if (!(c[i + 1] >= c[i])) return false;
+    return true;
+}
+
+bool valid_z_edges(const float* z, uint32_t n) {
+    if (z[0] != 1.0f || z[n] != 0.0f) return false;
+    for (uint32_t i = 0; i < n; ++i)
+        if (!(z[i + 1] < z[i])) return false;
+    return true;
+}
+
+// ---- small maths -----------------------------------------------------------------------------
+inline float dot(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline float clampf(float x, float lo, float hi) { return x < lo ? lo : (x > hi ? hi : x); }
+inline float unit_u(float u) { return u >= 0.0f ? (u < 1.0f ? u : kOneMinus) : 0.0f; }
+
+// Largest i in [0, n-1] with cdf[i] <= x: the bin holding x (its width is then > 0).
+uint32_t find_bin(const float* cdf, uint32_t n, float x) {
+    uint32_t lo = 0, hi = n;  // invariant: cdf[lo] <= x, answer in [lo, hi)
+    while (hi - lo > 1) {
+        const uint32_t mid = (lo + hi) / 2;
+        if (cdf[mid] <= x) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+// Picks a bin of the CDF with x in [0,1) and returns x rescaled to [0,1) within it.
+uint32_t pick(const float* cdf, uint32_t n, float x, float* rescaled) {
+    const uint32_t i = find_bin(cdf, n, x);
+    const float w = cdf[i + 1] - cdf[i];
+    *rescaled = w > 0.0f ? clampf((x - cdf[i]) / w, 0.0f, kOneMinus) : 0.0f;
+    return i;
+}
+
+// The z bin (edges decreasing from 1 to 0) holding z: largest i with edges[i] >= z.
+uint32_t z_bin(const float* edges, uint32_t n, float z) {
+    uint32_t lo = 0, hi = n;
+    while (hi - lo > 1) {
+        const uint32_t mid = (lo + hi) / 2;
+        if (edges[mid] >= z) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+uint32_t phi_bin(float phi, uint32_t n) {
+    const int j = (int)(phi * (float)n / kTwoPi);
+    return j < 0 ? 0u : (j >= (int)n ? n - 1 : (uint32_t)j);
+}
+
+float azimuth(float x, float y) {
+    float phi = atan2f(y, x);
+    if (phi < 0.0f) phi += kTwoPi;
+    return phi < kTwoPi ? phi : 0.0f;
+}
+
+// Orthonormal basis (b1, b2) around the unit vector a (Duff et al. 2017).
+void basis(const float* a, float* b1, float* b2) {
+    const float sign = copysignf(1.0f, a[2]);
+    const float p = -1.0f / (sign + a[2]);
+    const float q = a[0] * a[1] * p;
+    b1[0] = 1.0f + sign * a[0] * a[0] * p, b1[1] = sign * q, b1[2] = -sign * a[0];
+    b2[0] = q, b2[1] = sign + a[1] * a[1] * p, b2[2] = -a[1];
+}
+
+void cosine_sample(const float u[2], float* w) {
+    const float r = sqrtf(u[0]), phi = kTwoPi * u[1];
+    w[0] = r * cosf(phi), w[1] = r * sinf(phi);
+    w[2] = sqrtf(fmaxf(0.0f, 1.0f - u[0]));
+}
+inline float cosine_pdf(const float* w) { return w[2] > 0.0f ? w[2] / kPi : 0.0f; }
+
+// wi from a half vector (upper hemisphere) and wo: the mirror of wo about h.
+void reflect(const float* wo, const float* h, float* wi) {
+    const float d = 2.0f * dot(wo, h);
+    for (int k = 0; k < 3; ++k) wi[k] = d * h[k] - wo[k];
+}
+// The half vector of (wi, wo) in the upper hemisphere and 1/|dwi/dh| = 1/(4 |wi.h|);
+// false when wi = -wo (no half vector).
+bool half_of(const float* wi, const float* wo, float* h, float* inv_jacobian) {
+    h[0] = wi[0] + wo[0], h[1] = wi[1] + wo[1], h[2] = wi[2] + wo[2];
+    const float len = sqrtf(dot(h, h));
+    if (!(len > 1e-7f)) return false;
+    const float s = h[2] < 0.0f ? -1.0f / len : 1.0f / len;
+    h[0] *= s, h[1] *= s, h[2] *= s;
+    const float c = fabsf(dot(wi, h));
+    if (!(c > 1e-9f)) return false;
+    *inv_jacobian = 1.0f / (4.0f * c);
+    return true;
+}
+
+// Rotations between the local frame and the view frame (phi measured from phi_o).
+inline void to_view(const sepal_sampler_view* v, const float* w, float* out) {
+    out[0] = v->cos_phi * w[0] + v->sin_phi * w[1];
+    out[1] = -v->sin_phi * w[0] + v->cos_phi * w[1];
+    out[2] = w[2];
+}
+inline void from_view(const sepal_sampler_view* v, const float* w, float* out) {
+    out[0] = v->cos_phi * w[0] - v->sin_phi * w[1];
+    out[1] = v->sin_phi * w[0] + v->cos_phi * w[1];
+    out[2] = w[2];
+}
+
+// Bilinear weights on the view grid at (theta_o, phi_o): theta clamped, phi periodic.
+struct ViewLerp {
+    uint32_t idx[4];
+    float w[4];
+};
+ViewLerp view_lerp(uint32_t To, uint32_t Po, float theta, float phi) {
+    ViewLerp l;
+    float fx = clampf(theta / (0.5f * kPi) * (float)To - 0.5f, 0.0f, (float)(To - 1));
+    const uint32_t i0 = (uint32_t)fx, i1 = i0 + 1 < To ? i0 + 1 : i0;
+    const float tx = fx - (float)i0;
+    float fy = phi / kTwoPi * (float)Po - 0.5f;
+    const float fl = floorf(fy);
+    const float ty = fy - fl;
+    int j0 = (int)fl % (int)Po;
+    if (j0 < 0) j0 += (int)Po;
+    const uint32_t j1 = ((uint32_t)j0 + 1) % Po;
+    l.idx[0] = i0 * Po + (uint32_t)j0, l.w[0] = (1 - tx) * (1 - ty);
+    l.idx[1] = i0 * Po + j1, l.w[1] = (1 - tx) * ty;
+    l.idx[2] = i1 * Po + (uint32_t)j0, l.w[2] = tx * (1 - ty);
+    l.idx[3] = i1 * Po + j1, l.w[3] = tx * ty;
+    return l;
+}
+inline float lerp_at(const float* table, const ViewLerp& l) {
+    return table[l.idx[0]] * l.w[0] + table[l.idx[1]] * l.w[1] + table[l.idx[2]] * l.w[2] +
+           table[l.idx[3]] * l.w[3];
+}
+
+// Density over (z, phi) of bin (i, j) of a CDF pair.
+inline float bin_density(const float* ucdf, const float* vcdf, const float* z, uint32_t i,
+                         uint32_t j, uint32_t Pp) {
+    return (ucdf[i + 1] - ucdf[i]) / (z[i] - z[i + 1]) * ((vcdf[j + 1] - vcdf[j]) * (float)Pp / kTwoPi);
+}
+
+// Draws a direction (z, phi) from a pair of CDFs: z over the decreasing edges, phi uniform
+// bins. x drives phi, y drives z (both in [0,1)).
+void draw_zphi(const float* ucdf, const float* vcdf, const float* z, uint32_t Tp, uint32_t Pp,
+               float x, float y, float* w) {
+    float t;
+    const uint32_t j = pick(vcdf, Pp, x, &t);
+    const float phi = ((float)j + t) * kTwoPi / (float)Pp;
+    const uint32_t i = pick(ucdf, Tp, y, &t);
+    const float zz = clampf(z[i] + t * (z[i + 1] - z[i]), 0.0f, 1.0f);
+    const float r = sqrtf(fmaxf(0.0f, 1.0f - zz * zz));
+    w[0] = r * cosf(phi), w[1] = r * sinf(phi), w[2] = zz;
+}
+
+// ---- analytic lobes ----------------------------------------------------------------------------
+// Azimuth with density proportional to 1 / (a cos^2 phi + b sin^2 phi) from u, k = sqrt(a/b):
+// the inverse CDF in the first quadrant (tan phi = k tan(pi u / 2)), mirrored to the others.
+float elliptic_azimuth(float u, float k) {
+    const float q = floorf(u * 4.0f);
+    const float uq = clampf(u * 4.0f - q, 0.0f, kOneMinus);
+    const float p = atanf(k * tanf(0.5f * kPi * uq));
+    switch ((int)q) {
+        case 0: return p;
+        case 1: return kPi - p;
+        case 2: return kPi + p;
+        default: return kTwoPi - p;
+    }
+}
+
+// Density of a half-vector lobe at h (upper hemisphere, unit).
+float half_lobe_pdf(const sepal_smp_lobe& l, const float* h) {
+    const float sxy = h[0] * h[0] + h[1] * h[1];
+    if (l.type == SEPAL_LOBE_HALF_AS) {
+        const float nu = l.p[0], nv = l.p[1];
+        const float e = sxy > 0.0f ? (nu * h[0] * h[0] + nv * h[1] * h[1]) / sxy : 0.0f;
+        return sqrtf((nu + 1.0f) * (nv + 1.0f)) / kTwoPi * powf(h[2], e);
+    }
+    // Ward / Beckmann
+    const float ax = l.p[0], ay = l.p[1];
+    if (!(h[2] > 0.0f)) return 0.0f;
+    const float e = (h[0] * h[0] / (ax * ax) + h[1] * h[1] / (ay * ay)) / (h[2] * h[2]);
+    return expf(-e) / (kPi * ax * ay * h[2] * h[2] * h[2]);
+}
+
+void half_lobe_sample(const sepal_smp_lobe& l, float x, float y, float* h) {
+    float phi, z;
+    if (l.type == SEPAL_LOBE_HALF_AS) {
+        const float nu = l.p[0], nv = l.p[1];
+        phi = elliptic_azimuth(x, sqrtf((nu + 1.0f) / (nv + 1.0f)));
+        const float c = cosf(phi), s = sinf(phi);
+        const float e = nu * c * c + nv * s * s;
+        z = powf(1.0f - y, 1.0f / (e + 1.0f));
+    } else {
+        const float ax = l.p[0], ay = l.p[1];
+        phi = elliptic_azimuth(x, ay / ax);
+        const float c = cosf(phi), s = sinf(phi);
+        const float t2 = -logf(1.0f - y) / (c * c / (ax * ax) + s * s / (ay * ay));
+        z = 1.0f / sqrtf(1.0f + t2);
+    }
+    const float r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+    h[0] = r * cosf(phi), h[1] = r * sinf(phi), h[2] = z;
+}
+
+// Phong-axis lobe: the axis C o wo and its length.
+float phong_axis(const sepal_smp_lobe& l, const float* wo, float* a) {
+    a[0] = l.p[0] * wo[0], a[1] = l.p[1] * wo[1], a[2] = l.p[2] * wo[2];
+    const float len = sqrtf(dot(a, a));
+    if (len > 0.0f) a[0] /= len, a[1] /= len, a[2] /= len;
+    return len;
+}
+
+float lobe_pdf(const sepal_smp_lobe& l, const float* wo, const float* wi) {
+    switch (l.type) {
+        case SEPAL_LOBE_COSINE: return cosine_pdf(wi);
+        case SEPAL_LOBE_PHONG_AXIS: {
+            float a[3];
+            if (!(phong_axis(l, wo, a) > 0.0f)) return 0.0f;
+            const float c = dot(a, wi);
+            return c > 0.0f ? (l.p[3] + 1.0f) / kTwoPi * powf(c, l.p[3]) : 0.0f;
+        }
+        default: {
+            float h[3], inv_j;
+            if (!half_of(wi, wo, h, &inv_j)) return 0.0f;
+            return half_lobe_pdf(l, h) * inv_j;
+        }
+    }
+}
+
+void lobe_sample(const sepal_smp_lobe& l, const float* wo, float x, float y, float* wi) {
+    const float u[2] = {x, y};
+    switch (l.type) {
+        case SEPAL_LOBE_COSINE: cosine_sample(u, wi); return;
+        case SEPAL_LOBE_PHONG_AXIS: {
+            float a[3], b1[3], b2[3];
+            phong_axis(l, wo, a);
+            basis(a, b1, b2);
+            const float c = powf(1.0f - x, 1.0f / (l.p[3] + 1.0f));
+            const float s = sqrtf(fmaxf(0.0f, 1.0f - c * c)), phi = kTwoPi * y;
+            const float cp = s * cosf(phi), sp = s * sinf(phi);
+            for (int k = 0; k < 3; ++k) wi[k] = cp * b1[k] + sp * b2[k] + c * a[k];
+            return;
+        }
+        default: {
+            float h[3];
+            half_lobe_sample(l, x, y, h);
+            reflect(wo, h, wi);
+            return;
+        }
+    }
+}
+
+// ---- the factored and tabulated densities (without the defensive share) ------------------------
+// Density over the sphere of wi of the factored mixture (the view's term probabilities);
+// with over_wp, the density over wp instead (before the Jacobian).
+float factored_pdf(const sepal_sampler_view* v, const float* wi, bool over_wp = false) {
+    const sepal_sampler& s = *v->sampler;
+    const sepal_smp_desc& d = s.desc;
+    float wp[3], inv_j = 1.0f;
+    if (d.param == SEPAL_SMP_PARAM_HALF) {
+        if (!half_of(wi, v->wo, wp, &inv_j)) return 0.0f;
+    } else {
+        if (!(wi[2] >= 0.0f)) return 0.0f;
+        wp[0] = wi[0], wp[1] = wi[1], wp[2] = wi[2];
+    }
+    float w[3];
+    to_view(v, wp, w);
+    const uint32_t Tp = d.n_theta_p, Pp = d.n_phi_p;
+    const uint32_t i = z_bin(s.z_edges, Tp, w[2]);
+    const uint32_t j = phi_bin(azimuth(w[0], w[1]), Pp);
+    // sum_l w_l U_l(z) V_l(phi): the bin's width in z and in phi is shared by every term.
+    float p = 0.0f;
+    for (uint32_t l = 0; l < v->count; ++l) {
+        const float* u = s.u_cdf + l * (Tp + 1);
+        const float* c = s.v_cdf + l * (Pp + 1);
+        p += v->weight[l] * ((u[i + 1] - u[i]) * (c[j + 1] - c[j]));
+    }
+    p *= (float)Pp / (kTwoPi * (s.z_edges[i] - s.z_edges[i + 1]));
+    return over_wp ? p : p * inv_j;
+}
+
+const float* view_table(const sepal_sampler& s, uint32_t view) {
+    const uint64_t Tp = s.desc.n_theta_p, Pp = s.desc.n_phi_p;
+    return s.tables + view * ((Tp + 1) + Tp * (Pp + 1));
+}
+
+float tabulated_pdf(const sepal_sampler_view* v, const float* wi) {
+    if (!(wi[2] >= 0.0f)) return 0.0f;
+    const sepal_sampler& s = *v->sampler;
+    const uint32_t Tp = s.desc.n_theta_p, Pp = s.desc.n_phi_p;
+    float w[3];
+    to_view(v, wi, w);
+    const uint32_t i = z_bin(s.z_edges, Tp, w[2]);
+    const uint32_t j = phi_bin(azimuth(w[0], w[1]), Pp);
+    const float* t = view_table(s, v->table);
+    return bin_density(t, t + (Tp + 1) + i * (Pp + 1), s.z_edges, i, j, Pp);
+}
+
+}  // namespace
+
+// ---- API -----------------------------------------------------------------------------------------
+extern "C" uint64_t sepal_sampler_layout(uint32_t kind, const sepal_smp_desc* d,
+                                        uint64_t offsets[SEPAL_SMP_ARRAY_COUNT],
+                                        uint64_t sizes[SEPAL_SMP_ARRAY_COUNT]) {
+    uint64_t off[kArrays], size[kArrays], end = 0;
+    if (!d || !layout(kind, *d, off, size, &end)) return 0;
+    for (int i = 0; i < kArrays; ++i) {
+        if (offsets) offsets[i] = off[i];
+        if (sizes) sizes[i] = size[i];
+    }
+    return end;
+}
+
+extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepal_sampler* out,
+                                            sepal_error* err) {
+    const uint16_t probe = 1;
+    if (*(const uint8_t*)&probe != 1)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "sampler: big-endian hosts are not supported");
+    if (!out || !bytes) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: NULL argument");
+    memset(out, 0, sizeof *out);
+    if ((uintptr_t)bytes % 4 != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: buffer is not 4-byte aligned");
+    if (size < kPrefix)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "sampler: %zu bytes is too short for the 128-byte header (truncated?)", size);
+    const uint8_t* base = (const uint8_t*)bytes;
+    sepal_smp_header& h = out->header;
+    memcpy(&h, base, sizeof h);
+    if (memcmp(h.magic, SEPAL_SMP_MAGIC, 8) != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: bad magic (not a sepal sampler file)");
+    if (h.version_major != SEPAL_SMP_VERSION_MAJOR)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "sampler: format version %u.%u; this runtime reads version %d.x",
+                         h.version_major, h.version_minor, SEPAL_SMP_VERSION_MAJOR);
+    sepal_smp_header zeroed = h;
+    zeroed.header_crc = 0;
+    if (h.header_bytes != sizeof h || sepal_crc32(0, &zeroed, sizeof zeroed) != h.header_crc)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: header checksum mismatch (corrupt header)");
+    if (h.file_bytes != size)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "sampler: header says %llu bytes, the buffer holds %zu (truncated or padded)",
+                         (unsigned long long)h.file_bytes, size);
+    if (size > SEPAL_SMP_MAX_FILE_BYTES)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: %zu bytes is over the %u-byte limit", size,
+                         SEPAL_SMP_MAX_FILE_BYTES);
+    if (sepal_crc32(0, base + sizeof h, size - sizeof h) != h.payload_crc)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: payload checksum mismatch (corrupt data)");
+    if (h.kind >= SEPAL_SAMPLER_KIND_COUNT)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: unknown kind %u", h.kind);
+    const sepal_smp_desc& d = out->desc;
+    memcpy(&out->desc, base + sizeof h, sizeof out->desc);
+    out->kind = h.kind;
+    uint64_t off[kArrays], size_of[kArrays], end = 0;
+    if (!layout(h.kind, d, off, size_of, &end))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "sampler: %s counts out of range (views %ux%u of 1..%d, bins %ux%u of 1..%d, "
+                         "terms %u of 1..%d, lobes %u of 1..%d, colour %u)",
+                         kind_name(h.kind), d.n_theta_o, d.n_phi_o, SEPAL_SMP_MAX_VIEW_SIDE, d.n_theta_p,
+                         d.n_phi_p, SEPAL_SMP_MAX_DIR_SIDE, d.terms, SEPAL_SMP_MAX_TERMS, d.lobe_count,
+                         SEPAL_SMP_MAX_LOBES, d.colour);
+    if (end != size)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "sampler: %s with these counts is %llu bytes, the file is %zu", kind_name(h.kind),
+                         (unsigned long long)end, size);
+    auto arr = [&](Array a) { return off[a] ? (const float*)(base + off[a]) : nullptr; };
+    const uint32_t To = d.n_theta_o, Po = d.n_phi_o, Tp = d.n_theta_p, Pp = d.n_phi_p;
+    const bool views = h.kind == SEPAL_SAMPLER_FACTORED || h.kind == SEPAL_SAMPLER_TABULATED;
+    if (views) {
+        if (d.param >= SEPAL_SMP_PARAM_COUNT || d.phi_frame >= SEPAL_SMP_PHI_COUNT)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: unknown parameterization %u or phi frame %u",
+                             d.param, d.phi_frame);
+        if (d.phi_frame == SEPAL_SMP_PHI_VIEW && Po != 1)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: view-relative phi needs 1 phi_o bin, not %u",
+                             Po);
+        if (!(d.defensive >= 0.0f && d.defensive <= 1.0f) || d.jacobian > 1)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: defensive share %g outside [0, 1] or jacobian flag %u",
+                             (double)d.defensive, d.jacobian);
+        out->z_edges = arr(kZ);
+        if (!valid_z_edges(out->z_edges, Tp))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "sampler: z bin edges must fall strictly from 1 to 0");
+    }
+    if (h.kind == SEPAL_SAMPLER_FACTORED) {
+        out->F = arr(kF), out->u_cdf = arr(kU), out->v_cdf = arr(kV);
+        if (!all_finite(out->F, uint64_t(d.terms) * To * Po, true))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: a term weight is negative or not finite");
+        for (uint32_t l = 0; l < d.terms; ++l)
+            if (!valid_cdf(out->u_cdf + l * (Tp + 1), Tp) || !valid_cdf(out->v_cdf + l * (Pp + 1), Pp))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "sampler: term %u's CDF does not rise from 0 to 1", l);
+        if (d.colour) {
+            out->colour_a = arr(kCa), out->colour_b = arr(kCb), out->colour_c = arr(kCc);
+            if (!all_finite(out->colour_a, 3ull * To * Po, true) || !all_finite(out->colour_b, 3ull * Tp, true) ||
+                !all_finite(out->colour_c, 3ull * Pp, true))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: a colour factor is negative or not finite");
+        }
+    } else if (h.kind == SEPAL_SAMPLER_TABULATED) {
+        out->tables = arr(kTables);
+        for (uint32_t view = 0; view < To * Po; ++view) {
+            const float* t = view_table(*out, view);
+            bool ok = valid_cdf(t, Tp);
+            for (uint32_t i = 0; ok && i < Tp; ++i) ok = valid_cdf(t + (Tp + 1) + i * (Pp + 1), Pp);
+            if (!ok)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: view %u's CDFs do not rise from 0 to 1",
+                                 view);
+        }
+    } else if (h.kind == SEPAL_SAMPLER_LOBES) {
+        out->lobes = (const sepal_smp_lobe*)(base + off[kLobes]);
+        float sum = 0.0f;
+        for (uint32_t k = 0; k < d.lobe_count; ++k) {
+            const sepal_smp_lobe& l = out->lobes[k];
+            bool ok = l.type < SEPAL_LOBE_TYPE_COUNT && isfinite(l.weight) && l.weight >= 0.0f &&
+                      all_finite(l.p, 6, false);
+            if (ok && l.type == SEPAL_LOBE_PHONG_AXIS) ok = l.p[3] >= 0.0f && l.p[3] <= 1e6f;
+            if (ok && l.type == SEPAL_LOBE_HALF_AS)
+                ok = l.p[0] >= 0.0f && l.p[1] >= 0.0f && l.p[0] <= 1e6f && l.p[1] <= 1e6f;
+            if (ok && l.type == SEPAL_LOBE_HALF_WARD) ok = l.p[0] >= 1e-4f && l.p[1] >= 1e-4f && l.p[0] <= 10.0f && l.p[1] <= 10.0f;
+            if (!ok)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "sampler: lobe %u has an unknown type, a bad weight or parameters out of range", k);
+            sum += l.weight;
+        }
+        if (!(sum > 0.0f) || !isfinite(sum))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: the lobe weights sum to %g", (double)sum);
+    }
+    return srt::ok(err);
+}
+
+extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3], sepal_sampler_view* v) {
+    memset(v, 0, sizeof *v);
+    v->sampler = s;
+    float w[3] = {wo[0], wo[1], wo[2]};
+    if (!srt::normalize3(w)) w[0] = 0, w[1] = 0, w[2] = 0;
+    v->wo[0] = w[0], v->wo[1] = w[1], v->wo[2] = w[2];
+    const sepal_smp_desc& d = s->desc;
+    const float phi_o = (w[0] * w[0] + w[1] * w[1] > 1e-24f) ? azimuth(w[0], w[1]) : 0.0f;
+    const float theta_o = acosf(clampf(w[2], 0.0f, 1.0f));
+    if (d.phi_frame == SEPAL_SMP_PHI_VIEW) v->cos_phi = cosf(phi_o), v->sin_phi = sinf(phi_o);
+    else v->cos_phi = 1.0f, v->sin_phi = 0.0f;
+    v->defensive = d.defensive;
+    v->count = 1;
+    v->weight[0] = 1.0f;
+    v->fallback = !(w[2] > 0.0f);
+    float sum = 0.0f;
+    switch (s->kind) {
+        case SEPAL_SAMPLER_FACTORED: {
+            const ViewLerp l = view_lerp(d.n_theta_o, d.n_phi_o, theta_o, phi_o);
+            v->count = d.terms;
+            for (uint32_t t = 0; t < d.terms; ++t) {
+                v->weight[t] = lerp_at(s->F + t * d.n_theta_o * d.n_phi_o, l);
+                sum += v->weight[t];
+            }
+            v->total = sum;
+            if (s->colour_a)
+                for (int c = 0; c < 3; ++c) v->colour[c] = lerp_at(s->colour_a + c * d.n_theta_o * d.n_phi_o, l);
+            break;
+        }
+        case SEPAL_SAMPLER_LOBES: {
+            v->count = d.lobe_count;
+            for (uint32_t k = 0; k < d.lobe_count; ++k) {
+                const sepal_smp_lobe& l = s->lobes[k];
+                float g = 1.0f;
+                if (l.type == SEPAL_LOBE_PHONG_AXIS) {
+                    float a[3];
+                    const float len = phong_axis(l, w, a);
+                    // The lobe's integral over the sphere, |C o wo|^n 2 pi / (n + 1), in
+                    // double: |C o wo| may exceed 1 and n reach 1e6.
+                    const double gi = len > 0.0f ? pow((double)len, (double)l.p[3]) * 6.283185307179586 /
+                                                       ((double)l.p[3] + 1.0)
+                                                 : 0.0;
+                    g = gi < 1e30 ? (float)gi : 1e30f;
+                }
+                v->weight[k] = l.weight * g;
+                sum += v->weight[k];
+            }
+            v->fallback = v->fallback || !(sum > 0.0f) || !isfinite(sum);
+            break;
+        }
+        case SEPAL_SAMPLER_TABULATED: {
+            const uint32_t i = (uint32_t)clampf(theta_o / (0.5f * kPi) * (float)d.n_theta_o, 0.0f,
+                                                (float)(d.n_theta_o - 1));
+            const uint32_t j = d.phi_frame == SEPAL_SMP_PHI_VIEW ? 0 : phi_bin(phi_o, d.n_phi_o);
+            v->table = i * d.n_phi_o + j;
+            sum = 1.0f;
+            break;
+        }
+        default: sum = 1.0f; v->defensive = 1.0f; break;
+    }
+    if (s->kind == SEPAL_SAMPLER_FACTORED && !(sum > 0.0f)) v->fallback = 1;
+    if (v->fallback) {
+        v->defensive = 1.0f;
+        return;
+    }
+    if (sum > 0.0f && v->count > 1) {
+        float acc = 0.0f;
+        for (uint32_t k = 0; k < v->count; ++k) {
+            v->weight[k] /= sum;
+            v->cdf[k] = acc;
+            acc += v->weight[k];
+        }
+        v->cdf[v->count] = 1.0f;
+    } else {
+        v->weight[0] = 1.0f;
+        v->cdf[0] = 0.0f, v->cdf[1] = 1.0f;
+    }
+}
+
+extern "C" float sepal_sampler_pdf(const sepal_sampler_view* v, const float wi[3]) {
+    const sepal_sampler& s = *v->sampler;
+    const float e = v->defensive;
+    float p = e > 0.0f ? e * cosine_pdf(wi) : 0.0f;
+    if (e >= 1.0f) return p;
+    float rest = 0.0f;
+    switch (s.kind) {
+        case SEPAL_SAMPLER_FACTORED: rest = factored_pdf(v, wi); break;
+        case SEPAL_SAMPLER_TABULATED: rest = tabulated_pdf(v, wi); break;
+        case SEPAL_SAMPLER_LOBES:
+            for (uint32_t k = 0; k < v->count; ++k)
+                if (v->weight[k] > 0.0f) rest += v->weight[k] * lobe_pdf(s.lobes[k], v->wo, wi);
+            break;
+        default: break;
+    }
+    p += (1.0f - e) * rest;
+    return isfinite(p) ? p : 0.0f;
+}
+
+extern "C" int sepal_sampler_sample(const sepal_sampler_view* v, const float u_in[2], float wi[3], float* pdf) {
+    const sepal_sampler& s = *v->sampler;
+    float u[2] = {unit_u(u_in[0]), unit_u(u_in[1])};
+    const float e = v->defensive;
+    wi[0] = wi[1] = 0.0f, wi[2] = 1.0f;
+    if (u[0] < e || e >= 1.0f) {
+        u[0] = clampf(u[0] / e, 0.0f, kOneMinus);
+        cosine_sample(u, wi);
+    } else {
+        float x = clampf((u[0] - e) / (1.0f - e), 0.0f, kOneMinus);
+        const uint32_t k = pick(v->cdf, v->count, x, &x);
+        switch (s.kind) {
+            case SEPAL_SAMPLER_FACTORED: {
+                const sepal_smp_desc& d = s.desc;
+                float wv[3], wp[3];
+                draw_zphi(s.u_cdf + k * (d.n_theta_p + 1), s.v_cdf + k * (d.n_phi_p + 1), s.z_edges,
+                          d.n_theta_p, d.n_phi_p, x, u[1], wv);
+                from_view(v, wv, wp);
+                if (d.param == SEPAL_SMP_PARAM_HALF) reflect(v->wo, wp, wi);
+                else wi[0] = wp[0], wi[1] = wp[1], wi[2] = wp[2];
+                break;
+            }
+            case SEPAL_SAMPLER_TABULATED: {
+                const sepal_smp_desc& d = s.desc;
+                const float* t = view_table(s, v->table);
+                float y;
+                const uint32_t i = pick(t, d.n_theta_p, x, &y);
+                // theta bin i from the marginal (x, rescaled to y within it), phi from its
+                // conditional CDF (u[1]): z is y's position within the bin.
+                const float* cond = t + (d.n_theta_p + 1) + i * (d.n_phi_p + 1);
+                float tphi;
+                const uint32_t j = pick(cond, d.n_phi_p, u[1], &tphi);
+                const float phi = ((float)j + tphi) * kTwoPi / (float)d.n_phi_p;
+                const float z = clampf(s.z_edges[i] + y * (s.z_edges[i + 1] - s.z_edges[i]), 0.0f, 1.0f);
+                const float r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+                const float wv[3] = {r * cosf(phi), r * sinf(phi), z};
+                from_view(v, wv, wi);
+                break;
+            }
+            case SEPAL_SAMPLER_LOBES: lobe_sample(s.lobes[k], v->wo, x, u[1], wi); break;
+            default: cosine_sample(u, wi); break;
+        }
+    }
+    if (!srt::normalize3(wi)) {
+        *pdf = 0.0f;
+        return -1;
+    }
+    // The density of the whole mixture, computed from wi exactly as sepal_sampler_pdf does,
+    // so the two always agree.
+    *pdf = sepal_sampler_pdf(v, wi);
+    if (!(*pdf > 0.0f)) return -1;
+    return wi[2] > 0.0f ? 1 : 0;
+}
+
+extern "C" int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3], float rgb[3]) {
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    const sepal_sampler& s = *v->sampler;
+    if (s.kind != SEPAL_SAMPLER_FACTORED || !(wi[2] > 0.0f) || !(v->wo[2] > 0.0f)) return 0;
+    // The reconstruction: total(wo) x the factored density over wi (without the defensive
+    // share), times the colour ratio ca(wo) cb(theta_p) cc(phi_p).
+    if (v->fallback) return 1;  // all terms 0 at this view: f cos ~= 0
+    const float lum = v->total * factored_pdf(v, wi, !s.desc.jacobian);
+    if (!s.colour_a) {  // no colour tables: the luminance, grey
+        rgb[0] = rgb[1] = rgb[2] = isfinite(lum) ? lum : 0.0f;
+        return 1;
+    }
+    const sepal_smp_desc& d = s.desc;
+    float wp[3], w[3], inv_j;
+    if (d.param == SEPAL_SMP_PARAM_HALF) {
+        if (!half_of(wi, v->wo, wp, &inv_j)) return 1;
+    } else {
+        wp[0] = wi[0], wp[1] = wi[1], wp[2] = wi[2];
+    }
+    to_view(v, wp, w);
+    const uint32_t i = z_bin(s.z_edges, d.n_theta_p, w[2]);
+    const uint32_t j = phi_bin(azimuth(w[0], w[1]), d.n_phi_p);
+    for (int c = 0; c < 3; ++c)
+        rgb[c] = lum * v->colour[c] * s.colour_b[c * d.n_theta_p + i] * s.colour_c[c * d.n_phi_p + j];
+    for (int c = 0; c < 3; ++c)
+        if (!isfinite(rgb[c])) rgb[c] = 0.0f;
+    return 1;
+}

@@ -1,0 +1,102 @@
+// Reconstruction: clusters and their Lafortune fits recover the basis materials of a known
+// SVBRDF, and the per-texel weights reproduce it.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "acquire/planner.h"
+#include "acquire/reconstruct.h"
+
+namespace {
+
+struct Setup {
+    sepal::AcqObject obj;
+    sepal::BlendSvbrdf truth;
+    std::vector<sepal::Capture> caps;
+};
+
+// Two Lafortune materials in crisp regions on a sphere, seen from 40 random views.
+Setup setup(double noise) {
+    Setup s;
+    std::string err;
+    REQUIRE(sepal::make_object("sphere", 32, &s.obj, &err));
+    sepal::SvbrdfGenOptions g;
+    g.materials = {"lafortune:rho_d=0.5/0.1/0.05,lobe=-0.95/-0.95/1.02/12",
+                   "lafortune:rho_d=0.1/0.2/0.5,lobe=-1/-1/0.99/40"};
+    g.softness = 0.002;
+    REQUIRE(sepal::make_svbrdf(32, g, &s.truth, &err));
+    sepal::RigOptions rig;
+    rig.noise_read *= noise;
+    rig.noise_shot *= noise;
+    for (int k = 0; k < 40; ++k) {
+        sepal::Capture c;
+        sepal::capture_atlas(s.obj, s.truth, sepal::random_view(rig, 5, k), rig, uint64_t(k), &c);
+        s.caps.push_back(std::move(c));
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("reconstruct: two Lafortune materials come back as the basis, and the texels' weights pick them") {
+    const Setup s = setup(1.0);
+    sepal::ReconstructOptions o;
+    o.clusters = 2;
+    sepal::Reconstruction r;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::reconstruct(s.obj, s.caps, o, &r, &err), err);
+    REQUIRE(r.basis.size() == 2);
+    // Match each truth material to the basis with the closer diffuse colour.
+    const double want_rho[2] = {0.5, 0.1}, want_n[2] = {12, 40};
+    for (int m = 0; m < 2; ++m) {
+        int best = 0;
+        for (int k = 1; k < 2; ++k)
+            if (std::fabs(r.basis[size_t(k)].model.rho_d.x - want_rho[m]) <
+                std::fabs(r.basis[size_t(best)].model.rho_d.x - want_rho[m]))
+                best = k;
+        const sepal::LafortuneFit& f = r.basis[size_t(best)];
+        INFO("material " << m << ": " << f.model.spec());
+        CHECK(f.model.rho_d.x == doctest::Approx(want_rho[m]).epsilon(0.05));
+        CHECK(f.model.lobes[0].n == doctest::Approx(want_n[m]).epsilon(0.1));
+        CHECK(f.rank == 6);
+    }
+    // The reconstructed SVBRDF against the truth over every sample's directions.
+    double num = 0, den = 0;
+    for (const sepal::Capture& c : s.caps)
+        for (size_t i = 0; i < c.size(); ++i) {
+            const glm::dvec3 a = r.svbrdf.eval(c.texel[i], glm::dvec3(c.wi[i]), glm::dvec3(c.wo[i]));
+            const glm::dvec3 b = s.truth.eval(c.texel[i], glm::dvec3(c.wi[i]), glm::dvec3(c.wo[i]));
+            num += glm::dot(a - b, a - b);
+            den += glm::dot(b, b);
+        }
+    CHECK(std::sqrt(num / den) < 0.03);
+    // Every valid texel has weights, measured or filled from a neighbour.
+    for (int t : s.obj.atlas.texels) {
+        float sum = 0;
+        for (int k = 0; k < 2; ++k) sum += r.svbrdf.texel_weights(t)[k];
+        CHECK(sum > 0.5f);
+        CHECK(r.cluster[size_t(t)] >= 0);
+    }
+    // Per-texel fits where a texel has enough samples: their intervals are finite.
+    const std::vector<sepal::TexelFit> tf = sepal::fit_texels(s.obj, s.caps, r, 5, 0);
+    int fitted = 0, finite = 0;
+    for (int t : s.obj.atlas.texels) {
+        fitted += tf[size_t(t)].fitted;
+        finite += tf[size_t(t)].fitted && std::isfinite(tf[size_t(t)].ci95[0]);
+    }
+    CHECK(fitted > 100);
+    CHECK(finite == fitted);
+}
+
+TEST_CASE("reconstruct: refuses captures without samples and bad options") {
+    Setup s = setup(1.0);
+    sepal::Reconstruction r;
+    std::string err;
+    sepal::ReconstructOptions o;
+    o.clusters = 0;
+    CHECK_FALSE(sepal::reconstruct(s.obj, s.caps, o, &r, &err));
+    CHECK_FALSE(sepal::reconstruct(s.obj, {}, sepal::ReconstructOptions(), &r, &err));
+    CHECK(err.find("no texel") != std::string::npos);
+}

@@ -1,0 +1,406 @@
+// The BRDF database (database/database.h), its linear models (linear_model.h), measurement
+// planning (measure_plan.h) and reconstruction (measure.h).
+//
+// Fast by construction: a coarse 16 x 16 x 32 grid and 12 materials (built once per run in a
+// temporary folder, ~0.1 s); one test builds 3 materials on the MERL grid to check the .binary
+// written by the reconstruction against merl.cpp's reader. The full leave-one-out over the 100
+// materials lives in the bench (tests/bench/database.cpp).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include <Eigen/Core>
+
+#include "brdf/brdf.h"
+#include "database/database.h"
+#include "database/linear_model.h"
+#include "database/measure.h"
+#include "database/measure_plan.h"
+#include "measured/merl.h"
+#include "util/io.h"
+#include "util/parallel.h"
+#include "test_util.h"
+
+namespace {
+
+const std::vector<std::string> kMaterials = {
+    "gold-paint",   "dark-red-paint", "alum-bronze", "specular-orange-phenolic",
+    "white-fabric", "blue-acrylic",   "nickel",      "pink-felt",
+    "red-plastic",  "silver-paint",   "black-phenolic", "yellow-matte-plastic"};
+
+std::shared_ptr<const sepal::NbrdfSet> nbrdf() {
+    std::string err;
+    auto s = sepal::load_nbrdf_set(sepal_test::source_path("data/merl-nbrdf/merl-nbrdf.json"), &err);
+    REQUIRE_MESSAGE(bool(s), err);
+    return s;
+}
+
+sepal::DatabaseOptions coarse_options(const std::string& dir) {
+    sepal::DatabaseOptions o;
+    o.grid.n_theta_h = 16;
+    o.grid.n_theta_d = 16;
+    o.grid.n_phi_d = 32;
+    o.materials = kMaterials;
+    o.cache_dir = dir;
+    return o;
+}
+
+// The coarse database shared by the tests of this file.
+const sepal::BrdfDatabase& coarse() {
+    static std::unique_ptr<sepal::BrdfDatabase> db;
+    if (!db) {
+        std::string err;
+        db = sepal::BrdfDatabase::open(*nbrdf(), coarse_options(sepal_test::temp_dir()), &err);
+        REQUIRE_MESSAGE(bool(db), err);
+    }
+    return *db;
+}
+
+sepal::MeasurementPlan make_plan(const sepal::BrdfDatabase& db, sepal::PlanMethod m, int n,
+                                 const std::vector<uint8_t>& use, uint64_t seed = 1) {
+    sepal::PlanOptions o;
+    o.samples = n;
+    o.method = m;
+    o.use = use;
+    o.seed = seed;
+    sepal::MeasurementPlan p;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::plan_measurement(db, o, &p, &err), err);
+    return p;
+}
+
+// Leave-one-out relative RMS of material k from a plan of n samples (noise: multiplicative).
+double loo_error(const sepal::BrdfDatabase& db, int k, sepal::PlanMethod m, int n, double noise,
+                 uint64_t seed = 1) {
+    std::string err;
+    std::vector<uint8_t> use;
+    REQUIRE(sepal::exclude_mask(db, {db.name(k)}, &use, &err));
+    const sepal::MeasurementPlan p = make_plan(db, m, n, use, seed);
+    auto f = sepal::make_brdf("nbrdf:" + db.name(k), &err);
+    REQUIRE(bool(f));
+    std::vector<double> v;
+    REQUIRE(sepal::simulate_samples(db, p, *f, noise, seed, &v, &err));
+    sepal::CombinationFit fit;
+    REQUIRE_MESSAGE(sepal::fit_combination(db, p.rows, v, use, sepal::FitOptions{}, &fit, &err), err);
+    return sepal::combination_error_gram(db, fit.coeffs, k);
+}
+
+}  // namespace
+
+TEST_CASE("database: the table holds the nbrdf values at bin centres; Gram matrices match") {
+    const sepal::BrdfDatabase& db = coarse();
+    CHECK(db.size() == 12);
+    CHECK(db.name(0) == "gold-paint");
+    CHECK(db.valid_cells() > 4000);
+    CHECK(db.valid_cells() < db.grid().cells());
+    auto set = nbrdf();
+    for (size_t v = 0; v < db.valid_cells(); v += 97) {
+        glm::dvec3 wi, wo;
+        sepal::from_half_diff(db.cell_center(db.grid_cell(v)), &wi, &wo);
+        REQUIRE(wi.z > 0.0);
+        REQUIRE(wo.z > 0.0);
+        CHECK(db.valid_index(db.grid_cell(v)) == int64_t(v));
+        for (int k = 0; k < db.size(); ++k) {
+            const glm::dvec3 f = set->materials()[size_t(set->find(db.name(k)))].eval(wi, wo);
+            for (int c = 0; c < 3; ++c) CHECK(db.value(k, 3 * v + size_t(c)) == float(f[c]));
+        }
+    }
+    // Gram matrices against a direct sum over the table.
+    const int K = db.size();
+    for (int a = 0; a < K; a += 5)
+        for (int b = 0; b < K; b += 3) {
+            double g = 0.0, gl = 0.0;
+            for (size_t r = 0; r < db.rows(); ++r) {
+                g += double(db.value(a, r)) * db.value(b, r);
+                gl += std::log(double(db.value(a, r)) + sepal::kDatabaseLogEps) *
+                      std::log(double(db.value(b, r)) + sepal::kDatabaseLogEps);
+            }
+            CHECK(db.gram()[a * K + b] == doctest::Approx(g).epsilon(1e-9));
+            CHECK(db.gram()[b * K + a] == db.gram()[a * K + b]);
+            CHECK(db.gram_log()[a * K + b] == doctest::Approx(gl).epsilon(1e-9));
+        }
+    std::string err;
+    CHECK_MESSAGE(db.verify_table(&err), err);
+}
+
+TEST_CASE("database: the cache is deterministic, reused, and rebuilt when corrupt") {
+    const std::string d1 = sepal_test::temp_dir(), d2 = sepal_test::temp_dir();
+    std::string err;
+    sepal::DatabaseOptions o1 = coarse_options(d1), o2 = coarse_options(d2);
+    o1.threads = 1;
+    o2.threads = 2;
+    o1.materials.resize(5);
+    o2.materials.resize(5);
+    std::string path;
+    {
+        auto a = sepal::BrdfDatabase::open(*nbrdf(), o1, &err);
+        auto b = sepal::BrdfDatabase::open(*nbrdf(), o2, &err);
+        REQUIRE(bool(a));
+        REQUIRE(bool(b));
+        CHECK(a->built_now());
+        std::vector<uint8_t> ba, bb;
+        REQUIRE(sepal::read_file(a->cache_path(), &ba, &err));
+        REQUIRE(sepal::read_file(b->cache_path(), &bb, &err));
+        CHECK(ba == bb);  // thread count does not change a byte
+        path = a->cache_path();
+    }
+    {
+        auto again = sepal::BrdfDatabase::open(*nbrdf(), o1, &err);
+        REQUIRE(bool(again));
+        CHECK(!again->built_now());
+    }
+    {
+        // Corrupt one Gram entry: the header checksum catches it and the cache is rebuilt.
+        std::vector<uint8_t> bytes;
+        REQUIRE(sepal::read_file(path, &bytes, &err));
+        bytes[400] ^= 0x40;
+        REQUIRE(sepal::write_file_atomic(path, bytes.data(), bytes.size(), &err));
+        auto rebuilt = sepal::BrdfDatabase::open(*nbrdf(), o1, &err);
+        REQUIRE(bool(rebuilt));
+        CHECK(rebuilt->built_now());
+    }
+    sepal::DatabaseOptions bad = o1;
+    bad.materials = {"gold-paint", "no-such-paint"};
+    CHECK(!sepal::BrdfDatabase::open(*nbrdf(), bad, &err));
+    CHECK(err.find("no-such-paint") != std::string::npos);
+    bad.materials = {"gold-paint", "gold-paint"};
+    CHECK(!sepal::BrdfDatabase::open(*nbrdf(), bad, &err));
+    CHECK(err.find("twice") != std::string::npos);
+    bad = o1;
+    bad.grid.n_phi_d = 0;
+    CHECK(!sepal::BrdfDatabase::open(*nbrdf(), bad, &err));
+}
+
+TEST_CASE("linear model: PCA errors fall with the dimension; leave-one-out is harder") {
+    const sepal::BrdfDatabase& db = coarse();
+    const int K = db.size();
+    const std::vector<double> var = sepal::pca_variances(db.gram(), K);
+    for (size_t i = 1; i < var.size(); ++i) CHECK(var[i] <= var[i - 1] * (1 + 1e-12));
+    for (const double* G : {db.gram(), db.gram_log()}) {
+        for (int k = 0; k < K; ++k) {
+            const std::vector<double> in = sepal::pca_projection_errors(G, K, k, false, K, nullptr);
+            const std::vector<double> out = sepal::pca_projection_errors(G, K, k, true, K, nullptr);
+            REQUIRE(in.size() >= 5);
+            for (size_t d = 1; d < in.size(); ++d) CHECK(in[d] <= in[d - 1] * (1 + 1e-9) + 1e-12);
+            // All K-1 components: every material is exactly in the span.
+            CHECK(in.back() <= 1e-6 * G[k * K + k]);
+            // Leave-one-out at the same dimension never explains more.
+            for (size_t d = 0; d < std::min(in.size(), out.size()); ++d)
+                CHECK(out[d] >= in[d] * (1 - 1e-6) - 1e-9 * G[k * K + k]);
+        }
+    }
+}
+
+TEST_CASE("linear model: Gram-matrix error equals the full-grid error; exact recovery in the span") {
+    const sepal::BrdfDatabase& db = coarse();
+    const int K = db.size();
+    std::vector<double> c(size_t(K), 0.0);
+    c[1] = 0.7;
+    c[4] = 0.2;
+    c[7] = 0.1;
+    const std::vector<float> approx = sepal::combination_values(db, c);
+    const std::vector<float> truth(db.column(1), db.column(1) + db.rows());
+    CHECK(sepal::combination_error_gram(db, c, 1) ==
+          doctest::Approx(sepal::relative_rms(approx, truth)).epsilon(1e-4));
+
+    // A new material that is a mix of database materials is recovered from a plan of it.
+    std::vector<double> mix(size_t(K), 0.0);
+    mix[0] = 0.5;
+    mix[3] = 0.3;
+    mix[9] = 0.2;
+    const sepal::MeasurementPlan p = make_plan(db, sepal::PlanMethod::kGreedy, 60, {});
+    std::vector<double> v;
+    for (size_t r : p.rows) {
+        double s = 0.0;
+        for (int k = 0; k < K; ++k) s += mix[size_t(k)] * db.value(k, r);
+        v.push_back(s);
+    }
+    for (sepal::Solver solver : {sepal::Solver::kLeastSquares, sepal::Solver::kNonNegative}) {
+        sepal::FitOptions fo;
+        fo.solver = solver;
+        sepal::CombinationFit fit;
+        std::string err;
+        REQUIRE(sepal::fit_combination(db, p.rows, v, {}, fo, &fit, &err));
+        for (int k = 0; k < K; ++k) CHECK(fit.coeffs[size_t(k)] == doctest::Approx(mix[size_t(k)]).epsilon(1e-3).scale(1));
+        CHECK(fit.sample_rms < 1e-6);
+    }
+}
+
+TEST_CASE("linear model: NNLS meets the KKT conditions") {
+    // A random SPD problem whose unconstrained solution has negative entries.
+    const int n = 8;
+    std::vector<double> A(n * n), g(n);
+    Eigen::MatrixXd B(n + 3, n);
+    sepal::SplitMix64 rng(3);
+    for (int i = 0; i < n + 3; ++i)
+        for (int j = 0; j < n; ++j) B(i, j) = rng.uniform() - 0.3;
+    const Eigen::MatrixXd M = B.transpose() * B;
+    for (int i = 0; i < n; ++i) {
+        g[size_t(i)] = rng.uniform() - 0.5;
+        for (int j = 0; j < n; ++j) A[size_t(i * n + j)] = M(i, j);
+    }
+    std::vector<double> c;
+    sepal::nnls_gram(A, g, n, &c);
+    int zeros = 0;
+    for (int i = 0; i < n; ++i) {
+        double w = g[size_t(i)];
+        for (int j = 0; j < n; ++j) w -= A[size_t(i * n + j)] * c[size_t(j)];
+        CHECK(c[size_t(i)] >= 0.0);
+        if (c[size_t(i)] > 0.0) {
+            CHECK(std::fabs(w) < 1e-9);  // stationary on the free set
+        } else {
+            CHECK(w <= 1e-9);  // no descent direction into the feasible set
+            ++zeros;
+        }
+    }
+    CHECK(zeros > 0);  // the constraint was active: the test exercised it
+}
+
+TEST_CASE("plan: greedy conditions far better than random; deterministic; JSON round trip") {
+    const sepal::BrdfDatabase& db = coarse();
+    // 4 samples per material (the paper: 800 for 100); the MERL-grid figure is in the bench.
+    const sepal::MeasurementPlan g1 = make_plan(db, sepal::PlanMethod::kGreedy, 48, {});
+    const sepal::MeasurementPlan g2 = make_plan(db, sepal::PlanMethod::kGreedy, 48, {});
+    CHECK(g1.rows == g2.rows);
+    CHECK(g1.rows.size() == 48);
+    std::vector<size_t> sorted = g1.rows;
+    std::sort(sorted.begin(), sorted.end());
+    CHECK(std::unique(sorted.begin(), sorted.end()) == sorted.end());
+    double worst_random = 0, best_random = 1e300;
+    for (uint64_t seed = 1; seed <= 5; ++seed) {
+        const sepal::MeasurementPlan r = make_plan(db, sepal::PlanMethod::kRandom, 48, {}, seed);
+        worst_random = std::max(worst_random, r.condition);
+        best_random = std::min(best_random, r.condition);
+    }
+    const sepal::MeasurementPlan u = make_plan(db, sepal::PlanMethod::kUniform, 48, {});
+    MESSAGE("condition numbers: greedy " << g1.condition << ", random " << best_random << " .. "
+                                         << worst_random << ", uniform " << u.condition);
+    CHECK(g1.condition * 10 <= best_random);  // the issue: at most 1/10 of a random plan's
+    CHECK(g1.condition < u.condition);
+
+    const std::string dir = sepal_test::temp_dir();
+    std::string err;
+    REQUIRE(sepal::write_plan_json(dir + "/plan.json", db, g1, &err));
+    sepal::MeasurementPlan back;
+    REQUIRE_MESSAGE(sepal::read_plan_json(dir + "/plan.json", db, &back, &err), err);
+    CHECK(back.rows == g1.rows);
+    CHECK(back.condition == doctest::Approx(g1.condition));
+
+    auto write_text = [&](const std::string& name, const std::string& text) {
+        const std::string p = dir + "/" + name;
+        REQUIRE(sepal::write_file_atomic(p, text.data(), text.size(), &err));
+        return p;
+    };
+    const std::string head = R"({"format":"sepal-measure-plan","version":1,)";
+    CHECK(!sepal::read_plan_json(write_text("a.json", "{"), db, &back, &err));
+    CHECK(err.find("not valid JSON") != std::string::npos);
+    CHECK(!sepal::read_plan_json(write_text("b.json", head + R"("grid":[90,90,180],"plan":[]})"), db, &back, &err));
+    CHECK(err.find("grid [90,90,180] is not the database's [16,16,32]") != std::string::npos);
+    CHECK(!sepal::read_plan_json(write_text("c.json", head + R"("grid":[16,16,32],"plan":[{"cell":99999,"channel":0}]})"), db, &back, &err));
+    CHECK(err.find("plan[0]: cell 99999") != std::string::npos);
+    // The last cell (theta_h, theta_d near 90 deg) is below the horizon.
+    CHECK(!sepal::read_plan_json(write_text("d.json", head + R"("grid":[16,16,32],"plan":[{"cell":8191,"channel":1}]})"), db, &back, &err));
+    CHECK(err.find("below the horizon") != std::string::npos);
+    CHECK(!sepal::read_plan_json(write_text("e.json", head + R"("grid":[16,16,32],"plan":[{"cell":0,"channel":3}]})"), db, &back, &err));
+    sepal::PlanOptions bad;
+    bad.samples = 0;
+    CHECK(!sepal::plan_measurement(db, bad, &back, &err));
+}
+
+TEST_CASE("measure: samples CSV round trip; mismatched samples are refused") {
+    const sepal::BrdfDatabase& db = coarse();
+    const sepal::MeasurementPlan p = make_plan(db, sepal::PlanMethod::kGreedy, 50, {});
+    std::string err;
+    auto f = sepal::make_brdf("nbrdf:gold-paint", &err);
+    REQUIRE(bool(f));
+    std::vector<double> clean, noisy, noisy2;
+    REQUIRE(sepal::simulate_samples(db, p, *f, 0.0, 1, &clean, &err));
+    REQUIRE(sepal::simulate_samples(db, p, *f, 0.01, 7, &noisy, &err));
+    REQUIRE(sepal::simulate_samples(db, p, *f, 0.01, 7, &noisy2, &err));
+    CHECK(noisy == noisy2);
+    double dev = 0.0;
+    for (size_t i = 0; i < clean.size(); ++i) {
+        CHECK(float(clean[i]) == db.value(0, p.rows[i]));  // the instrument sees the bin centre
+        dev += std::pow(noisy[i] / clean[i] - 1.0, 2);
+    }
+    dev = std::sqrt(dev / double(clean.size()));
+    CHECK(dev > 0.006);
+    CHECK(dev < 0.015);
+    const std::string dir = sepal_test::temp_dir();
+    REQUIRE(sepal::write_samples_csv(dir + "/s.csv", db, p, noisy, "test", &err));
+    std::vector<double> back;
+    REQUIRE_MESSAGE(sepal::read_samples_csv(dir + "/s.csv", db, p, &back, &err), err);
+    REQUIRE(back.size() == noisy.size());
+    for (size_t i = 0; i < back.size(); ++i) CHECK(back[i] == doctest::Approx(noisy[i]).epsilon(1e-8));
+    const sepal::MeasurementPlan other = make_plan(db, sepal::PlanMethod::kRandom, 50, {});
+    CHECK(!sepal::read_samples_csv(dir + "/s.csv", db, other, &back, &err));
+    CHECK(err.find("do not belong together") != std::string::npos);
+    const std::string junk = "sample,cell,channel,theta_i,phi_i,theta_o,phi_o,value\n0,1,x\n";
+    REQUIRE(sepal::write_file_atomic(dir + "/j.csv", junk.data(), junk.size(), &err));
+    CHECK(!sepal::read_samples_csv(dir + "/j.csv", db, p, &back, &err));
+    CHECK(err.find("line 2") != std::string::npos);
+    CHECK(!sepal::simulate_samples(db, p, *f, -0.1, 1, &back, &err));
+}
+
+TEST_CASE("measure: leave-one-out from planned samples beats random; 1% noise costs < 2x") {
+    const sepal::BrdfDatabase& db = coarse();
+    int wins = 0;
+    for (int k = 0; k < db.size(); ++k) {
+        const double planned = loo_error(db, k, sepal::PlanMethod::kGreedy, 100, 0.0);
+        const double noisy = loo_error(db, k, sepal::PlanMethod::kGreedy, 100, 0.01);
+        double random = 0.0;
+        for (uint64_t seed = 1; seed <= 3; ++seed)
+            random += loo_error(db, k, sepal::PlanMethod::kRandom, 100, 0.0, seed) / 3;
+        INFO(db.name(k) << ": planned " << planned << ", with 1% noise " << noisy << ", random " << random);
+        CHECK(noisy < 2.0 * planned);
+        CHECK(planned < 0.5);
+        wins += planned < random;
+    }
+    MESSAGE("planned beats the mean of 3 random plans for " << wins << " of " << db.size());
+    CHECK(wins >= db.size() * 3 / 4);
+}
+
+TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cpp") {
+    // 3 materials on the MERL grid (~2 s to build once; cached in build/cache afterwards).
+    sepal::DatabaseOptions o;
+    o.materials = {"gold-paint", "dark-red-paint", "white-fabric"};
+    std::string err;
+    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
+    REQUIRE_MESSAGE(bool(db), err);
+    CHECK(db->valid_cells() == 1096216);
+    std::vector<uint8_t> use;
+    REQUIRE(sepal::exclude_mask(*db, {"gold-paint"}, &use, &err));
+    CHECK(!sepal::exclude_mask(*db, {"nope"}, &use, &err));
+    REQUIRE(sepal::exclude_mask(*db, {"gold-paint"}, &use, &err));
+    const sepal::MeasurementPlan p = make_plan(*db, sepal::PlanMethod::kGreedy, 30, use);
+    auto f = sepal::make_brdf("nbrdf:gold-paint", &err);
+    std::vector<double> v;
+    REQUIRE(sepal::simulate_samples(*db, p, *f, 0.0, 1, &v, &err));
+    sepal::Reconstruction r;
+    REQUIRE_MESSAGE(sepal::reconstruct(*db, p, v, use, sepal::FitOptions{}, &r, &err), err);
+    CHECK(r.fit.coeffs[0] == 0.0);  // gold-paint itself is left out
+    const std::string path = sepal_test::temp_dir() + "/gold.binary";
+    REQUIRE_MESSAGE(sepal::write_reconstruction_merl(path, *db, r, &err), err);
+    sepal::Tabulated t;
+    sepal::MerlStats st;
+    REQUIRE_MESSAGE(sepal::read_merl(path, &t, &st, &err), err);
+    CHECK(st.missing_cells == sepal::kMerlCells - db->valid_cells());
+    for (size_t vc = 0; vc < db->valid_cells(); vc += 1009) {
+        const glm::dvec3 x = t.value(db->grid_cell(vc));
+        for (int c = 0; c < 3; ++c)
+            CHECK(x[c] == doctest::Approx(r.values[3 * vc + size_t(c)]).epsilon(1e-6));
+    }
+    // Its error against the truth: the clamped values are never further than P c.
+    std::vector<float> truth;
+    REQUIRE(sepal::tabulate_rows(*db, *f, &truth, &err));
+    const double direct = sepal::relative_rms(r.values, truth);
+    const double gram = sepal::combination_error_gram(*db, r.fit.coeffs, 0);
+    MESSAGE("gold-paint from dark-red-paint and white-fabric, 30 samples: " << direct);
+    CHECK(direct <= gram * (1 + 1e-4));
+    CHECK(direct > 0.05);  // two unrelated materials do not make gold paint
+    // A coarse grid cannot be written as MERL.
+    CHECK(!sepal::write_reconstruction_merl(path, coarse(), r, &err));
+}

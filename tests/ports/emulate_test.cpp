@@ -1,0 +1,209 @@
+// The GL ES 1.1 emulator (sepal_emulate_draw) against llvmpipe's real GL ES 1.1 and 2.0
+// renders, and the issue-13 promise it lets the bake keep: every candidate the default bake
+// can pick renders on gles1 within 1 dB of the CPU backend.
+// Tolerances (llvmpipe, Mesa 22.3.6): non-negative plans agree to +-2 levels on a few percent
+// of channels (bilinear weights and the rounding of each pass differ in the last bit), which
+// doublings multiply: PSNR >= 45 dB and at most 0.1% of pixels over 8 levels (measured 60-69
+// dB on radiance assets without doublings, 48.6-53 dB and 0.02% on a factors-of-f asset with
+// 1-2 doublings). Signed plans cancel inside the 8-bit framebuffer,
+// where one level of rounding is amplified by 2^doublings: PSNR >= 33 dB at 4 doublings
+// (measured 36-38 dB), which is why the bake never gives them to an 8-bit target.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "bake/bake.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
+#include "reference/render_exact.h"
+#include "test_util.h"
+
+namespace {
+
+sepal::AssetData bake_one(const std::string& spec, sepal::Param param, sepal::Method method, int terms, bool radiance) {
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
+    REQUIRE_MESSAGE(f, err);
+    sepal::BakeOptions o;
+    o.params = {param};
+    o.resolutions = {32};
+    o.methods = {method};
+    o.terms = {terms};
+    o.radiance = radiance;
+    o.judge_size = 32;
+    sepal::BakeResult r;
+    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+    return r.asset;
+}
+
+sepal_ports::SceneSetup scene(const std::vector<std::string>& flags, const char* size = "128x128") {
+    sepal_ports::SceneSetup s;
+    std::vector<std::string> args = {"--size", size};
+    args.insert(args.end(), flags.begin(), flags.end());
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(&a[0]);
+    std::string err;
+    for (int i = 0; i < int(argv.size());) {
+        const int used = sepal_ports::parse_scene_flag(int(argv.size()), argv.data(), i, &s, &err);
+        REQUIRE_MESSAGE(used > 0, err);
+        i += used;
+    }
+    REQUIRE_MESSAGE(sepal_ports::load_scene_mesh(&s, &err), err);
+    return s;
+}
+
+sepal::Image gl(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, const char* backend,
+                uint32_t mask = 0, int* doublings = nullptr) {
+    sepal_ports::GlRenderOptions opt;
+    REQUIRE(sepal_ports::parse_gl_backend(backend, &opt));
+    opt.mask = mask;
+    std::vector<uint8_t> rgba;
+    sepal_ports::GlRenderInfo info;
+    std::string err;
+    REQUIRE_MESSAGE(sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &err), err);
+    if (doublings) *doublings = info.stats.doublings;
+    return sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+}
+
+sepal::Image emulated(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, int gles_version,
+                      uint32_t mask = 0, int* doublings = nullptr) {
+    std::vector<uint8_t> rgba;
+    std::string err;
+    sepal_draw_stats stats = {};
+    REQUIRE_MESSAGE(sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), s, gles_version, mask, &rgba, &err,
+                                                       &stats),
+                    err);
+    if (doublings) *doublings = stats.doublings;
+    return sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+}
+
+std::vector<uint8_t> encode(const sepal::AssetData& a) {
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    return bytes;
+}
+
+}  // namespace
+
+TEST_CASE("emulator: matches llvmpipe's GL ES 1.1 on non-negative plans, every path and scene") {
+    const char* const ward = "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15";
+    struct Asset {
+        const char* name;
+        sepal::AssetData a;
+    };
+    const std::vector<Asset> assets = {
+        // radiance factors, constant diffuse part; the same with a diffuse profile; factors
+        // of f, whose frame needs doublings (staged exposure).
+        {"radiance nmf x2", bake_one(ward, sepal::Param::GsHalf, sepal::Method::NMF, 2, true)},
+        {"radiance profile", bake_one("ashikhmin-shirley", sepal::Param::ViewHalf, sepal::Method::ACLS, 1, true)},
+        {"brdf nmf x2", bake_one("blinn", sepal::Param::GsHalf, sepal::Method::NMF, 2, false)},
+    };
+    const std::vector<std::vector<std::string>> scenes = {
+        {},
+        {"--mesh", "torus"},
+        {"--light", "point:2,-2.5,3:30", "--light", "dir:-1,-0.2,0.5:1.5"},
+        {"--light", "point:3.83,1.91,0.96:60", "--background", "0.1,0.2,0.3"},
+    };
+    int doubled = 0;
+    for (const Asset& as : assets)
+        for (const auto& flags : scenes)
+            for (uint32_t mask : {0u, uint32_t(SEPAL_MASK_BLEND_SUBTRACT)}) {
+                CAPTURE(std::string(as.name));
+                CAPTURE(flags.size());
+                CAPTURE(mask);
+                const std::vector<uint8_t> bytes = encode(as.a);
+                const sepal_ports::SceneSetup s = scene(flags);
+                int dg = -1, de = -2;
+                const sepal::Image real = gl(bytes, s, "gles1", mask, &dg);
+                const sepal::Image emu = emulated(bytes, s, 1, mask, &de);
+                CHECK(dg == de);  // the same frame preparation
+                doubled += dg > 0;
+                const sepal::ImageDiff d = sepal::diff_images(real, emu, 8);
+                CAPTURE(d.psnr);
+                CAPTURE(d.max_diff);
+                CHECK(d.psnr >= 45.0);
+                CHECK(d.share_over <= 0.001);
+            }
+    CHECK(doubled > 0);  // the doublings were exercised
+}
+
+TEST_CASE("emulator: GL ES 2 multipass, and signed plans within their documented tolerance") {
+    const char* const ward = "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15";
+    const std::vector<uint8_t> nonneg = encode(bake_one(ward, sepal::Param::GsHalf, sepal::Method::NMF, 2, true));
+    const sepal_ports::SceneSetup s = scene({});
+    const sepal::ImageDiff d2 = sepal::diff_images(gl(nonneg, s, "gles2"), emulated(nonneg, s, 2), 8);
+    CAPTURE(d2.psnr);
+    CHECK(d2.psnr >= 50.0);
+    CHECK(d2.pixels_over == 0);
+    // A signed 3-term SVD: bias passes, subtraction (and the inversion path without it).
+    const std::vector<uint8_t> sgn = encode(bake_one(ward, sepal::Param::GsHalf, sepal::Method::SVD, 3, true));
+    for (uint32_t mask : {0u, uint32_t(SEPAL_MASK_BLEND_SUBTRACT)}) {
+        CAPTURE(mask);
+        int doublings = 0;
+        const sepal::ImageDiff d = sepal::diff_images(gl(sgn, s, "gles1", mask, &doublings), emulated(sgn, s, 1, mask), 8);
+        CAPTURE(doublings);
+        CAPTURE(d.psnr);
+        CHECK(d.psnr >= 33.0);
+    }
+    // What the emulator refuses: the one-texture-unit path.
+    std::vector<uint8_t> rgba;
+    std::string err;
+    CHECK_FALSE(sepal_ports::render_asset_emulated(sgn.data(), sgn.size(), s, 1, SEPAL_MASK_MULTITEXTURE, &rgba, &err));
+    CHECK(err.find("one-texture-unit") != std::string::npos);
+}
+
+TEST_CASE("bake: every candidate the default search can pick renders on gles1 within 1 dB of cpu") {
+    // The issue's promise, over the candidates themselves (not only the winner): the default
+    // search (coarse stage, ladder, more terms) of two materials, each fine candidate drawn
+    // by llvmpipe on GL ES 1.1, by GL ES 2's fused per-vertex path (the same per-vertex
+    // coordinates, summed in float) and by the CPU backend (per pixel), all against exact.
+    // What the plan costs is gles1 against fused: its passes' 8-bit rounding, uniform noise of
+    // 1/12 level^2 each, times 4 per doubling, and nothing more (no cancellation): the extra
+    // mean squared error stays under 1.5 x passes x 4^doublings / 12. Against cpu: <= 1 dB
+    // while the factorization's error dominates (cpu below 40 dB); above, per-vertex
+    // interpolation (every GL path) and that rounding are the floor (measured: up to 2 dB
+    // at 49-51 dB, README).
+    for (const char* spec : {"ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", "ashikhmin-shirley"}) {
+        CAPTURE(std::string(spec));
+        std::string err;
+        std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
+        REQUIRE_MESSAGE(f, err);
+        sepal::BakeOptions o;
+        o.keep_assets = true;
+        sepal::BakeResult r;
+        REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+        const sepal_ports::SceneSetup s = scene({}, "256x256");
+        sepal::Image exact;
+        REQUIRE_MESSAGE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err), err);
+        for (float& v : exact.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
+        int checked = 0;
+        for (const sepal::BakeCandidate& c : r.candidates) {
+            if (!c.ok || c.coarse) continue;
+            CAPTURE(c.label());
+            ++checked;
+            CHECK(c.non_negative);  // no bias passes on the default path
+            const std::vector<uint8_t> bytes = encode(c.asset);
+            sepal::Image cpu(s.width, s.height, 3);
+            REQUIRE_MESSAGE(sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &cpu.data, nullptr, &err),
+                            err);
+            for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
+            int doublings = 0;
+            const sepal::ImageDiff d_gl = sepal::diff_images(exact, gl(bytes, s, "gles1", 0, &doublings), 0);
+            const sepal::ImageDiff d_fused = sepal::diff_images(exact, gl(bytes, s, "gles2-fused"), 0);
+            const double p_cpu = sepal::diff_images(exact, cpu, 0).psnr;
+            CAPTURE(d_gl.psnr);
+            CAPTURE(d_fused.psnr);
+            CAPTURE(p_cpu);
+            CAPTURE(doublings);
+            CHECK(d_gl.mse - d_fused.mse <= 1.5 * c.passes * std::ldexp(1.0, 2 * doublings) / 12.0);
+            if (p_cpu < 40.0) CHECK(d_gl.psnr >= p_cpu - 1.0);
+        }
+        CHECK(checked >= 4);
+        // The winner is good on the default scene too (the bake judged two views at 128).
+        const sepal::Image w = gl(encode(r.asset), s, "gles1");
+        CHECK(sepal::diff_images(exact, w, 0).psnr >= 35.0);
+    }
+}
