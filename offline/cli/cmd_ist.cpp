@@ -243,7 +243,7 @@ CommandRun setup_ist(CLI::App& app) {
     st->e->add_option("--blend", st->edit.blends, "J=IMAGE.png: basis J's blend map (grey)");
     st->e->add_option("--swap", st->edit.swaps, "J=SPEC: basis J replaced by any BRDF spec or measured file");
 
-    st->r = app.add_subcommand("render", "draw a tree: exact, cpu, gles1, gles2 or gles2-fused-pixel (headless)");
+    st->r = app.add_subcommand("render", "draw a tree: exact, cpu, gles1, gles2 or gles2-fused-pixel (headless); scene defaults here: wave mesh, 256x256, the lights of ist/figures.h (not the defaults listed under Scene)");
     st->r->add_option("TREE", st->render.tree, "a tree folder")->required();
     st->r->add_option("-o,--output", st->render.out, "the PNG to write")->required();
     st->r->add_option("--backend", st->render.backend, "exact, cpu, gles1, gles2 or gles2-fused-pixel")
