@@ -90,6 +90,8 @@ CommandRun setup_inspect(CLI::App& app);
 int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_bake_scene(CLI::App& app);
 int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io);
+CommandRun setup_sampler(CLI::App& app);
+int cmd_sampler(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_fit(CLI::App& app);
 int cmd_fit(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_measure(CLI::App& app);

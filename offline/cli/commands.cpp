@@ -23,6 +23,8 @@ const std::vector<Command>& commands() {
         {"bake-scene", "bake the materials a scene lists, each with its budget; skip up-to-date ones",
          setup_bake_scene, cmd_bake_scene},
         {"inspect", "validate and print an asset", setup_inspect, cmd_inspect},
+        {"sampler", "an importance sampler for a BRDF (factored, Lawrence 2004, or another kind) and its variance",
+         setup_sampler, cmd_sampler},
         {"fit", "fit a model to scattered samples: lafortune, with each parameter's 95% interval", setup_fit,
          cmd_fit},
         {"measure", "measure: plan, simulate, reconstruct from the MERL database (~800 samples); capture a photograph of the virtual setup",
