@@ -234,6 +234,10 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                              (double)m.ratio[c]);
     if (!(m.ratio[0] + m.ratio[1] + m.ratio[2] > 0.0f))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio is all zero");
+    // The bake's error figures: a number, or NaN when not measured; never infinite.
+    if (isinf(m.error_quantized) || isinf(m.error_float) || isinf(m.error_relative))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: error figures %g %g %g: finite, or NaN (not measured)",
+                         (double)m.error_quantized, (double)m.error_float, (double)m.error_relative);
     if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
                          m.channels, m.color_mode);
@@ -316,6 +320,12 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
         if (p.rgb_scale != 1 && p.rgb_scale != 2 && p.rgb_scale != 4)
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
                              p.rgb_scale);
+        // Every add before every subtract, so no partial sum clamps at 0 in a [0,1]
+        // framebuffer: part of what a valid plan is, for every backend (the GL ones cannot
+        // draw it otherwise; the CPU one would draw what GL cannot).
+        if (p.blend == SEPAL_BLEND_ADD && i > 0 && out->passes[i - 1].blend == SEPAL_BLEND_SUBTRACT)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: pass %u adds after pass %u subtracts (a plan adds everything first)", i, i - 1);
     }
     if (out->diffuse_profile && !has_diffuse)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: a diffuse profile without a diffuse part");

@@ -139,6 +139,28 @@ TEST_CASE("asset: the writer refuses what the reader would refuse") {
     CHECK(err.find("outside [0,1]") != std::string::npos);
 }
 
+TEST_CASE("asset: one validity for every backend: a plan that adds after subtracting, infinite errors") {
+    // Issue 21, class 7: these parsed before and only the GL backends refused them at load.
+    sepal::AssetData a = small_asset();
+    sepal_fmt_pass sub = a.passes[0];
+    sub.blend = SEPAL_BLEND_SUBTRACT;
+    a.passes.insert(a.passes.begin(), sub);  // subtract, then add
+    std::vector<uint8_t> bytes;
+    std::string err;
+    CHECK_FALSE(sepal::encode_asset(a, &bytes, &err));  // the writer checks with the reader
+    CHECK(err.find("pass 1 adds after pass 0 subtracts") != std::string::npos);
+    a = small_asset();
+    a.passes.push_back(a.passes[0]);
+    a.passes[1].blend = SEPAL_BLEND_SUBTRACT;  // add, then subtract: valid
+    CHECK_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    a = small_asset();
+    a.material.error_relative = INFINITY;
+    CHECK_FALSE(sepal::encode_asset(a, &bytes, &err));
+    CHECK(err.find("finite, or NaN") != std::string::npos);
+    a.material.error_relative = NAN;  // not measured: fine
+    CHECK_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+}
+
 TEST_CASE("asset: corrupt, truncated and oversized files are refused with a clear message") {
     const std::vector<uint8_t> good = encode(small_asset());
     const size_t mat = chunk_offset(good, 0), tex = chunk_offset(good, 1), tex_h = chunk_offset(good, 2),
