@@ -10,7 +10,7 @@
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"
-#include "util/json_read.h"
+#include "util/json.h"
 #include "util/parallel.h"
 
 namespace sepal {
@@ -265,28 +265,25 @@ bool write_truth(const std::string& dir, const SvbrdfTruth& t, std::string* err)
 
 bool read_truth(const std::string& dir, SvbrdfTruth* out, std::string* err) {
     const std::string path = dir + "/truth.json";
-    std::vector<uint8_t> bytes;
-    if (!read_file(path, &bytes, err, 1u << 20)) return false;
-    JsonValue root;
-    std::string why;
-    if (!parse_json(std::string(bytes.begin(), bytes.end()), &root, &why)) return fail(err, path + ": " + why);
+    Json root;
+    if (!read_json_file(path, &root, err, 1u << 20)) return false;
     std::string fmt;
     int version = 0;
-    if (!json_string(root, "format", &fmt, &why) || fmt != "sepal-svbrdf-truth" ||
-        !json_int(root, "version", 1, 1, &version, &why))
+    std::string why;
+    if (!json_string({root, path}, "format", &fmt, &why, true) || fmt != "sepal-svbrdf-truth" ||
+        !json_int({root, path}, "version", 1, 1, &version, &why, true))
         return fail(err, path + ": not a sepal-svbrdf-truth file of version 1");
-    const JsonValue* mats = root.find("materials");
-    if (!mats || mats->kind != JsonValue::Array || mats->array.empty() || mats->array.size() > 16)
-        return fail(err, path + ": \"materials\" must be an array of 1..16 entries");
+    const Json* mats = nullptr;
+    if (!json_array({root, path}, "materials", 1, 16, &mats, err, true)) return false;
     SvbrdfTruth t;
-    t.blend.count = int(mats->array.size());
+    t.blend.count = int(mats->size());
     std::vector<Image> maps;
-    for (size_t m = 0; m < mats->array.size(); ++m) {
-        const JsonValue& e = mats->array[m];
+    for (size_t m = 0; m < mats->size(); ++m) {
+        const JsonField e{(*mats)[m], path + ": materials[" + std::to_string(m) + "]"};
         std::string name, spec, blend;
-        if (!json_string(e, "name", &name, &why) || !json_string(e, "spec", &spec, &why) ||
-            !json_string(e, "blend", &blend, &why))
-            return fail(err, path + ": materials[" + std::to_string(m) + "]: " + why);
+        if (!json_string(e, "name", &name, err, true) || !json_string(e, "spec", &spec, err, true) ||
+            !json_string(e, "blend", &blend, err, true))
+            return false;
         Image img;
         if (!read_image(dir + "/" + blend, &img, err)) return false;
         if (!maps.empty() && (img.width != maps[0].width || img.height != maps[0].height))

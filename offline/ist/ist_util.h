@@ -4,7 +4,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "util/json_read.h"
+#include "util/json.h"
 
 namespace sepal {
 namespace ist_detail {
@@ -14,9 +14,9 @@ inline bool fail(std::string* err, const std::string& msg) {
     return false;
 }
 
-inline bool json_vec3(const JsonValue& obj, const std::string& key, glm::dvec3* out, std::string* err) {
+inline bool json_vec3(const JsonField& f, const char* key, glm::dvec3* out, std::string* err) {
     double v[3];
-    if (!json_numbers(obj, key, 3, v, err)) return false;
+    if (!json_numbers(f, key, 3, v, err, true)) return false;
     *out = glm::dvec3(v[0], v[1], v[2]);
     return true;
 }

@@ -7,7 +7,7 @@
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"
-#include "util/json_read.h"
+#include "util/json.h"
 #include "util/parallel.h"
 
 namespace sepal {
@@ -82,28 +82,21 @@ SvbrdfCounts count_samples(const Svbrdf& s) {
 bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCounts* counts,
                  const SvbrdfReadOptions& o) {
     const std::string json_path = dir + "/svbrdf.json";
-    std::vector<uint8_t> bytes;
-    if (!read_file(json_path, &bytes, err, 1u << 20)) return false;
-    JsonValue root;
-    std::string why;
-    if (!parse_json(std::string(bytes.begin(), bytes.end()), &root, &why))
-        return fail(err, json_path + ": " + why);
-    const JsonValue* fmt = root.find("format");
-    const JsonValue* ver = root.find("version");
-    if (!fmt || fmt->kind != JsonValue::String || fmt->string != "sepal-svbrdf")
-        return fail(err, json_path + ": \"format\" must be \"sepal-svbrdf\"");
-    if (!ver || ver->kind != JsonValue::Number || ver->number != 1)
-        return fail(err, json_path + ": unsupported \"version\" (this reader knows 1)");
+    Json root;
+    if (!read_json_file(json_path, &root, err, 1u << 20)) return false;
+    const JsonField top{root, json_path};
+    std::string fmt;
+    int64_t version = 0;
+    if (!json_string(top, "format", &fmt, err, true)) return false;
+    if (fmt != "sepal-svbrdf") return fail(err, json_path + ": \"format\" must be \"sepal-svbrdf\", not \"" + fmt + "\"");
+    if (!json_int(top, "version", 1, 1, &version, err, true)) return false;
     int w = 0, h = 0;
-    if (!json_int(root, "width", 1, Svbrdf::kMaxSide, &w, &why) ||
-        !json_int(root, "height", 1, Svbrdf::kMaxSide, &h, &why))
-        return fail(err, json_path + ": " + why);
-    const JsonValue* pairs = root.find("pairs");
-    if (!pairs || pairs->kind != JsonValue::Array || pairs->array.empty() ||
-        pairs->array.size() > size_t(Svbrdf::kMaxPairs))
-        return fail(err, json_path + ": \"pairs\" must be an array of 1.." + std::to_string(Svbrdf::kMaxPairs) +
-                             " entries");
-    const size_t np = pairs->array.size();
+    if (!json_int(top, "width", 1, Svbrdf::kMaxSide, &w, err, true) ||
+        !json_int(top, "height", 1, Svbrdf::kMaxSide, &h, err, true))
+        return false;
+    const Json* pairs = nullptr;
+    if (!json_array(top, "pairs", 1, size_t(Svbrdf::kMaxPairs), &pairs, err, true)) return false;
+    const size_t np = pairs->size();
     const double mb = double(w) * h * double(np) * 16 / (1 << 20);
     if (mb > o.max_memory_mb) {
         char buf[256];
@@ -114,27 +107,15 @@ bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCo
     std::vector<DirPair> dp(np);
     std::vector<std::string> images(np), confs(np);
     for (size_t p = 0; p < np; ++p) {
-        const JsonValue& e = pairs->array[p];
-        const std::string where = json_path + ": pairs[" + std::to_string(p) + "]: ";
-        if (e.kind != JsonValue::Object) return fail(err, where + "not an object");
-        if (!json_vec3(e, "wi", &dp[p].wi, &why) || !json_vec3(e, "wo", &dp[p].wo, &why))
-            return fail(err, where + why);
+        const JsonField e{(*pairs)[p], json_path + ": pairs[" + std::to_string(p) + "]"};
+        if (!json_vec3(e, "wi", &dp[p].wi, err) || !json_vec3(e, "wo", &dp[p].wo, err)) return false;
         if (!unit_above(dp[p].wi) || !unit_above(dp[p].wo))
-            return fail(err, where + "wi and wo must be unit vectors above the horizon (z > 0)");
-        const JsonValue* img = e.find("image");
-        if (!img || img->kind != JsonValue::String || img->string.empty())
-            return fail(err, where + "\"image\" (a PFM path) is missing");
-        images[p] = img->string;
-        if (const JsonValue* c = e.find("confidence")) {
-            if (c->kind != JsonValue::String) return fail(err, where + "\"confidence\" must be a path");
-            confs[p] = c->string;
-        }
-        if (e.find("view") && !json_int(e, "view", -1, 1 << 20, &dp[p].view, &why)) return fail(err, where + why);
-        if (const JsonValue* a = e.find("albedo_weight")) {
-            if (a->kind != JsonValue::Number || !(a->number >= 0) || !std::isfinite(a->number))
-                return fail(err, where + "\"albedo_weight\" must be a finite number >= 0");
-            dp[p].albedo_weight = a->number;
-        }
+            return fail(err, e.where + ": wi and wo must be unit vectors above the horizon (z > 0)");
+        if (!json_string(e, "image", &images[p], err, true)) return false;
+        if (images[p].empty()) return fail(err, e.where + ".image: empty (a PFM path is expected)");
+        if (!json_string(e, "confidence", &confs[p], err)) return false;
+        if (!json_int(e, "view", -1, 1 << 20, &dp[p].view, err)) return false;
+        if (!json_number(e, "albedo_weight", 0, HUGE_VAL, &dp[p].albedo_weight, err)) return false;
     }
     Svbrdf s;
     s.resize(w, h, dp);

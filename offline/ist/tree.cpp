@@ -15,7 +15,7 @@
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"
-#include "util/json_read.h"
+#include "util/json.h"
 
 namespace sepal {
 
@@ -702,60 +702,59 @@ bool write_tree(const std::string& dir, const ShadeTree& t, std::string* err) {
 
 bool read_tree(const std::string& dir, ShadeTree* out, std::string* err) {
     const std::string path = dir + "/tree.json";
-    std::vector<uint8_t> bytes;
-    if (!read_file(path, &bytes, err, 1u << 20)) return false;
-    JsonValue root;
-    std::string why, s;
-    if (!parse_json(std::string(bytes.begin(), bytes.end()), &root, &why)) return fail(err, path + ": " + why);
+    Json root;
+    if (!read_json_file(path, &root, err, 1u << 20)) return false;
+    const JsonField top{root, path};
+    std::string s, why;
     int version = 0;
-    if (!json_string(root, "format", &s, &why) || s != "sepal-ist-tree" || !json_int(root, "version", 1, 1, &version, &why))
+    if (!json_string(top, "format", &s, &why, true) || s != "sepal-ist-tree" ||
+        !json_int(top, "version", 1, 1, &version, &why, true))
         return fail(err, path + ": not a sepal-ist-tree file of version 1");
     ShadeTree t;
     std::string pname, mname;
-    if (!json_string(root, "param", &pname, &why) || !parse_param(pname, &t.param) ||
-        !json_string(root, "map", &mname, &why) || !parse_map(mname, &t.map) || !json_int(root, "res", 4, 128, &t.res, &why))
-        return fail(err, path + ": bad \"param\", \"map\" or \"res\"");
-    if (const JsonValue* p = root.find("provenance"))
-        if (p->kind == JsonValue::String) t.provenance = p->string;
-    const JsonValue* blend = root.find("blend");
-    const JsonValue* bases = root.find("bases");
-    if (!blend || blend->kind != JsonValue::Object || !bases || bases->kind != JsonValue::Array || bases->array.empty() ||
-        bases->array.size() > 8)
-        return fail(err, path + ": \"blend\" (an object) and \"bases\" (1..8) are required");
-    const JsonValue* maps = blend->find("maps");
-    if (!json_int(*blend, "width", 1, Svbrdf::kMaxSide, &t.blend.width, &why) ||
-        !json_int(*blend, "height", 1, Svbrdf::kMaxSide, &t.blend.height, &why) || !maps ||
-        maps->kind != JsonValue::Array || maps->array.size() != bases->array.size())
-        return fail(err, path + ": \"blend\" needs width, height and one map per basis");
-    t.blend.count = int(maps->array.size());
+    if (!json_string(top, "param", &pname, err, true) || !json_string(top, "map", &mname, err, true) ||
+        !json_int(top, "res", 4, 128, &t.res, err, true) || !json_string(top, "provenance", &t.provenance, err))
+        return false;
+    if (!parse_param(pname, &t.param)) return fail(err, path + ".param: unknown parameterization \"" + pname + "\"");
+    if (!parse_map(mname, &t.map)) return fail(err, path + ".map: unknown map \"" + mname + "\"");
+    const Json* bases = nullptr;
+    const Json* maps = nullptr;
+    if (!json_array(top, "bases", 1, 8, &bases, err, true)) return false;
+    static const Json kAbsent;  // "expected an object, got null" when "blend" is missing
+    const JsonField blend{root.contains("blend") ? root.at("blend") : kAbsent, path + ".blend"};
+    if (!json_int(blend, "width", 1, Svbrdf::kMaxSide, &t.blend.width, err, true) ||
+        !json_int(blend, "height", 1, Svbrdf::kMaxSide, &t.blend.height, err, true) ||
+        !json_array(blend, "maps", bases->size(), bases->size(), &maps, err, true))
+        return false;
+    t.blend.count = int(maps->size());
     t.blend.w.assign(size_t(t.blend.width) * t.blend.height * t.blend.count, 0.0f);
     for (int b = 0; b < t.blend.count; ++b) {
-        const JsonValue& m = maps->array[size_t(b)];
-        if (m.kind != JsonValue::String) return fail(err, path + ": blend maps are paths");
+        const Json& m = (*maps)[size_t(b)];
+        if (!m.is_string()) return fail(err, path + ".blend.maps[" + std::to_string(b) + "]: expected a path, got " + json_kind(m));
+        const std::string img_path = dir + "/" + m.get<std::string>();
         Image img;
-        if (!read_image(dir + "/" + m.string, &img, err)) return false;
+        if (!read_image(img_path, &img, err)) return false;
         if (img.width != t.blend.width || img.height != t.blend.height)
-            return fail(err, dir + "/" + m.string + ": not " + std::to_string(t.blend.width) + "x" + std::to_string(t.blend.height));
+            return fail(err, img_path + ": not " + std::to_string(t.blend.width) + "x" + std::to_string(t.blend.height));
         for (int i = 0; i < t.blend.width * t.blend.height; ++i)
             t.blend.w[size_t(i) * t.blend.count + size_t(b)] = img.data[size_t(i) * size_t(img.channels)];
     }
-    for (size_t b = 0; b < bases->array.size(); ++b) {
-        const JsonValue& e = bases->array[b];
-        const std::string where = path + ": bases[" + std::to_string(b) + "]: ";
+    for (size_t b = 0; b < bases->size(); ++b) {
+        const JsonField e{(*bases)[b], path + ": bases[" + std::to_string(b) + "]"};
         TreeBasis tb;
-        if (!json_string(e, "name", &tb.name, &why) || !json_string(e, "source", &tb.source, &why)) return fail(err, where + why);
-        const JsonValue* terms = e.find("terms");
-        if (!terms || terms->kind != JsonValue::Array || terms->array.empty() || terms->array.size() > 4)
-            return fail(err, where + "\"terms\" must hold 1..4 terms");
-        for (const JsonValue& te : terms->array) {
-            const JsonValue* curves = te.find("curves");
-            if (!curves || curves->kind != JsonValue::Array || curves->array.size() != 4)
-                return fail(err, where + "each term lists 4 curve files");
+        const Json* terms = nullptr;
+        if (!json_string(e, "name", &tb.name, err, true) || !json_string(e, "source", &tb.source, err, true) ||
+            !json_array(e, "terms", 1, 4, &terms, err, true))
+            return false;
+        for (size_t k = 0; k < terms->size(); ++k) {
+            const JsonField te{(*terms)[k], e.where + ".terms[" + std::to_string(k) + "]"};
+            const Json* curves = nullptr;
+            if (!json_array(te, "curves", 4, 4, &curves, err, true)) return false;
             TreeTerm tt;
             for (int i = 0; i < 4; ++i) {
-                const JsonValue& c = curves->array[size_t(i)];
-                if (c.kind != JsonValue::String) return fail(err, where + "curve files are paths");
-                if (!read_curve_csv(dir + "/" + c.string, i % 2 == 1, &tt.curve(i), err)) return false;
+                const Json& c = (*curves)[size_t(i)];
+                if (!c.is_string()) return fail(err, te.where + ".curves[" + std::to_string(i) + "]: expected a path, got " + json_kind(c));
+                if (!read_curve_csv(dir + "/" + c.get<std::string>(), i % 2 == 1, &tt.curve(i), err)) return false;
             }
             tb.terms.push_back(std::move(tt));
         }

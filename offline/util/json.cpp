@@ -223,4 +223,29 @@ bool json_string(const JsonField& f, const char* key, std::string* out, std::str
     return true;
 }
 
+bool json_array(const JsonField& f, const char* key, size_t lo, size_t hi, const Json** out, std::string* err,
+                bool required) {
+    bool ok = true;
+    const Json* v = member(f, key, required, err, &ok);
+    if (!v) return ok;
+    const std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+    if (!v->is_array())
+        return fail(err, member_where(f, key) + ": expected an array of " + range + " elements, got " + json_kind(*v));
+    if (v->size() < lo || v->size() > hi)
+        return fail(err, member_where(f, key) + ": " + std::to_string(v->size()) + " elements, expected " + range);
+    *out = v;
+    return true;
+}
+
+bool json_numbers(const JsonField& f, const char* key, size_t count, double* out, std::string* err, bool required) {
+    const Json* a = nullptr;
+    if (!json_array(f, key, count, count, &a, err, required)) return false;
+    if (!a) return true;
+    const std::string where = member_where(f, key);
+    for (size_t i = 0; i < count; ++i)
+        if (!json_to_number((*a)[i], where + "[" + std::to_string(i) + "]", -HUGE_VAL, HUGE_VAL, &out[i], err))
+            return false;
+    return true;
+}
+
 }  // namespace sepal

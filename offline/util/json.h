@@ -58,6 +58,12 @@ bool json_int(const JsonField& f, const char* key, int lo, int hi, int* out, std
 bool json_number(const JsonField& f, const char* key, double lo, double hi, double* out, std::string* err,
                  bool required = false);
 bool json_string(const JsonField& f, const char* key, std::string* out, std::string* err, bool required = false);
+// An array member of lo..hi elements; *out points into f.object (nullptr when absent and not required).
+bool json_array(const JsonField& f, const char* key, size_t lo, size_t hi, const Json** out, std::string* err,
+                bool required = false);
+// An array member of exactly `count` finite numbers.
+bool json_numbers(const JsonField& f, const char* key, size_t count, double* out, std::string* err,
+                  bool required = false);
 // The same checks on a value (an array element, or the value itself).
 bool json_to_int(const Json& v, const std::string& where, int64_t lo, int64_t hi, int64_t* out, std::string* err);
 bool json_to_number(const Json& v, const std::string& where, double lo, double hi, double* out, std::string* err);
