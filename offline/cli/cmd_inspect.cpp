@@ -38,8 +38,12 @@ int run_inspect(const std::string& path, const CommandIO& io) {
                                            std::to_string(a->diffuse_side) + " profile over the two cosines")
                                               .c_str()
                                         : "");
-    std::fprintf(io.out, "errors      float rms %.6g, quantized rms %.6g, quantized relative %.6g\n", double(m.error_float),
-                 double(m.error_quantized), double(m.error_relative));
+    // Direction-space figures (RMS over direction pairs) are diagnostics: what a viewer sees is the
+    // image error, which `sepal render` + `sepal diff` (or the bake's candidate table) measure.
+    std::fprintf(io.out,
+                 "errors      direction-space diagnostics (not image PSNR): float rms %.6g, quantized rms %.6g, "
+                 "quantized relative %.6g\n",
+                 double(m.error_float), double(m.error_quantized), double(m.error_relative));
     for (uint32_t i = 0; i < a->texture_count; ++i) {
         const sepal_fmt_texture& d = a->textures[i].desc;
         std::fprintf(io.out, "texture %-3u term %u %s  %ux%u x%u ch, %u bits, %u levels; scale", i, d.term,
