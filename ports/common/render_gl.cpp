@@ -113,52 +113,29 @@ void rgb_to_rgba8(const float* rgb, size_t pixels, uint8_t* rgba) {
     }
 }
 
-bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
-                           const GlRenderOptions& options, std::vector<uint8_t>* rgba,
-                           GlRenderInfo* info, std::string* err) {
-    const int gles_version = options.gles_version;
-    const uint32_t mask = options.mask;
-    const Rgba8Image* diffuse = options.diffuse;
-    // Large runtime structs live on the heap here: this is port code, not the runtime.
-    auto asset = std::make_unique<sepal_asset>();
-    auto material = std::make_unique<sepal_material>();
-    sepal_error e = {};
-    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
-        *err = e.message;
-        return false;
-    }
+bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const HeadlessJob& job,
+                  std::vector<uint8_t>* rgba, GlRenderInfo* info, std::string* err) {
     sepal_headless_desc hd = {};
     hd.width = setup.width;
     hd.height = setup.height;
-    hd.gles_version = gles_version;
+    hd.gles_version = options.gles_version;
     char msg[512];
     sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
     if (!ctx) {
         *err = msg;
         return false;
     }
+    sepal_error e = {};
     sepal_caps caps;
-    bool ok = sepal_query_caps(gles_version, mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK;
-    if (ok && options.float_target) {
-        if (!caps.has_float_target || gles_version != 2) {
-            ok = false;
-            std::snprintf(e.message, sizeof e.message, "no half-float render target here (needs GL ES 3 with "
-                                                       "GL_EXT_color_buffer_half_float; use --backend gles2*)");
-        }
-        caps.use_float_target = 1;
-    }
-    ok = ok && sepal_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) == SEPAL_OK;
+    const bool have_caps =
+        sepal_query_caps(options.gles_version, options.mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK;
+    bool ok = have_caps && job.create(&caps, &e);
     if (ok) {
-        std::vector<float> scratch;
-        sepal_draw_desc d = scene_draw_desc(material.get(), setup, options.mode, &scratch);
-        if (diffuse && sepal_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
-                                                &d.diffuse_texture, &e) != SEPAL_OK)
-            ok = false;
         const int timed = options.frames > 1 ? options.frames : 1, warm = options.frames > 1 ? 2 : 0;
         std::vector<double> times;
         for (int i = 0; ok && i < warm + timed; ++i) {
             const auto start = std::chrono::steady_clock::now();
-            ok = sepal_draw(&d, &info->stats, &e) == SEPAL_OK;
+            ok = job.draw(&info->stats, &e);
             glFinish();  // the frame is done when the GPU is, not when the calls return
             if (i >= warm)
                 times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -170,10 +147,54 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
             ok = false;
             std::snprintf(e.message, sizeof e.message, "reading the framebuffer back failed");
         }
-        if (ok && material->float_fbo) {
+        info->device = sepal_headless_describe(ctx);
+        if (ok && job.finish) ok = job.finish(&e);
+    }
+    if (have_caps && job.destroy) job.destroy();
+    sepal_headless_destroy(ctx);
+    if (!ok) *err = e.message;
+    return ok;
+}
+
+bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
+                           const GlRenderOptions& options, std::vector<uint8_t>* rgba,
+                           GlRenderInfo* info, std::string* err) {
+    const int gles_version = options.gles_version;
+    const Rgba8Image* diffuse = options.diffuse;
+    // Large runtime structs live on the heap here: this is port code, not the runtime.
+    auto asset = std::make_unique<sepal_asset>();
+    auto material = std::make_unique<sepal_material>();
+    sepal_error pe = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &pe) != SEPAL_OK) {
+        *err = pe.message;
+        return false;
+    }
+    std::vector<float> scratch;
+    sepal_draw_desc d = {};
+    HeadlessJob job;
+    job.create = [&](sepal_caps* caps, sepal_error* e) {
+        if (options.float_target) {
+            if (!caps->has_float_target || gles_version != 2) {
+                std::snprintf(e->message, sizeof e->message,
+                              "no half-float render target here (needs GL ES 3 with "
+                              "GL_EXT_color_buffer_half_float; use --backend gles2*)");
+                return false;
+            }
+            caps->use_float_target = 1;
+        }
+        if (sepal_material_create(caps, asset.get(), setup.width, setup.height, material.get(), e) != SEPAL_OK)
+            return false;
+        d = scene_draw_desc(material.get(), setup, options.mode, &scratch);
+        return !diffuse || sepal_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
+                                                      &d.diffuse_texture, e) == SEPAL_OK;
+    };
+    job.draw = [&](sepal_draw_stats* stats, sepal_error* e) { return sepal_draw(&d, stats, e) == SEPAL_OK; };
+    job.finish = [&](sepal_error* e) {
+        if (material->float_fbo) {
             std::vector<float> f(size_t(setup.width) * setup.height * 4);
             int clamped = 0;
-            ok = sepal_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, &e) == SEPAL_OK;
+            if (sepal_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, e) != SEPAL_OK)
+                return false;
             info->stats.nonfinite_clamped += clamped;
             info->float_rgb.resize(size_t(setup.width) * setup.height * 3);
             for (int y = 0; y < setup.height; ++y)  // GL rows go bottom up
@@ -182,19 +203,19 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
                         info->float_rgb[(size_t(setup.height - 1 - y) * setup.width + x) * 3 + c] =
                             f[(size_t(y) * setup.width + x) * 4 + c];
         }
-        info->device = sepal_headless_describe(ctx);
         static const char* const kModes[] = {"multipass", "fused, per-vertex coordinates", "fused, per pixel"};
         info->path = std::string(gles_version == 2 ? "GL ES 2 " : "GL ES 1.1 ") + kModes[int(options.mode) % 3] + ", " +
                      std::string(material->single_unit ? "one texture unit (copy texture)" : "two texture units") +
                      (material->has_negative_passes
                           ? (material->subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
                           : ", no subtraction");
+        return true;
+    };
+    job.destroy = [&] {
         sepal_texture_destroy(d.diffuse_texture);
         sepal_material_destroy(material.get());
-    }
-    sepal_headless_destroy(ctx);
-    if (!ok) *err = e.message;
-    return ok;
+    };
+    return run_headless(setup, options, job, rgba, info, err);
 }
 
 }  // namespace sepal_ports

@@ -11,6 +11,7 @@
 // back (RGBA8, top row first). Also reports which path the runtime took.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,21 @@ struct GlRenderOptions {
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,
                            const GlRenderOptions& options, std::vector<uint8_t>* rgba,
                            GlRenderInfo* info, std::string* err);
+// The frame loop every headless render shares (materials here, trees in render_tree.h):
+// an offscreen context of the scene's size, its capabilities (options' version and mask)
+// handed to `create`, `draw` run options.frames times (with more than 1, two warm-up frames
+// first and info->ms the median), the pixels read back, then `finish` (while the context is
+// current: float read-back, info->path), and `destroy` whenever create was called (also after it failed: it must
+// accept what create left half made). Each
+// callback fills e->message when it fails; *err gets it.
+struct HeadlessJob {
+    std::function<bool(sepal_caps* caps, sepal_error* e)> create;
+    std::function<bool(sepal_draw_stats* stats, sepal_error* e)> draw;
+    std::function<bool(sepal_error* e)> finish;  // optional
+    std::function<void()> destroy;               // optional
+};
+bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const HeadlessJob& job,
+                  std::vector<uint8_t>* rgba, GlRenderInfo* info, std::string* err);
 // Reads a PNG (stb_image) as RGBA8, any size.
 bool read_png_rgba8(const std::string& path, Rgba8Image* out, std::string* err);
 // The same, refusing non-power-of-two sizes (diffuse maps).

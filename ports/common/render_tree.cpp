@@ -5,9 +5,6 @@
 #include <cstdio>
 #include <memory>
 
-#include <GLES/gl.h>
-
-#include "headless/sepal_headless.h"
 #include "sepal/sepal_tree.h"
 
 namespace sepal_ports {
@@ -23,59 +20,34 @@ bool render_tree_headless(const void* bytes, size_t size, const SceneSetup& setu
     // The runtime's structs are large (a material per basis): on the heap, in port code.
     auto asset = std::make_unique<sepal_tree_asset>();
     auto tree = std::make_unique<sepal_tree>();
-    sepal_error e = {};
-    if (sepal_tree_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
-        *err = e.message;
+    sepal_error pe = {};
+    if (sepal_tree_parse(bytes, size, asset.get(), &pe) != SEPAL_OK) {
+        *err = pe.message;
         return false;
     }
-    sepal_headless_desc hd = {};
-    hd.width = setup.width;
-    hd.height = setup.height;
-    hd.gles_version = options.gles_version;
-    char msg[512];
-    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
-    if (!ctx) {
-        *err = msg;
-        return false;
-    }
-    sepal_caps caps;
-    bool ok = sepal_query_caps(options.gles_version, options.mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK &&
-              sepal_tree_create(&caps, asset.get(), setup.width, setup.height, tree.get(), &e) == SEPAL_OK;
-    if (ok) {
-        std::vector<float> scratch(sepal_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
-        sepal_tree_draw_desc d = {};
-        d.tree = tree.get();
-        d.mesh = &setup.mesh;
-        d.scene = &setup.scene;
-        d.width = setup.width;
-        d.height = setup.height;
-        d.scratch = scratch.data();
-        d.scratch_floats = scratch.size();
-        d.mode = options.mode;
-        const int warm = options.frames > 1 ? 2 : 0, frames = warm + std::max(1, options.frames);
-        std::vector<double> times;
-        for (int i = 0; ok && i < frames; ++i) {
-            const auto start = std::chrono::steady_clock::now();
-            ok = sepal_tree_draw(&d, &info->stats, &e) == SEPAL_OK;
-            glFinish();
-            if (i >= warm) times.push_back(ms_since(start));
-        }
-        std::sort(times.begin(), times.end());
-        info->ms = times.empty() ? 0.0 : times[times.size() / 2];
-        rgba->resize(size_t(setup.width) * setup.height * 4);
-        if (ok && !sepal_headless_read_rgba(ctx, rgba->data())) {
-            ok = false;
-            std::snprintf(e.message, sizeof e.message, "reading the framebuffer back failed");
-        }
-        info->device = sepal_headless_describe(ctx);
+    std::vector<float> scratch(sepal_draw_scratch_floats(setup.mesh.vertex_count, setup.scene.light_count));
+    sepal_tree_draw_desc d = {};
+    d.tree = tree.get();
+    d.mesh = &setup.mesh;
+    d.scene = &setup.scene;
+    d.width = setup.width;
+    d.height = setup.height;
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    d.mode = options.mode;
+    HeadlessJob job;
+    job.create = [&](sepal_caps* caps, sepal_error* e) {
+        return sepal_tree_create(caps, asset.get(), setup.width, setup.height, tree.get(), e) == SEPAL_OK;
+    };
+    job.draw = [&](sepal_draw_stats* stats, sepal_error* e) { return sepal_tree_draw(&d, stats, e) == SEPAL_OK; };
+    job.finish = [&](sepal_error*) {
         info->path = std::string(options.gles_version == 2 ? "GL ES 2 " : "GL ES 1.1 ") +
                      (options.mode == SEPAL_MODE_FUSED_PIXEL ? "fused tree shader" : "bases composed") + ", " +
                      std::to_string(tree->basis_count) + " bases";
-        sepal_tree_destroy(tree.get());
-    }
-    sepal_headless_destroy(ctx);
-    if (!ok) *err = e.message;
-    return ok;
+        return true;
+    };
+    job.destroy = [&] { sepal_tree_destroy(tree.get()); };
+    return run_headless(setup, options, job, rgba, info, err);
 }
 
 bool render_tree_cpu(const void* bytes, size_t size, const SceneSetup& setup, std::vector<float>* rgb, double* ms,

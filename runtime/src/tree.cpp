@@ -1,5 +1,5 @@
 // Inverse shade trees at run time (sepal_tree.h): parsing, creation, the composition of
-// the bases' draws, and the CPU backend. The GL pieces live in tree_gles1.cpp and
+// the bases' draws, and the CPU backend. The GL pieces live in tree_gl.cpp (shared), tree_gles1.cpp and
 // tree_gles2.cpp.
 #include <math.h>
 #include <string.h>
@@ -103,7 +103,7 @@ extern "C" sepal_result sepal_tree_create(const sepal_caps* caps, const sepal_tr
         }
         out->basis_count = j + 1;
     }
-    sepal_result r = caps->gles_version == 1 ? srt::tree_create_gles1(asset, out, err) : srt::tree_create_gles2(asset, out, err);
+    sepal_result r = caps->gles_version == 1 ? srt::tree_create_textures(asset, out, err) : srt::tree_create_gles2(asset, out, err);
     if (r != SEPAL_OK) {
         sepal_tree_destroy(out);
         return r;
@@ -113,7 +113,7 @@ extern "C" sepal_result sepal_tree_create(const sepal_caps* caps, const sepal_tr
 
 extern "C" void sepal_tree_destroy(sepal_tree* t) {
     if (!t) return;
-    if (t->caps.gles_version == 1) srt::tree_destroy_gles1(t);
+    if (t->caps.gles_version == 1) srt::tree_destroy_textures(t);
     else srt::tree_destroy_gles2(t);
     for (uint32_t j = 0; j < t->basis_count; ++j) sepal_material_destroy(&t->bases[j]);
     t->basis_count = 0;
@@ -144,7 +144,7 @@ extern "C" sepal_result sepal_tree_draw(const sepal_tree_draw_desc* d, sepal_dra
         sepal_scene scene = *d->scene;
         if (j + 1 < t->basis_count) scene.background[0] = scene.background[1] = scene.background[2] = 0.0f;
         if (j > 0) {
-            es1 ? srt::tree_copy_gles1(t, d->width, d->height) : srt::tree_copy_gles2(t, d->width, d->height);
+            srt::tree_copy(t, d->width, d->height);
             ++sum.copies;
         }
         sepal_draw_desc dd = {};

@@ -137,61 +137,24 @@ void quad_attribs(const float* pos, const float* uv) {
 namespace srt {
 
 sepal_result tree_create_gles2(const sepal_tree_asset* asset, sepal_tree* t, sepal_error* err) {
-    const uint32_t w = asset->header.blend_width, h = asset->header.blend_height;
-    if ((int)w > t->caps.max_texture_size || (int)h > t->caps.max_texture_size)
-        return fail(err, SEPAL_ERR_UNSUPPORTED, "tree: blend maps %ux%u exceed the GPU's %d", w, h, t->caps.max_texture_size);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (uint32_t j = 0; j < asset->header.basis_count; ++j) {
-        GLuint name = 0;
-        glGenTextures(1, &name);
-        t->blend_textures[j] = name;
-        glBindTexture(GL_TEXTURE_2D, name);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_LUMINANCE, (GLsizei)w, (GLsizei)h, 0, GL_LUMINANCE, GL_UNSIGNED_BYTE,
-                     asset->blend[j]);
-        glGenerateMipmap(GL_TEXTURE_2D);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    }
-    if (asset->header.basis_count > 1) {
-        t->copy_width = next_pow2(t->max_width);
-        t->copy_height = next_pow2(t->max_height);
-        GLuint name = 0;
-        glGenTextures(1, &name);
-        t->copy_texture = name;
-        glBindTexture(GL_TEXTURE_2D, name);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, t->copy_width, t->copy_height, 0, GL_RGB, GL_UNSIGNED_BYTE, nullptr);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    }
-    glBindTexture(GL_TEXTURE_2D, 0);
+    sepal_result r = tree_create_textures(asset, t, err);
+    if (r != SEPAL_OK) return r;
     t->program_fullscreen = gles2_program("tree_fullscreen", kFullscreenVert, kFullscreenFrag, kFullscreenAttribs, err);
     if (!t->program_fullscreen) return err ? err->code : SEPAL_ERR_GL;
-    sepal_result r = create_fused(asset, t, err);
+    r = create_fused(asset, t, err);
     if (r != SEPAL_OK) return r;
     return gl_check("tree textures", err);
 }
 
 void tree_destroy_gles2(sepal_tree* t) {
-    for (uint32_t j = 0; j < SEPAL_TREE_MAX_BASES; ++j)
-        if (t->blend_textures[j]) glDeleteTextures(1, &t->blend_textures[j]), t->blend_textures[j] = 0;
-    const uint32_t textures[3] = {t->copy_texture, t->atlas_g, t->atlas_h};
+    tree_destroy_textures(t);
+    const uint32_t textures[2] = {t->atlas_g, t->atlas_h};
     for (uint32_t x : textures)
         if (x) glDeleteTextures(1, &x);
-    t->copy_texture = t->atlas_g = t->atlas_h = 0;
+    t->atlas_g = t->atlas_h = 0;
     if (t->program_fullscreen) glDeleteProgram(t->program_fullscreen);
     if (t->program_fused) glDeleteProgram(t->program_fused);
     t->program_fullscreen = t->program_fused = 0;
-}
-
-void tree_copy_gles2(const sepal_tree* t, int width, int height) {
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, t->copy_texture);
-    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
-    glBindTexture(GL_TEXTURE_2D, 0);
 }
 
 void tree_add_gles2(const sepal_tree* t, int width, int height) {
