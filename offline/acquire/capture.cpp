@@ -7,8 +7,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "fit/lafortune_fit.h"
+#include "reference/surface.h"
 #include "util/parallel.h"
-#include "sepal/sepal_raster.h"
 
 namespace sepal {
 
@@ -111,24 +111,6 @@ sepal_scene scene_for_view(const AcqObject& obj, const ViewPair& view, const Rig
     return s;
 }
 
-namespace {
-
-constexpr int kVaryings = 12;  // position 3, normal 3, tangent 4, uv 2
-
-struct GBuffer {
-    int width;
-    std::vector<float> varyings;
-    std::vector<uint8_t> covered;
-};
-
-void store_fragment(void* user, int x, int y, float, const float* v) {
-    auto* g = static_cast<GBuffer*>(user);
-    const size_t p = size_t(y) * g->width + x;
-    std::copy(v, v + kVaryings, g->varyings.begin() + p * kVaryings);
-    g->covered[p] = 1;
-}
-
-}  // namespace
 
 bool render_svbrdf(const AcqObject& obj, const BlendSvbrdf& sv, const sepal_scene& scene, int width, int height,
                    const RenderSvbrdfOptions& o, Image* out, std::string* err, std::vector<PhotoSample>* samples) {
@@ -144,43 +126,10 @@ bool render_svbrdf(const AcqObject& obj, const BlendSvbrdf& sv, const sepal_scen
         if (err) *err = "render svbrdf: the SVBRDF's atlas does not match the object's";
         return false;
     }
-    float view[16], proj[16];
-    sepal_error e = {};
-    if (sepal_scene_matrices(&scene, width, height, view, proj, &e) != SEPAL_OK) {
-        if (err) *err = std::string("render svbrdf: ") + e.message;
-        return false;
-    }
-    const sepal_mesh mesh = obj.mesh();
-    const glm::mat4 clip_from_world = glm::make_mat4(proj) * glm::make_mat4(view);
-    std::vector<float> clip(size_t(mesh.vertex_count) * 4), vary(size_t(mesh.vertex_count) * kVaryings);
-    for (int i = 0; i < mesh.vertex_count; ++i) {
-        const sepal_vertex& v = mesh.vertices[i];
-        const glm::vec4 c = clip_from_world * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f);
-        std::copy(&c.x, &c.x + 4, clip.begin() + size_t(i) * 4);
-        float* dst = &vary[size_t(i) * kVaryings];
-        std::copy(v.position, v.position + 3, dst);
-        std::copy(v.normal, v.normal + 3, dst + 3);
-        std::copy(v.tangent, v.tangent + 4, dst + 6);
-        std::copy(v.uv, v.uv + 2, dst + 10);
-    }
-    GBuffer g{width, std::vector<float>(size_t(width) * height * kVaryings), std::vector<uint8_t>(size_t(width) * height)};
-    std::vector<float> depth(size_t(width) * height);
-    sepal_raster_target target = {width, height, depth.data()};
-    sepal_raster_clear_depth(&target);
-    sepal_raster_desc rd = {};
-    rd.clip = clip.data();
-    rd.vertex_count = mesh.vertex_count;
-    rd.varyings = vary.data();
-    rd.varying_count = kVaryings;
-    rd.varying_stride = kVaryings;
-    rd.indices = mesh.indices;
-    rd.index_count = mesh.index_count;
-    rd.cull = SEPAL_CULL_BACK;
-    rd.depth_func = SEPAL_DEPTH_LEQUAL;
-    rd.fragment = store_fragment;
-    rd.user = &g;
-    if (sepal_raster_triangles(&target, &rd, &e) != SEPAL_OK) {
-        if (err) *err = std::string("render svbrdf: ") + e.message;
+    SurfaceBuffer g;
+    std::string why;
+    if (!rasterize_surface(scene, obj.mesh(), width, height, &g, &why)) {
+        if (err) *err = "render svbrdf: " + why;
         return false;
     }
     std::vector<PointView> lit(size_t(scene.light_count));
@@ -201,20 +150,15 @@ bool render_svbrdf(const AcqObject& obj, const BlendSvbrdf& sv, const sepal_scen
             float* rgb = &out->data[p * 3];
             std::copy(scene.background, scene.background + 3, rgb);
             if (!g.covered[p]) continue;
-            const float* v = &g.varyings[p * kVaryings];
-            glm::dvec3 n(v[3], v[4], v[5]);
-            if (!(glm::dot(n, n) > 1e-24)) continue;
-            n = glm::normalize(n);
-            glm::dvec3 t(v[6], v[7], v[8]);
-            t -= n * glm::dot(n, t);
-            t = glm::dot(t, t) > 1e-12 ? glm::normalize(t) : glm::normalize(glm::cross(n, std::fabs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
-            const glm::dvec3 s = (v[9] < 0 ? -1.0 : 1.0) * glm::cross(n, t);
-            auto local = [&](const glm::dvec3& d) { return glm::dvec3(glm::dot(d, t), glm::dot(d, s), glm::dot(d, n)); };
-            const glm::dvec3 pos(v[0], v[1], v[2]);
+            SurfacePoint sp;
+            if (surface_point(g, p, &sp) == FrameStatus::BadNormal) continue;
+            auto local = [&](const glm::dvec3& d) { return sp.local(d); };
+            const glm::dvec3& pos = sp.position;
             const glm::dvec3 wo = local(glm::normalize(eye - pos));
             if (wo.z <= 0) continue;
-            sv.weights_at(v[10], v[11], w.data());
-            const int tx = std::min(res - 1, std::max(0, int(v[10] * res))), ty = std::min(res - 1, std::max(0, int(v[11] * res)));
+            const float u = float(sp.uv.x), vv = float(sp.uv.y);  // as rasterized
+            sv.weights_at(u, vv, w.data());
+            const int tx = std::min(res - 1, std::max(0, int(u * res))), ty = std::min(res - 1, std::max(0, int(vv * res)));
             const int texel = ty * res + tx;
             glm::dvec3 L(0.0);
             for (int l = 0; l < scene.light_count; ++l) {

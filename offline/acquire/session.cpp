@@ -6,27 +6,16 @@
 
 #include <glm/glm.hpp>
 
+#include "util/enum_names.h"
 #include "util/parallel.h"
 
 namespace sepal {
 
-const char* strategy_name(Strategy s) {
-    switch (s) {
-        case Strategy::kPlanner: return "planner";
-        case Strategy::kRandom: return "random";
-        case Strategy::kExpert: return "expert";
-    }
-    return "?";
-}
+constexpr EnumName<Strategy> kStrategies[] = {{Strategy::kPlanner, "planner"}, {Strategy::kRandom, "random"}, {Strategy::kExpert, "expert"}};
 
-bool parse_strategy(const std::string& name, Strategy* out) {
-    for (Strategy s : {Strategy::kPlanner, Strategy::kRandom, Strategy::kExpert})
-        if (name == strategy_name(s)) {
-            *out = s;
-            return true;
-        }
-    return false;
-}
+const char* strategy_name(Strategy s) { return enum_name(kStrategies, s); }
+
+bool parse_strategy(const std::string& name, Strategy* out) { return parse_enum(kStrategies, name, out); }
 
 bool oracle_estimates(const AcqObject& obj, const BlendSvbrdf& truth, std::vector<LafortuneModel>* out,
                       std::string* err) {

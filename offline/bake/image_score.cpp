@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "util/enum_names.h"
 #include "reference/render_exact.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_material.h"
@@ -20,23 +21,11 @@ void quantize8(Image* img) {
 
 }  // namespace
 
-const char* target_name(Target t) {
-    switch (t) {
-        case Target::Gles1: return "gles1";
-        case Target::Gles2: return "gles2";
-        case Target::Cpu: return "cpu";
-    }
-    return "?";
-}
+constexpr EnumName<Target> kTargets[] = {{Target::Gles1, "gles1"}, {Target::Gles2, "gles2"}, {Target::Cpu, "cpu"}};
 
-bool parse_target(const std::string& name, Target* t) {
-    for (Target x : {Target::Gles1, Target::Gles2, Target::Cpu})
-        if (name == target_name(x)) {
-            *t = x;
-            return true;
-        }
-    return false;
-}
+const char* target_name(Target t) { return enum_name(kTargets, t); }
+
+bool parse_target(const std::string& name, Target* t) { return parse_enum(kTargets, name, t); }
 
 sepal_mesh BakeView::mesh() const {
     sepal_mesh m = {};

@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
+#include "util/enum_names.h"
 #include "database/linear_model.h"
 #include "util/io.h"
 #include "util/parallel.h"
@@ -190,23 +191,11 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
 
 }  // namespace
 
-const char* plan_method_name(PlanMethod m) {
-    switch (m) {
-        case PlanMethod::kGreedy: return "greedy";
-        case PlanMethod::kRandom: return "random";
-        case PlanMethod::kUniform: return "uniform";
-    }
-    return "?";
-}
+constexpr EnumName<PlanMethod> kPlanMethods[] = {{PlanMethod::kGreedy, "greedy"}, {PlanMethod::kRandom, "random"}, {PlanMethod::kUniform, "uniform"}};
 
-bool parse_plan_method(const std::string& s, PlanMethod* m) {
-    for (PlanMethod c : {PlanMethod::kGreedy, PlanMethod::kRandom, PlanMethod::kUniform})
-        if (s == plan_method_name(c)) {
-            *m = c;
-            return true;
-        }
-    return false;
-}
+const char* plan_method_name(PlanMethod m) { return enum_name(kPlanMethods, m); }
+
+bool parse_plan_method(const std::string& s, PlanMethod* m) { return parse_enum(kPlanMethods, s, m); }
 
 bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementPlan* plan,
                       std::string* err) {

@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "util/enum_names.h"
 #include "factor/factor_internal.h"
 #include "util/parallel.h"
 
@@ -43,25 +44,11 @@ int count_valid(const FactorOptions& o, int which) {
 }
 }  // namespace
 
-const char* method_name(Method m) {
-    switch (m) {
-        case Method::SVD: return "svd";
-        case Method::ND: return "nd";
-        case Method::NMF: return "nmf";
-        case Method::ACLS: return "acls";
-        case Method::WSVD: return "wsvd";
-    }
-    return "?";
-}
+constexpr EnumName<Method> kMethods[] = {{Method::SVD, "svd"}, {Method::ND, "nd"}, {Method::NMF, "nmf"}, {Method::ACLS, "acls"}, {Method::WSVD, "wsvd"}};
 
-bool parse_method(const std::string& name, Method* m) {
-    for (Method x : {Method::SVD, Method::ND, Method::NMF, Method::ACLS, Method::WSVD})
-        if (name == method_name(x)) {
-            *m = x;
-            return true;
-        }
-    return false;
-}
+const char* method_name(Method m) { return enum_name(kMethods, m); }
+
+bool parse_method(const std::string& name, Method* m) { return parse_enum(kMethods, name, m); }
 
 bool validate_factor_options(const FactorOptions& o, std::string* err) {
     auto fail = [&](const std::string& why) {

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 
+#include "util/enum_names.h"
 #include "factor/als.h"
 #include "ist/ist_util.h"
 #include "util/parallel.h"
@@ -414,25 +415,11 @@ bool decompose_fixed(const Svbrdf& s, const DecomposeOptions& o, int k, Decompos
 
 }  // namespace
 
-const char* ist_method_name(IstMethod m) {
-    switch (m) {
-        case IstMethod::SACLS: return "sacls";
-        case IstMethod::ACLS: return "acls";
-        case IstMethod::PCA: return "pca";
-        case IstMethod::NMF: return "nmf";
-        case IstMethod::KMeans: return "kmeans";
-    }
-    return "?";
-}
+constexpr EnumName<IstMethod> kIstMethods[] = {{IstMethod::SACLS, "sacls"}, {IstMethod::ACLS, "acls"}, {IstMethod::PCA, "pca"}, {IstMethod::NMF, "nmf"}, {IstMethod::KMeans, "kmeans"}};
 
-bool parse_ist_method(const std::string& name, IstMethod* m) {
-    for (IstMethod x : {IstMethod::SACLS, IstMethod::ACLS, IstMethod::PCA, IstMethod::NMF, IstMethod::KMeans})
-        if (name == ist_method_name(x)) {
-            *m = x;
-            return true;
-        }
-    return false;
-}
+const char* ist_method_name(IstMethod m) { return enum_name(kIstMethods, m); }
+
+bool parse_ist_method(const std::string& name, IstMethod* m) { return parse_enum(kIstMethods, name, m); }
 
 BlendMaps Decomposition::blend() const {
     BlendMaps b;

@@ -21,20 +21,21 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
     return read_bounded_file(path, SEPAL_FMT_MAX_FILE_BYTES, bytes, err);
 }
 
+std::vector<DrawCounter> draw_counters(const sepal_draw_stats& s) {
+    return {{"below_horizon", s.below_horizon},
+            {"fallback_tangents", s.fallback_tangents},
+            {"bad_vertices", s.bad_vertices},
+            {"skipped_triangles", s.skipped_triangles},
+            {"zero_area_triangles", s.zero_area_triangles},
+            {"param_fallbacks", s.param_fallbacks},
+            {"exposure_clamped", s.exposure_clamped},
+            {"nonfinite_clamped", s.nonfinite_clamped},
+            {"negative_clamped", s.negative_clamped},
+            {"pixel_frame_fallbacks", s.pixel_frame_fallbacks}};
+}
+
 std::string describe_counters(const sepal_draw_stats& s) {
-    const struct {
-        const char* name;
-        int value;
-    } counters[] = {{"below_horizon", s.below_horizon},
-                    {"fallback_tangents", s.fallback_tangents},
-                    {"bad_vertices", s.bad_vertices},
-                    {"skipped_triangles", s.skipped_triangles},
-                    {"zero_area_triangles", s.zero_area_triangles},
-                    {"param_fallbacks", s.param_fallbacks},
-                    {"exposure_clamped", s.exposure_clamped},
-                    {"nonfinite_clamped", s.nonfinite_clamped},
-                    {"negative_clamped", s.negative_clamped},
-                    {"pixel_frame_fallbacks", s.pixel_frame_fallbacks}};
+    const std::vector<DrawCounter> counters = draw_counters(s);
     std::string out;
     for (const auto& c : counters)
         if (c.value != 0) out += (out.empty() ? "" : ", ") + std::string(c.name) + " " + std::to_string(c.value);

@@ -89,6 +89,12 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
 // fallback_tangents 13, ..."), or "none": what sepal-view prints so that nothing the
 // runtime did is silent.
 std::string describe_counters(const sepal_draw_stats& s);
+// Those counters by name, every one (zero or not), in one order: for messages and reports.
+struct DrawCounter {
+    const char* name;
+    int value;
+};
+std::vector<DrawCounter> draw_counters(const sepal_draw_stats& s);
 // Parses "subtract,multitexture,fbo,npot" into SEPAL_MASK_* bits.
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err);
 // The reverse: SEPAL_MASK_* bits as the comma-separated names parse_mask reads.

@@ -1,11 +1,28 @@
 // sepal_preview_draw: validation shared by both GL ES versions, then dispatch.
 #include "preview.h"
 
+#include <GLES2/gl2.h>
 #include <math.h>
 
 namespace {
 bool is_pow2(int v) { return v > 0 && (v & (v - 1)) == 0; }
 }  // namespace
+
+uint32_t srt::preview_texture(const sepal_preview_desc& d) {
+    static const uint8_t kWhite[4] = {255, 255, 255, 255};
+    GLuint tex = 0;
+    glActiveTexture(GL_TEXTURE0);
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, d.texture ? d.texture_width : 1, d.texture ? d.texture_height : 1, 0,
+                 GL_RGBA, GL_UNSIGNED_BYTE, d.texture ? d.texture : kWhite);
+    return tex;
+}
 
 extern "C" sepal_result sepal_preview_draw(const sepal_caps* caps, const sepal_preview_desc* desc,
                                        sepal_error* err) {

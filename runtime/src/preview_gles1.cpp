@@ -7,7 +7,6 @@ namespace srt {
 
 sepal_result preview_gles1(const sepal_caps&, const sepal_preview_desc& d, const float light[3],
                          sepal_error* err) {
-    static const uint8_t kWhite[4] = {255, 255, 255, 255};
     glClearColor(d.clear_color[0], d.clear_color[1], d.clear_color[2], d.clear_color[3]);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
@@ -36,18 +35,7 @@ sepal_result preview_gles1(const sepal_caps&, const sepal_preview_desc& d, const
     glEnable(GL_NORMALIZE);
     glLoadMatrixf(d.model_view);
 
-    GLuint tex = 0;
-    glActiveTexture(GL_TEXTURE0);
-    glGenTextures(1, &tex);
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, d.texture ? d.texture_width : 1,
-                 d.texture ? d.texture_height : 1, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 d.texture ? d.texture : kWhite);
+    GLuint tex = srt::preview_texture(d);
     glTexEnvf(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
     glEnable(GL_TEXTURE_2D);
 

@@ -15,7 +15,6 @@ namespace srt {
 
 sepal_result preview_gles2(const sepal_caps&, const sepal_preview_desc& d, const float light[3],
                          sepal_error* err) {
-    static const uint8_t kWhite[4] = {255, 255, 255, 255};
     static const char* const kAttributes[] = {"a_position", "a_normal", "a_uv", nullptr};
     // Compiled per call: the preview draws a handful of frames; asset paths compile once.
     const GLuint program = gles2_program("preview", kVertex, kFragment, kAttributes, err);
@@ -34,18 +33,7 @@ sepal_result preview_gles2(const sepal_caps&, const sepal_preview_desc& d, const
     glUniform1f(glGetUniformLocation(program, "u_ambient"), d.ambient);
     glUniform1i(glGetUniformLocation(program, "u_texture"), 0);
 
-    GLuint tex = 0;
-    glActiveTexture(GL_TEXTURE0);
-    glGenTextures(1, &tex);
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, d.texture ? d.texture_width : 1,
-                 d.texture ? d.texture_height : 1, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 d.texture ? d.texture : kWhite);
+    GLuint tex = srt::preview_texture(d);
 
     const sepal_vertex* v = d.mesh->vertices;
     glBindBuffer(GL_ARRAY_BUFFER, 0);

@@ -28,6 +28,7 @@
 #include "measured/merl.h"
 #include "util/plot.h"
 #include "bench/bench_cli.h"
+#include "common/render_gl.h"
 #include "reference/render_exact.h"
 
 using namespace extremes;
@@ -231,22 +232,14 @@ void fill(sepal::Image* sheet, int x0, int y0, int w, int h, const glm::dvec3& c
 }
 
 sepal::Json stats_json(const sepal_draw_stats& s) {
-    return {{"draw_calls", s.draw_calls},
-            {"fullscreen_passes", s.fullscreen_passes},
-            {"copies", s.copies},
-            {"doublings", s.doublings},
-            {"exposure", double(s.exposure)},
-            {"exposure_stages", s.exposure_stages},
-            {"below_horizon", s.below_horizon},
-            {"fallback_tangents", s.fallback_tangents},
-            {"bad_vertices", s.bad_vertices},
-            {"skipped_triangles", s.skipped_triangles},
-            {"zero_area_triangles", s.zero_area_triangles},
-            {"param_fallbacks", s.param_fallbacks},
-            {"exposure_clamped", s.exposure_clamped},
-            {"nonfinite_clamped", s.nonfinite_clamped},
-            {"negative_clamped", s.negative_clamped},
-            {"pixel_frame_fallbacks", s.pixel_frame_fallbacks}};
+    sepal::Json j = {{"draw_calls", s.draw_calls},
+                     {"fullscreen_passes", s.fullscreen_passes},
+                     {"copies", s.copies},
+                     {"doublings", s.doublings},
+                     {"exposure", double(s.exposure)},
+                     {"exposure_stages", s.exposure_stages}};
+    for (const sepal_ports::DrawCounter& c : sepal_ports::draw_counters(s)) j[c.name] = c.value;
+    return j;
 }
 
 // The counters worth a glance, as short tokens that fit under a tile.
