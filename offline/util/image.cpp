@@ -145,12 +145,15 @@ void append_to_vector(void* context, void* data, int size) {
 
 }  // namespace
 
+bool decode_image(const std::vector<uint8_t>& bytes, const std::string& name, Image* out, std::string* err) {
+    if (is_png(bytes)) return decode_png(name, bytes, out, err);
+    if (is_pfm(bytes)) return decode_pfm(name, bytes, out, err);
+    return fail(err, name + ": unknown image format (expected PNG or PFM)");
+}
+
 bool read_image(const std::string& path, Image* out, std::string* err) {
     std::vector<uint8_t> bytes;
-    if (!read_file(path, &bytes, err, kMaxImageFileBytes)) return false;
-    if (is_png(bytes)) return decode_png(path, bytes, out, err);
-    if (is_pfm(bytes)) return decode_pfm(path, bytes, out, err);
-    return fail(err, path + ": unknown image format (expected PNG or PFM)");
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_image(bytes, path, out, err);
 }
 
 bool read_png(const std::string& path, Image* out, std::string* err) {

@@ -16,8 +16,9 @@ static_assert(sizeof(sepal_fmt_diffuse) == 16, "diffuse profile layout");
 extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
     if (!profile || side < 2) return 1.0f;
     const float n = (float)(side - 1);
-    const float x = (cos_i < 0.0f ? 0.0f : cos_i > 1.0f ? 1.0f : cos_i) * n;
-    const float y = (cos_o < 0.0f ? 0.0f : cos_o > 1.0f ? 1.0f : cos_o) * n;
+    // Clamped to [0,1], NaN to 0: (int)NaN is undefined (found by the fuzz harness).
+    const float x = (cos_i >= 0.0f ? (cos_i <= 1.0f ? cos_i : 1.0f) : 0.0f) * n;
+    const float y = (cos_o >= 0.0f ? (cos_o <= 1.0f ? cos_o : 1.0f) : 0.0f) * n;
     int i0 = (int)x, j0 = (int)y;
     if (i0 > (int)side - 2) i0 = (int)side - 2;
     if (j0 > (int)side - 2) j0 = (int)side - 2;

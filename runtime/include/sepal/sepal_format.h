@@ -217,7 +217,7 @@ typedef struct sepal_asset {
 } sepal_asset;
 
 // The diffuse profile at (cos theta_i, cos theta_o), channel c (bilinear, clamped to [0,1]
-// in both); 1 without a profile. profile: side * side * 3 floats (any alignment).
+// in both, NaN read as 0); 1 without a profile. profile: side * side * 3 floats (any alignment).
 float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c);
 
 // Validates everything (sizes, bounds, checksums, enums, cross references) and fills
