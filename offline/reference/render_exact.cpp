@@ -1,4 +1,5 @@
 #include "reference/render_exact.h"
+#include "util/progress.h"
 
 #include <algorithm>
 #include <atomic>
@@ -14,7 +15,7 @@
 namespace sepal {
 
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
-                  int height, Image* out, ExactStats* stats, std::string* err) {
+                  int height, Image* out, ExactStats* stats, std::string* err, bool progress) {
     SurfaceBuffer g;
     if (!rasterize_surface(scene, mesh, width, height, &g, err)) return false;
     *out = Image(width, height, 3);
@@ -22,9 +23,10 @@ bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& 
     std::atomic<int64_t> back_facing{0}, degenerate{0}, covered{0};
     // Rows are shaded in interleaved order by each thread; every pixel is written by
     // exactly one thread, so the image does not depend on the thread count.
+    Progress rows_done(progress, "sepal render: exact", size_t(height));
     auto shade_rows = [&](int first, int step) {
         int64_t bf = 0, dg = 0, cv = 0;
-        for (int y = first; y < height; y += step)
+        for (int y = first; y < height; rows_done.advance(), y += step)
             for (int x = 0; x < width; ++x) {
                 const size_t p = size_t(y) * width + x;
                 float* rgb = &out->data[p * 3];

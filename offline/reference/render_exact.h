@@ -29,7 +29,8 @@ struct ExactStats {
                                      // zero or non-finite normal: background (the runtime skips those triangles)
 };
 
+// progress: a percentage line on stderr while the rows are shaded (util/progress.h).
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
-                  int height, Image* out, ExactStats* stats, std::string* err);
+                  int height, Image* out, ExactStats* stats, std::string* err, bool progress = false);
 
 }  // namespace sepal

@@ -41,6 +41,9 @@ bool make_dirs(const std::string& path, std::string* err);
 // The folder of the running executable (Linux: /proc/self/exe), or "" when unknown. Run-time
 // data (data/) and caches (build/cache) are found relative to it.
 std::string executable_dir();
+// Physical memory in MB (0 when unknown): what a command's memory estimate is held to
+// before it allocates.
+double physical_memory_mb();
 // Lower-cased extension without the dot ("png"), or "" when there is none.
 std::string file_extension(const std::string& path);
 
