@@ -15,6 +15,9 @@ bool read_file(const std::string& path, std::vector<uint8_t>* out, std::string* 
                uint64_t max_bytes = uint64_t(1) << 31);
 bool write_file_atomic(const std::string& path, const void* data, size_t size,
                        std::string* err);
+// Fault injection for tests: every later write_file_atomic stores at most `bytes` bytes of
+// its file and then fails as a full disk does (ENOSPC); a negative value turns it off.
+void inject_write_failure(int64_t bytes);
 // The files one command has written: unless commit() is called, the destructor removes them,
 // so a command that fails part-way (the second of two outputs cannot be written) leaves none
 // of its outputs behind.
