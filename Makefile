@@ -27,9 +27,20 @@ DEB_PACKAGES := g++ make pkg-config libegl-dev libgles-dev libegl-mesa0 libgl1-m
 WARN     := -Wall -Wextra -Werror
 CXXSTD   := -std=c++17
 OPT      ?= -O2 -g
+# GCC's -fsanitize=undefined leaves out float-cast-overflow (a double beyond int's range
+# converted to int): named on its own so make test-asan catches it.
 ifeq ($(SAN),1)
   OPT    := -O1 -g -fno-omit-frame-pointer
-  SANFLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined
+  SANFLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined,float-cast-overflow
+endif
+# make fuzz's tree (clang): every object instrumented for libFuzzer; the harnesses link with
+# -fsanitize=fuzzer. No -Werror: clang warns about things g++ does not, and the g++ build
+# (make, make test) is the one that holds the warning line.
+ifeq ($(SAN),fuzz)
+  OPT    := -O1 -g -fno-omit-frame-pointer
+  FUZZ_SAN := address,undefined,float-cast-overflow
+  SANFLAGS := -fsanitize=fuzzer-no-link,$(FUZZ_SAN) -fno-sanitize-recover=all
+  WARN   := -Wall -Wextra
 endif
 # Tests and benchmarks read ../shared (the research data beside a checkout); a worktree
 # elsewhere points SHARED at it.
@@ -59,7 +70,7 @@ HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
 STB_SRC      := third_party/stb/stb.cpp
 WINDOWED_SRC := $(wildcard ports/windowed/*.cpp)
 VIEW_MAIN    := ports/view/sepal_view.cpp
-TEST_SRC     := $(filter-out tests/bench/%,$(call rwildcard,tests,*.cpp))
+TEST_SRC     := $(filter-out tests/bench/% tests/fuzz/entry/%,$(call rwildcard,tests,*.cpp))
 # Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
 # doctest-free support objects below; tests/bench/run.sh is what `make bench` runs.
 BENCH_SRC    := $(wildcard tests/bench/*.cpp)
@@ -128,7 +139,7 @@ WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_
 
 .SECONDARY:
 .PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 FORCE \
-        install uninstall examples web
+        install uninstall examples web fuzz fuzz-bins
 
 all: build ## the default: same as make build
 
@@ -217,6 +228,21 @@ examples: ## build examples/ against an installed tree (PREFIX) through pkg-conf
 	  $(PREFIX)/bin/sepal bake '$(RUN_SPEC)' $(RUN_BAKE) -o ward.sepal > bake.txt && \
 	  LD_LIBRARY_PATH=$(LIBDIR) ./minimal ward.sepal 2 minimal.ppm && ./minimal-static ward.sepal 1
 
+# libFuzzer harnesses (tests/fuzz/fuzz_<name>.cpp; tests/fuzz/fuzz.h says what each holds a
+# reader to), built with Debian's clang (installed here, by deps, for this target only) into
+# build/fuzz/bin/fuzz-<name>, each run for FUZZ_SECONDS on a corpus seeded from fixtures/;
+# tests/fuzz/run.sh prints the exec counts and keeps crashers in build/fuzz/crashes/<name>/
+# (after the fix, add them to fixtures/fuzz/<name>/: make test replays that folder).
+FUZZ_SECONDS ?= 60
+FUZZ_TIMEOUT ?= 1
+FUZZ_DEB_PACKAGES := clang libclang-rt-dev
+FUZZ_NAMES   := $(patsubst tests/fuzz/fuzz_%.cpp,%,$(wildcard tests/fuzz/fuzz_*.cpp))
+FUZZ_BUILD   := build/fuzz
+fuzz: deps ## build the libFuzzer harnesses (clang, ASan + UBSan) and run each for FUZZ_SECONDS (default 60)
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES='$(FUZZ_DEB_PACKAGES)'
+	@$(MAKE) --no-print-directory -j$(NPROC) CXX=clang++ CC=clang BUILD=$(FUZZ_BUILD) SAN=fuzz fuzz-bins
+	@sh tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TIMEOUT) $(FUZZ_NAMES)
+
 web: $(WEB_FILES) ## the web port into build/web/ (Emscripten, WebGL 1): open index.html through any static server
 	@printf '  %-5s %s (%s bytes)\n' WASM $(WEB_DIR)/sepal.wasm $$(stat -c %s $(WEB_DIR)/sepal.wasm)
 
@@ -270,6 +296,19 @@ $(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
+
+# make fuzz's programs: libFuzzer's entry compiled once per harness, naming its function.
+FUZZ_BINS := $(FUZZ_NAMES:%=$(BUILD)/bin/fuzz-%)
+fuzz-bins: $(FUZZ_BINS)
+$(BUILD)/obj/tests/fuzz/entry/libfuzzer-%.o: tests/fuzz/entry/libfuzzer.cpp
+	@mkdir -p $(dir $@)
+	$(call say,CXX,$@)
+	$(Q)$(CXX) $(CPPFLAGS) $(TEST_CPPFLAGS) $(CXXFLAGS_ALL) -DSEPAL_FUZZ_TARGET=sepal_fuzz_$* -c $< -o $@
+$(BUILD)/bin/fuzz-%: $(BUILD)/obj/tests/fuzz/entry/libfuzzer-%.o $(BUILD)/obj/tests/fuzz/fuzz_%.o \
+                     $(call obj,tests/fuzz/common.cpp) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
+	@mkdir -p $(dir $@)
+	$(call say,LINK,$@)
+	$(Q)$(CXX) -fsanitize=fuzzer,$(FUZZ_SAN) $^ $(LIBS) -o $@
 
 # ---- the installed libraries -----------------------------------------------------------
 # Objects of the shared libraries are position-independent. PIC_FLAGS is recorded in a

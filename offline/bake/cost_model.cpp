@@ -98,8 +98,15 @@ bool default_cost_model(const std::string& backend, CostModel* out, std::string*
 }
 
 bool read_cost_model(const std::string& path, const std::string& backend, CostModel* out, std::string* err) {
+    std::vector<uint8_t> bytes;
+    return read_file(path, &bytes, err, kMaxJsonBytes) &&
+           parse_cost_model(std::string(bytes.begin(), bytes.end()), path, backend, out, err);
+}
+
+bool parse_cost_model(const std::string& text, const std::string& path, const std::string& backend, CostModel* out,
+                      std::string* err) {
     Json v;
-    if (!read_json_file(path, &v, err)) return false;
+    if (!parse_json(text, path, &v, err)) return false;
     const JsonField top{v, path + ":"};
     if (!v.is_object() || !v.contains("cost_models") || !v["cost_models"].is_array()) {
         if (err) *err = path + ": no \"cost_models\" array (write one with `make bench`)";

@@ -49,6 +49,9 @@ bool fit_cost_model(const std::vector<CostSample>& samples, CostModel* out, std:
 bool default_cost_model(const std::string& backend, CostModel* out, std::string* err);
 // The model for `backend` from a trade-off JSON written by `make bench` ("cost_models").
 bool read_cost_model(const std::string& path, const std::string& backend, CostModel* out, std::string* err);
+// The same from the file's text; `path` names it in messages.
+bool parse_cost_model(const std::string& text, const std::string& path, const std::string& backend, CostModel* out,
+                      std::string* err);
 // The backends with built-in models, for usage messages: "gles1, gles2-fused, cpu".
 const char* cost_model_backends();
 

@@ -64,7 +64,9 @@ std::string analytic_models_help() {
 std::unique_ptr<Brdf> make_analytic_brdf(const std::string& spec, std::string* err) {
     std::string model;
     std::vector<SpecItem> items;
-    if (!split_spec(spec, &model, &items, err)) return nullptr;
+    // The model name alone first (bind_spec reads the parameters), so a wrong name is
+    // reported as that: "cornell:garnet" names no model, rather than a parameter without '=value'.
+    if (!split_spec(spec.substr(0, spec.find(':')), &model, &items, err)) return nullptr;
     for (const ModelEntry* e : registry()) {
         if (model != e->name) continue;
         ParamSet p;

@@ -24,6 +24,7 @@
 #include <memory>
 
 #include "bake/bake.h"
+#include "cli/bake_scene.h"
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "common/scene_flags.h"
@@ -88,6 +89,54 @@ std::string existing_key(const std::string& path) {
         return "";
     return key;
 }
+
+}  // namespace
+
+bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* err) {
+    BakeOptions& o = *out;
+    const Json& mat = f.object;
+    std::string& perr = *err;
+    static const char* const kKnown[] = {"name",       "spec",      "param", "map",  "method", "res",
+                                         "terms",      "max_error", "max_passes", "max_bytes", "bits", "cap",
+                                         "target",     "white",     "min_psnr"};
+    bool ok = true;
+    for (const auto& member : mat.items()) {
+        bool known = false;
+        for (const char* k : kKnown) known = known || member.key() == k;
+        if (!known && ok) {
+            ok = false;
+            perr = f.where + ": unknown key \"" + member.key() + "\" (known: name, spec, param, map, method, "
+                   "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr)";
+        }
+    }
+    int bits = 8;
+    ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, rusinkiewicz, elev-azim"), &o.params, &perr) &&
+         list<HemiMap>(f, "map", named(parse_map, "xy, parabolic"), &o.maps, &perr) &&
+         list<Method>(f, "method", named(parse_method, "acls, wsvd, svd, nmf, nd"), &o.methods, &perr) &&
+         list<int>(f, "res", int_item, &o.resolutions, &perr) && list<int>(f, "terms", int_item, &o.terms, &perr) &&
+         json_number(f, "max_error", 1e-12, 1e12, &o.max_error, &perr) &&
+         json_int(f, "max_passes", 1, 1 << 20, &o.max_passes, &perr) &&
+         json_int(f, "max_bytes", int64_t(1), int64_t(1) << 40, &o.max_bytes, &perr) &&
+         json_int(f, "bits", 8, 16, &bits, &perr) && json_number(f, "cap", 1e-12, 1e30, &o.cap, &perr) &&
+         json_number(f, "min_psnr", 1e-3, 1e3, &o.min_psnr, &perr);
+    std::string target, white;
+    if (ok && json_string(f, "target", &target, &perr) && !target.empty() && !parse_target(target, &o.target))
+        ok = false, perr = f.where + ".target: \"" + target + "\" is not one of gles1, gles2, cpu";
+    if (ok && mat.contains("white")) {
+        if (mat["white"].is_string()) {
+            if (!json_string(f, "white", &white, &perr)) ok = false;
+            else if (white == "auto" || white == "none") o.white = white == "none" ? -1 : 0;
+            else ok = false, perr = f.where + ".white: \"" + white + "\" is not auto, none or a number > 0";
+        } else {
+            ok = json_number(f, "white", 1e-12, 1e30, &o.white, &perr);
+        }
+    }
+    if (ok && bits != 8 && bits != 16) ok = false, perr = f.where + ".bits: " + std::to_string(bits) + " is not 8 or 16";
+    o.bits = {bits};
+    return ok;
+}
+
+namespace {
 
 struct BakeSceneArgs {
     std::string scene, dir;
@@ -162,7 +211,9 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         std::string label = "material " + std::to_string(m);
         const JsonField f{mat, scene_path + ": materials[" + std::to_string(m) + "]"};
         auto material_fail = [&](const std::string& why) {
-            std::fprintf(io.out, "%-20s FAILED: %s\n", label.c_str(), why.c_str());
+            // The table line on stdout, the error itself on stderr (issue 21, class 10).
+            std::fprintf(io.out, "%-20s FAILED (see stderr)\n", label.c_str());
+            std::fprintf(io.err, "sepal bake-scene: %s: %s\n", label.c_str(), why.c_str());
             ++failed;
         };
         std::string name, spec_text, perr;
@@ -192,43 +243,7 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         BakeOptions o;
         o.threads = int(threads);
         o.views = views;
-        static const char* const kKnown[] = {"name",       "spec",      "param", "map",  "method", "res",
-                                             "terms",      "max_error", "max_passes", "max_bytes", "bits", "cap",
-                                             "target",     "white",     "min_psnr"};
-        bool ok = true;
-        for (const auto& member : mat.items()) {
-            bool known = false;
-            for (const char* k : kKnown) known = known || member.key() == k;
-            if (!known && ok) {
-                ok = false;
-                perr = f.where + ": unknown key \"" + member.key() + "\" (known: name, spec, param, map, method, "
-                       "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr)";
-            }
-        }
-        int bits = 8;
-        ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, rusinkiewicz, elev-azim"), &o.params, &perr) &&
-             list<HemiMap>(f, "map", named(parse_map, "xy, parabolic"), &o.maps, &perr) &&
-             list<Method>(f, "method", named(parse_method, "acls, wsvd, svd, nmf, nd"), &o.methods, &perr) &&
-             list<int>(f, "res", int_item, &o.resolutions, &perr) && list<int>(f, "terms", int_item, &o.terms, &perr) &&
-             json_number(f, "max_error", 1e-12, 1e12, &o.max_error, &perr) &&
-             json_int(f, "max_passes", 1, 1 << 20, &o.max_passes, &perr) &&
-             json_int(f, "max_bytes", int64_t(1), int64_t(1) << 40, &o.max_bytes, &perr) &&
-             json_int(f, "bits", 8, 16, &bits, &perr) && json_number(f, "cap", 1e-12, 1e30, &o.cap, &perr) &&
-             json_number(f, "min_psnr", 1e-3, 1e3, &o.min_psnr, &perr);
-        std::string target, white;
-        if (ok && json_string(f, "target", &target, &perr) && !target.empty() && !parse_target(target, &o.target))
-            ok = false, perr = f.where + ".target: \"" + target + "\" is not one of gles1, gles2, cpu";
-        if (ok && mat.contains("white")) {
-            if (mat["white"].is_string()) {
-                if (!json_string(f, "white", &white, &perr)) ok = false;
-                else if (white == "auto" || white == "none") o.white = white == "none" ? -1 : 0;
-                else ok = false, perr = f.where + ".white: \"" + white + "\" is not auto, none or a number > 0";
-            } else {
-                ok = json_number(f, "white", 1e-12, 1e30, &o.white, &perr);
-            }
-        }
-        if (ok && bits != 8 && bits != 16) ok = false, perr = f.where + ".bits: " + std::to_string(bits) + " is not 8 or 16";
-        o.bits = {bits};
+        const bool ok = scene_material_options(f, &o, &perr);
         if (!ok) {
             material_fail(perr);
             continue;
@@ -261,6 +276,11 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
             ++skipped;
             continue;
         }
+        // Issue 21, class 9: a material's search can take a minute; said before it starts,
+        // with the bake's own progress line on a terminal.
+        std::fprintf(io.err, "sepal bake-scene: baking %s (%zu of %zu)\n", label.c_str(), m + 1, mats.size());
+        std::fflush(io.err);
+        o.progress = true;
         BakeResult r;
         if (!bake(*brdf, o, &r, &err) || !write_asset(out_path, r.asset, &err)) {
             material_fail(err);

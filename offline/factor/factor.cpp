@@ -14,17 +14,10 @@
 
 #include "util/enum_names.h"
 #include "factor/factor_internal.h"
+#include "util/io.h"
 #include "util/parallel.h"
 
 namespace sepal {
-
-namespace {
-// Physical memory in MB (0 when unknown).
-double physical_memory_mb() {
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    return pages > 0 && page > 0 ? double(pages) * double(page) / (1024.0 * 1024.0) : 0.0;
-}
-}  // namespace
 
 using detail::LowRank;
 using detail::Matrix;

@@ -1,4 +1,5 @@
 #include "reference/render_exact.h"
+#include "util/progress.h"
 
 #include <algorithm>
 #include <atomic>
@@ -29,12 +30,12 @@ class Uniform : public SpatialBrdf {
 }  // namespace
 
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
-                  int height, Image* out, ExactStats* stats, std::string* err) {
-    return render_exact_spatial(Uniform(brdf), scene, mesh, width, height, out, stats, err);
+                  int height, Image* out, ExactStats* stats, std::string* err, bool progress) {
+    return render_exact_spatial(Uniform(brdf), scene, mesh, width, height, out, stats, err, progress);
 }
 
 bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
-                          int width, int height, Image* out, ExactStats* stats, std::string* err) {
+                          int width, int height, Image* out, ExactStats* stats, std::string* err, bool progress) {
     SurfaceBuffer g;
     if (!rasterize_surface(scene, mesh, width, height, &g, err)) return false;
     *out = Image(width, height, 3);
@@ -42,9 +43,10 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
     std::atomic<int64_t> back_facing{0}, degenerate{0}, covered{0};
     // Rows are shaded in interleaved order by each thread; every pixel is written by
     // exactly one thread, so the image does not depend on the thread count.
+    Progress rows_done(progress, "sepal render: exact", size_t(height));
     auto shade_rows = [&](int first, int step) {
         int64_t bf = 0, dg = 0, cv = 0;
-        for (int y = first; y < height; y += step)
+        for (int y = first; y < height; rows_done.advance(), y += step)
             for (int x = 0; x < width; ++x) {
                 const size_t p = size_t(y) * width + x;
                 float* rgb = &out->data[p * 3];

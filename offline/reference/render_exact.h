@@ -42,10 +42,12 @@ class SpatialBrdf {
     virtual glm::dvec3 eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const = 0;
 };
 
+// progress: a percentage line on stderr while the rows are shaded (util/progress.h).
 bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
-                          int width, int height, Image* out, ExactStats* stats, std::string* err);
+                          int width, int height, Image* out, ExactStats* stats, std::string* err,
+                          bool progress = false);
 
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
-                  int height, Image* out, ExactStats* stats, std::string* err);
+                  int height, Image* out, ExactStats* stats, std::string* err, bool progress = false);
 
 }  // namespace sepal

@@ -1,6 +1,7 @@
 #include "util/image.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -40,11 +41,48 @@ bool is_pfm(const std::vector<uint8_t>& b) {
            std::isspace(b[2]);
 }
 
+uint32_t load_u32be(const uint8_t* p) { return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | p[3]; }
+
+// The chunk structure of a PNG, checked before stb_image, whose messages cannot say where a
+// file is cut ("corrupt PNG:" with no reason) or that it is too large ("unknown image type"):
+// IHDR first with a size in range, every chunk inside the file with a matching CRC, and IEND.
+bool check_png_chunks(const std::string& path, const std::vector<uint8_t>& b, std::string* err) {
+    size_t pos = 8;
+    for (int index = 0;; ++index) {
+        if (b.size() - pos < 12)
+            return fail(err, path + ": truncated PNG: the file ends at byte " + std::to_string(b.size()) +
+                                 (index == 0 ? " before its IHDR chunk" : ", before the IEND chunk"));
+        const uint32_t length = load_u32be(&b[pos]);
+        char type[5] = {};
+        for (int k = 0; k < 4; ++k) {
+            const uint8_t c = b[pos + 4 + size_t(k)];
+            type[k] = std::isalpha(c) ? char(c) : '?';
+        }
+        const std::string where = "chunk '" + std::string(type) + "' at byte " + std::to_string(pos);
+        if (length > b.size() - pos - 12)
+            return fail(err, path + ": truncated PNG: " + where + " needs " + std::to_string(uint64_t(length) + 12) +
+                                 " bytes, the file has " + std::to_string(b.size() - pos) + " from there");
+        if (load_u32be(&b[pos + 8 + length]) != sepal_crc32(0, &b[pos + 4], size_t(length) + 4))
+            return fail(err, path + ": corrupt PNG: " + where + " fails its CRC check");
+        if (index == 0) {
+            if (std::string(type) != "IHDR" || length != 13)
+                return fail(err, path + ": corrupt PNG: the first chunk must be a 13-byte IHDR, not " + where);
+            const uint32_t w = load_u32be(&b[pos + 8]), h = load_u32be(&b[pos + 12]);
+            if (w < 1 || h < 1 || w > uint32_t(kMaxImageSide) || h > uint32_t(kMaxImageSide))
+                return fail(err, path + ": PNG size " + std::to_string(w) + "x" + std::to_string(h) +
+                                     " out of range 1.." + std::to_string(kMaxImageSide));
+        }
+        pos += size_t(length) + 12;
+        if (std::string(type) == "IEND") return true;
+    }
+}
+
 bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Image* out,
                 std::string* err) {
     if (!is_png(bytes)) return fail(err, path + ": not a PNG file (bad signature)");
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
         return fail(err, path + ": PNG file too large");
+    if (!check_png_chunks(path, bytes, err)) return false;
     int w = 0, h = 0, c = 0;
     if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
         return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
@@ -53,7 +91,10 @@ bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Imag
                              " out of range 1.." + std::to_string(kMaxImageSide));
     const int want = (c == 2) ? 4 : c;  // grey+alpha becomes RGBA
     uint8_t* px = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, want);
-    if (!px) return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
+    if (!px) {
+        const std::string why = stbi_failure_reason() ? stbi_failure_reason() : "";
+        return fail(err, path + ": corrupt PNG: " + (why.empty() ? "its image data does not decode" : why));
+    }
     *out = Image(w, h, want);
     for (size_t i = 0; i < out->data.size(); ++i) out->data[i] = float(px[i]) / 255.0f;
     stbi_image_free(px);
@@ -145,12 +186,15 @@ void append_to_vector(void* context, void* data, int size) {
 
 }  // namespace
 
+bool decode_image(const std::vector<uint8_t>& bytes, const std::string& name, Image* out, std::string* err) {
+    if (is_png(bytes)) return decode_png(name, bytes, out, err);
+    if (is_pfm(bytes)) return decode_pfm(name, bytes, out, err);
+    return fail(err, name + ": unknown image format (expected PNG or PFM)");
+}
+
 bool read_image(const std::string& path, Image* out, std::string* err) {
     std::vector<uint8_t> bytes;
-    if (!read_file(path, &bytes, err, kMaxImageFileBytes)) return false;
-    if (is_png(bytes)) return decode_png(path, bytes, out, err);
-    if (is_pfm(bytes)) return decode_pfm(path, bytes, out, err);
-    return fail(err, path + ": unknown image format (expected PNG or PFM)");
+    return read_file(path, &bytes, err, kMaxImageFileBytes) && decode_image(bytes, path, out, err);
 }
 
 bool read_png(const std::string& path, Image* out, std::string* err) {
@@ -236,6 +280,7 @@ bool read_png16(const std::string& path, int* width, int* height, int* channels,
     if (!read_file(path, &bytes, err, kMaxImageFileBytes)) return false;
     if (!is_png(bytes)) return fail(err, path + ": not a PNG file (bad signature)");
     if (bytes.size() > size_t(std::numeric_limits<int>::max())) return fail(err, path + ": PNG file too large");
+    if (!check_png_chunks(path, bytes, err)) return false;
     int w = 0, h = 0, c = 0;
     if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c) || w < 1 || h < 1 ||
         w > kMaxImageSide || h > kMaxImageSide)

@@ -34,6 +34,8 @@ constexpr int kMaxImageSide = 16384;
 bool read_image(const std::string& path, Image* out, std::string* err);
 bool read_png(const std::string& path, Image* out, std::string* err);
 bool read_pfm(const std::string& path, Image* out, std::string* err);
+// read_image on bytes already in memory; `name` stands for the path in messages.
+bool decode_image(const std::vector<uint8_t>& bytes, const std::string& name, Image* out, std::string* err);
 // Radiance .hdr (RGBE) as linear RGB floats; negative or non-finite values are refused.
 bool read_hdr(const std::string& path, Image* out, std::string* err);
 // 8-bit PNG with the image's channel count. Values outside [0,1] are clipped (an 8-bit

@@ -1,5 +1,6 @@
 #include "util/io.h"
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -36,6 +37,12 @@ bool read_file(const std::string& path, std::vector<uint8_t>* out, std::string* 
     return ok;
 }
 
+namespace {
+std::atomic<int64_t> g_write_fault{-1};
+}  // namespace
+
+void inject_write_failure(int64_t bytes) { g_write_fault = bytes < 0 ? -1 : bytes; }
+
 bool write_file_atomic(const std::string& path, const void* data, size_t size,
                        std::string* err) {
     const std::string tmp = path + ".tmp." + std::to_string(getpid());
@@ -44,9 +51,13 @@ bool write_file_atomic(const std::string& path, const void* data, size_t size,
         if (err) *err = path + ": cannot write: " + std::strerror(errno);
         return false;
     }
-    bool ok = size == 0 || std::fwrite(data, 1, size, f) == size;
+    const int64_t fault = g_write_fault;
+    const bool short_write = fault >= 0 && uint64_t(fault) < size;
+    const size_t n = short_write ? size_t(fault) : size;
+    bool ok = n == 0 || std::fwrite(data, 1, n, f) == n;
     ok = (std::fflush(f) == 0) && ok;
     ok = (std::fclose(f) == 0) && ok;
+    if (short_write) ok = false, errno = ENOSPC;  // what a full disk reports
     if (ok && std::rename(tmp.c_str(), path.c_str()) != 0) ok = false;
     if (!ok) {
         if (err) *err = path + ": write failed: " + std::strerror(errno);
@@ -68,6 +79,11 @@ bool make_dirs(const std::string& path, std::string* err) {
         }
     }
     return true;
+}
+
+double physical_memory_mb() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? double(pages) * double(page) / (1024.0 * 1024.0) : 0.0;
 }
 
 std::string executable_dir() {

@@ -15,6 +15,9 @@ bool read_file(const std::string& path, std::vector<uint8_t>* out, std::string* 
                uint64_t max_bytes = uint64_t(1) << 31);
 bool write_file_atomic(const std::string& path, const void* data, size_t size,
                        std::string* err);
+// Fault injection for tests: every later write_file_atomic stores at most `bytes` bytes of
+// its file and then fails as a full disk does (ENOSPC); a negative value turns it off.
+void inject_write_failure(int64_t bytes);
 // The files one command has written: unless commit() is called, the destructor removes them,
 // so a command that fails part-way (the second of two outputs cannot be written) leaves none
 // of its outputs behind.
@@ -41,6 +44,9 @@ bool make_dirs(const std::string& path, std::string* err);
 // The folder of the running executable (Linux: /proc/self/exe), or "" when unknown. Run-time
 // data (data/) and caches (build/cache) are found relative to it.
 std::string executable_dir();
+// Physical memory in MB (0 when unknown): what a command's memory estimate is held to
+// before it allocates.
+double physical_memory_mb();
 // Lower-cased extension without the dot ("png"), or "" when there is none.
 std::string file_extension(const std::string& path);
 

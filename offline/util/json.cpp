@@ -163,7 +163,8 @@ bool json_to_int(const Json& v, const std::string& where, int64_t lo, int64_t hi
         if (std::isfinite(d) && d != std::floor(d))
             return fail(err, where + ": " + v.dump() + " is not an integer (expected " + range + ")");
         // Compared as doubles before any conversion: 1e300 never reaches an int64_t.
-        in_range = std::isfinite(d) && d >= double(lo) && d <= double(hi);
+        // (double(INT64_MAX) rounds up to 2^63, which no int64_t holds: the last test.)
+        in_range = std::isfinite(d) && d >= double(lo) && d <= double(hi) && std::fabs(d) < 9223372036854775808.0;
         x = in_range ? int64_t(d) : 0;
     }
     if (!in_range) return fail(err, where + ": " + v.dump() + " is outside " + range);

@@ -27,6 +27,19 @@ bool parse_floats(const std::string& text, int n, float* out) {
     return *p == '\0';
 }
 
+// A side of --size: decimal digits for 1..8192, ending at `end`.
+bool parse_side(const std::string& text, char end, int* out) {
+    long long v = 0;
+    size_t i = 0;
+    for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) {
+        v = v * 10 + (text[i] - '0');
+        if (v > 8192) return false;
+    }
+    if (i == 0 || v < 1 || (end ? i >= text.size() || text[i] != end : i != text.size())) return false;
+    *out = int(v);
+    return true;
+}
+
 bool parse_light(const std::string& text, sepal_light* l, std::string* err) {
     const size_t c1 = text.find(':');
     if (c1 == std::string::npos) {
@@ -93,10 +106,10 @@ int parse_scene_flag(int argc, char** argv, int i, SceneSetup* s, std::string* e
     const std::string value = argv[i + 1];
     sepal_camera& cam = s->scene.camera;
     if (flag == "--size") {
+        // Each side checked as a 64-bit value before it becomes an int (sscanf's %d wraps
+        // 4294967297 to 1).
         int w = 0, h = 0;
-        char tail = 0;
-        if (std::sscanf(value.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 ||
-            w > 8192 || h > 8192) {
+        if (!parse_side(value, 'x', &w) || !parse_side(value.substr(value.find('x') + 1), '\0', &h)) {
             *err = "--size '" + value + "': expected WxH with sides 1..8192";
             return -1;
         }

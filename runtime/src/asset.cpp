@@ -16,8 +16,9 @@ static_assert(sizeof(sepal_fmt_diffuse) == 16, "diffuse profile layout");
 extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
     if (!profile || side < 2) return 1.0f;
     const float n = (float)(side - 1);
-    const float x = (cos_i < 0.0f ? 0.0f : cos_i > 1.0f ? 1.0f : cos_i) * n;
-    const float y = (cos_o < 0.0f ? 0.0f : cos_o > 1.0f ? 1.0f : cos_o) * n;
+    // Clamped to [0,1], NaN to 0: (int)NaN is undefined (found by the fuzz harness).
+    const float x = (cos_i >= 0.0f ? (cos_i <= 1.0f ? cos_i : 1.0f) : 0.0f) * n;
+    const float y = (cos_o >= 0.0f ? (cos_o <= 1.0f ? cos_o : 1.0f) : 0.0f) * n;
     int i0 = (int)x, j0 = (int)y;
     if (i0 > (int)side - 2) i0 = (int)side - 2;
     if (j0 > (int)side - 2) j0 = (int)side - 2;
@@ -34,6 +35,14 @@ extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float
 namespace {
 
 bool is_pow2(uint32_t v) { return v && !(v & (v - 1)); }
+
+// Reserved words are written as 0; a reader that ignored them could not give them a meaning later.
+bool all_zero(const void* p, size_t n) {
+    const uint8_t* b = (const uint8_t*)p;
+    for (size_t i = 0; i < n; ++i)
+        if (b[i]) return false;
+    return true;
+}
 
 uint32_t mip_levels(uint32_t w, uint32_t h) {
     uint32_t n = 1;
@@ -73,9 +82,13 @@ sepal_result parse_texture(const uint8_t* p, uint64_t size, uint32_t index, sepa
     if (d.role >= SEPAL_ROLE_COUNT)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: texture %u role %u unknown", index, d.role);
     for (int c = 0; c < 4; ++c)
-        if (!isfinite(d.scale[c]) || !isfinite(d.bias[c]))
+        if (!(fabsf(d.scale[c]) <= SEPAL_FMT_MAX_FACTOR) || !(fabsf(d.bias[c]) <= SEPAL_FMT_MAX_FACTOR))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                             "asset: texture %u scale or bias is not finite", index);
+                             "asset: texture %u channel %d scale %g or bias %g is not finite or beyond +-%g", index, c,
+                             (double)d.scale[c], (double)d.bias[c], (double)SEPAL_FMT_MAX_FACTOR);
+    if (d.reserved0 != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: texture %u reserved word is 0x%x (must be 0)", index,
+                         d.reserved0);
     uint64_t offset = sizeof(sepal_fmt_texture);
     uint32_t w = d.width, h = d.height;
     for (uint32_t l = 0; l < d.levels; ++l) {
@@ -156,6 +169,9 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (h.header_bytes != sizeof(sepal_fmt_header) || crc != h.header_crc)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: header checksum mismatch (corrupt header or chunk table)");
+    if (h.flags != 0 || !all_zero(h.reserved, sizeof h.reserved))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: header flags 0x%x or reserved bytes not 0 (must be 0)",
+                         h.flags);
     bool have_material = false, have_plan = false;
     const uint8_t* plan_payload = nullptr;
     uint64_t plan_size = 0;
@@ -198,6 +214,8 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             if (out->diffuse_profile || h.version_major < 2 || c.size < sizeof dh)
                 return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk duplicated, too small or in a version-1 file");
             memcpy(&dh, p, sizeof dh);
+            if (!all_zero(dh.reserved, sizeof dh.reserved))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk's reserved words are not 0");
             if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE ||
                 c.size != sizeof dh + (uint64_t)dh.side * dh.side * 3 * sizeof(float))
                 return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
@@ -229,9 +247,12 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                          "asset: unknown parameterization %u, map %u or colour mode %u", m.param,
                          m.map, m.color_mode);
     for (int c = 0; c < 3; ++c)
-        if (!(m.ratio[c] >= 0.0f) || !isfinite(m.ratio[c]))
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio %g is not finite and >= 0",
-                             (double)m.ratio[c]);
+        if (!(m.ratio[c] >= 0.0f && m.ratio[c] <= SEPAL_FMT_MAX_RATIO))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio %g outside 0..%g",
+                             (double)m.ratio[c], (double)SEPAL_FMT_MAX_RATIO);
+    if (m.reserved0 != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: material reserved word is 0x%x (must be 0)",
+                         m.reserved0);
     if (!(m.ratio[0] + m.ratio[1] + m.ratio[2] > 0.0f))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio is all zero");
     // The bake's error figures: a number, or NaN when not measured; never infinite.
@@ -241,19 +262,18 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
                          m.channels, m.color_mode);
-    // Version 1 left these words reserved (written as 0): they mean "no flags, no diffuse".
-    if (h.version_major < 2) {
-        out->material.flags = 0;
-        out->material.diffuse[0] = out->material.diffuse[1] = out->material.diffuse[2] = 0.0f;
-    }
+    // Version 1 left these words reserved (written as 0).
+    if (h.version_major < 2 && !all_zero(&m.flags, sizeof m.flags + sizeof m.diffuse))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: a version-1 material with flags or a diffuse part (reserved in version 1: must be 0)");
     if (m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: unknown material flags 0x%x",
                          m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS);
     bool has_diffuse = false;
     for (int c = 0; c < 3; ++c) {
-        if (!(m.diffuse[c] >= 0.0f) || !isfinite(m.diffuse[c]))
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse %g is not finite and >= 0",
-                             (double)m.diffuse[c]);
+        if (!(m.diffuse[c] >= 0.0f && m.diffuse[c] <= SEPAL_FMT_MAX_RATIO))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse %g outside 0..%g",
+                             (double)m.diffuse[c], (double)SEPAL_FMT_MAX_RATIO);
         has_diffuse = has_diffuse || m.diffuse[c] > 0.0f;
     }
     if (m.terms < 1 || m.terms > SEPAL_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
@@ -279,6 +299,8 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: PLAN chunk too small");
     memcpy(&out->plan, plan_payload, sizeof out->plan);
     const sepal_fmt_plan& plan = out->plan;
+    if (!all_zero(plan.reserved, sizeof plan.reserved))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: plan's reserved words are not 0");
     if (plan.pass_count < 1 || plan.pass_count > SEPAL_FMT_MAX_PASSES ||
         plan_size != sizeof(sepal_fmt_plan) + (uint64_t)plan.pass_count * sizeof(sepal_fmt_pass))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
@@ -312,6 +334,18 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                                  "asset: pass %u texture slot %d is %u (%u textures; unused slots "
                                  "must be 0xFFFF)",
                                  i, k, tex[k], out->texture_count);
+        }
+        // A product is one term's G (slot 0) times the same term's H (slot 1): what the CPU
+        // backend and the fused shaders sum (G_k H_k), so the plan paths draw the same thing.
+        if (p.op == SEPAL_OP_PRODUCT) {
+            const sepal_fmt_texture& a = out->textures[p.tex0].desc;
+            const sepal_fmt_texture& b = out->textures[p.tex1].desc;
+            if (a.role != SEPAL_ROLE_G || b.role != SEPAL_ROLE_H || a.term != b.term)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: pass %u multiplies texture %u (term %u %s) by texture %u (term %u %s); a product "
+                                 "is one term's G times its H",
+                                 i, p.tex0, a.term, a.role == SEPAL_ROLE_G ? "G" : "H", p.tex1, b.term,
+                                 b.role == SEPAL_ROLE_G ? "G" : "H");
         }
         for (int c = 0; c < 3; ++c)
             if (!(p.color[c] >= 0.0f && p.color[c] <= 1.0f))

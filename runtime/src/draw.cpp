@@ -153,6 +153,9 @@ int gles1_schedule(const sepal_material* m, const FramePrep& prep, int total_dou
 extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* stats_out, sepal_error* err) {
     if (d && d->material && d->material->texture_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
+    if (d && d->material && d->material->context_lost)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "draw: the material's GL context was lost; sepal_material_restore it on the new context");
     srt::FramePrep prep;
     sepal_draw_stats local_stats;
     sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;

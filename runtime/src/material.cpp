@@ -214,8 +214,40 @@ extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepa
     return srt::ok(err);
 }
 
+extern "C" void sepal_material_context_lost(sepal_material* m) {
+    if (!m) return;
+    // The names are meaningless now: forget them (a later glDelete* on a new context could
+    // delete that context's objects of the same number).
+    memset(m->gl_textures, 0, sizeof m->gl_textures);
+    m->copy_texture = m->diffuse_texture = 0;
+    m->program_pass = m->program_fullscreen = m->program_mesh_texture = 0;
+    m->program_fused_vertex = m->program_fused_pixel = 0;
+    m->float_fbo = m->float_color = m->float_depth = 0;
+    m->context_lost = 1;
+}
+
+extern "C" sepal_result sepal_material_restore(sepal_material* m, const sepal_caps* caps, const sepal_asset* asset,
+                                           sepal_error* err) {
+    if (!m || !caps || !asset) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "restore: NULL argument");
+    if (!m->context_lost)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "restore: the material's context was not lost (call sepal_material_context_lost first)");
+    if (asset->texture_count != m->texture_count || memcmp(&asset->plan, &m->plan, sizeof m->plan) != 0 ||
+        memcmp(&asset->material, &m->info, sizeof m->info) != 0 ||
+        memcmp(asset->passes, m->passes, m->plan.pass_count * sizeof(sepal_fmt_pass)) != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "restore: the asset is not the one the material was created from");
+    const int w = m->max_width, h = m->max_height;
+    return sepal_material_create(caps, asset, w, h, m, err);  // clears context_lost
+}
+
 extern "C" void sepal_material_destroy(sepal_material* m) {
     if (!m) return;
+    if (m->context_lost) {  // nothing to delete: the objects died with the context
+        m->texture_count = 0;
+        m->context_lost = 0;
+        return;
+    }
     if (m->texture_count) glDeleteTextures((GLsizei)m->texture_count, m->gl_textures);
     if (m->copy_texture) glDeleteTextures(1, &m->copy_texture);
     srt::destroy_gles2_programs(m);

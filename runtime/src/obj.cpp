@@ -60,12 +60,14 @@ bool parse_float(Cursor& c, float* out) {
     return true;
 }
 
+// An index; one beyond 10^9 (no mesh has that many of anything) becomes 10^9 + 1, out of
+// range whatever the counts: messages quote the text as written, never the clamped value.
 bool parse_int(const char*& p, const char* end, long* out) {
     long sign = 1, v = 0;
     int digits = 0;
     if (p < end && *p == '-') sign = -1, ++p;
     while (p < end && *p >= '0' && *p <= '9') {
-        if (v < 100000000) v = v * 10 + (*p - '0');
+        v = v > 100000000 ? 1000000001 : v * 10 + (*p - '0');
         ++p, ++digits;
     }
     *out = sign * v;
@@ -108,13 +110,17 @@ bool parse_corner(Cursor& c, int np, int nt, int nn, Corner* out, sepal_error* e
     const char* p = c.p;
     long idx[3] = {0, 0, 0};
     bool has[3] = {false, false, false};
+    const char* text[3] = {p, p, p};  // each index as written, for messages
+    int text_len[3] = {0, 0, 0};
     for (int k = 0; k < 3; ++k) {
         if (k > 0) {
             if (p >= c.end || *p != '/') break;
             ++p;
         }
         if (p < c.end && *p == '/') continue;  // empty field ("p//n")
+        text[k] = p;
         has[k] = parse_int(p, c.end, &idx[k]);
+        text_len[k] = (int)(p - text[k]);
         if (!has[k] && k == 0) break;
     }
     c.p = p;
@@ -125,8 +131,9 @@ bool parse_corner(Cursor& c, int np, int nt, int nn, Corner* out, sepal_error* e
         const long i = idx[k] < 0 ? counts[k] + idx[k] : idx[k] - 1;
         if (idx[k] == 0 || i < 0 || i >= counts[k]) {
             srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                      "obj line %d: %s index %ld out of range (1..%d defined so far)", c.line,
-                      k == 0 ? "position" : k == 1 ? "texcoord" : "normal", idx[k], counts[k]);
+                      "obj line %d: %s index %.*s out of range (1..%d defined so far)", c.line,
+                      k == 0 ? "position" : k == 1 ? "texcoord" : "normal", text_len[k] < 40 ? text_len[k] : 40,
+                      text[k], counts[k]);
             return false;
         }
         resolved[k] = (int)i;
@@ -214,7 +221,8 @@ void perpendicular(const float* n, float* t) {
 
 extern "C" sepal_result sepal_obj_measure(const char* text, size_t length, sepal_obj_info* info,
                                       sepal_error* err) {
-    if (!text || !info) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "obj: text or info is NULL");
+    if ((!text && length > 0) || !info) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "obj: text or info is NULL");
+    if (length == 0) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "obj: the file is empty (no faces)");
     memset(info, 0, sizeof *info);
     long corners = 0, triangles = 0;
     for (Cursor c = {text, text + length, 1}; c.p < c.end; next_line(c)) {

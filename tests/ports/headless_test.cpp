@@ -4,12 +4,15 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include <GLES2/gl2.h>
 
+#include "common/scene_draw.h"
 #include "gl_scene.h"
 #include "headless/sepal_headless.h"
+#include "material_fixtures.h"
 #include "test_util.h"
 
 namespace {
@@ -103,4 +106,88 @@ TEST_CASE("the chain test can fail: a changed scene is caught") {
     std::string why;
     const sepal::Tolerance t = quad_tolerance();
     CHECK_FALSE(sepal::tolerance_holds(sepal::diff_images(expected, img, t.max_diff), t, &why));
+}
+
+TEST_CASE("headless: context loss: the material forgets its GL objects and is restored from the loaded asset") {
+    // Issue 21, faults: EGL_CONTEXT_LOST on a phone. The context is destroyed and a new one
+    // created; the same parsed asset is uploaded again and draws the same pixels.
+    const sepal::AssetData a = material_fx::signed_asset();  // every kind of pass, subtractions included
+    std::vector<uint8_t> bytes;
+    std::string msg;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &msg), msg);
+    auto asset = std::make_unique<sepal_asset>();
+    auto material = std::make_unique<sepal_material>();
+    sepal_error e = {};
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SEPAL_OK);
+    const sepal_ports::SceneSetup setup = material_fx::test_scene("sphere", 2);
+    struct Case {
+        int gles;
+        uint32_t mask;
+        sepal_draw_mode mode;
+    };
+    for (const Case c : {Case{1, 0, SEPAL_MODE_MULTIPASS}, Case{1, SEPAL_MASK_MULTITEXTURE | SEPAL_MASK_BLEND_SUBTRACT,
+                                                                 SEPAL_MODE_MULTIPASS},
+                         Case{2, 0, SEPAL_MODE_MULTIPASS}, Case{2, 0, SEPAL_MODE_FUSED_PIXEL}}) {
+        CAPTURE(c.gles);
+        CAPTURE(c.mask);
+        CAPTURE(int(c.mode));
+        sepal_headless_desc hd = {};
+        hd.width = setup.width;
+        hd.height = setup.height;
+        hd.gles_version = c.gles;
+        char err[512];
+        auto frame = [&](sepal_headless_context* ctx, std::vector<uint8_t>* rgba) {
+            std::vector<float> scratch;
+            sepal_draw_desc d = sepal_ports::scene_draw_desc(material.get(), setup, c.mode, &scratch);
+            REQUIRE_MESSAGE(sepal_draw(&d, nullptr, &e) == SEPAL_OK, e.message);
+            rgba->resize(size_t(setup.width) * setup.height * 4);
+            REQUIRE(sepal_headless_read_rgba(ctx, rgba->data()));
+        };
+        sepal_headless_context* ctx = sepal_headless_create(&hd, err, sizeof err);
+        REQUIRE_MESSAGE(ctx, err);
+        sepal_caps caps;
+        REQUIRE(sepal_query_caps(c.gles, c.mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK);
+        REQUIRE_MESSAGE(sepal_material_create(&caps, asset.get(), setup.width, setup.height, material.get(), &e) ==
+                            SEPAL_OK,
+                        e.message);
+        std::vector<uint8_t> before, after;
+        frame(ctx, &before);
+        // Restoring a live material would leak its objects: refused.
+        CHECK(sepal_material_restore(material.get(), &caps, asset.get(), &e) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK(std::strstr(e.message, "was not lost") != nullptr);
+        // The context goes away under the material.
+        sepal_material_context_lost(material.get());
+        sepal_headless_destroy(ctx);
+        std::vector<float> scratch;
+        sepal_draw_desc lost = sepal_ports::scene_draw_desc(material.get(), setup, c.mode, &scratch);
+        CHECK(sepal_draw(&lost, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK(std::strstr(e.message, "context was lost") != nullptr);
+        // A new context, its caps, the same asset.
+        ctx = sepal_headless_create(&hd, err, sizeof err);
+        REQUIRE_MESSAGE(ctx, err);
+        REQUIRE(sepal_query_caps(c.gles, c.mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK);
+        auto other = std::make_unique<sepal_asset>();
+        *other = *asset;
+        other->passes[0].color[0] *= 0.5f;
+        CHECK(sepal_material_restore(material.get(), &caps, other.get(), &e) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK(std::strstr(e.message, "not the one the material was created from") != nullptr);
+        REQUIRE_MESSAGE(sepal_material_restore(material.get(), &caps, asset.get(), &e) == SEPAL_OK, e.message);
+        CHECK(material->context_lost == 0);
+        frame(ctx, &after);
+        CHECK(before == after);
+        sepal_material_destroy(material.get());
+        sepal_headless_destroy(ctx);
+    }
+    // A lost material can also just be destroyed: no GL call, no context needed.
+    sepal_headless_desc hd = {};
+    char err[512];
+    sepal_headless_context* ctx = sepal_headless_create(&hd, err, sizeof err);
+    REQUIRE_MESSAGE(ctx, err);
+    sepal_caps caps;
+    REQUIRE(sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK);
+    REQUIRE(sepal_material_create(&caps, asset.get(), 64, 64, material.get(), &e) == SEPAL_OK);
+    sepal_material_context_lost(material.get());
+    sepal_headless_destroy(ctx);
+    sepal_material_destroy(material.get());
+    CHECK(material->texture_count == 0);
 }

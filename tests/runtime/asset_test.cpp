@@ -9,6 +9,7 @@
 #include <string>
 
 #include "bake/asset_file.h"
+#include "fuzz/fuzz.h"
 #include "sepal/sepal_format.h"
 
 namespace {
@@ -67,25 +68,8 @@ sepal_result parse(const std::vector<uint8_t>& bytes, std::string* msg) {
 }
 
 // Recomputes every chunk checksum and the header checksum, so a test can reach the
-// reader's deeper checks with a deliberately inconsistent file.
-void reseal(std::vector<uint8_t>* b) {
-    sepal_fmt_header h;
-    std::memcpy(&h, b->data(), sizeof h);
-    const uint32_t n = std::min<uint32_t>(h.chunk_count, SEPAL_FMT_MAX_CHUNKS);
-    for (uint32_t i = 0; i < n; ++i) {
-        sepal_fmt_chunk c;
-        uint8_t* at = b->data() + sizeof h + i * sizeof c;
-        if (at + sizeof c > b->data() + b->size()) break;
-        std::memcpy(&c, at, sizeof c);
-        if (c.offset + c.size <= b->size()) c.crc = sepal_crc32(0, b->data() + c.offset, size_t(c.size));
-        std::memcpy(at, &c, sizeof c);
-    }
-    h.header_crc = 0;
-    std::memcpy(b->data(), &h, sizeof h);
-    const size_t table = std::min(b->size(), sizeof h + n * sizeof(sepal_fmt_chunk));
-    h.header_crc = sepal_crc32(0, b->data(), table);
-    std::memcpy(b->data(), &h, sizeof h);
-}
+// reader's deeper checks with a deliberately inconsistent file (the fuzz harnesses' fix-up).
+void reseal(std::vector<uint8_t>* b) { sepal_fuzz::fix_asset_checksums(b); }
 
 // Offset of chunk i's payload.
 size_t chunk_offset(const std::vector<uint8_t>& b, int i) {
@@ -159,6 +143,55 @@ TEST_CASE("asset: one validity for every backend: a plan that adds after subtrac
     CHECK(err.find("finite, or NaN") != std::string::npos);
     a.material.error_relative = NAN;  // not measured: fine
     CHECK_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+}
+
+TEST_CASE("asset: one validity for every backend: reserved words, products, factor magnitudes (class 7)") {
+    // Issue 21, class 7: each of these parsed before; the reader refuses them now.
+    const std::vector<uint8_t> good = encode(small_asset());
+    const size_t mat = chunk_offset(good, 0), tex = chunk_offset(good, 1), plan = chunk_offset(good, 3);
+    struct Case {
+        const char* what;
+        std::function<void(std::vector<uint8_t>*)> corrupt;
+        const char* message;
+    };
+    const Case cases[] = {
+        {"header flags", [](std::vector<uint8_t>* b) { poke<uint32_t>(b, 28, 1); }, "reserved bytes not 0"},
+        {"header reserved", [](std::vector<uint8_t>* b) { (*b)[63] = 1; }, "reserved bytes not 0"},
+        {"material reserved", [mat](std::vector<uint8_t>* b) { poke<uint32_t>(b, mat + 20, 7); }, "material reserved word"},
+        {"texture reserved", [tex](std::vector<uint8_t>* b) { poke<uint32_t>(b, tex + 28, 7); }, "texture 0 reserved word"},
+        {"plan reserved", [plan](std::vector<uint8_t>* b) { poke<uint32_t>(b, plan + 12, 7); }, "plan's reserved words"},
+        {"version-1 flags", [mat](std::vector<uint8_t>* b) { poke<uint32_t>(b, mat + 48, 1); }, "reserved in version 1"},
+        // G x G: the plan paths would draw G_0 G_0, the CPU backend and fused shaders G_0 H_0.
+        {"G x G product", [plan](std::vector<uint8_t>* b) { poke<uint16_t>(b, plan + 32 + 6, 0); },
+         "a product is one term's G times its H"},
+        {"H x G product",
+         [plan](std::vector<uint8_t>* b) {
+             poke<uint16_t>(b, plan + 32 + 4, 1);
+             poke<uint16_t>(b, plan + 32 + 6, 0);
+         },
+         "multiplies texture 1 (term 0 H) by texture 0 (term 0 G)"},
+        // 3.4e38 x 3.4e38 overflows: the CPU backend's f would be inf (clamped to FLT_MAX, or
+        // NaN to 0, in the picture).
+        {"scale 3.4e38", [tex](std::vector<uint8_t>* b) { poke<float>(b, tex + 32, 3.4e38f); }, "beyond +-1e+15"},
+        {"bias -1e16", [tex](std::vector<uint8_t>* b) { poke<float>(b, tex + 48, -1e16f); }, "beyond +-1e+15"},
+        {"ratio 1e30", [mat](std::vector<uint8_t>* b) { poke<float>(b, mat + 36, 1e30f); }, "colour ratio 1e+30 outside 0..1e+06"},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.what);
+        std::vector<uint8_t> b = good;
+        c.corrupt(&b);
+        reseal(&b);
+        std::string msg;
+        CHECK(parse(b, &msg) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK_MESSAGE(msg.find(c.message) != std::string::npos, msg);
+    }
+    // The writer checks with the reader: it cannot write them either.
+    sepal::AssetData a = small_asset();
+    a.textures[0].desc.scale[0] = 3.4e38f;
+    std::vector<uint8_t> bytes;
+    std::string err;
+    CHECK_FALSE(sepal::encode_asset(a, &bytes, &err));
+    CHECK(err.find("beyond +-1e+15") != std::string::npos);
 }
 
 TEST_CASE("asset: corrupt, truncated and oversized files are refused with a clear message") {

@@ -58,6 +58,12 @@ extern "C" {
 #define SEPAL_FMT_MAX_PASSES 256
 #define SEPAL_FMT_MAX_DOUBLINGS 16
 #define SEPAL_FMT_MAX_META_BYTES (1u << 20)
+// Largest |scale| and |bias| of a texture, and largest colour ratio and diffuse part: a
+// term's G x H stays below 4e30, sixteen terms times a ratio below 1e38, so every backend's
+// f is a finite float (FLT_MAX is 3.4e38). Far above any BRDF (a mirror-like Ward peaks
+// near 1e5 /sr).
+#define SEPAL_FMT_MAX_FACTOR 1e15f
+#define SEPAL_FMT_MAX_RATIO 1e6f
 
 #define SEPAL_FMT_TAG(a, b, c, d) \
     ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
@@ -132,17 +138,18 @@ typedef struct sepal_fmt_material {
     uint32_t color_mode;  // sepal_color_mode
     uint32_t terms;       // 1..SEPAL_FMT_MAX_TERMS
     uint32_t channels;    // 1 (achromatic) or 3
-    uint32_t reserved0;
+    uint32_t reserved0;   // 0
     // Cosine-weighted RMS radiance error of this asset (Kautz-McCool metric), of the
     // float factors it came from, and relative to the BRDF's RMS; NaN when not measured.
     float error_quantized;
     float error_float;
     float error_relative;
     // Per-channel multiplier of f: a luminance factorization (1 channel) times its colour;
-    // (1, 1, 1) for per-channel factorizations. Finite, >= 0, not all 0.
+    // (1, 1, 1) for per-channel factorizations. 0..SEPAL_FMT_MAX_RATIO, not all 0.
     float ratio[3];
     // Version 2 (0 in version 1): SEPAL_MATERIAL_* bits, and the diffuse part of a radiance
-    // material (a constant BRDF per channel, finite, >= 0; drawn by the plan's DIFFUSE pass).
+    // material (a constant BRDF per channel, 0..SEPAL_FMT_MAX_RATIO; drawn by the plan's DIFFUSE pass).
+    // Version 1 files hold 0 in these words (reserved there).
     uint32_t flags;
     float diffuse[3];
 } sepal_fmt_material;
@@ -158,8 +165,8 @@ typedef struct sepal_fmt_texture {
     uint32_t bits;           // 8 or 16 per channel (16: little-endian uint16)
     uint32_t role;           // sepal_tex_role
     uint32_t term;           // 0..terms-1
-    uint32_t reserved0;
-    float scale[4];          // value = scale[c] * q + bias[c], q in [0,1]
+    uint32_t reserved0;      // 0
+    float scale[4];          // value = scale[c] * q + bias[c], q in [0,1]; |scale|, |bias| <= SEPAL_FMT_MAX_FACTOR
     float bias[4];
     uint64_t data_bytes;     // sum over levels
 } sepal_fmt_texture;
@@ -170,7 +177,7 @@ typedef struct sepal_fmt_plan {
     // Largest partial sum of the plan at unit irradiance (the writer guarantees <= 1);
     // the runtime divides its per-frame exposure by it.
     float peak_partial_sum;
-    uint32_t reserved[5];
+    uint32_t reserved[5];  // 0
 } sepal_fmt_plan;
 
 // The diffuse profile (version 2, radiance materials with a diffuse part): side x side RGB
@@ -182,7 +189,7 @@ typedef struct sepal_fmt_diffuse {
 } sepal_fmt_diffuse;
 
 typedef struct sepal_fmt_pass {
-    uint16_t op;         // sepal_pass_op
+    uint16_t op;         // sepal_pass_op; a PRODUCT is tex0 = a term's G times tex1 = its H
     uint16_t blend;      // sepal_blend
     uint16_t tex0;       // texture index or SEPAL_FMT_NO_TEXTURE
     uint16_t tex1;
@@ -217,7 +224,7 @@ typedef struct sepal_asset {
 } sepal_asset;
 
 // The diffuse profile at (cos theta_i, cos theta_o), channel c (bilinear, clamped to [0,1]
-// in both); 1 without a profile. profile: side * side * 3 floats (any alignment).
+// in both, NaN read as 0); 1 without a profile. profile: side * side * 3 floats (any alignment).
 float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c);
 
 // Validates everything (sizes, bounds, checksums, enums, cross references) and fills

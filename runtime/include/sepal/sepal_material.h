@@ -84,6 +84,8 @@ typedef struct sepal_material {
     // Half-float target (caps.use_float_target on GL ES 3): frames are drawn there with no
     // exposure and no doublings, then copied to the current framebuffer for display.
     uint32_t float_fbo, float_color, float_depth;
+    // Set by sepal_material_context_lost: the GL names above belong to a dead context.
+    int context_lost;
 } sepal_material;
 
 // Reads the last frame of a float-target material as linear RGBA floats, bottom row
@@ -104,6 +106,25 @@ typedef enum sepal_draw_mode {
 sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset, int max_width,
                                int max_height, sepal_material* out, sepal_error* err);
 void sepal_material_destroy(sepal_material* m);
+
+// GL context loss (EGL_CONTEXT_LOST on phones after a power event, or a context the app
+// destroyed and recreated): every GL object of the material died with the context.
+// sepal_material_context_lost forgets them without a GL call (there is no context to call);
+// sepal_draw then refuses the material, and sepal_material_destroy makes no GL call either.
+// With the new context current, sepal_material_restore uploads everything again from the
+// same parsed asset (its bytes still alive, as for sepal_material_create) with the new
+// context's caps: the material is as sepal_material_create left it, same viewport limit.
+// No allocation. It refuses a material that was not lost (SEPAL_ERR_INVALID_ARGUMENT: its
+// GL objects would leak) and an asset other than the one the material was created from.
+// On any other failure the material is as after sepal_material_destroy.
+//   if (eglGetError() == EGL_CONTEXT_LOST) {
+//       sepal_material_context_lost(&mat);
+//       ... create and make current a new context, sepal_query_caps(..., &caps, &err) ...
+//       sepal_material_restore(&mat, &caps, &asset, &err);
+//   }
+void sepal_material_context_lost(sepal_material* m);
+sepal_result sepal_material_restore(sepal_material* m, const sepal_caps* caps, const sepal_asset* asset,
+                                    sepal_error* err);
 
 // Floats of scratch sepal_draw needs (per-vertex texture coordinates, irradiance, colours).
 size_t sepal_draw_scratch_floats(int vertex_count, int light_count);

@@ -5,10 +5,12 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include "cli/cli.h"
+#include "sepal/sepal_format.h"
 #include "test_util.h"
 
 namespace {
@@ -120,4 +122,92 @@ TEST_CASE("bad input, class 6: a factorization larger than the machine is refuse
               &out) == 2);
     CHECK(contains(out, "MB of memory"));
     CHECK_FALSE(exists(dir + "/m.sepal"));
+}
+
+TEST_CASE("bad input, class 10: OBJ and spec messages say what is wrong") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    write_text(dir + "/empty.obj", "");
+    CHECK(run(sepal::cmd_render, {"lambert", "--size", "16x16", "--mesh", dir + "/empty.obj", "-o", dir + "/e.png"},
+              &out) == 2);
+    CHECK_MESSAGE(contains(out, "the file is empty"), out);  // was "text or info is NULL"
+    write_text(dir + "/big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2147483648\n");
+    CHECK(run(sepal::cmd_render, {"lambert", "--size", "16x16", "--mesh", dir + "/big.obj", "-o", dir + "/b.png"},
+              &out) == 2);
+    CHECK_MESSAGE(contains(out, "position index 2147483648 out of range"), out);  // was shown as 214748364
+    write_text(dir + "/neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -99999999999999999999\n");
+    CHECK(run(sepal::cmd_render, {"lambert", "--size", "16x16", "--mesh", dir + "/neg.obj", "-o", dir + "/n.png"},
+              &out) == 2);
+    CHECK_MESSAGE(contains(out, "position index -99999999999999999999 out of range"), out);
+    CHECK(run(sepal::cmd_info, {"cornell:garnet"}, &out) == 2);
+    CHECK_MESSAGE(contains(out, "unknown BRDF model 'cornell'"), out);  // was "parameter 'garnet' has no '=value'"
+    CHECK_FALSE(exists(dir + "/e.png"));
+}
+
+TEST_CASE("bad input, class 9: large renders and scene bakes say so before they start") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    // 1449 x 1449 is just over 2 Mpixels: announced on stderr (progress follows on a terminal).
+    CHECK(run(sepal::cmd_render, {"lambert", "--size", "1449x1449", "--float", dir + "/big.pfm"}, &out) == 0);
+    CHECK_MESSAGE(contains(out, "1449x1449 is 2.1 Mpixels"), out);
+    CHECK(run(sepal::cmd_render, {"lambert", "--size", "64x64", "--float", dir + "/small.pfm"}, &out) == 0);
+    CHECK_FALSE(contains(out, "Mpixels"));
+    // Each material of a scene is announced before its search (which can take a minute).
+    write_text(dir + "/s.json", R"({"materials":[{"name":"a","spec":"lambert","param":"gs-half","res":8,"terms":1,)"
+                                R"("method":"nmf"}]})");
+    CHECK(run(sepal::cmd_bake_scene, {dir + "/s.json", "-o", dir + "/out"}, &out) == 0);
+    CHECK_MESSAGE(contains(out, "baking a (1 of 1)"), out);
+}
+
+TEST_CASE("bad input, class 10: PNG messages give the size or where the file is cut") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    REQUIRE(run(sepal::cmd_render, {"lambert", "--size", "16x16", "-o", dir + "/a.png"}, &out) == 0);
+    std::ifstream in(dir + "/a.png", std::ios::binary);
+    const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    write_text(dir + "/cut.png", png.substr(0, 30));
+    CHECK(run(sepal::cmd_diff, {dir + "/a.png", dir + "/cut.png"}, &out) == 2);
+    CHECK_MESSAGE(contains(out, "truncated PNG: chunk 'IHDR' at byte 8 needs 25 bytes, the file has 22"), out);
+    // A 20000 x 20000 header (width and height at bytes 16..23, then the IHDR's CRC).
+    std::string big = png;
+    const unsigned char side[4] = {0x00, 0x00, 0x4e, 0x20};  // 20000
+    for (int k = 0; k < 4; ++k) big[size_t(16 + k)] = char(side[k]), big[size_t(20 + k)] = char(side[k]);
+    const uint32_t crc = sepal_crc32(0, big.data() + 12, 17);
+    for (int k = 0; k < 4; ++k) big[size_t(29 + k)] = char(crc >> (24 - 8 * k));
+    write_text(dir + "/big.png", big);
+    CHECK(run(sepal::cmd_diff, {dir + "/a.png", dir + "/big.png"}, &out) == 2);
+    CHECK_MESSAGE(contains(out, "PNG size 20000x20000 out of range 1..16384"), out);  // was "unknown image type"
+}
+
+TEST_CASE("bad input: --size sides are range checked before they become ints (no wraparound)") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    // sscanf's %d took 4294967297 as 1: a 1x1 render, exit 0.
+    for (const char* v : {"4294967297x1", "1x4294967297", "8193x1", "0x5", "5x", "x5", "5x5x", " 5x5"}) {
+        CAPTURE(v);
+        CHECK(run(sepal::cmd_render, {"lambert", "--size", v, "-o", dir + "/s.png"}, &out) == 2);
+        CHECK(contains(out, "sides 1..8192"));
+    }
+    CHECK_FALSE(exists(dir + "/s.png"));
+    CHECK(run(sepal::cmd_render, {"lambert", "--size", "8x4", "-o", dir + "/s.png"}, &out) == 0);
+}
+
+TEST_CASE("bad input, class 10: bake-scene names the member, its value and range, on stderr") {
+    const std::string dir = sepal_test::temp_dir();
+    write_text(dir + "/s.json", R"({"materials":[{"name":"a","spec":"lambert","res":[0]}]})");
+    std::FILE* out = std::tmpfile();
+    std::FILE* err = std::tmpfile();
+    REQUIRE((out && err));
+    CHECK(sepal::cmd_bake_scene({dir + "/s.json", "-o", dir + "/out"}, sepal::CommandIO{out, err}) == 1);
+    auto text = [](std::FILE* f) {
+        std::string s(size_t(std::ftell(f)), '\0');
+        std::rewind(f);
+        s.resize(std::fread(&s[0], 1, s.size(), f));
+        std::fclose(f);
+        return s;
+    };
+    const std::string o = text(out), e = text(err);
+    CHECK_MESSAGE(contains(e, "materials[0].res[0]: 0 is outside 1..1048576"), e);
+    CHECK_MESSAGE(contains(o, "FAILED (see stderr)"), o);
+    CHECK_FALSE(contains(o, "outside"));
 }

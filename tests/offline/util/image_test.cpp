@@ -92,7 +92,7 @@ TEST_CASE("corrupt and unreadable images are refused with a reason") {
     } cases[] = {
         {"empty.png", "", "unknown image format"},
         {"text.png", "hello world", "unknown image format"},
-        {"trunc.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), "corrupt PNG"},
+        {"trunc.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), "truncated PNG: the file ends at byte 16"},
         {"short.pfm", std::string("PF\n2 2\n-1.0\n") + std::string(8, '\0'), "need"},
         {"long.pfm", std::string("PF\n1 1\n-1.0\n") + std::string(16, '\0'), "need"},
         {"huge.pfm", "PF\n100000 100000\n-1.0\n", "out of range"},

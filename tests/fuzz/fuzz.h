@@ -1,0 +1,45 @@
+// Fuzz harnesses (issue 21): one plain function per reader, int sepal_fuzz_<name>(data, size),
+// in tests/fuzz/fuzz_<name>.cpp. Two callers share them:
+//   - `make fuzz` links each with tests/fuzz/entry/libfuzzer.cpp (clang, -fsanitize=fuzzer,
+//     address, undefined, float-cast-overflow) into build/fuzz/bin/fuzz-<name> and runs it
+//     on a corpus seeded from fixtures/ (tests/fuzz/seed.sh);
+//   - the replay suite (tests/fuzz/replay_test.cpp, in sepal-tests, g++) feeds every file
+//     under fixtures/fuzz/<name>/ (crashers found so far, kept as regression inputs) and
+//     fixtures/fuzz-seeds/<name>/ through the same functions, so `make test` and
+//     `make test-asan` replay them.
+// A harness returns 0. Input a reader refuses is fine (that is the point); what is not:
+// a crash, a sanitizer report, an exception escaping, a refusal without a message, or a
+// result that breaks the reader's promises (check() aborts, so libFuzzer keeps the input).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+// X(name): every harness, in the order the replay suite runs them.
+#define SEPAL_FUZZ_HARNESSES(X) \
+    X(asset)                    \
+    X(runtime)                  \
+    X(scene_json)               \
+    X(cost_model)               \
+    X(merl)                     \
+    X(cornell)                  \
+    X(obj)                      \
+    X(png)                      \
+    X(pfm)                      \
+    X(spec)                     \
+    X(cli_flags)
+
+#define SEPAL_FUZZ_DECLARE(name) extern "C" int sepal_fuzz_##name(const uint8_t* data, size_t size);
+SEPAL_FUZZ_HARNESSES(SEPAL_FUZZ_DECLARE)
+#undef SEPAL_FUZZ_DECLARE
+
+namespace sepal_fuzz {
+
+// Aborts with "fuzz <harness>: <what>" on stderr when ok is false.
+void check(bool ok, const char* harness, const char* what);
+// The asset parser's checksum fix-up: sets the header's file size to the buffer's, recomputes
+// every chunk's CRC-32 whose range lies inside the buffer, then the header CRC, so mutated
+// bytes reach the field checks behind the checksums.
+void fix_asset_checksums(std::vector<uint8_t>* bytes);
+
+}  // namespace sepal_fuzz
