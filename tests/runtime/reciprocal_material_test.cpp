@@ -45,13 +45,6 @@ sepal::AssetData reciprocal_asset(sepal_param param, int terms) {
     return a;
 }
 
-std::vector<uint8_t> encode(const sepal::AssetData& a) {
-    std::vector<uint8_t> bytes;
-    std::string err;
-    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
-    return bytes;
-}
-
 double psnr(const sepal::Image& a, const sepal::Image& b, const std::string& name) {
     const sepal::ImageDiff d = sepal::diff_images(a, b, 3.0);
     if (d.psnr < 40) {
