@@ -25,6 +25,7 @@ uniform vec3 u_diffuse;         // radiance materials' diffuse part (first group
 uniform sampler2D u_profile;    // its profile over (cos theta_i, cos theta_o), if u_profile_on
 uniform float u_profile_on;
 uniform float u_profile_side;
+uniform int u_reciprocal;  // 1: each term is G(x) H(y) G(x~), x~ from the swapped pair (format 2.1)
 uniform int u_param;  // sepal_param
 uniform int u_map;    // sepal_hemi_map
 uniform vec3 u_eye;
@@ -101,8 +102,9 @@ void main() {
         vec3 li = normalize(to_light);
         vec3 wi = vec3(dot(li, t), dot(li, s), dot(li, n));
         if (wi.z <= 0.0 || wo.z <= 0.0) continue;
-        vec2 g, h;
+        vec2 g, h, g2, h2;
         coords(wi, wo, g, h);
+        if (u_reciprocal == 1) coords(wo, wi, g2, h2);
         vec3 f = vec3(0.0);
         // Level 0, as the CPU backend samples: per-pixel coordinates change fast where the
         // BRDF does (silhouettes, near the highlight), and GL's derivative-based MIP choice
@@ -113,6 +115,7 @@ void main() {
             if (k >= u_terms) break;
             vec3 gv = texture2D(u_g[k], g, -16.0).rgb * u_g_scale[k] + u_g_bias[k];
             vec3 hv2 = texture2D(u_h[k], h, -16.0).rgb * u_h_scale[k] + u_h_bias[k];
+            if (u_reciprocal == 1) hv2 *= texture2D(u_g[k], g2, -16.0).rgb * u_g_scale[k] + u_g_bias[k];
             f += gv * hv2;
         }
         vec3 profile = vec3(1.0);

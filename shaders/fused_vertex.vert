@@ -7,6 +7,7 @@ attribute vec2 a_uv_g;
 attribute vec2 a_uv_h;
 attribute vec4 a_irradiance;
 attribute vec4 a_diffuse;
+attribute vec2 a_uv_g2;  // reciprocal materials: G's second lookup (x~, format 2.1)
 uniform mat4 u_mvp;
 // Every mesh pass tests depth EQUAL against the pre-pass (drawn with pass.vert): the
 // position must come out bit-identical across programs.
@@ -15,7 +16,9 @@ varying vec2 v_uv_g;
 varying vec2 v_uv_h;
 varying vec3 v_irradiance;
 varying vec3 v_diffuse;
+varying vec2 v_uv_g2;
 void main() {
+    v_uv_g2 = a_uv_g2;
     v_uv_g = a_uv_g;
     v_uv_h = a_uv_h;
     v_irradiance = a_irradiance.rgb;

@@ -46,6 +46,13 @@ sepal_fmt_pass pass(sepal_pass_op op, sepal_blend blend, uint16_t t0, uint16_t t
     return p;
 }
 
+std::vector<uint8_t> encode(const sepal::AssetData& a) {
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    return bytes;
+}
+
 // Renders an asset through the runtime on GL ES 1.1 with a capability mask.
 Rendered render(const sepal::AssetData& a, uint32_t mask, const sepal_ports::SceneSetup& s,
                 const sepal_ports::Rgba8Image* diffuse, int gles_version, sepal_draw_mode mode) {

@@ -2,6 +2,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "bake/asset_file.h"
 #include "asset_fixtures.h"
@@ -19,6 +20,8 @@ using TexFn = std::function<float(float u, float v, int channel)>;
 sepal::AssetTexture make_texture(int n, uint32_t role, uint32_t term, float scale, const TexFn& fn,
                                  float bias = 0.0f, int channels = 3);
 sepal_fmt_pass pass(sepal_pass_op op, sepal_blend blend, uint16_t t0, uint16_t t1, float color);
+// The asset's bytes (REQUIREs that the writer, and so the reader, accepts it).
+std::vector<uint8_t> encode(const sepal::AssetData& a);
 using test_fx::base_asset;
 using test_fx::ConstantBrdf;
 

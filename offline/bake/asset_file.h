@@ -35,8 +35,9 @@ struct AssetData {
 };
 
 bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string* err);
-// True when the asset uses a version-2 feature (radiance flag, diffuse part or profile, DIFFUSE pass);
-// encode_asset writes version 1.0 otherwise.
+// True when the asset uses a version-2 feature (radiance or reciprocal flag, diffuse part or
+// profile, DIFFUSE or RECIPROCAL pass); encode_asset writes version 1.0 otherwise, and 2.1
+// only for reciprocal materials.
 bool asset_needs_version2(const AssetData& asset);
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
 

@@ -32,7 +32,10 @@ sepal_param to_fmt(Param p) {
 }
 
 const char* pass_op_name(uint16_t op) {
-    return op == SEPAL_OP_PRODUCT ? "product" : op == SEPAL_OP_TEXTURE ? "texture" : "constant";
+    return op == SEPAL_OP_PRODUCT      ? "product"
+           : op == SEPAL_OP_TEXTURE    ? "texture"
+           : op == SEPAL_OP_RECIPROCAL ? "reciprocal"
+                                       : "constant";
 }
 
 FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int res, int res_h, Method method,
@@ -117,6 +120,9 @@ const std::vector<BakeMethod>& bake_methods() {
         {"svd", Method::SVD, false, false},
         {"nmf", Method::NMF, true, false},
         {"nd", Method::ND, false, false},
+        // McCool, Ang and Ahmad 2001: p(wi) q(h) p(wo) fitted in log space (vh, parabolic, a
+        // reciprocal material of format 2.1); positive factors, one pass per term.
+        {"homomorphic", Method::Homomorphic, true, true},
     };
     return table;
 }
@@ -207,6 +213,13 @@ bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetDat
     a.material.color_mode = f.colour == ColourMode::PerChannel ? SEPAL_COLOR_PER_CHANNEL : SEPAL_COLOR_LUMINANCE;
     a.material.terms = uint32_t(terms);
     a.material.channels = uint32_t(f.channels);
+    if (f.form == Form::Reciprocal) {
+        if (f.radiance) {
+            if (err) *err = "bake: reciprocal (homomorphic) factors are factors of f, not radiance factors";
+            return false;
+        }
+        a.material.flags = SEPAL_MATERIAL_RECIPROCAL;
+    }
     if (f.radiance) {
         a.material.flags = SEPAL_MATERIAL_RADIANCE;
         for (int c = 0; c < 3; ++c) a.material.diffuse[c] = float(f.diffuse[c]);
@@ -255,7 +268,9 @@ std::string asset_manifest(const AssetData& a, const std::string& spec, const st
                            const std::string& bake_key, const ManifestFit* fit) {
     static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"};
     Json j;
-    j["format"] = asset_needs_version2(a) ? "sepal asset 2.0" : "sepal asset 1.0";
+    j["format"] = !asset_needs_version2(a)                       ? "sepal asset 1.0"
+                  : a.material.flags & SEPAL_MATERIAL_RECIPROCAL ? "sepal asset 2.1"
+                                                                 : "sepal asset 2.0";
     if (!bake_key.empty()) j["bake_key"] = bake_key;
     if (fit) {
         // What the factors hold and the image that chose them (radiance.h, image_score.h).
@@ -325,11 +340,18 @@ struct Factorization {
     int64_t capped = 0;  // evaluations the cap (or the radiance fit's white level) changed
 };
 
+// Terms of the bake's homomorphic candidates: the paper's single product. A sum of two
+// (backfitting, homomorphic.h) is allowed by the format and `sepal factor`, but its second
+// term's factors span too much for 8 bits (plans past 16 doublings on ward, 32x32).
+constexpr int kBakeHomomorphicTerms = 1;
+
 class Search {
   public:
-    Search(const Brdf& brdf, const BakeOptions& o, BakeResult* out, const Brdf& source, const ErrorEvaluator& ev,
-           std::function<int64_t()> capped_count)
-        : brdf_(brdf), o_(o), out_(out), source_(source), ev_(ev), capped_count_(std::move(capped_count)) {}
+    // source: what the factors see; plain: f itself (capped at --cap), what homomorphic
+    // factors fit (they are factors of f, not radiance factors).
+    Search(const Brdf& brdf, const BakeOptions& o, BakeResult* out, const Brdf& source, const Brdf& plain,
+           const ErrorEvaluator& ev, std::function<int64_t()> capped_count)
+        : brdf_(brdf), o_(o), out_(out), source_(source), plain_(plain), ev_(ev), capped_count_(std::move(capped_count)) {}
 
     // Factors one (param, map, res, method) with up to max_terms terms and appends its
     // candidates (every listed term count and depth), judged on `judge`.
@@ -338,19 +360,27 @@ class Search {
              bool coarse, const ImageJudge& judge) {
         const int max_terms = *std::max_element(terms.begin(), terms.end());
         const int half = half_angle_factor(param);
-        const int res_g = half == 1 ? res_other : res, res_h = half == 0 ? res_other : res;
+        // Homomorphic: p and q share the half-angle factor's resolution, at most
+        // SEPAL_FMT_MAX_RECIPROCAL_TERMS terms.
+        const bool homomorphic = method == Method::Homomorphic;
+        const int res_g = homomorphic ? res : half == 1 ? res_other : res, res_h = half == 0 ? res_other : res;
         Factorization fz;
         fz.param = param, fz.map = map, fz.res = res_g, fz.method = method, fz.coarse = coarse;
-        fz.fo = factor_options(o_, param, map, res_g, res_h, method, search_terms(param, map, res_g, res_h, max_terms));
+        fz.fo = factor_options(o_, param, map, res_g, res_h, method,
+                               homomorphic ? std::min(max_terms, kBakeHomomorphicTerms)
+                                           : search_terms(param, map, res_g, res_h, max_terms));
         if (o_.progress && isatty(2))
             std::fprintf(stderr, "\rbake: factoring %s/%s %d/%d %s x%d%s        ", param_name(param), map_name(map),
                          res_g, res_h, method_name(method), fz.fo.terms, coarse ? " (coarse)" : "");
         const int64_t before = capped_count_();
         const auto t0 = std::chrono::steady_clock::now();
-        fz.ok = factor_brdf(source_, fz.fo, &fz.result, &fz.err);
+        // Homomorphic factors hold f: capped where f cos theta_i is white in every judged view
+        // (the radiance fit's white level), so p and q keep their 8 bits for what shows.
+        if (homomorphic && o_.radiance) fz.fo.homomorphic.white = out_->white;
+        fz.ok = factor_brdf(homomorphic ? plain_ : source_, fz.fo, &fz.result, &fz.err);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         fz.capped = capped_count_() - before;
-        if (fz.ok)
+        if (fz.ok && !homomorphic)
             for (Factored& f : fz.result.by_terms) {
                 f.radiance = o_.radiance;
                 f.diffuse = out_->diffuse.scale;
@@ -361,6 +391,7 @@ class Search {
         for (int k : terms)
             for (int bits : o_.bits) {
                 if (coarse && bits != o_.bits[0]) continue;
+                if (homomorphic && k > kBakeHomomorphicTerms) continue;  // not searched: no row
                 BakeCandidate c;
                 c.param = param;
                 c.map = map;
@@ -439,6 +470,7 @@ class Search {
     const BakeOptions& o_;
     BakeResult* out_;
     const Brdf& source_;
+    const Brdf& plain_;
     const ErrorEvaluator& ev_;
     std::function<int64_t()> capped_count_;
     std::vector<Factorization> factorizations_;
@@ -514,7 +546,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     for (const BakeView& v : views) out->views.push_back(v.name);
     const int finest = o.resolutions.empty() ? std::min(o.ladder_iv, o.ladder[0].first)
                                              : *std::min_element(o.resolutions.begin(), o.resolutions.end());
-    const bool coarse = o.coarse_res > 0 && o.params.size() * o.maps.size() * methods.size() > 1 && finest > o.coarse_res;
+    const bool coarse = o.coarse_res > 0 && o.params.size() * o.maps.size() * methods.size() > 1 && finest > o.coarse_res &&
+                        !(methods.size() == 1 && methods[0] == Method::Homomorphic);
     ImageJudge judge, coarse_judge;
     if (!judge.init(brdf, views, o.judge_size, o.threads, err)) return false;
     if (coarse && !coarse_judge.init(brdf, views, o.coarse_size, o.threads, err)) return false;
@@ -540,12 +573,16 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     eo.threads = o.threads;
     ErrorEvaluator ev(brdf, eo);
     if (!ev.init(err)) return false;
-    Search search(brdf, o, out, source, ev, [&]() { return capped.capped() + radiance.capped(); });
-    // Coarse: every (param, map, method) at coarse_res; keep the best few.
+    Search search(brdf, o, out, source, base, ev, [&]() { return capped.capped() + radiance.capped(); });
+    // Coarse: every (param, map, method) at coarse_res; keep the best few. Homomorphic has its
+    // own (vh, parabolic): one pair, whatever the lists.
     std::vector<std::tuple<Param, HemiMap, Method>> pairs;
     for (Param param : o.params)
         for (HemiMap map : o.maps)
-            for (Method method : methods) pairs.push_back({param, map, method});
+            for (Method method : methods)
+                if (method != Method::Homomorphic) pairs.push_back({param, map, method});
+    for (Method method : methods)
+        if (method == Method::Homomorphic) pairs.push_back({Param::ViewHalf, HemiMap::Parabolic, method});
     std::vector<std::tuple<Param, HemiMap, Method>> all_pairs = pairs;  // by coarse rank
     if (coarse) {
         std::vector<double> best(pairs.size(), -1e30);

@@ -100,6 +100,22 @@ bool build_plan(AssetData* a, std::string* err, bool allow_all_zero) {
             th.value[c] = ratio * G.bias[t] * H.scale[t];
             cst.value[c] = ratio * G.bias[t] * H.bias[t];
         }
+        if (a->material.flags & SEPAL_MATERIAL_RECIPROCAL) {
+            // G H G (homomorphic, format 2.1): one RECIPROCAL pass per term, G's scale twice.
+            // The factors are positive (exp of a log fit): a bias would need the cross terms
+            // of a triple product, which no pass draws.
+            for (int c = 0; c < 3; ++c) {
+                const int t = channels == 1 ? 0 : c;
+                if (G.bias[t] != 0 || H.bias[t] != 0) {
+                    if (err) *err = "plan: a reciprocal term's textures must have bias 0 (term " + std::to_string(k) + ")";
+                    return false;
+                }
+                prod.value[c] *= G.scale[t];
+            }
+            prod.op = SEPAL_OP_RECIPROCAL;
+            coefs.push_back(prod);
+            continue;
+        }
         for (const Coef& c : {prod, tg, th, cst}) coefs.push_back(c);
     }
     // A radiance material's diffuse part: one untextured pass whose colour the runtime
@@ -186,12 +202,13 @@ bool build_plan(AssetData* a, std::string* err, bool allow_all_zero) {
     return true;
 }
 
-double plan_value(const AssetData& a, const double* q, int channel) {
+double plan_value(const AssetData& a, const double* q, int channel, const double* q_swapped) {
     double sum = 0;
     for (const sepal_fmt_pass& p : a.passes) {
         double v = p.color[channel];
-        if (p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_TEXTURE) v *= q[p.tex0];
-        if (p.op == SEPAL_OP_PRODUCT) v *= q[p.tex1];
+        if (p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_TEXTURE || p.op == SEPAL_OP_RECIPROCAL) v *= q[p.tex0];
+        if (p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL) v *= q[p.tex1];
+        if (p.op == SEPAL_OP_RECIPROCAL) v *= (q_swapped ? q_swapped : q)[p.tex0];
         sum += p.blend == SEPAL_BLEND_ADD ? v : -v;
     }
     return std::ldexp(sum, int(a.plan.doublings));

@@ -21,6 +21,8 @@
 // within [0,1] at unit irradiance; plan.doublings = D undoes it.
 // A radiance material's diffuse part (material.diffuse, format 2) becomes one DIFFUSE pass
 // (untextured, added; the runtime multiplies its colour by E cos(theta_i)).
+// A reciprocal material (SEPAL_MATERIAL_RECIPROCAL, homomorphic factors, format 2.1) gets one
+// RECIPROCAL pass per term, colour ratio * sG^2 * sH (both biases must be 0).
 #pragma once
 #include <string>
 
@@ -43,7 +45,8 @@ double partial_sum_peak(const AssetData& asset);
 
 // f at one point from decoded factor values, as the plan computes it (for tests):
 // sum over passes of sign * colour * operands, times 2^doublings (a DIFFUSE pass counts
-// its colour: the cosine the runtime multiplies it by is not included).
-double plan_value(const AssetData& asset, const double* q, int channel);
+// its colour: the cosine the runtime multiplies it by is not included). A RECIPROCAL pass
+// reads tex0 a second time at the swapped pair: q_swapped[tex0] (q when NULL).
+double plan_value(const AssetData& asset, const double* q, int channel, const double* q_swapped = nullptr);
 
 }  // namespace sepal

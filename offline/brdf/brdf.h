@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -38,6 +39,15 @@ struct InputCounts {
                             // angles within rounding slack of [0, pi/2])
 };
 
+// One BRDF measurement in the local frame (normal +z), directions as in eval: the value
+// per steradian (linear RGB), and how much it counts (1 / its standard deviation, up to a
+// common factor; 0 drops it). The Lafortune fit and the homomorphic fit take these.
+struct BrdfSample {
+    glm::dvec3 wi{0, 0, 1}, wo{0, 0, 1};
+    glm::dvec3 value{0.0};
+    double weight = 1;
+};
+
 class Brdf {
   public:
     virtual ~Brdf() = default;
@@ -55,6 +65,13 @@ class Brdf {
     virtual bool energy_conserving() const { return false; }
     // Measured data: what the loader counted (see InputCounts).
     virtual InputCounts input_counts() const { return InputCounts{}; }
+    // Scattered measured data as it was read (Cornell: the raw samples, before the dense
+    // table eval() looks up): true and *out filled, or false when there are none (analytic
+    // models, dense tables). Fits that take scattered data (homomorphic) use them directly.
+    virtual bool scattered_samples(std::vector<BrdfSample>* out) const {
+        (void)out;
+        return false;
+    }
 };
 
 // Builds an analytic model from a spec string or loads a measured file. Returns null with

@@ -196,7 +196,7 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--terms", o.terms, "term counts to try (default: 1..4, more while below 40 dB)")
         ->delimiter(',')->check(CLI::Range(1, 16));
     app.add_option("--method", o.methods,
-                   "factorization methods to try (default: acls on gles1/gles2; acls and wsvd on cpu)")
+                   "factorization methods to try (default: acls and homomorphic on gles1/gles2; acls, wsvd and homomorphic on cpu)")
         ->delimiter(',')->transform(method_names());
     app.add_option("--smooth-res", o.smooth_resolutions,
                    "with --res: the other (smooth) factor's sides to try, each not above --res")

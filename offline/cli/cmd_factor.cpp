@@ -24,6 +24,7 @@ struct FactorArgs {
     std::string spec, report, plot, export_dir;
     double cap = -1;
     bool p_given = false;
+    bool param_given = false, map_given = false, terms_given = false;
     FactorOptions o;
 };
 
@@ -81,6 +82,12 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
     if (o.svd_weighted && o.method != Method::SVD && o.method != Method::WSVD)
         err = "--svd-weighted needs --method svd (it makes it wsvd)";
     if (args.p_given && o.method != Method::ND) err = "--p needs --method nd";
+    // Homomorphic factors are p(wi) q(h) p(wo): vh on the parabolic map, one term, unless given.
+    if (o.method == Method::Homomorphic) {
+        if (!args.param_given) o.param = Param::ViewHalf;
+        if (!args.map_given) o.map = HemiMap::Parabolic;
+        if (!args.terms_given) o.terms = 1;
+    }
     if (!err.empty() || !validate_factor_options(o, &err)) {
         std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
         return kExitBadInput;
@@ -178,7 +185,7 @@ CommandRun setup_factor(CLI::App& app) {
     app.add_option("--res", o.res, "texels per side of each factor")->check(CLI::Range(1, 256))->capture_default_str();
     app.add_option("--terms", o.terms, "terms to factor (errors are reported for 1..K)")
         ->check(CLI::Range(1, 16))->capture_default_str();
-    app.add_option("--method", o.method, "factorization method")->transform(method_names())->capture_default_str();
+    app.add_option("--method", o.method, "factorization method (homomorphic: p(wi) q(h) p(wo), McCool 2001; vh, parabolic, 1 term unless given)")->transform(method_names())->capture_default_str();
     app.add_option("--colour", o.colour, "rgb: per channel; luminance: one factor and a colour ratio")
         ->transform(colour_names())->capture_default_str();
     app.add_option("--supersample", o.supersample, "S x S sub-samples per texel of each factor")
@@ -203,8 +210,14 @@ CommandRun setup_factor(CLI::App& app) {
     app.add_option("--report", a->report, "write every option, the errors and timings as JSON");
     app.add_option("--plot", a->plot, "write the error against the number of terms as a plot");
     app.add_option("--export", a->export_dir, "write every factor as 16-bit PNG codes and PFM floats, and manifest.json, into DIR (the layout of sepal bake --export)");
-    return [a, p](const CommandIO& io) {
+    CLI::Option* param = app.get_option("--param");
+    CLI::Option* map = app.get_option("--map");
+    CLI::Option* terms = app.get_option("--terms");
+    return [a, p, param, map, terms](const CommandIO& io) {
         a->p_given = p->count() > 0;
+        a->param_given = param->count() > 0;
+        a->map_given = map->count() > 0;
+        a->terms_given = terms->count() > 0;
         return run_factor(*a, io);
     };
 }

@@ -38,6 +38,9 @@ int run_inspect(const std::string& path, const CommandIO& io) {
                                            std::to_string(a->diffuse_side) + " profile over the two cosines")
                                               .c_str()
                                         : "");
+    if (m.flags & SEPAL_MATERIAL_RECIPROCAL)
+        std::fprintf(io.out, "reciprocal  each term is G(x) H(y) G(x~), x~ from the swapped pair (homomorphic: "
+                             "p(wo) q(h) p(wi))\n");
     // Direction-space figures (RMS over direction pairs) are diagnostics: what a viewer sees is the
     // image error, which `sepal render` + `sepal diff` (or the bake's candidate table) measure.
     std::fprintf(io.out,
@@ -61,6 +64,7 @@ int run_inspect(const std::string& path, const CommandIO& io) {
                      p.op == SEPAL_OP_PRODUCT   ? "product"
                      : p.op == SEPAL_OP_TEXTURE ? "texture"
                      : p.op == SEPAL_OP_DIFFUSE ? "diffuse"
+                     : p.op == SEPAL_OP_RECIPROCAL ? "reciprocal"
                                                 : "constant");
         if (p.tex0 != SEPAL_FMT_NO_TEXTURE) std::fprintf(io.out, " tex%u", p.tex0);
         if (p.tex1 != SEPAL_FMT_NO_TEXTURE) std::fprintf(io.out, " x tex%u", p.tex1);

@@ -13,7 +13,7 @@ namespace {
 // *_name()/parse_*() pair.
 const Param kParams[] = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Rusinkiewicz, Param::ElevAzim};
 const HemiMap kMaps[] = {HemiMap::XY, HemiMap::Parabolic};
-const Method kMethods[] = {Method::SVD, Method::WSVD, Method::ND, Method::NMF, Method::ACLS};
+const Method kMethods[] = {Method::SVD, Method::WSVD, Method::ND, Method::NMF, Method::ACLS, Method::Homomorphic};
 const ColourMode kColours[] = {ColourMode::PerChannel, ColourMode::Luminance};
 const Target kTargets[] = {Target::Gles1, Target::Gles2, Target::Cpu};
 

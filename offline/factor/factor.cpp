@@ -15,6 +15,7 @@
 #include "util/enum_names.h"
 #include "factor/factor_internal.h"
 #include "util/io.h"
+#include "sepal/sepal_format.h"
 #include "util/parallel.h"
 
 namespace sepal {
@@ -37,7 +38,8 @@ int count_valid(const FactorOptions& o, int which) {
 }
 }  // namespace
 
-constexpr EnumName<Method> kMethods[] = {{Method::SVD, "svd"}, {Method::ND, "nd"}, {Method::NMF, "nmf"}, {Method::ACLS, "acls"}, {Method::WSVD, "wsvd"}};
+constexpr EnumName<Method> kMethods[] = {{Method::SVD, "svd"}, {Method::ND, "nd"}, {Method::NMF, "nmf"}, {Method::ACLS, "acls"}, {Method::WSVD, "wsvd"},
+                                         {Method::Homomorphic, "homomorphic"}};
 
 const char* method_name(Method m) { return enum_name(kMethods, m); }
 
@@ -69,6 +71,20 @@ bool validate_factor_options(const FactorOptions& o, std::string* err) {
                     param_name(o.param));
     if (o.acls_constant && o.terms < 2)
         return fail("--acls-constant holds term 1 constant: it needs --terms 2 or more");
+    if (o.method == Method::Homomorphic) {
+        if (o.param != Param::ViewHalf || o.map != HemiMap::Parabolic)
+            return fail("--method homomorphic fits p(wi) q(h) p(wo): it needs --param vh --map parabolic");
+        if (o.res_h != 0 && o.res_h != o.res)
+            return fail("--method homomorphic: p and q have one resolution (--res)");
+        if (o.res > SEPAL_FMT_MAX_RECIPROCAL_SIDE || o.terms > SEPAL_FMT_MAX_RECIPROCAL_TERMS)
+            return fail("--method homomorphic: at most --res " + std::to_string(SEPAL_FMT_MAX_RECIPROCAL_SIDE) +
+                        " and --terms " + std::to_string(SEPAL_FMT_MAX_RECIPROCAL_TERMS) +
+                        " (the runtime keeps a copy of p: format 2.1's bounds)");
+        if (o.dense_per_texel < 1 || o.dense_per_texel > 256) return fail("--dense-per-texel must be 1..256");
+        HomomorphicOptions h = o.homomorphic;
+        h.res = o.res, h.terms = o.terms, h.colour = o.colour;
+        return validate_homomorphic_options(h, err);
+    }
     return true;
 }
 
@@ -565,6 +581,7 @@ LowRank with_columns(const LowRank& f, int k, size_t rows, size_t cols) {
 // ---- the engine ---------------------------------------------------------------------------
 bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, std::string* err) {
     if (!validate_factor_options(o, err)) return false;
+    if (o.method == Method::Homomorphic) return detail::factor_brdf_homomorphic(brdf, o, out, err);
     FactorResult r;
     matrix_shape(o, &r.rows, &r.cols);
     if (o.terms > std::min(r.rows, r.cols)) {

@@ -48,13 +48,14 @@
 
 #include "brdf/brdf.h"
 #include "factor/factored.h"
+#include "factor/homomorphic.h"
 #include "factor/param.h"
 
 namespace sepal {
 
 // WSVD last: the others keep their values.
-enum class Method { SVD, ND, NMF, ACLS, WSVD };
-const char* method_name(Method m);  // "svd", "nd", "nmf", "acls", "wsvd"
+enum class Method { SVD, ND, NMF, ACLS, WSVD, Homomorphic };
+const char* method_name(Method m);  // "svd", "nd", "nmf", "acls", "wsvd", "homomorphic"
 bool parse_method(const std::string& name, Method* m);
 
 struct FactorOptions {
@@ -91,6 +92,13 @@ struct FactorOptions {
     // Fill FactorResult::matrix_rms (for nd one more sampling pass); benchmarks of the
     // factoring time alone turn it off.
     bool matrix_error = true;
+    // homomorphic: where the samples come from (auto: the input's scattered samples when it
+    // has them, else dense samples of eval()), dense samples per texel, and the fit's own
+    // knobs (its res, colour, terms and threads are taken from the fields above).
+    enum class Samples { Auto, Raw, Dense };
+    Samples samples = Samples::Auto;
+    int dense_per_texel = 8;
+    HomomorphicOptions homomorphic;
 };
 
 // Texels per side of factor `which` (0 = G, 1 = H).

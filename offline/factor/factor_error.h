@@ -66,6 +66,14 @@ class ErrorEvaluator {
     bool ready_ = false;
 };
 
+// The same metric at measured samples (raw Cornell data) instead of direction pairs:
+// sqrt(sum ((f~ - f) cos theta_i)^2 / sum (f cos theta_i)^2) (f~ cos theta_i from
+// evaluate_radiance: factors of f and radiance factors alike) over the samples whose half
+// angle is at least min_half_angle_deg (5 degrees leaves a mirror peak out: "off-peak"),
+// of the luminance, or of R, G and B together (rgb). 0 when no sample qualifies.
+double sample_relative_rms(const Factored& f, const std::vector<BrdfSample>& samples,
+                           double min_half_angle_deg, bool rgb);
+
 // Errors of result.by_terms[k-1] for k = 1..K, with the matrix RMS filled in.
 std::vector<TermError> measure_terms(const ErrorEvaluator& ev, const FactorResult& result);
 

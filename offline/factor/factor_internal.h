@@ -75,5 +75,9 @@ class Progress : public ::sepal::Progress {
         : ::sepal::Progress(enabled, "sepal factor: " + what, total) {}
 };
 
+// factor_brdf for Method::Homomorphic (homomorphic.cpp): picks the samples, fits every term
+// count 1..K, fills the result like the other methods.
+bool factor_brdf_homomorphic(const Brdf& brdf, const FactorOptions& o, FactorResult* out, std::string* err);
+
 }  // namespace detail
 }  // namespace sepal

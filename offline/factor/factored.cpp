@@ -90,13 +90,18 @@ glm::dvec3 sum_terms(const Factored& f, const glm::dvec3& wi, const glm::dvec3& 
         return glm::dvec3(0);
     }
     const bool wrap_g = factor_wraps(f.param, 0), wrap_h = factor_wraps(f.param, 1);
+    // Reciprocal form: G is read a second time at the swapped pair's G coordinate.
+    TexCoords swapped;
+    const bool reciprocal = f.form == Form::Reciprocal;
+    if (reciprocal) param_forward(f.param, f.map, wo, wi, &swapped);
     glm::dvec3 sum(0);
     for (int k = 0; k < k_count; ++k) {
-        double g[3], h[3];
+        double g[3], h[3], g2[3] = {1, 1, 1};
         bilinear_lookup(f.terms[size_t(k)].g, tc.x, wrap_g, g);
         bilinear_lookup(f.terms[size_t(k)].h, tc.y, wrap_h, h);
-        if (f.channels == 3) sum += glm::dvec3(g[0] * h[0], g[1] * h[1], g[2] * h[2]);
-        else sum += glm::dvec3(g[0] * h[0]);
+        if (reciprocal) bilinear_lookup(f.terms[size_t(k)].g, swapped.x, wrap_g, g2);
+        if (f.channels == 3) sum += glm::dvec3(g[0] * h[0] * g2[0], g[1] * h[1] * g2[1], g[2] * h[2] * g2[2]);
+        else sum += glm::dvec3(g[0] * h[0] * g2[0]);
         if (prefixes) prefixes[k] = sum * f.ratio;
     }
     return sum * f.ratio;

@@ -15,6 +15,9 @@
 // signed (SVD, multi-term ND); non_negative() says whether every value is >= 0. Every texel
 // holds a value: texels outside the map's valid disk were filled from valid neighbours, so
 // bilinear lookups at the rim are right.
+// Reciprocal form (homomorphic factorization, homomorphic.h): with form == Reciprocal each
+// term is G_k(x) H_k(y) G_k(x~), x~ the G coordinate of the swapped pair (wo, wi); with vh
+// that is p(wo) q(h) p(wi), reciprocal by construction.
 // The evaluator does what GL's GL_LINEAR does: bilinear between the four nearest texel
 // centres, clamped to the edge (wrapped for elev-azim's azimuth factor); it returns 0 when
 // wi or wo is at or below the horizon. It is shared by every error computation and the CPU
@@ -54,7 +57,11 @@ struct FactorTerm {
     FactorTexture g, h;  // G_k(x), H_k(y)
 };
 
+// Sum: f ~= sum_k G_k(x) H_k(y). Reciprocal: f ~= sum_k G_k(x) H_k(y) G_k(x~) (above).
+enum class Form { Sum, Reciprocal };
+
 struct Factored {
+    Form form = Form::Sum;
     Param param = Param::GsHalf;
     HemiMap map = HemiMap::XY;
     ColourMode colour = ColourMode::PerChannel;
@@ -62,7 +69,7 @@ struct Factored {
     int channels = 3;  // of every texture: 3 (PerChannel) or 1 (Luminance)
     glm::dvec3 ratio{1, 1, 1};
     std::vector<FactorTerm> terms;
-    std::string method;  // "svd", "nd", "nmf", "acls"
+    std::string method;  // "svd", "nd", "nmf", "acls", "homomorphic"
     std::string source;  // the BRDF's spec
     // Radiance factors (the bake's, format version 2): the terms approximate
     // f cos(theta_i) - diffuse cos(theta_i) rather than f, and f = sum / cos + diffuse.

@@ -43,17 +43,10 @@
 #include <Eigen/Dense>
 #include <glm/vec3.hpp>
 
+#include "brdf/brdf.h"          // BrdfSample
 #include "factor/factored.h"  // luminance(): the grey channel of channels = 1 fits
 
 namespace sepal {
-
-// One BRDF measurement in the local frame (normal +z): the value per steradian, and how much
-// it counts (1 / its standard deviation, up to a common factor; 0 drops it).
-struct BrdfSample {
-    glm::dvec3 wi{0, 0, 1}, wo{0, 0, 1};
-    glm::dvec3 value{0.0};
-    double weight = 1;
-};
 
 struct LafortuneLobe {
     double cx = -1, cy = -1, cz = 1, n = 20;

@@ -85,6 +85,12 @@ class CornellBrdf : public Brdf {
         return c;
     }
     bool isotropic() const override { return true; }
+    bool scattered_samples(std::vector<BrdfSample>* out) const override {
+        out->clear();
+        out->reserve(data_.samples.size());
+        for (const CornellSample& s : data_.samples) out->push_back({s.wi(), s.wo(), s.rgb, 1.0});
+        return true;
+    }
     std::string info() const override {
         const CornellFigures& f = figures_;
         char buf[512];

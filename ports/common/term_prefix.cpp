@@ -44,9 +44,9 @@ TermPrefix term_prefix(const sepal_asset& in, int terms, sepal_asset* out) {
     for (uint32_t p = 0; p < in.plan.pass_count; ++p) {
         const sepal_fmt_pass& pass = in.passes[p];
         int term = -1;
-        if (pass.op == SEPAL_OP_PRODUCT || pass.op == SEPAL_OP_TEXTURE) {
+        if (pass.op == SEPAL_OP_PRODUCT || pass.op == SEPAL_OP_TEXTURE || pass.op == SEPAL_OP_RECIPROCAL) {
             term = (int)in.textures[pass.tex0].desc.term;
-            if (pass.op == SEPAL_OP_PRODUCT && (int)in.textures[pass.tex1].desc.term > term)
+            if (pass.op != SEPAL_OP_TEXTURE && (int)in.textures[pass.tex1].desc.term > term)
                 term = (int)in.textures[pass.tex1].desc.term;
         } else if (pass.op == SEPAL_OP_CONSTANT) {
             term = constant_pass_term(in, pass);

@@ -269,6 +269,14 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: unknown material flags 0x%x",
                          m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS);
+    // Reciprocal materials (2.1): not radiance ones, a bounded copy for the runtime.
+    const bool reciprocal = (m.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
+    if (reciprocal && (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_RECIPROCAL) ||
+                       (m.flags & SEPAL_MATERIAL_RADIANCE) || m.terms > SEPAL_FMT_MAX_RECIPROCAL_TERMS))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: a reciprocal material needs version 2.1 (this file is %u.%u), no radiance flag, "
+                         "and at most %d terms (it has %u)",
+                         h.version_major, h.version_minor, SEPAL_FMT_MAX_RECIPROCAL_TERMS, m.terms);
     bool has_diffuse = false;
     for (int c = 0; c < 3; ++c) {
         if (!(m.diffuse[c] >= 0.0f && m.diffuse[c] <= SEPAL_FMT_MAX_RATIO))
@@ -289,6 +297,11 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                              "has %u terms of %u channels",
                              i, d.term, d.channels, m.terms, m.channels);
         ++seen[d.term][d.role];
+        if (reciprocal && d.role == SEPAL_ROLE_G &&
+            (d.width > SEPAL_FMT_MAX_RECIPROCAL_SIDE || d.height > SEPAL_FMT_MAX_RECIPROCAL_SIDE))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: texture %u is a reciprocal G texture of %ux%u (at most %dx%d)", i, d.width,
+                             d.height, SEPAL_FMT_MAX_RECIPROCAL_SIDE, SEPAL_FMT_MAX_RECIPROCAL_SIDE);
     }
     for (uint32_t k = 0; k < m.terms; ++k)
         if (seen[k][SEPAL_ROLE_G] != 1 || seen[k][SEPAL_ROLE_H] != 1)
@@ -315,12 +328,16 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     uint32_t diffuse_passes = 0;
     for (uint32_t i = 0; i < plan.pass_count; ++i) {
         const sepal_fmt_pass& p = out->passes[i];
-        const int needs = p.op == SEPAL_OP_PRODUCT ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
-        // Op 3 is reserved for another branch's reciprocal product.
-        if (p.op >= SEPAL_OP_COUNT || p.op == 3 || p.blend >= SEPAL_BLEND_COUNT ||
-            (p.op == SEPAL_OP_DIFFUSE && h.version_major < 2))
+        const int needs = p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
+        if (p.op >= SEPAL_OP_COUNT || p.blend >= SEPAL_BLEND_COUNT || (p.op == SEPAL_OP_DIFFUSE && h.version_major < 2))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has unknown op %u or blend %u",
                              i, p.op, p.blend);
+        // A reciprocal material draws RECIPROCAL passes only (or the all-zero plan's one
+        // CONSTANT pass); the op needs the material (and so version 2.1).
+        if (reciprocal ? !(p.op == SEPAL_OP_RECIPROCAL || (p.op == SEPAL_OP_CONSTANT && plan.pass_count == 1))
+                       : p.op == SEPAL_OP_RECIPROCAL)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has op %u in a %s material", i, p.op,
+                             reciprocal ? "reciprocal" : "non-reciprocal");
         if (p.op == SEPAL_OP_DIFFUSE) {
             ++diffuse_passes;
             if (p.blend != SEPAL_BLEND_ADD)
@@ -334,6 +351,13 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
                                  "asset: pass %u texture slot %d is %u (%u textures; unused slots "
                                  "must be 0xFFFF)",
                                  i, k, tex[k], out->texture_count);
+        }
+        if (p.op == SEPAL_OP_RECIPROCAL) {
+            const sepal_fmt_texture& g = out->textures[p.tex0].desc;
+            const sepal_fmt_texture& hh = out->textures[p.tex1].desc;
+            if (p.blend != SEPAL_BLEND_ADD || g.role != SEPAL_ROLE_G || hh.role != SEPAL_ROLE_H || g.term != hh.term)
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: reciprocal pass %u must add one term's G (tex0) and H (tex1) texture", i);
         }
         // A product is one term's G (slot 0) times the same term's H (slot 1): what the CPU
         // backend and the fused shaders sum (G_k H_k), so the plan paths draw the same thing.

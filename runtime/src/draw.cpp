@@ -28,7 +28,7 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     if (r != SEPAL_OK) return r;
     memset(stats, 0, sizeof *stats);
     prep.vertices = srt::setup_vertices((sepal_param)m->info.param, (sepal_hemi_map)m->info.map, *d->mesh,
-                                        *d->scene, d->scratch);
+                                        *d->scene, d->scratch, (m->info.flags & SEPAL_MATERIAL_RECIPROCAL) != 0);
     const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, prep.vertices.bad_vertices);
     if (tri.bad_index >= 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: index %d is %u; the mesh has %d vertices",

@@ -93,10 +93,17 @@ void shade(void* user, int x, int y, float, const float* v) {
             ++s.st.below_horizon;
             continue;
         }
+        // Reciprocal materials (format 2.1) read G a second time at the swapped pair (wo, wi).
+        const bool reciprocal = (a.material.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
+        float g2uv[2] = {0, 0}, unused[2];
+        if (reciprocal)
+            srt::param_texcoords((sepal_param)a.material.param, (sepal_hemi_map)a.material.map, wo, wi, g2uv, unused,
+                                 true, nullptr);
         float f[3] = {0, 0, 0};
         for (uint32_t k = 0; k < a.material.terms; ++k)
             for (int c = 0; c < channels; ++c)
-                f[c] += sample(*s.g[k], guv[0], guv[1], c, false) * sample(*s.h[k], huv[0], huv[1], c, wraps_h);
+                f[c] += sample(*s.g[k], guv[0], guv[1], c, false) * sample(*s.h[k], huv[0], huv[1], c, wraps_h) *
+                        (reciprocal ? sample(*s.g[k], g2uv[0], g2uv[1], c, false) : 1.0f);
         if (channels == 1) f[1] = f[2] = f[0];
         for (int c = 0; c < 3; ++c) f[c] *= a.material.ratio[c];
         // A signed factorization can dip below 0 where f is near 0: clamp per light, as

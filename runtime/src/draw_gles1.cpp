@@ -140,7 +140,8 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
         set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, pass.op == SEPAL_OP_TEXTURE ? scale : 1);
-        if (pass.op == SEPAL_OP_PRODUCT) {
+        // A reciprocal pass's third factor is in its vertex colour (fill_colors).
+        if (srt::pass_texture_count(pass) == 2) {
             bind_unit(GL_TEXTURE1, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
             set_env_modulate(GL_PREVIOUS, GL_TEXTURE, scale);
         } else {
@@ -172,7 +173,7 @@ void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inve
     glClear(GL_COLOR_BUFFER_BIT);  // depth stays: EQUAL keeps testing against the pre-pass
     glDisable(GL_BLEND);
     bind_unit(GL_TEXTURE1, 0, nullptr);
-    if (pass.op == SEPAL_OP_PRODUCT) {
+    if (srt::pass_texture_count(pass) == 2) {
         // The second factor first, alone: its 8-bit texels land in the framebuffer
         // exactly. Then first factor x colour through a multiplicative blend: the product
         // is rounded once, as on the two-unit path (colour x G first would round the

@@ -38,7 +38,8 @@ const char kFusedPixelFrag[] =
 
 const char* const kPassAttribs[] = {"a_position", "a_color", "a_uv0", "a_uv1", nullptr};
 const char* const kFullscreenAttribs[] = {"a_position", "a_uv", nullptr};
-const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g", "a_uv_h", "a_irradiance", "a_diffuse", nullptr};
+const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g",   "a_uv_h", "a_irradiance",
+                                           "a_diffuse",  "a_uv_g2", nullptr};
 const char* const kFusedPixelAttribs[] = {"a_position", "a_normal", "a_tangent", nullptr};
 
 struct Frame {
@@ -61,9 +62,9 @@ void mat4_mul(const float* a, const float* b, float* out) {
         }
 }
 
-// Enables attribute arrays 0..count-1 and disables the rest of the 5 the programs use.
+// Enables attribute arrays 0..count-1 and disables the rest of the 6 the programs use.
 void attribs(int count) {
-    for (GLuint i = 0; i < 5; ++i) (int)i < count ? glEnableVertexAttribArray(i) : glDisableVertexAttribArray(i);
+    for (GLuint i = 0; i < 6; ++i) (int)i < count ? glEnableVertexAttribArray(i) : glDisableVertexAttribArray(i);
 }
 
 GLint loc(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
@@ -131,7 +132,7 @@ void multipass(const Frame& f) {
         glUniform1i(op_loc, srt::pass_texture_count(pass));
         glUniform1f(scale_loc, (float)pass.rgb_scale);
         if (srt::pass_texture_count(pass) >= 1) bind_texture(GL_TEXTURE0, m->gl_textures[pass.tex0]);
-        if (pass.op == SEPAL_OP_PRODUCT) bind_texture(GL_TEXTURE1, m->gl_textures[pass.tex1]);
+        if (srt::pass_texture_count(pass) == 2) bind_texture(GL_TEXTURE1, m->gl_textures[pass.tex1]);
         for (int l = 0; l < lights; ++l) {
             srt::fill_pass_colors(m->info, pass, srt::pass_inputs(m, f.scratch, n, lights, l), f.exposure, n, colors);
             auto uv = [&](uint16_t tex) {
@@ -144,7 +145,7 @@ void multipass(const Frame& f) {
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0,
                                   srt::pass_texture_count(pass) >= 1 ? uv(pass.tex0) : srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0,
-                                  pass.op == SEPAL_OP_PRODUCT ? uv(pass.tex1) : srt::light_g_uv(f.scratch, n, l));
+                                  srt::pass_texture_count(pass) == 2 ? uv(pass.tex1) : srt::light_g_uv(f.scratch, n, l));
             draw_mesh(f);
         }
     }
@@ -180,6 +181,7 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
         }
     }
     glUniform1i(loc(p, "u_terms"), count);
+    glUniform1i(loc(p, "u_reciprocal"), (m->info.flags & SEPAL_MATERIAL_RECIPROCAL) ? 1 : 0);
     glUniform3fv(loc(p, "u_ratio"), 1, m->info.ratio);
     // Version 1: the factors are f, times cos(theta_i); radiance materials hold the cosine
     // in the factors and add the diffuse part times it (once: with the first group).
@@ -260,8 +262,10 @@ void fused(const Frame& f, bool per_pixel) {
             float* dif = srt::second_colors(f.scratch, n, scene.light_count);
             srt::fill_pass_colors(m->info, textured, in, 1.0f, n, irr);
             srt::fill_pass_colors(m->info, diffuse, in, 1.0f, n, dif);
-            attribs(5);
+            const bool reciprocal = (m->info.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
+            attribs(reciprocal ? 6 : 5);
             glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+            if (reciprocal) glVertexAttribPointer(5, 2, GL_FLOAT, GL_FALSE, 0, srt::light_swapped_uv(f.scratch, n, l));
             glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, srt::light_h_uv(f.scratch, n, l));
             glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, irr);

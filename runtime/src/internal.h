@@ -61,9 +61,10 @@ int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const fl
 // (1/d^2 for point lights, 1 for directional ones).
 float light_direction(const struct sepal_light& light, const float position[3], float dir[3]);
 
-// Textures a pass reads: PRODUCT 2, TEXTURE 1, CONSTANT and DIFFUSE none.
+// Texture units a pass reads: PRODUCT and RECIPROCAL 2 (a reciprocal pass's third lookup
+// is per vertex, in its colour: vertex_setup.h), TEXTURE 1, CONSTANT and DIFFUSE none.
 inline int pass_texture_count(const sepal_fmt_pass& p) {
-    return p.op == SEPAL_OP_PRODUCT ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
+    return p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
 }
 // GL ES 1.1 clamps vertex colours at 1: textured passes send colour / boost and scale by 4
 // in their last combiner stage (GL_RGB_SCALE accepts 1, 2 or 4), boost = 4 / rgb_scale;

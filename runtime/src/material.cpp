@@ -121,7 +121,7 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
         // One texture unit: a product pass forms colour x tex0 (x the combiner's scale)
         // before the blend multiplies it by tex1, and GL clamps that stage at 1: its peak
         // per unit irradiance bounds the exposure too (see sepal_draw).
-        if (pass.op == SEPAL_OP_PRODUCT && caps->gles_version == 1 && caps->texture_units < 2) {
+        if (srt::pass_texture_count(pass) == 2 && caps->gles_version == 1 && caps->texture_units < 2) {
             const float q = max_q(asset->textures[pass.tex0]);
             for (int c = 0; c < 3; ++c) {
                 const float v = pass.color[c] * q * (float)pass.rgb_scale;
@@ -150,7 +150,26 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
         const sepal_fmt_texture& td = asset->textures[i].desc;
         out->texture_role[i] = td.role;
         out->term_textures[td.term][td.role] = i;  // the reader checked one G and one H per term
+        out->texture_term[i] = td.term;
         for (int c = 0; c < 3; ++c) out->texture_scale[i][c] = td.scale[c], out->texture_bias[i][c] = td.bias[c];
+        // Reciprocal materials: the G texture's level 0 for the per-vertex third lookup (the
+        // reader bounded its side and the terms), rounded to 8 bits as the upload rounds it.
+        if ((info.flags & SEPAL_MATERIAL_RECIPROCAL) && td.role == SEPAL_ROLE_G) {
+            const size_t values = (size_t)td.width * td.height * td.channels;
+            uint8_t* dst = out->reciprocal_g[td.term];
+            const uint8_t* src = asset->textures[i].level_data[0];
+            for (size_t k = 0; k < values; ++k) {
+                if (td.bits == 8) {
+                    dst[k] = src[k];
+                } else {
+                    uint16_t q;
+                    memcpy(&q, src + 2 * k, 2);
+                    dst[k] = (uint8_t)((q * 255u + 32767u) / 65535u);
+                }
+            }
+            out->reciprocal_width[td.term] = td.width;
+            out->reciprocal_height[td.term] = td.height;
+        }
     }
     return srt::ok(err);
 }

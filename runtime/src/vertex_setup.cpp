@@ -7,7 +7,7 @@
 namespace srt {
 
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
-                                 const sepal_scene& scene, float* scratch) {
+                                 const sepal_scene& scene, float* scratch, bool swapped) {
     VertexSetupResult r = {0.0f, 0.0f, 0.0f, 0.0f, 0, 0, 0, 0, 0};
     const int n = mesh.vertex_count;
     float* frames = vertex_frames(scratch, n, scene.light_count);
@@ -25,6 +25,10 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
                 float* e = light_irradiance(scratch, n, l) + 3 * (size_t)i;
                 g[0] = g[1] = h[0] = h[1] = 0.5f;
                 e[0] = e[1] = e[2] = 0.0f;
+                if (swapped) {
+                    float* x = light_swapped_uv(scratch, n, l) + 2 * (size_t)i;
+                    x[0] = x[1] = 0.5f;
+                }
                 light_cosine(scratch, n, l)[i] = 0.0f;
                 view_cosine(scratch, n, scene.light_count)[i] = 0.0f;
             }
@@ -51,6 +55,11 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
             // Every parameterization: the per-pixel-only ones' coordinates go unused, but
             // their horizon test and fallbacks count (the fused-pixel path's stats).
             const int above = param_texcoords(param, map, wi, wo, g, h, true, &r.param_fallbacks);
+            if (swapped) {  // x~: G at (wo, wi); its frame fallbacks are this pair's, not counted twice
+                float unused[2];
+                param_texcoords(param, map, wo, wi, light_swapped_uv(scratch, n, l) + 2 * (size_t)i, unused, true,
+                                nullptr);
+            }
             const float cosine = above > 0 ? wi[2] : 0.0f;
             light_cosine(scratch, n, l)[i] = cosine;
             if (above <= 0) ++r.below_horizon;
@@ -84,19 +93,37 @@ PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int light
     in.view_cosine = view_cosine(scratch, n, lights);
     in.profile = m->diffuse_side ? m->diffuse_profile : nullptr;
     in.profile_side = m->diffuse_side;
+    in.swapped_uv = light_swapped_uv(scratch, n, light);
+    in.material = m;
     return in;
+}
+
+float reciprocal_lookup(const sepal_material* m, uint32_t term, const float uv[2], int c) {
+    const int w = (int)m->reciprocal_width[term], h = (int)m->reciprocal_height[term];
+    const int ch = (int)m->info.channels, cc = ch == 1 ? 0 : c;
+    const uint8_t* t = m->reciprocal_g[term];
+    const float x = uv[0] * (float)w - 0.5f, y = uv[1] * (float)h - 0.5f;
+    const float fx = floorf(x), fy = floorf(y), ax = x - fx, ay = y - fy;
+    auto clampi = [](float k, int size) { return k < 0.0f ? 0 : k >= (float)(size - 1) ? size - 1 : (int)k; };
+    const int x0 = clampi(fx, w), x1 = clampi(fx + 1.0f, w), y0 = clampi(fy, h), y1 = clampi(fy + 1.0f, h);
+    auto at = [&](int i, int j) { return (float)t[((size_t)j * (size_t)w + (size_t)i) * (size_t)ch + (size_t)cc]; };
+    return ((1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1))) /
+           255.0f;
 }
 
 void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass, const PassInputs& in, float scale,
                       int n, float* rgba) {
     const bool uses_cosine = pass_uses_cosine(info, pass);
     const bool profile = pass.op == SEPAL_OP_DIFFUSE && in.profile;
+    const bool third = pass.op == SEPAL_OP_RECIPROCAL && in.material;
+    const uint32_t term = third ? in.material->texture_term[pass.tex0] : 0;
     for (int i = 0; i < n; ++i) {
         // Per channel: a luminance material's colour ratio is in the pass colour.
         const float s = uses_cosine ? scale * in.cosine[i] : scale;
         for (int k = 0; k < 3; ++k) {
             float v = pass.color[k] * in.irradiance[3 * i + k] * s;
             if (profile) v *= sepal_diffuse_profile(in.profile, in.profile_side, in.cosine[i], in.view_cosine[i], k);
+            if (third) v *= reciprocal_lookup(in.material, term, in.swapped_uv + 2 * (size_t)i, k);
             rgba[4 * i + k] = v;
         }
         rgba[4 * i + 3] = 1.0f;

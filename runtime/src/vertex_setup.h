@@ -10,14 +10,15 @@
 
 namespace srt {
 
-// Scratch layout for N vertices and L lights: per light l, at l * 8N: G uv (2N), H uv
+// Scratch layout for N vertices and L lights: per light l, at l * 10N: G uv (2N), H uv
 // (2N), irradiance RGB E = I / d^2 (3N; 0 where the light or the eye is below the
-// horizon), cos(theta_i) (1N; 0 there too); then 4N floats of colours for the pass being
+// horizon), cos(theta_i) (1N; 0 there too), the G uv of the swapped pair (wo, wi) (2N:
+// reciprocal materials' third lookup, x~; filled only for them); then 4N floats of colours for the pass being
 // drawn; then 7N floats of per-vertex attributes as the per-pixel paths interpolate them
 // (normal 3, tangent 4: the mesh's, with unusable tangents replaced; see
 // repaired_attributes); then N floats of cos(theta_o) (0 for an eye below the horizon);
 // then 4N floats of a second colour array (the fused path's diffuse term).
-constexpr size_t kLightFloats = 8;
+constexpr size_t kLightFloats = 10;
 inline size_t scratch_floats(int vertices, int lights) {
     return (size_t)vertices * (kLightFloats * (size_t)lights + 4 + 7 + 1 + 4);
 }
@@ -25,6 +26,7 @@ inline float* light_g_uv(float* s, int n, int l) { return s + (size_t)l * kLight
 inline float* light_h_uv(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 2 * (size_t)n; }
 inline float* light_irradiance(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 4 * (size_t)n; }
 inline float* light_cosine(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 7 * (size_t)n; }
+inline float* light_swapped_uv(float* s, int n, int l) { return s + (size_t)l * kLightFloats * n + 8 * (size_t)n; }
 inline float* pass_colors(float* s, int n, int lights) { return s + (size_t)lights * kLightFloats * n; }
 inline float* vertex_frames(float* s, int n, int lights) {
     return s + (size_t)lights * kLightFloats * n + 4 * (size_t)n;
@@ -56,15 +58,21 @@ inline float pass_irradiance_peak(const VertexSetupResult& v, bool uses_cosine) 
     return uses_cosine ? v.max_irradiance_single : v.max_lit_single;
 }
 
-// What a pass's vertex colour is made of, for one light: E, cos(theta_i), and for DIFFUSE
-// passes with a profile, cos(theta_o) and the profile.
+// What a pass's vertex colour is made of, for one light: E, cos(theta_i), for DIFFUSE
+// passes with a profile, cos(theta_o) and the profile, and for RECIPROCAL passes the third
+// lookup (tex0 at x~, from the material's copy).
 struct PassInputs {
     const float* irradiance;    // 3 per vertex
     const float* cosine;        // cos(theta_i) per vertex
     const float* view_cosine;   // cos(theta_o) per vertex
     const float* profile;       // the material's diffuse profile, or NULL
     uint32_t profile_side;
+    const float* swapped_uv;    // x~, 2 per vertex (reciprocal materials)
+    const sepal_material* material;
 };
+// The RECIPROCAL pass's third factor: the stored q of term `term`'s G texture at uv,
+// channel c (bilinear at level 0, clamped to the edge, as GL_LINEAR; the material's 8-bit copy).
+float reciprocal_lookup(const sepal_material* m, uint32_t term, const float uv[2], int c);
 PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light);
 // RGBA vertex colours of one pass and light: color * E (* cos) (* profile) * scale per
 // vertex, alpha 1.
@@ -72,8 +80,9 @@ void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass
                       int n, float* rgba);
 
 // Bad vertices get zero irradiance and finite coordinates; the draws skip their triangles.
+// swapped: also fill light_swapped_uv (reciprocal materials).
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
-                                 const sepal_scene& scene, float* scratch);
+                                 const sepal_scene& scene, float* scratch, bool swapped = false);
 
 struct TriangleCheck {
     int skipped;    // triangles with a bad vertex (not drawn)

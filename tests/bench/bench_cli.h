@@ -31,6 +31,14 @@ struct BenchCli {
         app.add_option("--build", build, "the build folder whose binaries are measured")->capture_default_str();
     }
 
+    // The usual pair of a bench over named materials: --only NAME and --threads N.
+    std::string only;
+    int threads = 0;
+    void add_only_and_threads(const std::string& only_help) {
+        app.add_option("--only", only, only_help);
+        app.add_option("--threads", threads, "threads, 0 = all cores")->check(CLI::Range(0, 256));
+    }
+
     int parse(int argc, char** argv) {
         try {
             app.parse(argc, argv);

@@ -92,14 +92,13 @@ bool scene_of(const std::vector<std::string>& flags, sepal_ports::SceneSetup* s,
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string only;
-    int threads = 0;
     BenchCli cli("sepal-bench-fidelity",
                  "The default bake of issue 13's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
                  "bytes, bake seconds; writes OUT/fidelity.json and OUT/fidelity.md");
-    cli.app.add_option("--only", only, "one material label");
-    cli.app.add_option("--threads", threads, "bake threads, 0 = all cores")->check(CLI::Range(0, 256));
+    cli.add_only_and_threads("one material label");
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    const std::string& only = cli.only;
+    const int threads = cli.threads;
     const std::string& out = cli.out;
     std::string err;
     sepal_ports::SceneSetup def, grazing;

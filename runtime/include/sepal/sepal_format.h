@@ -33,6 +33,14 @@
 // and the profile, evaluated per vertex like the texture coordinates. A version-1 file means
 // what it always meant (flags 0, diffuse 0). Writers write 1.0 unless a version-2 feature
 // is used, so older assets stay byte-identical; readers of 1.x refuse 2.x (major).
+// Version 2.1 adds reciprocal materials (SEPAL_MATERIAL_RECIPROCAL: homomorphic
+// factorization, McCool, Ang and Ahmad 2001): each term is G_k(x) H_k(y) G_k(x~), x~ the G
+// coordinate of the swapped pair (wo, wi) (with vh: p(wo) q(h) p(wi), reciprocal by
+// construction), drawn by SEPAL_OP_RECIPROCAL passes. The third lookup depends on the light
+// but not on the pixel's texture coordinates, so the multipass backends evaluate it per
+// vertex into the vertex colour, like the diffuse profile (GL ES 1.1 has two texture
+// units); the CPU backend and the fused per-pixel shader evaluate it per pixel. Writers write
+// 2.1 only for reciprocal assets; a 2.0 reader refuses them at the unknown op.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -46,7 +54,9 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 0
+#define SEPAL_FMT_VERSION_MINOR 1
+// The minor version of version-2 assets without reciprocal materials (2.1's only addition).
+#define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
 
 #define SEPAL_FMT_MAX_FILE_BYTES (64u << 20)
@@ -73,6 +83,11 @@ extern "C" {
 #define SEPAL_FMT_TAG_META SEPAL_FMT_TAG('M', 'E', 'T', 'A')
 #define SEPAL_FMT_TAG_DIFFUSE SEPAL_FMT_TAG('D', 'I', 'F', 'F')
 #define SEPAL_FMT_MAX_DIFFUSE_SIDE 32
+// Reciprocal materials (2.1): the runtime keeps a copy of each term's G texture (level 0,
+// 8 bits) for the per-vertex third lookup, so both are bounded: McCool's published factors
+// are 64x64, one term.
+#define SEPAL_FMT_MAX_RECIPROCAL_SIDE 64
+#define SEPAL_FMT_MAX_RECIPROCAL_TERMS 2
 
 // Parameterizations (NOTES.md section 1). Per-vertex (GL ES 1.1) paths can use the first
 // three; the last two need per-pixel evaluation (shaders or the CPU).
@@ -99,7 +114,10 @@ typedef enum sepal_pass_op {
     SEPAL_OP_PRODUCT = 0,   // colour * tex0 * tex1
     SEPAL_OP_TEXTURE = 1,   // colour * tex0
     SEPAL_OP_CONSTANT = 2,  // colour
-    // 3 is reserved (homomorphic factorization's reciprocal product, another branch).
+    // colour * tex0(x) * tex1(y) * tex0(x~) (version 2.1, reciprocal materials only): tex0 is
+    // a term's G texture, read a second time at x~ (the G coordinate of the swapped pair
+    // (wo, wi)), tex1 the same term's H texture; always added.
+    SEPAL_OP_RECIPROCAL = 3,
     SEPAL_OP_DIFFUSE = 4,   // colour, times cos(theta_i) (version 2): a radiance material's
                             // diffuse part; no texture
     SEPAL_OP_COUNT = 5
@@ -156,7 +174,11 @@ typedef struct sepal_fmt_material {
 
 // sepal_fmt_material.flags
 #define SEPAL_MATERIAL_RADIANCE 1u  // the factors include cos(theta_i) (see the top)
-#define SEPAL_MATERIAL_KNOWN_FLAGS 1u
+// Version 2.1: each term is G_k(x) H_k(y) G_k(x~) (see the top). Not with RADIANCE; every
+// pass is a RECIPROCAL one (or the all-zero plan's one CONSTANT pass); at most
+// SEPAL_FMT_MAX_RECIPROCAL_TERMS terms, G textures at most SEPAL_FMT_MAX_RECIPROCAL_SIDE.
+#define SEPAL_MATERIAL_RECIPROCAL 2u
+#define SEPAL_MATERIAL_KNOWN_FLAGS 3u
 
 typedef struct sepal_fmt_texture {
     uint32_t width, height;  // powers of two, 1..SEPAL_FMT_MAX_TEXTURE_SIDE

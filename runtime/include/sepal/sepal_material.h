@@ -37,6 +37,13 @@
 //     multiplicative blend), the running sum kept in a texture (glCopyTexSubImage2D)
 //     and added back with a full-screen pass; the exposure also keeps colour x G below 1,
 //     where GL clamps it before the blend.
+// Reciprocal materials (format 2.1, homomorphic factors p(wi) q(h) p(wo)): a RECIPROCAL
+// pass is drawn as a product pass (tex0 x tex1 on two units, or the one-unit path) whose
+// vertex colour also carries the third lookup, tex0 at the swapped pair's coordinate (vh:
+// p(wi)), sampled on the CPU per vertex and light from a copy of the texture kept in the
+// material (bilinear at level 0, 8 bits), like the diffuse profile. GL ES 2 multipass does
+// the same; the fused shaders read it from the texture (per pixel, or at per-vertex
+// coordinates); the CPU backend per pixel.
 // Framebuffer objects are not needed by any GL ES 1.1 path.
 // Limits: viewport up to the size given at creation (copy textures are sized then);
 // 16-bit assets are rounded to 8 bits at upload (GL ES 1.1 has no 16-bit textures).
@@ -71,6 +78,13 @@ typedef struct sepal_material {
     float diffuse_profile[SEPAL_FMT_MAX_DIFFUSE_SIDE * SEPAL_FMT_MAX_DIFFUSE_SIDE * 3];
     uint32_t diffuse_side;
     uint32_t diffuse_texture;  // GL ES 2: the profile as an RGB texture (fused per-pixel), or 0
+    // A reciprocal material (format 2.1): per term, its G texture's level 0 in 8 bits (16-bit
+    // assets rounded as the upload rounds them), for the RECIPROCAL passes' per-vertex third
+    // lookup; texture_term maps a texture index to its term.
+    uint8_t reciprocal_g[SEPAL_FMT_MAX_RECIPROCAL_TERMS]
+                        [SEPAL_FMT_MAX_RECIPROCAL_SIDE * SEPAL_FMT_MAX_RECIPROCAL_SIDE * 3];
+    uint32_t reciprocal_width[SEPAL_FMT_MAX_RECIPROCAL_TERMS], reciprocal_height[SEPAL_FMT_MAX_RECIPROCAL_TERMS];
+    uint32_t texture_term[SEPAL_FMT_MAX_TEXTURES];
     int single_unit;          // one texture unit: products through the copy texture
     int subtract_by_inversion;  // no blend subtract: invert, add, invert back
     int has_negative_passes;

@@ -124,8 +124,11 @@ TEST_CASE("format 2: the reader refuses inconsistent radiance materials, naming 
     a.passes[0].op = SEPAL_OP_CONSTANT;  // a diffuse part with no DIFFUSE pass
     CHECK(refusal(a).find("DIFFUSE passes") != std::string::npos);
     a = radiance_asset(false);
-    a.passes[0].op = 3;  // reserved for the reciprocal product
-    CHECK(refusal(a).find("unknown op 3") != std::string::npos);
+    a.passes[0].op = SEPAL_OP_RECIPROCAL;  // only in reciprocal materials (format 2.1)
+    CHECK(refusal(a).find("op 3 in a non-reciprocal material") != std::string::npos);
+    a = radiance_asset(false);
+    a.passes[0].op = SEPAL_OP_COUNT;
+    CHECK(refusal(a).find("unknown op 5") != std::string::npos);
     a = radiance_asset(true);
     a.diffuse_profile[5] = 1.5f;
     CHECK(refusal(a).find("outside [0,1]") != std::string::npos);

@@ -75,9 +75,10 @@ TEST_CASE("cli defect 3: bake names the weighted SVD wsvd; svd is the paper's pl
     CHECK(svd > 0);
     CHECK(wsvd > 0);
     CHECK(svd > 5 * wsvd);
-    // The default search names its methods (acls on GL ES, acls and wsvd on cpu).
+    // The default search names its methods (acls and homomorphic on GL ES, acls, wsvd and
+    // homomorphic on cpu).
     REQUIRE(run(sepal::cmd_bake, {"--help"}, &out) == 0);
-    CHECK(contains(out, "acls and wsvd on cpu"));
+    CHECK(contains(out, "acls, wsvd and homomorphic on cpu"));
     // factor: --method wsvd is svd --svd-weighted.
     REQUIRE(run(sepal::cmd_factor, {"lambert", "--res", "16", "--terms", "1", "--method", "wsvd"}, &out) == 0);
     CHECK(contains(out, "wsvd"));
