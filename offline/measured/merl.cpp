@@ -161,32 +161,47 @@ bool parse_merl(const std::vector<uint8_t>& bytes, const std::string& name, Tabu
                     " (12-byte header + 3 x 1458000 float64): " +
                     (bytes.size() < kMerlFileBytes ? "truncated" : "extra bytes at the end"));
 
-    const size_t n = kMerlCells;
-    const uint8_t* data = &bytes[12];
+    *table = Tabulated::merl();
+    std::string why;
+    if (!decode_merl_planes(
+            &bytes[12], kMerlCells,
+            [&](size_t i, const glm::dvec3& rgb, bool missing) {
+                if (missing)
+                    table->set_missing(i);  // none of its channels is used
+                else
+                    table->set(i, rgb);
+            },
+            stats, &why))
+        return fail(why);
+    return true;
+}
+
+bool decode_merl_planes(const uint8_t* planes, size_t n,
+                        const std::function<void(size_t, const glm::dvec3&, bool)>& cell,
+                        MerlStats* stats, std::string* why) {
     // Sample data in the other byte order: most values read as NaN, inf or absurd
     // magnitudes, and swapping makes them sane.
     size_t bad_le = 0, bad_be = 0;
     for (size_t v = 0; v < 3 * n; ++v) {
-        bad_le += !plausible(load_f64(data + 8 * v, false));
-        bad_be += !plausible(load_f64(data + 8 * v, true));
+        bad_le += !plausible(load_f64(planes + 8 * v, false));
+        bad_be += !plausible(load_f64(planes + 8 * v, true));
     }
-    if (bad_le > 3 * n / 4 && bad_be < 3 * n / 100) {
+    if (n > 0 && bad_le > 3 * n / 4 && bad_be < 3 * n / 100) {
         char buf[160];
         std::snprintf(buf, sizeof buf,
                       "sample data looks byte-swapped (big-endian): %.1f%% of values are NaN, "
                       "inf or absurd as little-endian, %.2f%% when swapped",
                       100.0 * bad_le / (3 * n), 100.0 * bad_be / (3 * n));
-        return fail(buf);
+        if (why) *why = buf;
+        return false;
     }
-
-    *table = Tabulated::merl();
     MerlStats st;
     st.cells = n;
     for (size_t i = 0; i < n; ++i) {
         double rgb[3];
         bool missing = false;
         for (int c = 0; c < 3; ++c) {
-            const double v = load_f64(data + 8 * (c * n + i), false);
+            const double v = load_f64(planes + 8 * (c * n + i), false);
             if (std::isnan(v)) {
                 ++st.nan;
                 missing = true;
@@ -202,12 +217,8 @@ bool parse_merl(const std::vector<uint8_t>& bytes, const std::string& name, Tabu
             }
             rgb[c] = v * kMerlScale[c];
         }
-        if (missing) {
-            ++st.missing_cells;
-            table->set_missing(i);  // none of its channels is used
-        } else {
-            table->set(i, glm::dvec3(rgb[0], rgb[1], rgb[2]));
-        }
+        if (missing) ++st.missing_cells;
+        cell(i, missing ? glm::dvec3(0.0) : glm::dvec3(rgb[0], rgb[1], rgb[2]), missing);
     }
     if (stats) *stats = st;
     return true;

@@ -20,6 +20,7 @@
 // Limits: the whole file is held in memory (35 MB plus a 1,458,000-cell float table).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,6 +46,13 @@ struct MerlStats {
 bool parse_merl(const std::vector<uint8_t>& bytes, const std::string& name, Tabulated* table,
                 MerlStats* stats, std::string* err);
 bool read_merl(const std::string& path, Tabulated* table, MerlStats* stats, std::string* err);
+// parse_merl's sample decoding on its own, for n cells (three planes of n float64 at
+// `planes`): the byte-order check, then cell(i, rgb, missing) for each cell in order (rgb in
+// BRDF units, zero when missing). Any n, so the fuzz harness drives it with small tables
+// (a whole file takes seconds under ASan). Fails, with *why, on byte-swapped data.
+bool decode_merl_planes(const uint8_t* planes, size_t n,
+                        const std::function<void(size_t, const glm::dvec3&, bool)>& cell,
+                        MerlStats* stats, std::string* why);
 
 // Tabulates f into MERL bytes / an atomically written file. Fails (never writes) when f
 // returns a negative or non-finite value at a bin centre.

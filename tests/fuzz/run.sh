@@ -19,9 +19,9 @@ for name in "$@"; do
     cornell) for f in fixtures/cornell/*.brdf; do head -c 8192 "$f" > "$corpus/seed-$(basename "$f")"; done ;;
     png) for f in fixtures/golden/*.png; do tail -c +9 "$f" > "$corpus/seed-$(basename "$f")"; done ;;
   esac
-  # A whole MERL file is 35 MB: one parse of it under ASan takes a second or two, so the merl
-  # harness's per-input limit is 10 s (its header-only inputs take microseconds).
-  limit="$timeout"; [ "$name" = merl ] && limit=10
+
+
+  limit="$timeout"
   # ASan's default for allocations is 3 GB; libFuzzer's RSS limit 2 GB: the readers' own
   # bounds (images up to 16384^2, 2 GB files) must keep inside them.
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \

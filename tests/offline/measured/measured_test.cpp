@@ -537,6 +537,31 @@ TEST_CASE("measured: NaN, inf, negative and huge MERL samples are counted as mis
     CHECK(got.x == doctest::Approx(ref.x).epsilon(0.05));
 }
 
+TEST_CASE("measured: decode_merl_planes classifies a small table's cells, in order") {
+    // Three cells: fine, a NaN green, a negative blue; planes are red, green, blue.
+    const double v[9] = {1500.0, 3.0, 6.0, 1500.0, std::numeric_limits<double>::quiet_NaN(), 6.0, 1500.0, 3.0, -1.0};
+    std::vector<uint8_t> planes(sizeof v);
+    std::memcpy(planes.data(), v, sizeof v);  // little-endian host (x86, ARM)
+    std::vector<int> missing;
+    std::vector<glm::dvec3> rgb;
+    sepal::MerlStats st;
+    std::string why;
+    REQUIRE_MESSAGE(sepal::decode_merl_planes(
+                        planes.data(), 3,
+                        [&](size_t i, const glm::dvec3& c, bool m) {
+                            CHECK(i == rgb.size());
+                            rgb.push_back(c);
+                            missing.push_back(m);
+                        },
+                        &st, &why),
+                    why);
+    CHECK(missing == std::vector<int>{0, 1, 1});
+    CHECK(rgb[0].x == doctest::Approx(1.0));
+    CHECK(rgb[0].y == doctest::Approx(1500.0 * 1.15 / 1500.0));
+    CHECK(rgb[1] == glm::dvec3(0.0));
+    CHECK((st.cells == 3u && st.missing_cells == 2u && st.nan == 1u && st.negative == 1u));
+}
+
 TEST_CASE("measured: sepal gen-merl writes, exits 2 on bad input and is deterministic") {
     const std::string dir = sepal_test::temp_dir();
     const BigFile a_file(dir + "/a.binary"), b_file(dir + "/b.binary"),
