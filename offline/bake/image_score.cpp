@@ -40,12 +40,13 @@ BakeView sphere_view(const std::string& name, const sepal_scene& scene) {
     BakeView v;
     v.name = name;
     v.scene = scene;
-    // The sphere of the scene flags' `--mesh sphere` (64 slices, 32 stacks).
-    v.vertices.resize(65 * 33);
-    v.indices.resize(64 * 32 * 6);
+    // The sphere of the scene flags' `--mesh sphere`.
+    const int sl = SEPAL_SCENE_SPHERE_SLICES, st = SEPAL_SCENE_SPHERE_STACKS;
+    v.vertices.resize(size_t(sl + 1) * size_t(st + 1));
+    v.indices.resize(size_t(sl) * size_t(st) * 6);
     sepal_mesh m = {v.vertices.data(), v.indices.data(), int(v.vertices.size()), int(v.indices.size())};
     sepal_error e = {};
-    if (sepal_mesh_sphere(64, 32, &m, &e) == SEPAL_OK) {
+    if (sepal_mesh_sphere(sl, st, &m, &e) == SEPAL_OK) {
         v.vertices.resize(size_t(m.vertex_count));
         v.indices.resize(size_t(m.index_count));
     }

@@ -31,7 +31,7 @@ struct RenderArgs {
     std::string input, backend, out_path, float_path, mask_text, diffuse_path;
     bool float_target = false;
     // Monte Carlo under an environment (exact backend): --env picks it.
-    std::string env, sampler = "factored";
+    std::string env, sampler = "factored", mis = "auto";
     int spp = 16;
     uint64_t seed = 1;
 };
@@ -61,6 +61,7 @@ int run_render_mc(RenderArgs& args, const Brdf& brdf, const CommandIO& io) {
     McOptions o;
     o.spp = args.spp;
     o.seed = args.seed;
+    o.mis = args.mis == "on" ? Mis::On : args.mis == "off" ? Mis::Off : Mis::Auto;
     McResult r;
     if (!render_mc(brdf, s.get(), *env, args.setup.scene, args.setup.mesh, args.setup.width, args.setup.height, o, &r,
                    &err))
@@ -71,9 +72,9 @@ int run_render_mc(RenderArgs& args, const Brdf& brdf, const CommandIO& io) {
         (!args.float_path.empty() && !write_pfm(args.float_path, r.image, &err)))
         return fail(err);
     written.commit();
-    std::fprintf(io.out, "backend    exact, Monte Carlo: %s under %s, %d spp, sampler %s (%zu bytes), seed %llu, %.1f s\n",
+    std::fprintf(io.out, "backend    exact, Monte Carlo: %s under %s, %d spp, sampler %s (%zu bytes)%s, seed %llu, %.1f s\n",
                  brdf.spec().c_str(), env->describe().c_str(), args.spp, args.sampler.c_str(), s.bytes(),
-                 (unsigned long long)args.seed, r.seconds);
+                 r.mis ? " + light samples (MIS, balance heuristic)" : "", (unsigned long long)args.seed, r.seconds);
     std::fprintf(io.out, "pixels     %lld shaded, %lld back-facing, %lld degenerate; %lld of %lld samples below the horizon\n",
                  (long long)r.shaded_pixels, (long long)r.back_facing, (long long)r.degenerate,
                  (long long)r.below_horizon, (long long)r.samples);
@@ -327,6 +328,11 @@ CommandRun setup_render(CLI::App& app) {
     app.add_option("--sampler", a->sampler, "with --env: cosine, factored (fitted now), or a file from `sepal sampler`")
         ->capture_default_str();
     app.add_option("--seed", a->seed, "with --env: the sample sequence's seed")->capture_default_str();
+    app.add_option("--mis", a->mis,
+                   "with --env: also sample the environment's luminance and weight both by the balance heuristic "
+                   "(auto: on unless the environment is constant)")
+        ->check(CLI::IsMember({"auto", "on", "off"}))
+        ->capture_default_str();
     sepal::add_scene_options(app, &a->setup);
     return [a](const CommandIO& io) { return run_render(*a, io); };
 }

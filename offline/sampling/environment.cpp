@@ -130,4 +130,80 @@ std::unique_ptr<Environment> make_environment(const std::string& spec, std::stri
     return fail("environment '" + spec + "': use constant[:V|:R,G,B], sky[:elevation=,azimuth=,radius=,sun=] or FILE.hdr");
 }
 
+namespace {
+// The first index i with cdf[i + 1] > x (cdf non-decreasing from 0 to 1, n + 1 entries),
+// skipping empty bins; x rescaled to [0,1) within the bin.
+int pick_bin(const double* cdf, int n, double* x) {
+    const double* it = std::upper_bound(cdf + 1, cdf + n + 1, *x);
+    int i = std::min(n - 1, int(it - cdf) - 1);
+    while (i > 0 && !(cdf[i + 1] > cdf[i])) --i;
+    const double w = cdf[i + 1] - cdf[i];
+    *x = w > 0 ? std::min(std::max((*x - cdf[i]) / w, 0.0), 1.0 - 1e-12) : 0.5;
+    return i;
+}
+double luminance_of(const dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+}  // namespace
+
+bool EnvironmentSampler::build(const Environment& env, int width, int height, std::string* err) {
+    if (width < 4 || width > 4096 || height < 2 || height > 2048) {
+        if (err) *err = "environment sampler: grid " + std::to_string(width) + "x" + std::to_string(height) +
+                        " outside 4..4096 x 2..2048";
+        return false;
+    }
+    w_ = width, h_ = height;
+    value_.assign(size_t(w_) * h_, 0.0);
+    row_cdf_.assign(size_t(h_) + 1, 0.0);
+    col_cdf_.assign(size_t(h_) * (w_ + 1), 0.0);
+    constexpr int kSub = 4;
+    const double dphi = 2 * kPi / w_;
+    for (int r = 0; r < h_; ++r) {
+        const double z0 = std::cos(kPi * r / h_), z1 = std::cos(kPi * (r + 1) / h_);
+        double* cdf = &col_cdf_[size_t(r) * (w_ + 1)];
+        for (int c = 0; c < w_; ++c) {
+            double sum = 0;
+            for (int a = 0; a < kSub; ++a)
+                for (int b = 0; b < kSub; ++b) {
+                    const double z = z0 + (a + 0.5) / kSub * (z1 - z0);
+                    const double phi = -kPi + (c + (b + 0.5) / kSub) * dphi;
+                    const double s = std::sqrt(std::max(0.0, 1 - z * z));
+                    const double l = luminance_of(env.radiance(dvec3(s * std::cos(phi), s * std::sin(phi), z)));
+                    sum += std::isfinite(l) && l > 0 ? l : 0.0;
+                }
+            const double v = sum / (kSub * kSub);
+            value_[size_t(r) * w_ + c] = v;
+            cdf[c + 1] = cdf[c] + v * dphi * (z0 - z1);
+        }
+        row_cdf_[size_t(r) + 1] = row_cdf_[size_t(r)] + cdf[w_];
+        if (cdf[w_] > 0)
+            for (int c = 1; c <= w_; ++c) cdf[c] /= cdf[w_];
+    }
+    norm_ = row_cdf_[size_t(h_)];
+    if (!(norm_ > 0) || !std::isfinite(norm_)) {
+        if (err) *err = "environment sampler: the environment is black (or not finite) everywhere";
+        return false;
+    }
+    for (double& x : row_cdf_) x /= norm_;
+    row_cdf_[size_t(h_)] = 1.0;
+    return true;
+}
+
+dvec3 EnvironmentSampler::sample(double u0, double u1, double* pdf) const {
+    const int r = pick_bin(row_cdf_.data(), h_, &u0);
+    const int c = pick_bin(&col_cdf_[size_t(r) * (w_ + 1)], w_, &u1);
+    const double z0 = std::cos(kPi * r / h_), z1 = std::cos(kPi * (r + 1) / h_);
+    const double z = z0 + u0 * (z1 - z0);
+    const double phi = -kPi + (c + u1) * 2 * kPi / w_;
+    const double s = std::sqrt(std::max(0.0, 1 - z * z));
+    if (pdf) *pdf = value_[size_t(r) * w_ + c] / norm_;
+    return dvec3(s * std::cos(phi), s * std::sin(phi), z);
+}
+
+double EnvironmentSampler::pdf(const dvec3& d) const {
+    if (w_ == 0) return 0;
+    const double z = std::max(-1.0, std::min(1.0, d.z));
+    const int r = std::min(h_ - 1, std::max(0, int(std::acos(z) / kPi * h_)));
+    const int c = std::min(w_ - 1, std::max(0, int((std::atan2(d.y, d.x) + kPi) / (2 * kPi) * w_)));
+    return value_[size_t(r) * w_ + c] / norm_;
+}
+
 }  // namespace sepal

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/radiance.h"
 #include "brdf/brdf_util.h"
 #include "sampling/metrics.h"
 #include "sampling/nmf_kl.h"
@@ -129,6 +130,13 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
         return true;
     }
     FactoredOptions o = opt;
+    // The Lambert floor: the terms fit what is above it (clamped at 0 where a noisy
+    // measured cell dips below the quantile), cosine samples take its share per view.
+    glm::dvec3 diffuse(0.0);
+    if (o.separate_diffuse) diffuse = estimate_diffuse(brdf, 0.005, o.threads);
+    if (!(diffuse.x >= 0 && diffuse.y >= 0 && diffuse.z >= 0 && diffuse.x <= SEPAL_SMP_MAX_DIFFUSE &&
+          diffuse.y <= SEPAL_SMP_MAX_DIFFUSE && diffuse.z <= SEPAL_SMP_MAX_DIFFUSE))
+        diffuse = glm::dvec3(0.0);
     const bool iso = brdf.isotropic();
     if (o.n_phi_p == 0) o.n_phi_p = iso ? 16 : 64;
     if (o.J == 0) o.J = iso ? 4 : 2, o.K = iso ? 2 : 4;
@@ -188,7 +196,7 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
                     }
                     if (!(wi.z > 0)) continue;
                     wi = glm::normalize(wi);
-                    const dvec3 f = brdf.eval(wi, wo);
+                    const dvec3 f = glm::max(brdf.eval(wi, wo) - diffuse, dvec3(0.0));
                     if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
                         failures[c] = "the BRDF returned a non-finite value at theta_i " +
                                       std::to_string(rad2deg(std::acos(wi.z))) + ", theta_o " +
@@ -237,6 +245,7 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
     d.desc.colour = colour ? 1 : 0;
     d.desc.defensive = float(o.defensive);
     d.desc.jacobian = o.jacobian ? 1 : 0;
+    for (int c = 0; c < 3; ++c) d.desc.diffuse[c] = float(diffuse[c]);
     d.z_edges = z_edges;
     d.F.assign(size_t(L) * cols, 0.0f);
     d.u_cdf.assign(size_t(L) * (Tp + 1), 0.0f);
@@ -328,7 +337,9 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
     r.sampler_bytes = bytes.size();
     bool any = false;
     for (float f : d.F) any = any || f > 0;
-    if (!any) r.notes.push_back("the BRDF is 0 everywhere sampled: the sampler falls back to cosine sampling");
+    if (!any)
+        r.notes.push_back(diffuse != dvec3(0.0) ? "the BRDF is its Lambert part: cosine sampling, exact for it"
+                                                : "the BRDF is 0 everywhere sampled: the sampler falls back to cosine sampling");
     *out = std::move(d);
     if (rep) *rep = std::move(r);
     return true;

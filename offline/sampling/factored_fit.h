@@ -21,6 +21,8 @@
 //      (eq. 6-8), L = J K terms.
 //   3. Colour: f_c / f_lum ~= a_c(wo) b_c(theta_p) c_c(phi_p), fitted to the channel masses
 //      (for eval); luminance is what is sampled.
+//   0. With separate_diffuse, the Lambert floor D = estimate_diffuse(f) is taken out first:
+//      the terms fit (f - D) cos and the sampler mixes in cosine samples for D.
 // Two choices differ from the paper (both measured in the bench, both switchable):
 //   - jacobian: q includes |dwi/dwh| = 4 (wi.h), so a perfect fit samples f cos exactly;
 //     the paper factors f cos and samples it as a density in h (off by 1/(4 wi.h)).
@@ -67,6 +69,10 @@ struct FactoredOptions {
     int iterations = 2000;             // NMF iteration cap (each level)
     double tolerance = 1e-6;
     double defensive = 0.02;           // share of cosine samples (unbiasedness)
+    // The Lambert floor D (estimate_diffuse: a low quantile of f) kept out of the terms and
+    // sampled by cosine samples in proportion to its albedo (format 1.1): under a sun,
+    // a paint's diffuse part is sampled as well as cosine sampling does (docs/sampling.md).
+    bool separate_diffuse = true;
     bool colour = true;                // fit and store the colour ratio (for eval)
     uint64_t seed = 1;
     int threads = 0;

@@ -23,6 +23,9 @@ bool render_mc(const Brdf& brdf, const sepal_sampler& sampler, const Environment
         return false;
     }
     const auto start = std::chrono::steady_clock::now();
+    const bool mis = o.mis == Mis::On || (o.mis == Mis::Auto && !env.constant(nullptr));
+    EnvironmentSampler light;
+    if (mis && !light.build(env, 512, 256, err)) return false;
     SurfaceBuffer g;
     if (!rasterize_surface(scene, mesh, width, height, &g, err)) return false;
     McResult r;
@@ -34,12 +37,12 @@ bool render_mc(const Brdf& brdf, const sepal_sampler& sampler, const Environment
     const dvec3 right = glm::normalize(glm::cross(fwd, dvec3(cam.up[0], cam.up[1], cam.up[2])));
     const dvec3 up = glm::cross(right, fwd);
     const double tan_half = std::tan(cam.fovy_degrees * kPi / 360.0), aspect = double(width) / height;
-    std::atomic<int64_t> shaded{0}, back{0}, degenerate{0}, samples{0}, below{0}, failed{0};
+    std::atomic<int64_t> shaded{0}, back{0}, degenerate{0}, samples{0}, below{0}, failed{0}, lights{0};
     Progress progress(o.progress, "sepal render: " + std::to_string(o.spp) + " spp", size_t(height));
     parallel_for(size_t(height), o.threads, [&](size_t row) {
         const int y = int(row);
-        std::vector<float> u;
-        int64_t sh = 0, bf = 0, dg = 0, sm = 0, bl = 0, fl = 0;
+        std::vector<float> u, ul;
+        int64_t sh = 0, bf = 0, dg = 0, sm = 0, bl = 0, fl = 0, ls = 0;
         for (int x = 0; x < width; ++x) {
             const size_t p = size_t(y) * width + x;
             float* rgb = &r.image.data[p * 3];
@@ -61,16 +64,28 @@ bool render_mc(const Brdf& brdf, const sepal_sampler& sampler, const Environment
                     sepal_sampler_view view;
                     sepal_sampler_set_view(&sampler, wof, &view);
                     pixel_points(o.sequence, o.spp, o.seed, p, &u);
+                    // The light samples' own sequence: another seed, so the two are independent.
+                    if (mis) pixel_points(o.sequence, o.spp, o.seed ^ 0x6c1a5eedULL, p, &ul);
                     for (int s = 0; s < o.spp; ++s) {
                         float wi[3], pdf;
                         const int k = sepal_sampler_sample(&view, &u[size_t(s) * 2], wi, &pdf);
-                        if (k != 1) {
+                        if (k == 1) {
+                            const dvec3 wl(wi[0], wi[1], wi[2]);
+                            const dvec3 dir = glm::normalize(sp.world(wl));
+                            const dvec3 f = brdf.eval(wl, wo);
+                            L += env.radiance(dir) * f * (wl.z / (pdf + (mis ? light.pdf(dir) : 0.0)));
+                        } else {
                             ++(k == 0 ? bl : fl);
-                            continue;
                         }
-                        const dvec3 wl(wi[0], wi[1], wi[2]);
-                        const dvec3 f = brdf.eval(wl, wo);
-                        L += env.radiance(glm::normalize(sp.world(wl))) * f * (wl.z / pdf);
+                        if (!mis) continue;
+                        double pl = 0;
+                        const dvec3 dir = light.sample(ul[size_t(s) * 2], ul[size_t(s) * 2 + 1], &pl);
+                        ++ls;
+                        const dvec3 wl = sp.local(dir);
+                        if (!(wl.z > 0) || !(pl > 0)) continue;
+                        const float wlf[3] = {float(wl.x), float(wl.y), float(wl.z)};
+                        const double pb = sepal_sampler_pdf(&view, wlf);
+                        L += env.radiance(dir) * brdf.eval(wl, wo) * (wl.z / (pl + pb));
                     }
                     L /= double(o.spp);
                     sm += o.spp;
@@ -78,11 +93,12 @@ bool render_mc(const Brdf& brdf, const sepal_sampler& sampler, const Environment
             }
             for (int c = 0; c < 3; ++c) rgb[c] = std::isfinite(L[c]) ? float(L[c]) : 0.0f;
         }
-        shaded += sh, back += bf, degenerate += dg, samples += sm, below += bl, failed += fl;
+        shaded += sh, back += bf, degenerate += dg, samples += sm, below += bl, failed += fl, lights += ls;
         progress.advance();
     });
     r.shaded_pixels = shaded, r.back_facing = back, r.degenerate = degenerate;
     r.samples = samples, r.below_horizon = below, r.failed = failed;
+    r.light_samples = lights, r.mis = mis;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     *out = std::move(r);
     return true;

@@ -61,7 +61,9 @@ bool encode_sampler(const SamplerData& d, std::vector<uint8_t>* out, std::string
     sepal_smp_header h{};
     std::memcpy(h.magic, SEPAL_SMP_MAGIC, 8);
     h.version_major = SEPAL_SMP_VERSION_MAJOR;
-    h.version_minor = SEPAL_SMP_VERSION_MINOR;
+    // 1.0 unless the 1.1 diffuse part is used, so samplers without one keep their bytes.
+    const bool diffuse = d.desc.diffuse[0] != 0.0f || d.desc.diffuse[1] != 0.0f || d.desc.diffuse[2] != 0.0f;
+    h.version_minor = diffuse ? SEPAL_SMP_VERSION_MINOR : 0;
     h.header_bytes = sizeof h;
     h.file_bytes = size;
     h.kind = d.kind;

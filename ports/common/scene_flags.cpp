@@ -215,10 +215,11 @@ bool load_scene_mesh(SceneSetup* s, std::string* err) {
     sepal_result r;
     const std::string& name = s->mesh_name;
     if (name == "sphere" || name == "torus" || name == "wave") {
-        s->vertices.resize(name == "sphere" ? 65 * 33 : name == "torus" ? 97 * 49 : 65 * 65);
-        s->indices.resize(name == "sphere" ? 64 * 32 * 6 : name == "torus" ? 96 * 48 * 6 : 64 * 64 * 6);
+        const int sl = SEPAL_SCENE_SPHERE_SLICES, st = SEPAL_SCENE_SPHERE_STACKS;
+        s->vertices.resize(name == "sphere" ? size_t(sl + 1) * (st + 1) : name == "torus" ? 97 * 49 : 65 * 65);
+        s->indices.resize(name == "sphere" ? size_t(sl) * st * 6 : name == "torus" ? 96 * 48 * 6 : 64 * 64 * 6);
         s->mesh = {s->vertices.data(), s->indices.data(), int(s->vertices.size()), int(s->indices.size())};
-        r = name == "sphere" ? sepal_mesh_sphere(64, 32, &s->mesh, &e)
+        r = name == "sphere" ? sepal_mesh_sphere(sl, st, &s->mesh, &e)
             : name == "torus" ? sepal_mesh_torus(0.72f, 0.3f, 96, 48, &s->mesh, &e)
                               : sepal_mesh_wave(64, &s->mesh, &e);
     } else {

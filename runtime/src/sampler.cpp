@@ -471,6 +471,14 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
         if (!(d.defensive >= 0.0f && d.defensive <= 1.0f) || d.jacobian > 1)
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: defensive share %g outside [0, 1] or jacobian flag %u",
                              (double)d.defensive, d.jacobian);
+        for (int c = 0; c < 3; ++c)
+            if (!(d.diffuse[c] >= 0.0f && d.diffuse[c] <= SEPAL_SMP_MAX_DIFFUSE) ||
+                (d.diffuse[c] != 0.0f && (h.kind != SEPAL_SAMPLER_FACTORED || h.version_minor < 1)))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "sampler: diffuse part %g (channel %d) outside [0, %g], or set in a %s "
+                                 "file of version 1.%u (only factored samplers of 1.1 have one)",
+                                 (double)d.diffuse[c], c, (double)SEPAL_SMP_MAX_DIFFUSE, kind_name(h.kind),
+                                 h.version_minor);
         out->z_edges = arr(kZ);
         if (!valid_z_edges(out->z_edges, Tp))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
@@ -582,7 +590,14 @@ extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3]
         }
         default: sum = 1.0f; v->defensive = 1.0f; break;
     }
-    if (s->kind == SEPAL_SAMPLER_FACTORED && !(sum > 0.0f)) v->fallback = 1;
+    if (s->kind == SEPAL_SAMPLER_FACTORED) {
+        // The Lambert part's albedo pi D against the terms' albedo sum_l F_l(wo): cosine
+        // samples take its share (format 1.1). A view whose terms are all 0 is all diffuse:
+        // the fallback below, cosine samples only, is then exact.
+        const float rho = kPi * (0.2126f * d.diffuse[0] + 0.7152f * d.diffuse[1] + 0.0722f * d.diffuse[2]);
+        if (rho > 0.0f && sum > 0.0f && isfinite(sum)) v->defensive += (1.0f - v->defensive) * rho / (rho + sum);
+        if (!(sum > 0.0f)) v->fallback = 1;
+    }
     if (v->fallback) {
         v->defensive = 1.0f;
         return;
@@ -679,11 +694,18 @@ extern "C" int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3]
     const sepal_sampler& s = *v->sampler;
     if (s.kind != SEPAL_SAMPLER_FACTORED || !(wi[2] > 0.0f) || !(v->wo[2] > 0.0f)) return 0;
     // The reconstruction: total(wo) x the factored density over wi (without the defensive
-    // share), times the colour ratio ca(wo) cb(theta_p) cc(phi_p).
-    if (v->fallback) return 1;  // all terms 0 at this view: f cos ~= 0
+    // share), times the colour ratio ca(wo) cb(theta_p) cc(phi_p); plus D cos(theta_i).
+    const float* D = s.desc.diffuse;
+    const float cos_i = wi[2] / sqrtf(wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]);
+    if (v->fallback) {  // all terms 0 at this view: f cos ~= D cos
+        for (int c = 0; c < 3; ++c) rgb[c] = D[c] * cos_i;
+        return 1;
+    }
     const float lum = v->total * factored_pdf(v, wi, !s.desc.jacobian);
     if (!s.colour_a) {  // no colour tables: the luminance, grey
-        rgb[0] = rgb[1] = rgb[2] = isfinite(lum) ? lum : 0.0f;
+        const float dl = 0.2126f * D[0] + 0.7152f * D[1] + 0.0722f * D[2];
+        const float g = lum + dl * cos_i;
+        rgb[0] = rgb[1] = rgb[2] = isfinite(g) ? g : 0.0f;
         return 1;
     }
     const sepal_smp_desc& d = s.desc;
@@ -697,7 +719,7 @@ extern "C" int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3]
     const uint32_t i = z_bin(s.z_edges, d.n_theta_p, w[2]);
     const uint32_t j = phi_bin(azimuth(w[0], w[1]), d.n_phi_p);
     for (int c = 0; c < 3; ++c)
-        rgb[c] = lum * v->colour[c] * s.colour_b[c * d.n_theta_p + i] * s.colour_c[c * d.n_phi_p + j];
+        rgb[c] = lum * v->colour[c] * s.colour_b[c * d.n_theta_p + i] * s.colour_c[c * d.n_phi_p + j] + D[c] * cos_i;
     for (int c = 0; c < 3; ++c)
         if (!isfinite(rgb[c])) rgb[c] = 0.0f;
     return 1;

@@ -109,6 +109,39 @@ TEST_CASE("sampler format: round trip, determinism, and every corruption refused
               desc->defensive = 2.0f;
               reseal(b);
           }).find("defensive") != std::string::npos);
+    // Format 1.1's diffuse part: negative, absurd, or in a 1.0 file, refused.
+    const SamplerData paint = small_factored("cook-torrance:d=0.7,Rd=0.8/0.15/0.1,s=0.3,F0=0.04,m=0.2");
+    REQUIRE(paint.desc.diffuse[0] > 0.1f);
+    const std::vector<uint8_t> p11 = encode(paint);
+    CHECK(reinterpret_cast<const sepal_smp_header*>(p11.data())->version_minor == 1);
+    CHECK(reinterpret_cast<const sepal_smp_header*>(good.data())->version_minor == (d.desc.diffuse[0] > 0 ? 1 : 0));
+    CHECK(parse_error(p11).empty());
+    auto with11 = [&](auto edit) {
+        std::vector<uint8_t> b = p11;
+        sepal_smp_desc* desc = reinterpret_cast<sepal_smp_desc*>(b.data() + sizeof(sepal_smp_header));
+        edit(reinterpret_cast<sepal_smp_header*>(b.data()), desc);
+        reseal(&b);
+        return parse_error(b);
+    };
+    CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[1] = -0.1f; }).find("diffuse") != std::string::npos);
+    CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[2] = 1e30f; }).find("diffuse") != std::string::npos);
+    CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[0] = std::nanf(""); }).find("diffuse") != std::string::npos);
+    CHECK(with11([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 0; }).find("1.0") != std::string::npos);
+    // eval() adds D cos(theta_i): at a view and direction far from the lobe, about D cos.
+    {
+        Sampler ps;
+        std::string e2;
+        REQUIRE_MESSAGE(ps.build(paint, &e2), e2);
+        sepal_sampler_view v;
+        const float wo[3] = {0.0f, 0.0f, 1.0f}, wi[3] = {0.8f, 0.0f, 0.6f};
+        sepal_sampler_set_view(&ps.get(), wo, &v);
+        float rgb[3];
+        REQUIRE(sepal_sampler_eval(&v, wi, rgb) == 1);
+        CHECK(rgb[0] >= paint.desc.diffuse[0] * 0.6f * 0.999f);
+        CHECK(rgb[0] < paint.desc.diffuse[0] * 0.6f * 1.5f);
+        // The cosine share at this view is at least the diffuse part's share of the albedo.
+        CHECK(v.defensive > 0.3f);
+    }
     // Unaligned buffers and NULL are refused, not read.
     std::vector<uint64_t> aligned(good.size() / 8 + 2);
     uint8_t* odd = reinterpret_cast<uint8_t*>(aligned.data()) + 1;

@@ -95,6 +95,11 @@ typedef struct sepal_mesh {
 
 #define SEPAL_SPHERE_MAX_VERTICES ((256 + 1) * (128 + 1))
 #define SEPAL_SPHERE_MAX_INDICES (256 * 128 * 6)
+// The sphere of the default scene (`sepal render`, the bake's judged views, the ports).
+// Texture coordinates and the diffuse colour are interpolated between its vertices on GL ES
+// 1.1; 128 x 64 keeps that interpolation's error below the factors' own (docs/fidelity.md).
+#define SEPAL_SCENE_SPHERE_SLICES 128
+#define SEPAL_SCENE_SPHERE_STACKS 64
 
 // Unit sphere (radius 1, centre 0), slices 3..256 around z, stacks 2..128 from pole to
 // pole; analytic normals and tangents (t along increasing longitude). vertex_count and

@@ -29,6 +29,11 @@
 //              of wo about h, Jacobian 1/(4 wi.h)). With a defensive share e, a cosine
 //              sample is drawn instead with probability e (the factored density can be 0
 //              where f cos is not; the mixture keeps the estimator unbiased).
+//              Format 1.1: a Lambert part D (desc.diffuse, per steradian) is kept out of
+//              the terms (they fit (f - D) cos), and cosine samples, exact for it, get the
+//              share of the view's albedo it holds: e(wo) = e + (1 - e) pi D / (pi D +
+//              sum_l F_l(wo)) (luminance). Under a sun a BRDF-only sampler cannot follow,
+//              a paint's diffuse part is then sampled as well as cosine sampling does.
 //   COSINE     cosine-weighted hemisphere, pdf = cos(theta_i)/pi.
 //   LOBES      a mixture of analytic lobes (diffuse cosine, Phong/Lafortune lobes about the
 //              axis C o wo, Ashikhmin-Shirley and Ward/Beckmann half-vector lobes), chosen
@@ -74,13 +79,14 @@ extern "C" {
 //              marginal[Tp+1], conditional[Tp][Pp+1]
 #define SEPAL_SMP_MAGIC "SEPALSMP"
 #define SEPAL_SMP_VERSION_MAJOR 1
-#define SEPAL_SMP_VERSION_MINOR 0
+#define SEPAL_SMP_VERSION_MINOR 1  // 1.1: desc.diffuse; the writer writes 1.0 without it
 
 #define SEPAL_SMP_MAX_FILE_BYTES (16u << 20)
 #define SEPAL_SMP_MAX_TERMS 64
 #define SEPAL_SMP_MAX_VIEW_SIDE 128
 #define SEPAL_SMP_MAX_DIR_SIDE 1024
 #define SEPAL_SMP_MAX_LOBES 16
+#define SEPAL_SMP_MAX_DIFFUSE 1e6f
 
 typedef enum sepal_sampler_kind {
     SEPAL_SAMPLER_FACTORED = 0,
@@ -139,7 +145,9 @@ typedef struct sepal_smp_desc {
     float defensive;      // FACTORED, TABULATED: share of cosine samples, 0..1
     uint32_t jacobian;    // FACTORED: 1 when the terms fit f cos |dwi/dwp| (eval divides it
                           // out), 0 when they fit f cos itself (the paper's variant)
-    uint32_t reserved[5];
+    float diffuse[3];     // FACTORED, format 1.1: the Lambert part D per channel (1/sr,
+                          // 0..1e6) kept out of the terms; 0 in 1.0 files (none)
+    uint32_t reserved[2];
 } sepal_smp_desc;
 
 typedef struct sepal_smp_lobe {
