@@ -129,8 +129,14 @@ TEST_CASE("factored fit: param auto picks half for glossy and incident for diffu
     FactoredReport rep;
     REQUIRE(fit_factored(*make_brdf("cook-torrance", &err), o, &d, &rep, &err));
     CHECK(rep.param == "half");
-    REQUIRE(fit_factored(*make_brdf("lambert", &err), o, &d, &rep, &err));
+    REQUIRE(fit_factored(*make_brdf("hapke-lommel", &err), o, &d, &rep, &err));
     CHECK(rep.param == "incident");
+    // A Lambert BRDF is all Lambert part: no term left, cosine sampling (exact for it).
+    REQUIRE(fit_factored(*make_brdf("lambert", &err), o, &d, &rep, &err));
+    CHECK(d.desc.diffuse[1] == doctest::Approx(0.5 / kPi).epsilon(1e-3));
+    bool noted = false;
+    for (const std::string& n : rep.notes) noted = noted || n.find("Lambert part") != std::string::npos;
+    CHECK(noted);
 }
 
 TEST_CASE("sequences: stratified points fill every stratum; all points lie in [0,1); deterministic") {
