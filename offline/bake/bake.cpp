@@ -693,7 +693,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                 if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
                     c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
                     at_max = c.psnr;
-            if (b.psnr < o.goal_db && at_max >= previous + o.climb_db && at_max >= b.psnr - o.tie_db) {
+            if (b.psnr < o.goal_db && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
                 const int half = half_angle_factor(b.param);
                 const int res = half == 1 ? b.res_h : b.res, other = half == 1 ? b.res : b.res_h;
                 std::vector<int> more;
