@@ -163,7 +163,6 @@ int main(int argc, char** argv) {
         bo.terms = {1, 2, 3, 4, 6};
         bo.threads = threads;
         bo.keep_assets = true;
-        if (getenv("HM_WHITE")) bo.white = atof(getenv("HM_WHITE"));
         for (const BakeMethod& m : bake_methods())
             if (m.default_method && method_allowed(m.method, bo.target)) bo.methods.push_back(m.method);
         BakeResult br;
