@@ -50,7 +50,11 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     // exceeds the final value, and a final value above 1 is white on screen either way.
     // (A radiance material's sum is bounded with E alone: cos(theta_i) <= 1.)
     const float irradiance_sum = radiance ? prep.vertices.max_lit_sum : prep.vertices.max_irradiance_sum;
-    const float need_sum = m->has_negative_passes ? irradiance_sum * m->plan.peak_partial_sum : 0.0f;
+    // Nor does a diffuse map (a tree's blend map) hold: the framebuffer is multiplied by it
+    // before the final doublings, so the sum itself must fit: a highlight of 3 under a
+    // weight of 0.2 shows 0.6, not 0.2 (docs/ist.md).
+    const bool headroom = m->has_negative_passes || d->diffuse_texture != 0;
+    const float need_sum = headroom ? irradiance_sum * m->plan.peak_partial_sum : 0.0f;
     // Per pass, the largest value GL clamps at 1 (the vertex colour; on one texture unit also
     // colour x tex0, formed and clamped before the blend multiplies it by tex1, else a
     // product whose final value is below 1 comes out short: measured 13.5 levels on a
@@ -80,7 +84,10 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     // Staged exposure (GL ES 1.1, add-only plans): each pass gets the largest exposure its
     // own colours allow; the frame's doublings are spread between the stages. Partial sums
     // only grow, so a stage that doubles past 1 was white on screen anyway.
-    prep.staged = m->caps.gles_version == 1 && !m->has_negative_passes && !fused && !float_target;
+    // Not with a diffuse map: a stage doubled past 1 clips before the map multiplies it
+    // (measured on a tree: 26.3 dB staged, 31.3 not).
+    prep.staged = m->caps.gles_version == 1 && !m->has_negative_passes && !fused && !float_target &&
+                  !d->diffuse_texture;
     stats->exposure_stages = 1;
     if (prep.staged) {
         int previous = e + 1;

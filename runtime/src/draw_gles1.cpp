@@ -227,6 +227,27 @@ void invert(Frame& f) {
     glEnable(GL_DEPTH_TEST);
 }
 
+// framebuffer *= the diffuse map at the mesh's UVs (nothing without one). Leaves depth
+// testing off.
+void diffuse_map(Frame& f, const sepal_draw_desc* d) {
+    if (!d->diffuse_texture) return;
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_EQUAL);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ZERO);
+    mesh_arrays(f, false);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    glActiveTexture(GL_TEXTURE0);
+    glClientActiveTexture(GL_TEXTURE0);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, d->diffuse_texture);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), d->mesh->vertices[0].uv);
+    set_env_modulate(GL_TEXTURE, 0, 1);
+    draw_mesh(f);
+    glDisable(GL_DEPTH_TEST);
+}
+
 }  // namespace
 
 namespace srt {
@@ -266,8 +287,22 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
 
     srt::Gles1Step steps[srt::kMaxGles1Steps];  // ~12 KB of stack
     const int step_count = srt::gles1_schedule(m, prep, stats->doublings, steps);
+    // Diffuse map (Fig. 13; a tree's blend maps): one more mesh pass multiplying the
+    // framebuffer by the texture at the mesh's UVs, before the final doublings: there the
+    // image is at the plan's exposure, so a highlight above 1 is still held (v 2^-k <= 1)
+    // and comes out as v x w. After them it was clipped at 1 first (a tree's shiny basis
+    // under a blend weight < 1: 28.5 -> 31.3 dB, docs/ist.md), at the price of the multiply's
+    // rounding doubled k times.
+    const int final_doubling =
+        d->diffuse_texture && step_count > 0 && steps[step_count - 1].kind == srt::Gles1Step::kDouble ? step_count - 1
+                                                                                                       : step_count;
+    bool diffuse_done = false;
     for (int i = 0; i < step_count; ++i) {
         const srt::Gles1Step& step = steps[i];
+        if (i == final_doubling) {
+            diffuse_map(f, d);
+            diffuse_done = true;
+        }
         if (step.kind == srt::Gles1Step::kDouble) {
             doublings(f, step.count);
             if (i + 1 < step_count) {  // a stage: the next passes test depth again
@@ -291,24 +326,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
             if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
         }
     }
-    // Diffuse map (Fig. 13): one more mesh pass multiplying the framebuffer by the
-    // texture at the mesh's UVs; after the doublings, so the product keeps their precision.
-    if (d->diffuse_texture) {
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_EQUAL);
-        glBlendFunc(GL_DST_COLOR, GL_ZERO);
-        mesh_arrays(f, false);
-        bind_unit(GL_TEXTURE1, 0, nullptr);
-        glActiveTexture(GL_TEXTURE0);
-        glClientActiveTexture(GL_TEXTURE0);
-        glEnable(GL_TEXTURE_2D);
-        glBindTexture(GL_TEXTURE_2D, d->diffuse_texture);
-        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-        glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), d->mesh->vertices[0].uv);
-        set_env_modulate(GL_TEXTURE, 0, 1);
-        draw_mesh(f);
-        glDisable(GL_DEPTH_TEST);
-    }
+    if (!diffuse_done) diffuse_map(f, d);
     // Background where no surface is: a quad at the far plane passes LEQUAL only there.
     const float* bg = d->scene->background;
     if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {

@@ -409,15 +409,12 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     else
         fused(f, d->mode == SEPAL_MODE_FUSED_PIXEL);
     if ((r = gl_check("the material's passes", err)) != SEPAL_OK) return r;
-    static const float kWhite[4] = {1, 1, 1, 1};
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_DST_COLOR, GL_ONE);
-    for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, kWhite);
+    // The diffuse map before the doublings, as on GL ES 1.1 (draw_gles1.cpp says why).
     if (d->diffuse_texture) {
         const GLuint p = m->program_mesh_texture;
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_EQUAL);
+        glEnable(GL_BLEND);
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
         glUseProgram(p);
         glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
@@ -431,8 +428,12 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->uv);
         glEnableVertexAttribArray(2);
         draw_mesh(f);
-        glDisable(GL_DEPTH_TEST);
     }
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ONE);
+    for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, kWhite);
     const float* bg = d->scene->background;
     if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
         const float color[4] = {bg[0], bg[1], bg[2], 1.0f};

@@ -85,7 +85,8 @@ std::unique_ptr<BlendedSvbrdf> edited_truth(const SvbrdfTruth& t, int j, const s
 // the fused GL ES 2 shader) 34.3; per-vertex factor coordinates (GL ES 1.1, GL ES 2
 // multipass) 25.6: the highlights of the foils are narrower than the wave mesh's cells
 // (Kautz-McCool's per-vertex interpolation; the same gap as a single material's).
-constexpr double kMinPsnrExact = 39.0, kMinPsnrPixel = 32.5, kMinPsnr = 24.0;
+// kMinPsnr: 25.6 dB before the blend map moved ahead of the final doublings (30.9 after).
+constexpr double kMinPsnrExact = 39.0, kMinPsnrPixel = 32.5, kMinPsnr = 29.5;
 
 }  // namespace
 
