@@ -64,6 +64,14 @@ bool check_png_chunks(const std::string& path, const std::vector<uint8_t>& b, st
                                  " bytes, the file has " + std::to_string(b.size() - pos) + " from there");
         if (load_u32be(&b[pos + 8 + length]) != sepal_crc32(0, &b[pos + 4], size_t(length) + 4))
             return fail(err, path + ": corrupt PNG: " + where + " fails its CRC check");
+        // stb_image names an unknown critical chunk by its raw type bytes: a NUL among them
+        // cut its message to "ID " (found by make fuzz). Chunk types are 4 ASCII letters.
+        if (std::string(type).find('?') != std::string::npos) {
+            char hex[16];
+            std::snprintf(hex, sizeof hex, "%02x %02x %02x %02x", b[pos + 4], b[pos + 5], b[pos + 6], b[pos + 7]);
+            return fail(err, path + ": corrupt PNG: the chunk at byte " + std::to_string(pos) + " has type bytes " + hex +
+                                 ", not 4 ASCII letters");
+        }
         if (index == 0) {
             if (std::string(type) != "IHDR" || length != 13)
                 return fail(err, path + ": corrupt PNG: the first chunk must be a 13-byte IHDR, not " + where);
