@@ -38,8 +38,14 @@ std::string describe_counters(const sepal_draw_stats& s) {
     const std::vector<DrawCounter> counters = draw_counters(s);
     std::string out;
     for (const auto& c : counters)
-        if (c.value != 0) out += (out.empty() ? "" : ", ") + std::string(c.name) + " " + std::to_string(c.value);
-    return out.empty() ? "none" : out;
+        if (c.value != 0 && std::string(c.name) != "below_horizon")
+            out += (out.empty() ? "" : ", ") + std::string(c.name) + " " + std::to_string(c.value);
+    if (out.empty()) out = "none";
+    // Not a fault: every vertex (or pixel) facing away from a light is one.
+    if (s.below_horizon != 0)
+        out += "; " + std::to_string(s.below_horizon) +
+               " vertex-light pairs below the horizon (shaded 0, as a lit sphere's dark side is)";
+    return out;
 }
 
 namespace {

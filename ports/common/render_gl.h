@@ -85,9 +85,10 @@ bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& set
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);
 // Reads a whole asset file (bounded by the format's maximum size).
 bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::string* err);
-// The frame's nonzero horizon, repair, skip and clamp counters ("below_horizon 1506,
-// fallback_tangents 13, ..."), or "none": what sepal-view prints so that nothing the
-// runtime did is silent.
+// The frame's nonzero repair, skip and clamp counters ("fallback_tangents 13, ..."), or
+// "none", then the horizon count in words ("; 5897 vertex-light pairs below the horizon
+// (shaded 0, as a lit sphere's dark side is)"): what sepal-view prints so that nothing the
+// runtime did is silent, without a correct frame reading like a failed one.
 std::string describe_counters(const sepal_draw_stats& s);
 // Those counters by name, every one (zero or not), in one order: for messages and reports.
 struct DrawCounter {

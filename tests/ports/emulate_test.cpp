@@ -207,3 +207,12 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
         CHECK(sepal::diff_images(exact, w, 0).psnr >= 35.0);
     }
 }
+
+TEST_CASE("describe_counters: faults by name, the horizon count in words after them") {
+    sepal_draw_stats s = {};
+    CHECK(sepal_ports::describe_counters(s) == "none");
+    s.below_horizon = 12;
+    CHECK(sepal_ports::describe_counters(s).rfind("none; 12 vertex-light pairs below the horizon", 0) == 0);
+    s.fallback_tangents = 3;
+    CHECK(sepal_ports::describe_counters(s).rfind("fallback_tangents 3; 12 vertex-light", 0) == 0);
+}
