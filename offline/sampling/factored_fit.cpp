@@ -97,46 +97,58 @@ struct ViewColumn {
 
 }  // namespace
 
+namespace {
+bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
+             FactoredReport* rep, std::string* err);
+}  // namespace
+
 bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out, FactoredReport* rep,
                   std::string* err) {
     if (!validate_factored_options(opt, err)) return false;
-    if (opt.param == SampleParam::Auto) {
-        // Both parameterizations; the one with the lower estimator variance wins. (Not the
-        // lower KL of the fit: each KL is measured on its own binning, and a coarse binning
-        // of a sharp lobe fits its own coarse data well.)
-        FactoredOptions a = opt, b = opt;
-        a.param = SampleParam::Half;
-        b.param = SampleParam::Incident;
-        SamplerData da, db;
-        FactoredReport ra, rb;
-        if (!fit_factored(brdf, a, &da, &ra, err) || !fit_factored(brdf, b, &db, &rb, err)) return false;
-        Sampler sa, sb;
-        if (!sa.build(da, err) || !sb.build(db, err)) return false;
-        const std::vector<glm::dvec3> views = judge_views(brdf.isotropic());
-        ra.relative_variance = relative_variance(brdf, sa.get(), views, 4096, opt.seed);
-        rb.relative_variance = relative_variance(brdf, sb.get(), views, 4096, opt.seed);
-        const bool half = ra.relative_variance <= rb.relative_variance;
-        FactoredReport& r = half ? ra : rb;
-        char note[160];
-        std::snprintf(note, sizeof note, "param auto: %s (relative variance %.4g; %s: %.4g)", half ? "half" : "incident",
-                      half ? ra.relative_variance : rb.relative_variance, half ? "incident" : "half",
-                      half ? rb.relative_variance : ra.relative_variance);
-        r.notes.push_back(note);
-        r.sample_seconds = ra.sample_seconds + rb.sample_seconds;
-        r.factor_seconds = ra.factor_seconds + rb.factor_seconds;
-        r.evaluations = ra.evaluations + rb.evaluations;
-        *out = std::move(half ? da : db);
-        if (rep) *rep = std::move(r);
-        return true;
-    }
-    FactoredOptions o = opt;
-    // The Lambert floor: the terms fit what is above it (clamped at 0 where a noisy
-    // measured cell dips below the quantile), cosine samples take its share per view.
+    // The Lambert floor, once for both parameterizations: the terms fit what is above it
+    // (clamped at 0 where a noisy measured cell dips below the quantile), cosine samples
+    // take its share per view.
     glm::dvec3 diffuse(0.0);
-    if (o.separate_diffuse) diffuse = estimate_diffuse(brdf, 0.005, o.threads);
+    if (opt.separate_diffuse) diffuse = estimate_diffuse(brdf, 0.005, opt.threads);
     if (!(diffuse.x >= 0 && diffuse.y >= 0 && diffuse.z >= 0 && diffuse.x <= SEPAL_SMP_MAX_DIFFUSE &&
           diffuse.y <= SEPAL_SMP_MAX_DIFFUSE && diffuse.z <= SEPAL_SMP_MAX_DIFFUSE))
         diffuse = glm::dvec3(0.0);
+    if (opt.param != SampleParam::Auto) return fit_one(brdf, opt, diffuse, out, rep, err);
+    // Both parameterizations; the one with the lower estimator variance wins. (Not the
+    // lower KL of the fit: each KL is measured on its own binning, and a coarse binning
+    // of a sharp lobe fits its own coarse data well.)
+    FactoredOptions a = opt, b = opt;
+    a.param = SampleParam::Half;
+    b.param = SampleParam::Incident;
+    SamplerData da, db;
+    FactoredReport ra, rb;
+    if (!fit_one(brdf, a, diffuse, &da, &ra, err) || !fit_one(brdf, b, diffuse, &db, &rb, err)) return false;
+    Sampler sa, sb;
+    if (!sa.build(da, err) || !sb.build(db, err)) return false;
+    const std::vector<glm::dvec3> views = judge_views(brdf.isotropic());
+    ra.relative_variance = relative_variance(brdf, sa.get(), views, 4096, opt.seed);
+    rb.relative_variance = relative_variance(brdf, sb.get(), views, 4096, opt.seed);
+    const bool half = ra.relative_variance <= rb.relative_variance;
+    FactoredReport& r = half ? ra : rb;
+    char note[160];
+    std::snprintf(note, sizeof note, "param auto: %s (relative variance %.4g; %s: %.4g)", half ? "half" : "incident",
+                  half ? ra.relative_variance : rb.relative_variance, half ? "incident" : "half",
+                  half ? rb.relative_variance : ra.relative_variance);
+    r.notes.push_back(note);
+    r.sample_seconds = ra.sample_seconds + rb.sample_seconds;
+    r.factor_seconds = ra.factor_seconds + rb.factor_seconds;
+    r.evaluations = ra.evaluations + rb.evaluations;
+    *out = std::move(half ? da : db);
+    if (rep) *rep = std::move(r);
+    return true;
+}
+
+namespace {
+
+// One parameterization (opt.param is Half or Incident), the Lambert part already known.
+bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
+             FactoredReport* rep, std::string* err) {
+    FactoredOptions o = opt;
     const bool iso = brdf.isotropic();
     if (o.n_phi_p == 0) o.n_phi_p = iso ? 16 : 64;
     if (o.J == 0) o.J = iso ? 4 : 2, o.K = iso ? 2 : 4;
@@ -344,5 +356,7 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
     if (rep) *rep = std::move(r);
     return true;
 }
+
+}  // namespace
 
 }  // namespace sepal

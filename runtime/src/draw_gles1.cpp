@@ -294,15 +294,10 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     // under a blend weight < 1: 28.5 -> 31.3 dB, docs/ist.md), at the price of the multiply's
     // rounding doubled k times.
     const int final_doubling =
-        d->diffuse_texture && step_count > 0 && steps[step_count - 1].kind == srt::Gles1Step::kDouble ? step_count - 1
-                                                                                                       : step_count;
-    bool diffuse_done = false;
+        step_count > 0 && steps[step_count - 1].kind == srt::Gles1Step::kDouble ? step_count - 1 : step_count;
     for (int i = 0; i < step_count; ++i) {
         const srt::Gles1Step& step = steps[i];
-        if (i == final_doubling) {
-            diffuse_map(f, d);
-            diffuse_done = true;
-        }
+        if (i == final_doubling) diffuse_map(f, d);
         if (step.kind == srt::Gles1Step::kDouble) {
             doublings(f, step.count);
             if (i + 1 < step_count) {  // a stage: the next passes test depth again
@@ -326,7 +321,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
             if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
         }
     }
-    if (!diffuse_done) diffuse_map(f, d);
+    if (final_doubling == step_count) diffuse_map(f, d);
     // Background where no surface is: a quad at the far plane passes LEQUAL only there.
     const float* bg = d->scene->background;
     if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {

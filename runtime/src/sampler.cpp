@@ -171,6 +171,8 @@ void cosine_sample(const float u[2], float* w) {
     w[2] = sqrtf(fmaxf(0.0f, 1.0f - u[0]));
 }
 inline float cosine_pdf(const float* w) { return w[2] > 0.0f ? w[2] / kPi : 0.0f; }
+// Rec. 709 luminance, what the samplers follow (offline/sampling/factored_fit.h's luminance).
+inline float luminance3(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
 
 // wi from a half vector (upper hemisphere) and wo: the mirror of wo about h.
 void reflect(const float* wo, const float* h, float* wi) {
@@ -594,7 +596,7 @@ extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3]
         // The Lambert part's albedo pi D against the terms' albedo sum_l F_l(wo): cosine
         // samples take its share (format 1.1). A view whose terms are all 0 is all diffuse:
         // the fallback below, cosine samples only, is then exact.
-        const float rho = kPi * (0.2126f * d.diffuse[0] + 0.7152f * d.diffuse[1] + 0.0722f * d.diffuse[2]);
+        const float rho = kPi * luminance3(d.diffuse);
         if (rho > 0.0f && sum > 0.0f && isfinite(sum)) v->defensive += (1.0f - v->defensive) * rho / (rho + sum);
         if (!(sum > 0.0f)) v->fallback = 1;
     }
@@ -703,8 +705,7 @@ extern "C" int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3]
     }
     const float lum = v->total * factored_pdf(v, wi, !s.desc.jacobian);
     if (!s.colour_a) {  // no colour tables: the luminance, grey
-        const float dl = 0.2126f * D[0] + 0.7152f * D[1] + 0.0722f * D[2];
-        const float g = lum + dl * cos_i;
+        const float g = lum + luminance3(D) * cos_i;
         rgb[0] = rgb[1] = rgb[2] = isfinite(g) ? g : 0.0f;
         return 1;
     }
