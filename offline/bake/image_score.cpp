@@ -98,7 +98,8 @@ bool ImageJudge::init(const Brdf& brdf, const std::vector<BakeView>& views, int 
     refs_.clear();
     for (const BakeView& v : views_) {
         Image img;
-        if (!render_exact(brdf, v.scene, v.mesh(), size, size, &img, nullptr, err)) return false;
+        if (!render_exact(brdf, v.scene, v.mesh(), size, size, &img, nullptr, err, false, kReferenceSupersample))
+            return false;
         quantize8(&img);
         refs_.push_back(std::move(img));
     }

@@ -33,6 +33,7 @@ struct RenderArgs {
     // Monte Carlo under an environment (exact backend): --env picks it.
     std::string env, sampler = "factored", mis = "auto";
     int spp = 16;
+    int supersample = kReferenceSupersample;
     uint64_t seed = 1;
 };
 
@@ -132,6 +133,11 @@ int run_render(RenderArgs& args, const CommandIO& io) {
                      "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, gles1-model, gles2-model) or leave "
                      "--backend out\n",
                      args.input.c_str());
+        return kExitBadInput;
+    }
+    if (args.supersample != kReferenceSupersample && (args.backend != "exact" || !args.env.empty())) {
+        std::fprintf(io.err, "sepal render: --supersample applies to the exact backend without --env (got %s%s)\n",
+                     args.backend.c_str(), args.env.empty() ? "" : " with --env");
         return kExitBadInput;
     }
     const std::string& backend = args.backend;
@@ -276,7 +282,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     ExactStats stats;
     const auto start = std::chrono::steady_clock::now();
     if (!render_exact(*brdf, setup.scene, setup.mesh, setup.width, setup.height, &img, &stats, &err,
-                      large && isatty(fileno(io.err)))) {
+                      large && isatty(fileno(io.err)), args.supersample)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
@@ -290,8 +296,8 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         return kExitBadInput;
     }
     written.commit();
-    std::fprintf(io.out, "backend    exact (%s), %dx%d, %.1f ms\n", brdf->spec().c_str(), setup.width,
-                 setup.height, ms);
+    std::fprintf(io.out, "backend    exact (%s), %dx%d, %dx%d samples per pixel, %.1f ms\n", brdf->spec().c_str(),
+                 setup.width, setup.height, args.supersample, args.supersample, ms);
     std::fprintf(io.out, "pixels     %lld covered, %lld back-facing, %lld degenerate frames\n",
                  (long long)stats.covered_pixels, (long long)stats.back_facing_pixels,
                  (long long)stats.degenerate_frames);
@@ -324,6 +330,11 @@ CommandRun setup_render(CLI::App& app) {
     app.add_option("--env", a->env,
                    "exact backend, Monte Carlo under distant light: constant[:V|:R,G,B], sky[:key=value,...] or a "
                    "latitude-longitude FILE.hdr");
+    app.add_option("--supersample", a->supersample,
+                   "exact backend: S x S samples per pixel, averaged (coverage stays the pixel centre's, as on GL); "
+                   "1 shades the centre only, which aliases where shading changes fast")
+        ->check(CLI::Range(1, kMaxExactSupersample))
+        ->capture_default_str();
     app.add_option("--spp", a->spp, "with --env: samples per pixel")->check(CLI::Range(1, 1000000))->capture_default_str();
     app.add_option("--sampler", a->sampler, "with --env: cosine, factored (fitted now), or a file from `sepal sampler`")
         ->capture_default_str();

@@ -30,73 +30,122 @@ class Uniform : public SpatialBrdf {
 }  // namespace
 
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
-                  int height, Image* out, ExactStats* stats, std::string* err, bool progress) {
-    return render_exact_spatial(Uniform(brdf), scene, mesh, width, height, out, stats, err, progress);
+                  int height, Image* out, ExactStats* stats, std::string* err, bool progress, int supersample) {
+    return render_exact_spatial(Uniform(brdf), scene, mesh, width, height, out, stats, err, progress, supersample);
 }
 
+namespace {
+
+enum SampleFlags { kBackFacing = 1, kDegenerate = 2 };
+
+// Radiance at one surface sample; false where the normal is bad (not shaded).
+bool shade(const SpatialBrdf& brdf, const sepal_scene& scene, const glm::dvec3& eye, const SurfaceBuffer& g,
+           size_t p, glm::dvec3* radiance, int* flags) {
+    SurfacePoint sp;
+    const FrameStatus fs = surface_point(g, p, &sp);
+    if (fs == FrameStatus::BadNormal) {
+        *flags |= kDegenerate;
+        return false;
+    }
+    if (fs == FrameStatus::TangentFallback) *flags |= kDegenerate;
+    const glm::dvec3 pos = sp.position;
+    const glm::dvec3 wo = sp.local(glm::normalize(eye - pos));
+    if (wo.z <= 0) *flags |= kBackFacing;
+    glm::dvec3 sum(0.0);
+    for (int l = 0; l < scene.light_count; ++l) {
+        const sepal_light& light = scene.lights[l];
+        const glm::dvec3 lp(light.position[0], light.position[1], light.position[2]);
+        glm::dvec3 to_light;
+        double falloff = 1.0;
+        if (light.type == SEPAL_LIGHT_POINT) {
+            to_light = lp - pos;
+            const double d2 = glm::dot(to_light, to_light);
+            if (!(d2 > 1e-12)) continue;
+            falloff = 1.0 / d2;
+        } else {
+            to_light = lp;
+        }
+        const glm::dvec3 wi = sp.local(glm::normalize(to_light));
+        if (wi.z <= 0 || wo.z <= 0) continue;
+        const glm::dvec3 intensity(light.intensity[0], light.intensity[1], light.intensity[2]);
+        sum += brdf.eval(sp.uv, wi, wo) * wi.z * falloff * intensity;
+    }
+    *radiance = sum;
+    return true;
+}
+
+}  // namespace
+
 bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
-                          int width, int height, Image* out, ExactStats* stats, std::string* err, bool progress) {
-    SurfaceBuffer g;
+                          int width, int height, Image* out, ExactStats* stats, std::string* err, bool progress,
+                          int supersample) {
+    if (supersample < 1 || supersample > kMaxExactSupersample) {
+        *err = "exact render: supersample " + std::to_string(supersample) + " (1.." +
+               std::to_string(kMaxExactSupersample) + ")";
+        return false;
+    }
+    const int S = supersample;
+    // Coverage is GL's (pixel centres, g); shading averages S x S stratified samples over the
+    // pixel that lie on the surface (one rasterization per offset, sub): the pixel's mean
+    // radiance, not one point of it.
+    SurfaceBuffer g, sub;
     if (!rasterize_surface(scene, mesh, width, height, &g, err)) return false;
     *out = Image(width, height, 3);
+    const size_t pixels = size_t(width) * height;
+    std::vector<double> sum(S > 1 ? pixels * 3 : 0);
+    std::vector<int> count(S > 1 ? pixels : 0), flags(pixels, 0);
     const glm::dvec3 eye(scene.camera.eye[0], scene.camera.eye[1], scene.camera.eye[2]);
-    std::atomic<int64_t> back_facing{0}, degenerate{0}, covered{0};
+    const int threads = int(std::max(1u, std::min(8u, std::thread::hardware_concurrency())));
     // Rows are shaded in interleaved order by each thread; every pixel is written by
     // exactly one thread, so the image does not depend on the thread count.
-    Progress rows_done(progress, "sepal render: exact", size_t(height));
-    auto shade_rows = [&](int first, int step) {
-        int64_t bf = 0, dg = 0, cv = 0;
-        for (int y = first; y < height; rows_done.advance(), y += step)
+    auto parallel_rows = [&](auto&& row) {
+        std::vector<std::thread> pool;
+        for (int i = 1; i < threads; ++i)
+            pool.emplace_back([&, i] {
+                for (int y = i; y < height; y += threads) row(y);
+            });
+        for (int y = 0; y < height; y += threads) row(y);
+        for (std::thread& th : pool) th.join();
+    };
+    Progress rows_done(progress, "sepal render: exact", size_t(height) * S * S);
+    for (int k = 0; S > 1 && k < S * S; ++k) {
+        const float dx = (float(k % S) + 0.5f) / float(S) - 0.5f, dy = (float(k / S) + 0.5f) / float(S) - 0.5f;
+        if (!rasterize_surface(scene, mesh, width, height, &sub, err, dx, dy)) return false;
+        parallel_rows([&](int y) {
             for (int x = 0; x < width; ++x) {
                 const size_t p = size_t(y) * width + x;
-                float* rgb = &out->data[p * 3];
-                if (!g.covered[p]) {
-                    std::copy(scene.background, scene.background + 3, rgb);
-                    continue;
+                glm::dvec3 v;
+                if (g.covered[p] && sub.covered[p] && shade(brdf, scene, eye, sub, p, &v, &flags[p])) {
+                    for (int c = 0; c < 3; ++c) sum[p * 3 + c] += v[c];
+                    ++count[p];
                 }
-                ++cv;
-                SurfacePoint sp;
-                const FrameStatus fs = surface_point(g, p, &sp);
-                if (fs == FrameStatus::BadNormal) {
-                    // A zero or non-finite normal: the runtime skips such triangles; so does this.
-                    ++dg;
-                    std::copy(scene.background, scene.background + 3, rgb);
-                    continue;
-                }
-                if (fs == FrameStatus::TangentFallback) ++dg;
-                const glm::dvec3 pos = sp.position;
-                const glm::dvec3 wo = sp.local(glm::normalize(eye - pos));
-                if (wo.z <= 0) ++bf;
-                glm::dvec3 sum(0.0);
-                for (int l = 0; l < scene.light_count; ++l) {
-                    const sepal_light& light = scene.lights[l];
-                    const glm::dvec3 lp(light.position[0], light.position[1], light.position[2]);
-                    glm::dvec3 to_light;
-                    double falloff = 1.0;
-                    if (light.type == SEPAL_LIGHT_POINT) {
-                        to_light = lp - pos;
-                        const double d2 = glm::dot(to_light, to_light);
-                        if (!(d2 > 1e-12)) continue;
-                        falloff = 1.0 / d2;
-                    } else {
-                        to_light = lp;
-                    }
-                    const glm::dvec3 wi = sp.local(glm::normalize(to_light));
-                    if (wi.z <= 0 || wo.z <= 0) continue;
-                    const glm::dvec3 intensity(light.intensity[0], light.intensity[1], light.intensity[2]);
-                    sum += brdf.eval(sp.uv, wi, wo) * wi.z * falloff * intensity;
-                }
-                for (int c = 0; c < 3; ++c) rgb[c] = float(sum[c]);
             }
-        back_facing += bf;
-        degenerate += dg;
-        covered += cv;
-    };
-    const int threads = int(std::max(1u, std::min(8u, std::thread::hardware_concurrency())));
-    std::vector<std::thread> pool;
-    for (int i = 1; i < threads; ++i) pool.emplace_back(shade_rows, i, threads);
-    shade_rows(0, threads);
-    for (std::thread& th : pool) th.join();
+            rows_done.advance();
+        });
+    }
+    parallel_rows([&](int y) {
+        for (int x = 0; x < width; ++x) {
+            const size_t p = size_t(y) * width + x;
+            float* rgb = &out->data[p * 3];
+            std::copy(scene.background, scene.background + 3, rgb);
+            if (!g.covered[p]) continue;
+            glm::dvec3 v;
+            if (S > 1 && count[p] > 0) {
+                for (int c = 0; c < 3; ++c) rgb[c] = float(sum[p * 3 + c] / count[p]);
+            } else if (shade(brdf, scene, eye, g, p, &v, &flags[p])) {
+                // S = 1, or no subsample on the surface (a sliver): the centre.
+                for (int c = 0; c < 3; ++c) rgb[c] = float(v[c]);
+            }
+            // else a zero or non-finite normal: the runtime skips such triangles; so does this.
+            if (S == 1) rows_done.advance();
+        }
+    });
+    int64_t covered = 0, back_facing = 0, degenerate = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        covered += g.covered[p];
+        back_facing += (flags[p] & kBackFacing) != 0;
+        degenerate += (flags[p] & kDegenerate) != 0;
+    }
     if (stats) {
         stats->covered_pixels = covered;
         stats->back_facing_pixels = back_facing;

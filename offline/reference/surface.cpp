@@ -26,7 +26,7 @@ glm::dvec3 SurfacePoint::local(const glm::dvec3& w) const {
 glm::dvec3 SurfacePoint::world(const glm::dvec3& w) const { return w.x * t + w.y * s + w.z * n; }
 
 bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
-                       SurfaceBuffer* out, std::string* err) {
+                       SurfaceBuffer* out, std::string* err, float dx, float dy) {
     constexpr int kV = SurfaceBuffer::kVaryings;
     float view[16], proj[16];
     sepal_error e = {};
@@ -42,7 +42,10 @@ bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int wid
     std::vector<float> clip(size_t(mesh.vertex_count) * 4), vary(size_t(mesh.vertex_count) * kV);
     for (int i = 0; i < mesh.vertex_count; ++i) {
         const sepal_vertex& v = mesh.vertices[i];
-        const glm::vec4 c = clip_from_world * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f);
+        glm::vec4 c = clip_from_world * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f);
+        // Sampling at the pixel centre + (dx, dy) is sampling the centre of a shifted image.
+        c.x -= 2.0f * dx / float(width) * c.w;
+        c.y -= 2.0f * dy / float(height) * c.w;
         std::copy(&c.x, &c.x + 4, clip.begin() + size_t(i) * 4);
         float* dst = &vary[size_t(i) * kV];
         std::copy(v.position, v.position + 3, dst);

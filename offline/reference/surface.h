@@ -29,8 +29,10 @@ struct SurfaceBuffer {
     std::vector<uint8_t> covered;
 };
 
+// dx, dy: where in each pixel to sample, in pixels from its centre (|d| < 0.5; a supersampled
+// exact render rasterizes once per offset: memory stays one buffer of the image's size).
 bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
-                       SurfaceBuffer* out, std::string* err);
+                       SurfaceBuffer* out, std::string* err, float dx = 0.0f, float dy = 0.0f);
 
 struct SurfacePoint {
     glm::dvec3 position, t, s, n;  // world space; (t, s, n) orthonormal

@@ -117,26 +117,41 @@ void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
     glPopMatrix();
 }
 
-// Textured passes send colour / boost and scale by 4 in their last combiner stage
-// (GL_RGB_SCALE accepts 1, 2 or 4): vertex colours stay below 1 at a 4x higher exposure.
-float color_boost(const sepal_fmt_pass& pass) {
-    return srt::pass_color_boost(pass);
+// Passes send colour / boost and scale by 4 in their last combiner stage (GL_RGB_SCALE
+// accepts 1, 2 or 4): vertex colours stay below 1 at a 4x higher exposure.
+float color_boost(const Frame& f, const sepal_fmt_pass& pass) {
+    return srt::pass_color_boost(pass, f.m->texture_count);
+}
+
+// An untextured pass's combiner stage: unit 0 enabled with any complete texture (never
+// sampled: the stage replaces by the primary colour) so that GL_RGB_SCALE applies.
+void untextured_stage(const Frame& f, const sepal_fmt_pass& pass) {
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    if (f.m->texture_count == 0) {
+        bind_unit(GL_TEXTURE0, 0, nullptr);
+        return;
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glClientActiveTexture(GL_TEXTURE0);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, f.m->gl_textures[0]);
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    set_env_modulate(GL_PRIMARY_COLOR, 0, (GLint)(pass.rgb_scale * color_boost(f, pass)));
 }
 
 // Fills the colour array for one pass and light: pass colour x irradiance x exposure.
 void fill_colors(const Frame& f, const sepal_fmt_pass& pass, int light) {
     const int n = f.mesh->vertex_count;
     srt::fill_pass_colors(f.m->info, pass, srt::pass_inputs(f.m, f.scratch, n, f.scene->light_count, light),
-                          f.exposure / color_boost(pass), n, srt::pass_colors(f.scratch, n, f.scene->light_count));
+                          f.exposure / color_boost(f, pass), n, srt::pass_colors(f.scratch, n, f.scene->light_count));
 }
 
 // Two texture units: tex0 x tex1 x colour, added or subtracted by blending.
 void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inverted) {
-    const GLint scale = (GLint)(pass.rgb_scale * color_boost(pass));
+    const GLint scale = (GLint)(pass.rgb_scale * color_boost(f, pass));
     mesh_arrays(f, true);
     if (srt::pass_texture_count(pass) == 0) {
-        bind_unit(GL_TEXTURE1, 0, nullptr);
-        bind_unit(GL_TEXTURE0, 0, nullptr);
+        untextured_stage(f, pass);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
         set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, pass.op == SEPAL_OP_TEXTURE ? scale : 1);
@@ -187,10 +202,10 @@ void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inve
     }
     mesh_arrays(f, true);
     if (srt::pass_texture_count(pass) == 0) {
-        bind_unit(GL_TEXTURE0, 0, nullptr);
+        untextured_stage(f, pass);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
-        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)(pass.rgb_scale * color_boost(pass)));
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)(pass.rgb_scale * color_boost(f, pass)));
     }
     draw_mesh(f);
     if (f.acc_valid) {

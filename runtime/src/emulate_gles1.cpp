@@ -272,7 +272,7 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
         const int textures = srt::pass_texture_count(pass);
         // GL ES 1.1: colour / boost, and the boost back in the last combiner stage; GL ES 2:
         // the colour as it is, times rgb_scale in the shader.
-        const float boost = e->gles_version == 1 ? srt::pass_color_boost(pass) : 1.0f;
+        const float boost = e->gles_version == 1 ? srt::pass_color_boost(pass, m.texture_count) : 1.0f;
         const float stage_scale = e->gles_version == 1 ? (float)pass.rgb_scale * boost : (float)pass.rgb_scale;
         for (int l = 0; l < lights; ++l) {
             float* c = colors + 4 * (size_t)n * l;
@@ -304,8 +304,8 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
                     for (int ch = 0; ch < 3; ++ch)
                         value[ch] = (float)(b[0] * cl[4 * idx[0] + ch] + b[1] * cl[4 * idx[1] + ch] +
                                             b[2] * cl[4 * idx[2] + ch]);
-                    for (int unit = 0; unit < textures || (!clamp_colors && unit == 0); ++unit) {
-                        if (unit >= textures) {  // GL ES 2, untextured: colour x rgb_scale
+                    for (int unit = 0; unit < textures || unit == 0; ++unit) {
+                        if (unit >= textures) {  // untextured: colour x the stage's scale, clamped
                             for (int ch = 0; ch < 3; ++ch) value[ch] = clamp01(value[ch] * stage_scale);
                             break;
                         }

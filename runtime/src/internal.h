@@ -66,11 +66,14 @@ float light_direction(const struct sepal_light& light, const float position[3], 
 inline int pass_texture_count(const sepal_fmt_pass& p) {
     return p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
 }
-// GL ES 1.1 clamps vertex colours at 1: textured passes send colour / boost and scale by 4
-// in their last combiner stage (GL_RGB_SCALE accepts 1, 2 or 4), boost = 4 / rgb_scale;
-// untextured passes have no combiner stage to scale in.
-inline float pass_color_boost(const sepal_fmt_pass& p) {
-    return pass_texture_count(p) == 0 ? 1.0f : 4.0f / (float)p.rgb_scale;
+// GL ES 1.1 clamps vertex colours at 1: passes send colour / boost and scale by 4 in their
+// last combiner stage (GL_RGB_SCALE accepts 1, 2 or 4), boost = 4 / rgb_scale. An untextured
+// pass (DIFFUSE, CONSTANT) gets its stage by binding any of the material's textures to unit 0
+// with the combiner replacing by the primary colour: without it the diffuse colour
+// E cos D clamped at 1 and the whole frame went to 1/4 exposure and 2 doublings (velvet:
+// 4-level rings). A material without textures has nothing to bind: boost 1.
+inline float pass_color_boost(const sepal_fmt_pass& p, uint32_t material_textures) {
+    return pass_texture_count(p) == 0 && material_textures == 0 ? 1.0f : 4.0f / (float)p.rgb_scale;
 }
 
 // Returns SEPAL_OK, or drains GL's error flags and fills err naming `what`. Works on

@@ -109,10 +109,10 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
     out->max_height = max_height;
     for (uint32_t p = 0; p < asset->plan.pass_count; ++p) {
         const sepal_fmt_pass& pass = asset->passes[p];
-        // GL ES 1.1 clamps vertex colours at 1: textured passes send colour / 4 and scale
-        // by 4 in the combiner (GL_RGB_SCALE), which buys two doublings of framebuffer
-        // precision; untextured passes have no combiner. GL ES 2 attributes are not clamped.
-        const float boost = srt::pass_color_boost(pass);
+        // GL ES 1.1 clamps vertex colours at 1: passes send colour / 4 and scale by 4 in
+        // the combiner (GL_RGB_SCALE), which buys two doublings of framebuffer precision
+        // (internal.h). GL ES 2 attributes are not clamped.
+        const float boost = srt::pass_color_boost(pass, asset->texture_count);
         for (int c = 0; c < 3; ++c) {
             const float v = caps->gles_version == 1 ? pass.color[c] / boost : 0.0f;
             if (v > out->pass_need[p]) out->pass_need[p] = v;

@@ -177,7 +177,9 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
         REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
         const sepal_ports::SceneSetup s = scene({}, "256x256");
         sepal::Image exact;
-        REQUIRE_MESSAGE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err), err);
+        REQUIRE_MESSAGE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err, false,
+                                            sepal::kReferenceSupersample),
+                        err);
         for (float& v : exact.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
         int checked = 0;
         for (const sepal::BakeCandidate& c : r.candidates) {
@@ -205,6 +207,37 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
         // The winner is good on the default scene too (the bake judged two views at 128).
         const sepal::Image w = gl(encode(r.asset), s, "gles1");
         CHECK(sepal::diff_images(exact, w, 0).psnr >= 35.0);
+    }
+}
+
+TEST_CASE("GL ES 1.1: the untextured diffuse pass scales in a combiner stage, so it costs no doublings") {
+    // A bright Lambert (rho 0.95): the diffuse pass's colour E cos(theta_i) rho / pi reaches
+    // ~2 at the lit pole of the default scene. Without a combiner stage GL ES 1.1 clamped it at
+    // 1 and the frame went to half exposure plus a doubling (rings of 2 levels; velvet: 4-level
+    // rings at 2 doublings). Drawn through a stage with GL_RGB_SCALE 4, like textured passes:
+    // no doubling, on llvmpipe and in the emulator, with and without a second texture unit.
+    const std::vector<uint8_t> bytes =
+        encode(bake_one("lambert:rho=0.95", sepal::Param::GsHalf, sepal::Method::ACLS, 1, true));
+    const sepal_ports::SceneSetup s = scene({});
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("lambert:rho=0.95", &err);
+    REQUIRE_MESSAGE(f, err);
+    sepal::Image exact;
+    REQUIRE_MESSAGE(sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err), err);
+    float peak = 0;
+    for (float& v : exact.data) peak = std::max(peak, v), v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
+    CHECK(peak > 1.0f);  // the exposure question is real: E rho / pi > 1 at the lit pole
+    for (uint32_t mask : {0u, uint32_t(SEPAL_MASK_MULTITEXTURE)}) {
+        CAPTURE(mask);
+        int d_gl = -1, d_em = -1;
+        const sepal::Image g = gl(bytes, s, "gles1", mask, &d_gl);
+        CHECK(d_gl == 0);
+        if (mask == 0) {
+            emulated(bytes, s, 1, mask, &d_em);
+            CHECK(d_em == 0);
+        }
+        // Gouraud on the 128 x 64 sphere at 128 x 128: the measured floor is 8-bit rounding.
+        CHECK(sepal::diff_images(exact, g, 0).psnr >= 45.0);
     }
 }
 
