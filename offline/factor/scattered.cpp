@@ -85,14 +85,19 @@ bool refine_scattered(const std::vector<ScatteredSample>& samples, const Scatter
         return fail("scattered: per-channel factors (1..16 terms) of a parameterization with clamped factors");
     if (samples.size() > 1000000 || o.iterations < 1 || o.sweeps < 1 || !(o.smoothness >= 0))
         return fail("scattered: up to 1e6 samples, iterations and sweeps >= 1, smoothness >= 0");
-    const int n = f->n, k = f->term_count();
+    const int k = f->term_count();
+    // Texels per side of G and of H (a half-angle factor may be finer than the other).
+    const int side_n[2] = {f->terms[0].g.n, f->terms[0].h.n};
+    for (const FactorTerm& t : f->terms)
+        if (t.g.n != side_n[0] || t.h.n != side_n[1] || t.g.channels != 3 || t.h.channels != 3)
+            return fail("scattered: every term's G (and H) factors of one size, 3 channels");
     std::vector<Prepared> pre;
     double wsum = 0;
     for (const ScatteredSample& s : samples) {
         TexCoords tc;
         if (!(s.weight > 0) || !param_forward(f->param, f->map, s.wi, s.wo, &tc)) continue;
         if (!std::isfinite(s.f.x) || !std::isfinite(s.f.y) || !std::isfinite(s.f.z)) return fail("scattered: a sample is not finite");
-        pre.push_back(Prepared{{bilinear_taps(n, tc.x, false), bilinear_taps(n, tc.y, false)}, s.weight, s.f});
+        pre.push_back(Prepared{{bilinear_taps(side_n[0], tc.x, false), bilinear_taps(side_n[1], tc.y, false)}, s.weight, s.f});
         wsum += s.weight;
     }
     if (pre.empty()) return fail("scattered: no sample above the horizon with a weight > 0");
@@ -102,7 +107,8 @@ bool refine_scattered(const std::vector<ScatteredSample>& samples, const Scatter
     Stencil st;
     for (int c = 0; c < 3; ++c) {
         // Factors of this channel as doubles, and their values at every sample.
-        std::vector<std::vector<double>> x(size_t(2 * k), std::vector<double>(size_t(n) * n));
+        std::vector<std::vector<double>> x(size_t(2 * k));
+        for (int t = 0; t < 2 * k; ++t) x[size_t(t)].assign(size_t(side_n[t % 2]) * side_n[t % 2], 0.0);
         std::vector<std::vector<double>> at(size_t(2 * k), std::vector<double>(ns));
         for (int t = 0; t < k; ++t)
             for (int side = 0; side < 2; ++side) {
@@ -129,6 +135,7 @@ bool refine_scattered(const std::vector<ScatteredSample>& samples, const Scatter
                 for (int side = 0; side < 2; ++side) {
                     if (t == 0 && side == o.constant_side) continue;
                     const int me = 2 * t + side, other = 2 * t + 1 - side;
+                    const int n = side_n[side];
                     st.reset(n);
                     for (size_t s = 0; s < ns; ++s) {
                         double rest = 0;

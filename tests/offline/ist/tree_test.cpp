@@ -187,6 +187,40 @@ TEST_CASE("ist scattered: refitting factors to samples lowers their error, keeps
     CHECK_FALSE(refine_scattered(none, so, &f, &sr, &err));
 }
 
+TEST_CASE("scattered: a half-angle factor finer than the other (res_h) is refitted at its own size") {
+    // The bake's ladder gives G and H different sides (vh 16/64): the refit once indexed both
+    // at G's side and wrote past H's texels (heap corruption, found refitting bake candidates).
+    std::string err;
+    std::unique_ptr<Brdf> b = make_brdf("cook-torrance:d=0.2,m=0.2", &err);
+    REQUIRE(b);
+    FactorOptions fo;
+    fo.param = Param::ViewHalf;
+    fo.res = 8;
+    fo.res_h = 32;
+    fo.terms = 2;
+    fo.method = Method::ACLS;
+    std::unique_ptr<Brdf> other = make_brdf("cook-torrance:d=0.6,m=0.35", &err);
+    FactorResult r;
+    REQUIRE_MESSAGE(factor_brdf(*other, fo, &r, &err), err);
+    Factored f = r.factored;
+    REQUIRE(f.terms[0].g.n != f.terms[0].h.n);
+    const int gn = f.terms[0].g.n, hn = f.terms[0].h.n;
+    std::vector<ScatteredSample> s;
+    for (const DirPair& p : gantry_pairs(6, 30, 12))
+        s.push_back(ScatteredSample{p.wi, p.wo, b->eval(p.wi, p.wo), p.wi.z * p.wi.z});
+    ScatteredResult sr;
+    REQUIRE_MESSAGE(refine_scattered(s, ScatteredOptions{}, &f, &sr, &err), err);
+    CHECK(sr.rms_after < 0.5 * sr.rms_before);
+    CHECK(f.terms[0].g.n == gn);
+    CHECK(f.terms[0].h.n == hn);
+    CHECK(f.terms[1].h.data.size() == size_t(hn) * hn * 3);
+    CHECK(f.non_negative());
+    // Terms of different sizes: refused, not guessed.
+    f.terms[1].h = FactorTexture(hn / 2, 3);
+    CHECK_FALSE(refine_scattered(s, ScatteredOptions{}, &f, &sr, &err));
+    CHECK(err.find("one size") != std::string::npos);
+}
+
 TEST_CASE("ist render: a spatial BRDF that does not vary renders exactly as the BRDF, and blend maps show") {
     sepal_scene sc;
     ist_default_scene(&sc);
