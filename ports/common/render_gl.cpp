@@ -260,25 +260,13 @@ bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& set
         *err = e.message;
         return false;
     }
-    rgba->assign(size_t(setup.width) * setup.height * 4, 0);
-    std::vector<float> scratch(
-        sepal_emulate_scratch_floats(setup.width, setup.height, setup.mesh.vertex_count, setup.scene.light_count));
-    sepal_emulate_desc d = {};
-    d.asset = asset.get();
-    d.mesh = &setup.mesh;
-    d.scene = &setup.scene;
-    d.width = setup.width;
-    d.height = setup.height;
-    d.gles_version = gles_version;
-    d.mask = mask;
-    d.rgba = rgba->data();
-    d.scratch = scratch.data();
-    d.scratch_floats = scratch.size();
-    d.stats = stats;
+    EmulatedFrame frame;
+    const sepal_emulate_desc d = scene_emulate_desc(asset.get(), setup, gles_version, mask, &frame, stats);
     if (sepal_emulate_draw(&d, &e) != SEPAL_OK) {
         *err = e.message;
         return false;
     }
+    rgba->swap(frame.rgba);
     return true;
 }
 

@@ -37,4 +37,24 @@ sepal_cpu_desc scene_cpu_desc(const sepal_asset* asset, const SceneSetup& setup,
     return d;
 }
 
+sepal_emulate_desc scene_emulate_desc(const sepal_asset* asset, const SceneSetup& setup, int gles_version,
+                                      uint32_t mask, EmulatedFrame* frame, sepal_draw_stats* stats) {
+    frame->rgba.assign(size_t(setup.width) * setup.height * 4, 0);
+    frame->scratch.resize(
+        sepal_emulate_scratch_floats(setup.width, setup.height, setup.mesh.vertex_count, setup.scene.light_count));
+    sepal_emulate_desc d = {};
+    d.asset = asset;
+    d.mesh = &setup.mesh;
+    d.scene = &setup.scene;
+    d.width = setup.width;
+    d.height = setup.height;
+    d.gles_version = gles_version;
+    d.mask = mask;
+    d.rgba = frame->rgba.data();
+    d.scratch = frame->scratch.data();
+    d.scratch_floats = frame->scratch.size();
+    d.stats = stats;
+    return d;
+}
+
 }  // namespace sepal_ports

@@ -7,6 +7,8 @@
 //   sepal_draw(&d, &stats, &err);
 //   CpuFrame cpu;  sepal_cpu_desc c = scene_cpu_desc(&asset, setup, &cpu, &stats);
 //   sepal_draw_cpu(&c, &err);   // cpu.rgb: linear RGB, top row first
+//   EmulatedFrame em;  sepal_emulate_desc m = scene_emulate_desc(&asset, setup, 1, 0, &em, &stats);
+//   sepal_emulate_draw(&m, &err);  // em.rgba: what GL ES 1.1 shows
 #pragma once
 #include <vector>
 
@@ -24,5 +26,14 @@ struct CpuFrame {
 // rgb is cleared to 0; stats may be NULL.
 sepal_cpu_desc scene_cpu_desc(const sepal_asset* asset, const SceneSetup& setup, CpuFrame* frame,
                               sepal_draw_stats* stats);
+
+struct EmulatedFrame {
+    std::vector<uint8_t> rgba;
+    std::vector<float> scratch;
+};
+// The GL ES emulator's frame (gles_version 1 or 2, capabilities masked by mask); rgba is
+// cleared to 0; stats may be NULL.
+sepal_emulate_desc scene_emulate_desc(const sepal_asset* asset, const SceneSetup& setup, int gles_version,
+                                      uint32_t mask, EmulatedFrame* frame, sepal_draw_stats* stats);
 
 }  // namespace sepal_ports
