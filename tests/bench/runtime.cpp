@@ -1,5 +1,6 @@
-// Runtime benchmarks (make bench): GL ES 1.1 ms per frame against the fill limit, the CPU
-// cost of per-vertex set-up, and the stripped sizes of what ships.
+// Runtime benchmarks (make bench): GL ES 1.1 ms per frame against the fill limit (bare
+// full-screen passes) and the mesh limit (bare passes of the same mesh: the same vertices and
+// covered pixels), the CPU cost of per-vertex set-up, and the stripped sizes of what ships.
 //
 // Timings are medians of several frames, each ended by glFinish, measured in one run next
 // to their baseline, and reported as ratios: absolute milliseconds on llvmpipe say little
@@ -38,6 +39,7 @@ double ms_since(Clock::time_point t) {
 }
 
 double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
 }
@@ -76,7 +78,7 @@ sepal::AssetData synthetic_asset(int terms) {
 }
 
 // The fill limit: `passes` bare textured full-screen quads, additively blended.
-double fill_limit_ms(int passes, GLuint texture, int frames) {
+double fill_limit_ms(int passes, GLuint texture, int frames, int warmup = 2) {
     const float pos[8] = {-1, -1, 1, -1, 1, 1, -1, 1}, uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
     static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
     glMatrixMode(GL_PROJECTION);
@@ -92,17 +94,59 @@ double fill_limit_ms(int passes, GLuint texture, int frames) {
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     std::vector<double> times;
-    for (int f = 0; f < frames + 2; ++f) {
+    for (int f = 0; f < frames + warmup; ++f) {
         const auto t = Clock::now();
         glClear(GL_COLOR_BUFFER_BIT);
         for (int p = 0; p < passes; ++p) glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
         glFinish();
-        if (f >= 2) times.push_back(ms_since(t));  // the first frames warm the JIT up
+        if (f >= warmup) times.push_back(ms_since(t));  // the first frames warm the JIT up
     }
     glDisable(GL_BLEND);
     glDisable(GL_TEXTURE_2D);
     glDisableClientState(GL_VERTEX_ARRAY);
     glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    return median(times);
+}
+
+// The mesh limit: `passes` bare textured draws of the scene's mesh (the same vertices and
+// covered pixels as the frame, back faces culled, additively blended, texture coordinates
+// from the mesh's UVs): what the GPU must spend on these passes with no per-frame CPU work,
+// no colour arrays and no depth pre-pass.
+double mesh_limit_ms(int passes, GLuint texture, const sepal_ports::SceneSetup& s, int frames, int warmup = 2) {
+    float view[16], proj[16];
+    sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(view);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].position);
+    glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].uv);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    std::vector<double> times;
+    for (int f = 0; f < frames + warmup; ++f) {
+        const auto t = Clock::now();
+        glClear(GL_COLOR_BUFFER_BIT);
+        for (int p = 0; p < passes; ++p)
+            glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
+        glFinish();
+        if (f >= warmup) times.push_back(ms_since(t));
+    }
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_TEXTURE_2D);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
     return median(times);
 }
 
@@ -193,7 +237,7 @@ int main(int argc, char** argv) {
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
     const std::string& out_dir = cli.out;
     const std::string& bin_dir = cli.build;
-    const int W = 512, H = 512, frames = 7;
+    const int W = 512, H = 512, rounds = 11;
     std::string err;
     sepal_headless_desc hd = {};
     hd.width = W;
@@ -212,8 +256,10 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::string json = "{\n  \"device\": \"" + std::string(sepal_headless_describe(ctx)) + "\",\n  \"size\": [512, 512],\n  \"frames\": [\n";
-    std::printf("GL ES 1.1 multipass, %dx%d, %s; median of %d frames\n", W, H, sepal_headless_describe(ctx), frames);
-    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s\n", "terms", "lights", "passes", "ms/frame", "fill-limit", "ratio");
+    std::printf("GL ES 1.1 multipass, %dx%d, %s; medians of %d rounds (a frame, a fill-limit frame, a mesh-limit frame)\n",
+                W, H, sepal_headless_describe(ctx), rounds);
+    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s %-11s %-8s %-9s\n", "terms", "lights", "passes", "ms/frame",
+                "fill-limit", "ratio", "mesh-limit", "ratio", "set-up ms");
     bool first = true;
     for (int terms : {1, 2, 4}) {
         const sepal::AssetData a = synthetic_asset(terms);
@@ -255,24 +301,47 @@ int main(int argc, char** argv) {
             d.scratch = scratch.data();
             d.scratch_floats = scratch.size();
             sepal_draw_stats stats = {};
-            std::vector<double> times;
-            for (int f = 0; f < frames + 2; ++f) {
+            // Rounds of one frame, one fill-limit frame and one mesh-limit frame each, so a
+            // drift of the machine (llvmpipe's threads share 2 cores) moves all three alike.
+            std::vector<double> times, fills, meshes;
+            for (int f = 0; f < 2; ++f)  // warm-up: the JIT compiles the frame's state sets
+                if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
+                    std::fprintf(stderr, "bench: %s\n", e.message);
+                    return 1;
+                }
+            glFinish();
+            int passes = stats.draw_calls + stats.fullscreen_passes;
+            fill_limit_ms(passes, mat->gl_textures[0], 0);  // their warm-up
+            mesh_limit_ms(passes, mat->gl_textures[0], s, 0);
+            for (int r = 0; r < rounds; ++r) {
                 const auto t = Clock::now();
                 if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
                     std::fprintf(stderr, "bench: %s\n", e.message);
                     return 1;
                 }
                 glFinish();
-                if (f >= 2) times.push_back(ms_since(t));
+                times.push_back(ms_since(t));
+                passes = stats.draw_calls + stats.fullscreen_passes;
+                fills.push_back(fill_limit_ms(passes, mat->gl_textures[0], 1, 0));
+                meshes.push_back(mesh_limit_ms(passes, mat->gl_textures[0], s, 1, 0));
             }
-            const int passes = stats.draw_calls + stats.fullscreen_passes;
-            const double ms = median(times), fill = fill_limit_ms(passes, mat->gl_textures[0], frames);
-            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f\n", terms, lights, passes, ms, fill, ms / fill);
-            char row[256];
+            const double ms = median(times), fill = median(fills), mesh = median(meshes);
+            // The frame's CPU set-up (frames, directions, coordinates, irradiance of every
+            // vertex and light), timed alone.
+            std::vector<double> setup;
+            for (int r = 0; r < rounds; ++r) {
+                const auto t = Clock::now();
+                srt::setup_vertices(SEPAL_PARAM_GS_HALF, SEPAL_MAP_XY, s.mesh, s.scene, scratch.data());
+                setup.push_back(ms_since(t));
+            }
+            const double setup_ms = median(setup);
+            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f %-11.2f %-8.2f %-9.2f\n", terms, lights, passes, ms, fill,
+                        ms / fill, mesh, ms / mesh, setup_ms);
+            char row[384];
             std::snprintf(row, sizeof row,
                           "%s    {\"terms\": %d, \"lights\": %d, \"passes\": %d, \"ms\": %.3f, \"fill_limit_ms\": %.3f, "
-                          "\"ratio\": %.3f}",
-                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill);
+                          "\"ratio\": %.3f, \"mesh_limit_ms\": %.3f, \"ratio_mesh\": %.3f, \"setup_ms\": %.3f}",
+                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill, mesh, ms / mesh, setup_ms);
             json += row;
             first = false;
         }
