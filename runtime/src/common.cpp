@@ -30,13 +30,6 @@ bool has_extension(const char* list, const char* name) {
     return false;
 }
 
-bool normalize3(float* v) {
-    const float l = sqrtf(dot3(v, v));
-    if (!(l > 1e-20f) || !isfinite(l)) return false;
-    v[0] /= l, v[1] /= l, v[2] /= l;
-    return true;
-}
-
 int shading_frame(const float normal[3], const float tangent[4], ShadingFrame* f) {
     int fallbacks = 0;
     float* n = f->n;

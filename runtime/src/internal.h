@@ -1,5 +1,6 @@
 // Runtime internals shared by its translation units (not part of the API).
 #pragma once
+#include <math.h>
 #include "sepal/sepal_rt.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_scene.h"
@@ -24,7 +25,13 @@ bool has_extension(const char* list, const char* name);
 // ---- small vector maths shared by the backends ----
 inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 // Normalizes v in place; false (v unchanged) when it is too short to have a direction.
-bool normalize3(float* v);
+// Inline: the per-vertex set-up calls it several times per vertex and light.
+inline bool normalize3(float* v) {
+    const float l = sqrtf(dot3(v, v));
+    if (!(l > 1e-20f) || !isfinite(l)) return false;
+    v[0] /= l, v[1] /= l, v[2] /= l;
+    return true;
+}
 
 // An orthonormal shading frame (t, s, n) from a (possibly interpolated) normal and a
 // tangent with handedness in w: Gram-Schmidt, with fallbacks where the input cannot give
