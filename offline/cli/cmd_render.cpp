@@ -325,7 +325,8 @@ CommandRun setup_render(CLI::App& app) {
     app.add_option("--float", a->float_path, "also write linear floats as PFM (exact, cpu; GL with --float-target)");
     app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");
     app.add_option("--mask", a->mask_text,
-                   "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot (comma-separated)");
+                   "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot, third-unit "
+                   "(comma-separated)");
     app.add_option("--diffuse", a->diffuse_path, "a diffuse texture map (PNG, power-of-two sides) modulating the material");
     app.add_option("--env", a->env,
                    "exact backend, Monte Carlo under distant light: constant[:V|:R,G,B], sky[:key=value,...] or a "

@@ -55,7 +55,8 @@ const struct {
 } kMaskNames[] = {{"subtract", SEPAL_MASK_BLEND_SUBTRACT},
                   {"multitexture", SEPAL_MASK_MULTITEXTURE},
                   {"fbo", SEPAL_MASK_FBO},
-                  {"npot", SEPAL_MASK_NPOT}};
+                  {"npot", SEPAL_MASK_NPOT},
+                  {"third-unit", SEPAL_MASK_THIRD_UNIT}};
 }  // namespace
 
 bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
@@ -68,7 +69,7 @@ bool parse_mask(const std::string& text, uint32_t* mask, std::string* err) {
         for (const auto& m : kMaskNames)
             if (word == m.name) *mask |= m.bit, known = true;
         if (!known) {
-            *err = "--mask '" + text + "': use a comma-separated list of subtract, multitexture, fbo, npot";
+            *err = "--mask '" + text + "': use a comma-separated list of subtract, multitexture, fbo, npot, third-unit";
             return false;
         }
         if (comma == std::string::npos) break;

@@ -37,7 +37,7 @@ int usage(FILE* f, int code) {
             "                        (sets --gles and --mode; cpu draws without GL)\n"
             "  --diffuse PNG         a diffuse texture map modulating the material (Fig. 13)\n"
             "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
-            "                        multitexture, fbo, npot (comma-separated)\n"
+            "                        multitexture, fbo, npot, third-unit (comma-separated)\n"
             "  -o PATH               output PNG\n"
             "viewer flags (window only):\n%s"
             "scene flags:\n%s",

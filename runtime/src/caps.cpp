@@ -76,6 +76,7 @@ extern "C" sepal_result sepal_query_caps(int gles_version, uint32_t mask, sepal_
     out->mask = mask;
     if (mask & SEPAL_MASK_BLEND_SUBTRACT) out->has_blend_subtract = 0, out->blend_equation = nullptr;
     if (mask & SEPAL_MASK_MULTITEXTURE) out->texture_units = out->texture_units > 0 ? 1 : 0;
+    if ((mask & SEPAL_MASK_THIRD_UNIT) && out->texture_units > 2) out->texture_units = 2;
     if (mask & SEPAL_MASK_FBO) out->has_fbo = 0;
     if (mask & SEPAL_MASK_NPOT) out->has_npot = 0;
     if (mask & SEPAL_MASK_FLOAT_TARGET) out->has_float_target = 0;

@@ -53,7 +53,13 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     // Nor does a diffuse map (a tree's blend map) hold: the framebuffer is multiplied by it
     // before the final doublings, so the sum itself must fit: a highlight of 3 under a
     // weight of 0.2 shows 0.6, not 0.2 (docs/ist.md).
-    const bool headroom = m->has_negative_passes || d->diffuse_texture != 0;
+    // Applied per pass (a third texture unit on GL ES 1.1) it is a factor of each pass like
+    // its textures: no headroom for it.
+    // Not for signed plans: their partial sums need headroom anyway, and each pass's own
+    // 8-bit rounding under the map would move their cancellations.
+    prep.diffuse_per_pass = d->diffuse_texture != 0 && !m->single_unit && m->caps.texture_units >= 3 &&
+                            d->mode == SEPAL_MODE_MULTIPASS && !m->has_negative_passes;
+    const bool headroom = m->has_negative_passes || (d->diffuse_texture != 0 && !prep.diffuse_per_pass);
     const float need_sum = headroom ? irradiance_sum * m->plan.peak_partial_sum : 0.0f;
     // Per pass, the largest value GL clamps at 1 (the vertex colour; on one texture unit also
     // colour x tex0, formed and clamped before the blend multiplies it by tex1, else a
@@ -87,7 +93,7 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     // Not with a diffuse map: a stage doubled past 1 clips before the map multiplies it
     // (measured on a tree: 26.3 dB staged, 31.3 not).
     prep.staged = m->caps.gles_version == 1 && !m->has_negative_passes && !fused && !float_target &&
-                  !d->diffuse_texture;
+                  (!d->diffuse_texture || prep.diffuse_per_pass);
     stats->exposure_stages = 1;
     if (prep.staged) {
         int previous = e + 1;

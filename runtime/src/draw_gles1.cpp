@@ -25,6 +25,7 @@ struct Frame {
     sepal_draw_stats* stats;
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
     int bad_vertices;  // > 0: triangles touching one are skipped
+    unsigned diffuse_texture;  // non-zero: multiplies each pass in its first stage (unit 0)
 };
 
 void set_equation(const sepal_material* m, GLenum eq) {
@@ -32,14 +33,14 @@ void set_equation(const sepal_material* m, GLenum eq) {
     if (m->caps.blend_equation) m->caps.blend_equation(eq);
 }
 
-void bind_unit(GLenum unit, GLuint texture, const float* uv) {
+void bind_unit(GLenum unit, GLuint texture, const float* uv, GLsizei stride = 0) {
     glActiveTexture(unit);
     glClientActiveTexture(unit);
     if (texture) {
         glEnable(GL_TEXTURE_2D);
         glBindTexture(GL_TEXTURE_2D, texture);
         glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-        glTexCoordPointer(2, GL_FLOAT, 0, uv);
+        glTexCoordPointer(2, GL_FLOAT, stride, uv);
     } else {
         glDisable(GL_TEXTURE_2D);
         glDisableClientState(GL_TEXTURE_COORD_ARRAY);
@@ -146,11 +147,24 @@ void fill_colors(const Frame& f, const sepal_fmt_pass& pass, int light) {
                           f.exposure / color_boost(f, pass), n, srt::pass_colors(f.scratch, n, f.scene->light_count));
 }
 
-// Two texture units: tex0 x tex1 x colour, added or subtracted by blending.
+// Two texture units: tex0 x tex1 x colour, added or subtracted by blending. With a
+// per-pass diffuse map: colour x map (unit 0, the mesh's UVs), then the pass's textures on
+// units 1 and 2; the scale in the last stage, so no stage before it exceeds 1 (each factor
+// is at most 1) and the last clamps only what is white on screen anyway.
 void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inverted) {
     const GLint scale = (GLint)(pass.rgb_scale * color_boost(f, pass));
+    const int textures = srt::pass_texture_count(pass);
     mesh_arrays(f, true);
-    if (srt::pass_texture_count(pass) == 0) {
+    if (f.diffuse_texture) {
+        bind_unit(GL_TEXTURE0, f.diffuse_texture, f.mesh->vertices[0].uv, sizeof(sepal_vertex));
+        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, textures == 0 ? scale : 1);
+        bind_unit(GL_TEXTURE1, textures >= 1 ? f.m->gl_textures[pass.tex0] : 0,
+                  textures >= 1 ? factor_uv(f, pass.tex0, light) : nullptr);
+        if (textures >= 1) set_env_modulate(GL_PREVIOUS, GL_TEXTURE, textures == 1 ? scale : 1);
+        bind_unit(GL_TEXTURE2, textures == 2 ? f.m->gl_textures[pass.tex1] : 0,
+                  textures == 2 ? factor_uv(f, pass.tex1, light) : nullptr);
+        if (textures == 2) set_env_modulate(GL_PREVIOUS, GL_TEXTURE, scale);
+    } else if (textures == 0) {
         untextured_stage(f, pass);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
@@ -170,6 +184,8 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
     set_equation(f.m, subtract ? kFuncReverseSubtract : kFuncAdd);
     draw_mesh(f);
     set_equation(f.m, kFuncAdd);
+    // Every other draw here uses units 0 and 1 only.
+    if (f.diffuse_texture) bind_unit(GL_TEXTURE2, 0, nullptr);
 }
 
 void copy_to_accumulator(Frame& f) {
@@ -273,7 +289,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     const float* proj = prep.proj;
     const float* view = prep.view;
     Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
-               prep.vertices.bad_vertices};
+               prep.vertices.bad_vertices, prep.diffuse_per_pass ? d->diffuse_texture : 0u};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -312,7 +328,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         step_count > 0 && steps[step_count - 1].kind == srt::Gles1Step::kDouble ? step_count - 1 : step_count;
     for (int i = 0; i < step_count; ++i) {
         const srt::Gles1Step& step = steps[i];
-        if (i == final_doubling) diffuse_map(f, d);
+        if (i == final_doubling && !prep.diffuse_per_pass) diffuse_map(f, d);
         if (step.kind == srt::Gles1Step::kDouble) {
             doublings(f, step.count);
             if (i + 1 < step_count) {  // a stage: the next passes test depth again
@@ -336,7 +352,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
             if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
         }
     }
-    if (final_doubling == step_count) diffuse_map(f, d);
+    if (final_doubling == step_count && !prep.diffuse_per_pass) diffuse_map(f, d);
     // Background where no surface is: a quad at the far plane passes LEQUAL only there.
     const float* bg = d->scene->background;
     if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {

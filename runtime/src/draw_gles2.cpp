@@ -36,7 +36,7 @@ const char kFusedPixelFrag[] =
 #include "shaders/fused_pixel.frag.inc"
     ;
 
-const char* const kPassAttribs[] = {"a_position", "a_color", "a_uv0", "a_uv1", nullptr};
+const char* const kPassAttribs[] = {"a_position", "a_color", "a_uv0", "a_uv1", "a_uvm", nullptr};
 const char* const kFullscreenAttribs[] = {"a_position", "a_uv", nullptr};
 const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g",   "a_uv_h", "a_irradiance",
                                            "a_diffuse",  "a_uv_g2", nullptr};
@@ -51,6 +51,7 @@ struct Frame {
     sepal_draw_stats* stats;
     int bad_vertices;  // > 0: triangles touching one are skipped
     bool repaired;     // some tangents were replaced: per-pixel attributes come from scratch
+    bool map_per_pass;  // multipass: the diffuse map multiplies each pass (unit 2)
 };
 
 void mat4_mul(const float* a, const float* b, float* out) {
@@ -115,6 +116,9 @@ void multipass(const Frame& f) {
     glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
     glUniform1i(loc(p, "u_tex0"), 0);
     glUniform1i(loc(p, "u_tex1"), 1);
+    glUniform1i(loc(p, "u_map"), 2);
+    glUniform1f(loc(p, "u_use_map"), f.map_per_pass ? 1.0f : 0.0f);
+    if (f.map_per_pass) bind_texture(GL_TEXTURE2, f.d->diffuse_texture);
     const GLint op_loc = loc(p, "u_op"), scale_loc = loc(p, "u_scale");
     float* colors = srt::pass_colors(f.scratch, n, lights);
     bool inverted = false;
@@ -138,8 +142,10 @@ void multipass(const Frame& f) {
             auto uv = [&](uint16_t tex) {
                 return m->texture_role[tex] == SEPAL_ROLE_G ? srt::light_g_uv(f.scratch, n, l) : srt::light_h_uv(f.scratch, n, l);
             };
-            attribs(4);
+            attribs(f.map_per_pass ? 5 : 4);
             glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+            if (f.map_per_pass)
+                glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), f.d->mesh->vertices[0].uv);
             glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, colors);
             // Unused coordinates still need a valid array: point them at the G ones.
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0,
@@ -377,7 +383,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
     }
     Frame f = {m, d, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
-               prep.vertices.fallback_tangents > 0};
+               prep.vertices.fallback_tangents > 0, prep.diffuse_per_pass};
     mat4_mul(prep.proj, prep.view, f.mvp);
     GLint previous_fbo = 0;
     if (m->float_fbo) {
@@ -409,8 +415,9 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     else
         fused(f, d->mode == SEPAL_MODE_FUSED_PIXEL);
     if ((r = gl_check("the material's passes", err)) != SEPAL_OK) return r;
-    // The diffuse map before the doublings, as on GL ES 1.1 (draw_gles1.cpp says why).
-    if (d->diffuse_texture) {
+    // The diffuse map before the doublings, as on GL ES 1.1 (draw_gles1.cpp says why);
+    // in multipass it was a factor of every pass (f.map_per_pass).
+    if (d->diffuse_texture && !f.map_per_pass) {
         const GLuint p = m->program_mesh_texture;
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_EQUAL);

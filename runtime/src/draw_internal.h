@@ -17,6 +17,11 @@ struct FramePrep {
     // staged is false and every pass uses `exposure`.
     bool staged;
     int pass_shift[SEPAL_FMT_MAX_PASSES];
+    // Multipass with a third texture unit (GL ES 1.1 fixed function, or GL ES 2's pass
+    // shader): the diffuse map (a tree's blend map) multiplies each pass instead of the
+    // framebuffer after the passes, so the sum needs no headroom for it and (GL ES 1.1) the
+    // plan keeps its staged exposure.
+    bool diffuse_per_pass;
 };
 
 // Everything sepal_material_create sets up except GL objects: validation against caps, the

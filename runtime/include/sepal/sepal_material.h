@@ -152,6 +152,10 @@ typedef struct sepal_draw_desc {
     size_t scratch_floats;
     // Optional diffuse texture map modulating the result per pixel at the mesh's UVs
     // (Kautz-McCool Fig. 13): a GL texture name from sepal_texture_create_rgba8, or 0.
+    // Multipass with three or more texture units (GL ES 1.1 combiner stage, GL ES 2 pass
+    // shader) and a plan without subtractions: every pass is multiplied by it. Otherwise one
+    // mesh pass multiplies the framebuffer, whose sum then needs headroom (more doublings:
+    // banding in highlights under weights below 1). SEPAL_MASK_THIRD_UNIT forces the latter.
     uint32_t diffuse_texture;
     sepal_draw_mode mode;      // 0: multipass
 } sepal_draw_desc;

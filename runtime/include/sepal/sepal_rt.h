@@ -45,6 +45,7 @@ enum {
     SEPAL_MASK_FBO = 1u << 2,             // pretend framebuffer objects are missing
     SEPAL_MASK_NPOT = 1u << 3,            // pretend non-power-of-two textures are missing
     SEPAL_MASK_FLOAT_TARGET = 1u << 4,    // pretend half-float render targets are missing
+    SEPAL_MASK_THIRD_UNIT = 1u << 5,      // pretend there are at most two texture units
 };
 
 typedef struct sepal_caps {
