@@ -137,8 +137,8 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
                 for (int c = 0; c < 3; ++c) rgb[c] = float(v[c]);
             }
             // else a zero or non-finite normal: the runtime skips such triangles; so does this.
-            if (S == 1) rows_done.advance();
         }
+        if (S == 1) rows_done.advance();
     });
     int64_t covered = 0, back_facing = 0, degenerate = 0;
     for (size_t p = 0; p < pixels; ++p) {

@@ -25,7 +25,7 @@ struct Frame {
     sepal_draw_stats* stats;
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
     int bad_vertices;  // > 0: triangles touching one are skipped
-    unsigned diffuse_texture;  // non-zero: multiplies each pass in its first stage (unit 0)
+    GLuint diffuse_texture;  // non-zero: multiplies each pass in its first stage (unit 0)
 };
 
 void set_equation(const sepal_material* m, GLenum eq) {
@@ -289,7 +289,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     const float* proj = prep.proj;
     const float* view = prep.view;
     Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
-               prep.vertices.bad_vertices, prep.diffuse_per_pass ? d->diffuse_texture : 0u};
+               prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
