@@ -74,7 +74,7 @@ TEST_SRC     := $(filter-out tests/bench/% tests/fuzz/entry/%,$(call rwildcard,t
 # Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
 # doctest-free support objects below; tests/bench/run.sh is what `make bench` runs.
 BENCH_SRC    := $(wildcard tests/bench/*.cpp)
-BENCH_SUPPORT_SRC := tests/extremes_runtime_cases.cpp
+BENCH_SUPPORT_SRC := tests/extremes_runtime_cases.cpp tests/gl_counter.cpp
 BENCH_BINS   := $(patsubst tests/bench/%.cpp,$(BUILD)/bin/sepal-bench-%,$(BENCH_SRC))
 SHADERS      := $(wildcard shaders/*.vert shaders/*.frag)
 SHADER_INCS  := $(SHADERS:%=$(BUILD)/gen/%.inc)

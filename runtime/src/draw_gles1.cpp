@@ -26,6 +26,14 @@ struct Frame {
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
     int bad_vertices;  // > 0: triangles touching one are skipped
     GLuint diffuse_texture;  // non-zero: multiplies each pass in its first stage (unit 0)
+    // The texture environment last set on units 0..2 this frame (set_env_modulate skips what
+    // is already so: the passes of a plan share their combiner set-up). Unknown at the start
+    // of a frame: whatever ran between frames may have changed it.
+    struct Env {
+        bool valid;
+        GLenum arg0, arg1;
+        GLint scale;
+    } env[3];
 };
 
 void set_equation(const sepal_material* m, GLenum eq) {
@@ -47,8 +55,16 @@ void bind_unit(GLenum unit, GLuint texture, const float* uv, GLsizei stride = 0)
     }
 }
 
-// texture env: out = arg0 (x arg1) times scale, RGB; alpha passes through.
-void set_env_modulate(GLenum arg0, GLenum arg1, GLint scale) {
+// texture env of `unit` (the active one): out = arg0 (x arg1) times scale, RGB; alpha passes
+// through.
+void set_env_modulate(Frame& f, GLenum unit, GLenum arg0, GLenum arg1, GLint scale) {
+    Frame::Env& e = f.env[unit - GL_TEXTURE0];
+    if (e.valid && e.arg0 == arg0 && e.arg1 == arg1) {
+        if (e.scale != scale) glTexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, scale);
+        e.scale = scale;
+        return;
+    }
+    e = {true, arg0, arg1, scale};
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
     glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, arg1 ? GL_MODULATE : GL_REPLACE);
     glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_RGB, (GLint)arg0);
@@ -91,7 +107,7 @@ void draw_mesh(const Frame& f) {
 
 // A quad over the whole viewport at NDC depth z, optionally textured with the copy
 // texture (texel centres line up with pixel centres), in the given constant colour.
-void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
+void fullscreen(Frame& f, float z, bool textured, const float color[4]) {
     const float sx = (float)f.width / (float)(f.m->copy_width ? f.m->copy_width : 1);
     const float sy = (float)f.height / (float)(f.m->copy_height ? f.m->copy_height : 1);
     const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
@@ -109,7 +125,7 @@ void fullscreen(const Frame& f, float z, bool textured, const float color[4]) {
     glColor4f(color[0], color[1], color[2], color[3]);
     bind_unit(GL_TEXTURE1, 0, nullptr);
     bind_unit(GL_TEXTURE0, textured ? f.m->copy_texture : 0, uv);
-    if (textured) set_env_modulate(GL_TEXTURE, 0, 1);
+    if (textured) set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
     ++f.stats->fullscreen_passes;
     glMatrixMode(GL_PROJECTION);
@@ -126,7 +142,7 @@ float color_boost(const Frame& f, const sepal_fmt_pass& pass) {
 
 // An untextured pass's combiner stage: unit 0 enabled with any complete texture (never
 // sampled: the stage replaces by the primary colour) so that GL_RGB_SCALE applies.
-void untextured_stage(const Frame& f, const sepal_fmt_pass& pass) {
+void untextured_stage(Frame& f, const sepal_fmt_pass& pass) {
     bind_unit(GL_TEXTURE1, 0, nullptr);
     if (f.m->texture_count == 0) {
         bind_unit(GL_TEXTURE0, 0, nullptr);
@@ -137,7 +153,7 @@ void untextured_stage(const Frame& f, const sepal_fmt_pass& pass) {
     glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, f.m->gl_textures[0]);
     glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-    set_env_modulate(GL_PRIMARY_COLOR, 0, (GLint)(pass.rgb_scale * color_boost(f, pass)));
+    set_env_modulate(f, GL_TEXTURE0, GL_PRIMARY_COLOR, 0, (GLint)(pass.rgb_scale * color_boost(f, pass)));
 }
 
 // Fills the colour array for one pass and light: pass colour x irradiance x exposure.
@@ -157,22 +173,22 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
     mesh_arrays(f, true);
     if (f.diffuse_texture) {
         bind_unit(GL_TEXTURE0, f.diffuse_texture, f.mesh->vertices[0].uv, sizeof(sepal_vertex));
-        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, textures == 0 ? scale : 1);
+        set_env_modulate(f, GL_TEXTURE0, GL_PRIMARY_COLOR, GL_TEXTURE, textures == 0 ? scale : 1);
         bind_unit(GL_TEXTURE1, textures >= 1 ? f.m->gl_textures[pass.tex0] : 0,
                   textures >= 1 ? factor_uv(f, pass.tex0, light) : nullptr);
-        if (textures >= 1) set_env_modulate(GL_PREVIOUS, GL_TEXTURE, textures == 1 ? scale : 1);
+        if (textures >= 1) set_env_modulate(f, GL_TEXTURE1, GL_PREVIOUS, GL_TEXTURE, textures == 1 ? scale : 1);
         bind_unit(GL_TEXTURE2, textures == 2 ? f.m->gl_textures[pass.tex1] : 0,
                   textures == 2 ? factor_uv(f, pass.tex1, light) : nullptr);
-        if (textures == 2) set_env_modulate(GL_PREVIOUS, GL_TEXTURE, scale);
+        if (textures == 2) set_env_modulate(f, GL_TEXTURE2, GL_PREVIOUS, GL_TEXTURE, scale);
     } else if (textures == 0) {
         untextured_stage(f, pass);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
-        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, pass.op == SEPAL_OP_TEXTURE ? scale : 1);
+        set_env_modulate(f, GL_TEXTURE0, GL_PRIMARY_COLOR, GL_TEXTURE, pass.op == SEPAL_OP_TEXTURE ? scale : 1);
         // A reciprocal pass's third factor is in its vertex colour (fill_colors).
         if (srt::pass_texture_count(pass) == 2) {
             bind_unit(GL_TEXTURE1, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
-            set_env_modulate(GL_PREVIOUS, GL_TEXTURE, scale);
+            set_env_modulate(f, GL_TEXTURE1, GL_PREVIOUS, GL_TEXTURE, scale);
         } else {
             bind_unit(GL_TEXTURE1, 0, nullptr);
         }
@@ -211,7 +227,7 @@ void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inve
         // small intermediate G x colour to 8 bits and lose several levels).
         mesh_arrays(f, false);
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex1], factor_uv(f, pass.tex1, light));
-        set_env_modulate(GL_TEXTURE, 0, 1);
+        set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
         draw_mesh(f);
         glEnable(GL_BLEND);
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
@@ -221,7 +237,7 @@ void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inve
         untextured_stage(f, pass);
     } else {
         bind_unit(GL_TEXTURE0, f.m->gl_textures[pass.tex0], factor_uv(f, pass.tex0, light));
-        set_env_modulate(GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)(pass.rgb_scale * color_boost(f, pass)));
+        set_env_modulate(f, GL_TEXTURE0, GL_PRIMARY_COLOR, GL_TEXTURE, (GLint)(pass.rgb_scale * color_boost(f, pass)));
     }
     draw_mesh(f);
     if (f.acc_valid) {
@@ -274,7 +290,7 @@ void diffuse_map(Frame& f, const sepal_draw_desc* d) {
     glBindTexture(GL_TEXTURE_2D, d->diffuse_texture);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
     glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), d->mesh->vertices[0].uv);
-    set_env_modulate(GL_TEXTURE, 0, 1);
+    set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
     draw_mesh(f);
     glDisable(GL_DEPTH_TEST);
 }
@@ -289,7 +305,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     const float* proj = prep.proj;
     const float* view = prep.view;
     Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
-               prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u};
+               prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, {}};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);

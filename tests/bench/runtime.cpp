@@ -29,6 +29,8 @@
 #include "sepal/sepal_material.h"
 #include "vertex_setup.h"
 #include "bench/bench_cli.h"
+#include "gl_counter.h"
+
 
 namespace {
 
@@ -258,8 +260,9 @@ int main(int argc, char** argv) {
     std::string json = "{\n  \"device\": \"" + std::string(sepal_headless_describe(ctx)) + "\",\n  \"size\": [512, 512],\n  \"frames\": [\n";
     std::printf("GL ES 1.1 multipass, %dx%d, %s; medians of %d rounds (a frame, a fill-limit frame, a mesh-limit frame)\n",
                 W, H, sepal_headless_describe(ctx), rounds);
-    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s %-11s %-8s %-9s\n", "terms", "lights", "passes", "ms/frame",
-                "fill-limit", "ratio", "mesh-limit", "ratio", "set-up ms");
+    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s %-11s %-8s %-9s %-9s\n", "terms", "lights", "passes", "ms/frame",
+                "fill-limit", "ratio", "mesh-limit", "ratio", "set-up ms", "GL calls");
+    std::string gl_breakdown;
     bool first = true;
     for (int terms : {1, 2, 4}) {
         const sepal::AssetData a = synthetic_asset(terms);
@@ -337,19 +340,36 @@ int main(int argc, char** argv) {
                 setup.push_back(ms_since(t));
             }
             const double setup_ms = median(setup);
-            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f %-11.2f %-8.2f %-9.2f\n", terms, lights, passes, ms, fill,
-                        ms / fill, mesh, ms / mesh, setup_ms);
-            char row[384];
+            // GL calls of one frame, by entry point.
+            sepal_test::gl_counts_reset();
+            sepal_test::gl_counting(true);
+            const sepal_result counted = sepal_draw(&d, &stats, &e);
+            glFinish();
+            sepal_test::gl_counting(false);
+            if (counted != SEPAL_OK) {
+                std::fprintf(stderr, "bench: %s\n", e.message);
+                return 1;
+            }
+            const long gl_calls = sepal_test::gl_calls_total();
+            if (terms == 2 && lights == 1)
+                gl_breakdown = "GL calls of a 2-term, 1-light frame (" + std::to_string(gl_calls) +
+                               "): " + sepal_test::gl_calls_by_name();
+            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f %-11.2f %-8.2f %-9.2f %-9ld\n", terms, lights, passes, ms,
+                        fill, ms / fill, mesh, ms / mesh, setup_ms, gl_calls);
+            char row[448];
             std::snprintf(row, sizeof row,
                           "%s    {\"terms\": %d, \"lights\": %d, \"passes\": %d, \"ms\": %.3f, \"fill_limit_ms\": %.3f, "
-                          "\"ratio\": %.3f, \"mesh_limit_ms\": %.3f, \"ratio_mesh\": %.3f, \"setup_ms\": %.3f}",
-                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill, mesh, ms / mesh, setup_ms);
+                          "\"ratio\": %.3f, \"mesh_limit_ms\": %.3f, \"ratio_mesh\": %.3f, \"setup_ms\": %.3f, "
+                          "\"gl_calls\": %ld}",
+                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill, mesh, ms / mesh, setup_ms,
+                          gl_calls);
             json += row;
             first = false;
         }
         sepal_material_destroy(mat.get());
     }
     json += "\n  ],\n";
+    std::printf("%s\n", gl_breakdown.c_str());
     // Per-vertex set-up on the CPU: frames, directions, factor coordinates, irradiance.
     {
         sepal_ports::SceneSetup s;
