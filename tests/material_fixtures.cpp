@@ -113,4 +113,21 @@ sepal_ports::SceneSetup test_scene(const char* mesh, int lights) {
     return s;
 }
 
+sepal::AssetData bake_small(const std::string& spec, sepal::Param param, sepal::Method method, int terms,
+                            bool radiance, int res, int judge_size) {
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
+    REQUIRE_MESSAGE(f, err);
+    sepal::BakeOptions o;
+    o.params = {param};
+    o.resolutions = {res};
+    o.methods = {method};
+    o.terms = {terms};
+    o.radiance = radiance;
+    o.judge_size = judge_size;
+    sepal::BakeResult r;
+    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+    return r.asset;
+}
+
 }  // namespace material_fx

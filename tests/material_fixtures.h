@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bake/asset_file.h"
+#include "bake/bake.h"
 #include "asset_fixtures.h"
 #include "brdf/brdf.h"
 #include "util/image.h"
@@ -41,6 +42,11 @@ sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup
                         const sepal_ports::Rgba8Image* diffuse = nullptr);
 // 128x96, the named mesh, `lights` lights alternating point and directional.
 sepal_ports::SceneSetup test_scene(const char* mesh, int lights);
+
+// A small bake of `spec` for runtime tests: one parameterization, method, factor resolution
+// and term count, judged at judge_size; radiance: the format-2 fit (else factors of f).
+sepal::AssetData bake_small(const std::string& spec, sepal::Param param, sepal::Method method, int terms,
+                            bool radiance, int res, int judge_size);
 
 
 }  // namespace material_fx

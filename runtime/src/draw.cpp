@@ -53,8 +53,8 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     // Nor does a diffuse map (a tree's blend map) hold: the framebuffer is multiplied by it
     // before the final doublings, so the sum itself must fit: a highlight of 3 under a
     // weight of 0.2 shows 0.6, not 0.2 (docs/ist.md).
-    // Applied per pass (a third texture unit on GL ES 1.1) it is a factor of each pass like
-    // its textures: no headroom for it.
+    // Applied per pass (multipass with a third texture unit: GL ES 1.1's combiner, GL ES 2's
+    // pass shader) it is a factor of each pass like its textures: no headroom for it.
     // Not for signed plans: their partial sums need headroom anyway, and each pass's own
     // 8-bit rounding under the map would move their cancellations.
     prep.diffuse_per_pass = d->diffuse_texture != 0 && !m->single_unit && m->caps.texture_units >= 3 &&
@@ -90,8 +90,9 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     // Staged exposure (GL ES 1.1, add-only plans): each pass gets the largest exposure its
     // own colours allow; the frame's doublings are spread between the stages. Partial sums
     // only grow, so a stage that doubles past 1 was white on screen anyway.
-    // Not with a diffuse map: a stage doubled past 1 clips before the map multiplies it
-    // (measured on a tree: 26.3 dB staged, 31.3 not).
+    // Not with a diffuse map multiplying the framebuffer: a stage doubled past 1 clips before
+    // the map multiplies it (measured on a tree: 26.3 dB staged, 31.3 not); a per-pass map is
+    // in every pass already.
     prep.staged = m->caps.gles_version == 1 && !m->has_negative_passes && !fused && !float_target &&
                   (!d->diffuse_texture || prep.diffuse_per_pass);
     stats->exposure_stages = 1;

@@ -18,24 +18,13 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
+#include "material_fixtures.h"
 #include "test_util.h"
 
 namespace {
 
 sepal::AssetData bake_one(const std::string& spec, sepal::Param param, sepal::Method method, int terms, bool radiance) {
-    std::string err;
-    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
-    REQUIRE_MESSAGE(f, err);
-    sepal::BakeOptions o;
-    o.params = {param};
-    o.resolutions = {32};
-    o.methods = {method};
-    o.terms = {terms};
-    o.radiance = radiance;
-    o.judge_size = 32;
-    sepal::BakeResult r;
-    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
-    return r.asset;
+    return material_fx::bake_small(spec, param, method, terms, radiance, 32, 32);
 }
 
 sepal_ports::SceneSetup scene(const std::vector<std::string>& flags, const char* size = "128x128") {

@@ -19,6 +19,7 @@
 #include "brdf/brdf.h"
 #include "common/scene_draw.h"
 #include "common/scene_flags.h"
+#include "material_fixtures.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define SEPAL_COUNTING_ALLOCATOR 0
@@ -95,18 +96,8 @@ TEST_CASE("runtime: no allocation per frame on the CPU backend and the GL ES emu
     if (SEPAL_COUNTING_ALLOCATOR) CHECK(probe >= 3);
     if (!SEPAL_COUNTING_ALLOCATOR) MESSAGE("sanitizer build: its allocator stays; frames drawn, not counted");
     std::string err;
-    std::unique_ptr<sepal::Brdf> brdf = sepal::make_brdf("ashikhmin-shirley", &err);
-    REQUIRE_MESSAGE(brdf, err);
-    sepal::BakeOptions o;
-    o.params = {sepal::Param::GsHalf};
-    o.resolutions = {16};
-    o.terms = {2};
-    o.methods = {sepal::Method::ACLS};
-    o.judge_size = 32;
-    sepal::BakeResult r;
-    REQUIRE_MESSAGE(sepal::bake(*brdf, o, &r, &err), err);
-    std::vector<uint8_t> bytes;
-    REQUIRE_MESSAGE(sepal::encode_asset(r.asset, &bytes, &err), err);
+    const std::vector<uint8_t> bytes = material_fx::encode(
+        material_fx::bake_small("ashikhmin-shirley", sepal::Param::GsHalf, sepal::Method::ACLS, 2, true, 16, 32));
     auto asset = std::make_unique<sepal_asset>();
     sepal_error e = {};
     REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SEPAL_OK);

@@ -14,6 +14,7 @@
 #include "common/scene_flags.h"
 #include "gl_counter.h"
 #include "headless/sepal_headless.h"
+#include "material_fixtures.h"
 #include "sepal/sepal_material.h"
 
 namespace {
@@ -26,20 +27,8 @@ struct FrameCalls {
 // A non-negative `terms`-term product plan (factors of f: no diffuse pass), drawn once to
 // warm up and once counted.
 FrameCalls count_frame(int terms, const sepal_caps& caps, const sepal_ports::SceneSetup& s) {
-    std::string err;
-    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("blinn:n=40", &err);
-    REQUIRE_MESSAGE(f, err);
-    sepal::BakeOptions o;
-    o.params = {sepal::Param::GsHalf};
-    o.resolutions = {16};
-    o.terms = {terms};
-    o.methods = {sepal::Method::ACLS};
-    o.radiance = false;
-    o.judge_size = 16;
-    sepal::BakeResult r;
-    REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
-    std::vector<uint8_t> bytes;
-    REQUIRE_MESSAGE(sepal::encode_asset(r.asset, &bytes, &err), err);
+    const std::vector<uint8_t> bytes = material_fx::encode(
+        material_fx::bake_small("blinn:n=40", sepal::Param::GsHalf, sepal::Method::ACLS, terms, false, 16, 16));
     auto asset = std::make_unique<sepal_asset>();
     auto mat = std::make_unique<sepal_material>();
     sepal_error e = {};
