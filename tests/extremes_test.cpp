@@ -826,7 +826,9 @@ TEST_CASE("extremes: the bake counts clamps and fallbacks exactly, the same for 
         for (int c = 0; c < ss.cols() * 3; ++c) negative += rgb[size_t(c)] < 0 ? 1 : 0;
     }
     REQUIRE(negative > 0);
-    const BakeResult s = bake_ok(signed_f, small_bake({Param::GsHalf}, {16}, {Method::NMF}, {1}));
+    BakeOptions rgb_bake = small_bake({Param::GsHalf}, {16}, {Method::NMF}, {1});
+    rgb_bake.colour_auto = false;  // grey: auto would factor one luminance plane
+    const BakeResult s = bake_ok(signed_f, rgb_bake);
     CHECK(s.counts.negative_clamped == negative);
     bool noted = false;
     for (const std::string& n : s.notes) noted = noted || contains(n, "negative matrix entries clamped");

@@ -10,7 +10,10 @@
 #include <tuple>
 #include <unistd.h>
 
+#include <glm/geometric.hpp>
+
 #include "brdf/brdf_capped.h"
+#include "brdf/brdf_util.h"
 #include "factor/factor_error.h"
 #include "util/json.h"
 #include "bake/plan.h"
@@ -29,13 +32,6 @@ sepal_param to_fmt(Param p) {
         case Param::Rusinkiewicz: return SEPAL_PARAM_RUSINKIEWICZ;
         default: return SEPAL_PARAM_ELEV_AZIM;
     }
-}
-
-const char* pass_op_name(uint16_t op) {
-    return op == SEPAL_OP_PRODUCT      ? "product"
-           : op == SEPAL_OP_TEXTURE    ? "texture"
-           : op == SEPAL_OP_RECIPROCAL ? "reciprocal"
-                                       : "constant";
 }
 
 FactorOptions factor_options(const BakeOptions& o, Param param, HemiMap map, int res, int res_h, Method method,
@@ -264,64 +260,24 @@ Factored dequantize(const AssetData& a, const Factored& like) {
     return f;
 }
 
-std::string asset_manifest(const AssetData& a, const std::string& spec, const std::string& method, int res,
+std::string asset_manifest(const AssetData& a, const std::string& spec, const std::string& method,
                            const std::string& bake_key, const ManifestFit* fit) {
-    static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"};
+    // Provenance only, compact: the textures, scales, plan and errors are in the binary
+    // chunks (sepal inspect prints them), and every byte of META ships with the material
+    // (an 8 KB asset had 2.2 KB of indented JSON repeating them).
     Json j;
-    j["format"] = !asset_needs_version2(a)                       ? "sepal asset 1.0"
-                  : a.material.flags & SEPAL_MATERIAL_RECIPROCAL ? "sepal asset 2.1"
-                                                                 : "sepal asset 2.0";
+    j["spec"] = spec;
+    j["method"] = method;
     if (!bake_key.empty()) j["bake_key"] = bake_key;
     if (fit) {
         // What the factors hold and the image that chose them (radiance.h, image_score.h).
-        Json diffuse = Json::array();
-        for (float d : a.material.diffuse) diffuse.push_back(double(d));
         j["fit"] = {{"quantity", a.material.flags & SEPAL_MATERIAL_RADIANCE ? "radiance" : "brdf"},
                     {"white_level", fit->white},
-                    {"diffuse", std::move(diffuse)},
                     {"target", fit->target},
-                    {"psnr", fit->psnr},
+                    {"psnr", std::round(fit->psnr * 100.0) / 100.0},
                     {"views", fit->views}};
     }
-    j["spec"] = spec;
-    j["method"] = method;
-    j["parameterization"] = kParams[a.material.param % 5];
-    j["map"] = a.material.map == SEPAL_MAP_XY ? "xy" : "parabolic";
-    j["colour"] = a.material.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance";
-    j["resolution"] = res;
-    j["terms"] = int(a.material.terms);
-    j["ratio"] = Json::array();
-    for (float r : a.material.ratio) j["ratio"].push_back(double(r));
-    j["errors"] = {{"float_rms", double(a.material.error_float)},
-                   {"quantized_rms", double(a.material.error_quantized)},
-                   {"quantized_relative", double(a.material.error_relative)}};
-    j["textures"] = Json::array();
-    for (size_t i = 0; i < a.textures.size(); ++i) {
-        const sepal_fmt_texture& d = a.textures[i].desc;
-        Json t = {{"index", int(i)}, {"term", int(d.term)}, {"role", d.role == SEPAL_ROLE_G ? "G" : "H"},
-                  {"size", int(d.width)}, {"levels", int(d.levels)}, {"channels", int(d.channels)},
-                  {"bits", int(d.bits)}};
-        t["scale"] = Json::array();
-        t["bias"] = Json::array();
-        for (uint32_t c = 0; c < d.channels; ++c) {
-            t["scale"].push_back(double(d.scale[c]));
-            t["bias"].push_back(double(d.bias[c]));
-        }
-        j["textures"].push_back(std::move(t));
-    }
-    Json passes = Json::array();
-    for (const sepal_fmt_pass& p : a.passes) {
-        Json q = {{"op", pass_op_name(p.op)}, {"blend", p.blend == SEPAL_BLEND_ADD ? "add" : "subtract"}};
-        if (p.tex0 != SEPAL_FMT_NO_TEXTURE) q["tex0"] = int(p.tex0);
-        if (p.tex1 != SEPAL_FMT_NO_TEXTURE) q["tex1"] = int(p.tex1);
-        q["color"] = Json::array();
-        for (float c : p.color) q["color"].push_back(double(c));
-        passes.push_back(std::move(q));
-    }
-    j["plan"] = {{"doublings", int(a.plan.doublings)},
-                 {"peak_partial_sum", double(a.plan.peak_partial_sum)},
-                 {"passes", std::move(passes)}};
-    return dump_json(j);
+    return dump_json_compact(j);
 }
 
 namespace {
@@ -344,6 +300,18 @@ struct Factorization {
 // (backfitting, homomorphic.h) is allowed by the format and `sepal factor`, but its second
 // term's factors span too much for 8 bits (plans past 16 doublings on ward, 32x32).
 constexpr int kBakeHomomorphicTerms = 1;
+
+// The META a candidate ships with: its bytes count in BakeCandidate::bytes (--max-bytes is
+// the file's size).
+std::string shipped_manifest(const BakeCandidate& c, const std::string& spec, const BakeOptions& o,
+                             const BakeResult& r) {
+    ManifestFit fit;
+    fit.white = r.white;
+    fit.target = target_name(o.target);
+    fit.psnr = c.psnr;
+    fit.views = r.views;
+    return asset_manifest(c.asset, spec, method_name(c.method), o.key, &fit);
+}
 
 class Search {
   public:
@@ -451,6 +419,15 @@ class Search {
             const ApproxError qe = ev_.measure(dequantize(c.asset, f));
             c.error_quantized = qe.relative;
             c.rms_quantized = qe.rms;
+            if (!c.coarse) {
+                // What ships: the same chunks and the manifest with this image's figure.
+                c.asset.meta = shipped_manifest(c, brdf_.spec(), o_, *out_);
+                std::vector<uint8_t> shipped;
+                if (encode_asset(c.asset, &shipped, &c.note)) {
+                    c.bytes = int64_t(shipped.size());
+                    c.ms = out_->cost.predict(c.passes, c.terms, c.bytes);
+                }
+            }
             // The asset stays for the winner (no second factorization); the coarse stage's
             // are never shipped.
             if (c.coarse) c.asset = AssetData{};
@@ -501,6 +478,7 @@ bool validate_options(const BakeOptions& o, const std::vector<Method>& methods, 
     if (o.resolutions.empty()) {
         if (o.ladder.empty()) return fail("an empty resolution ladder");
         all.push_back(o.ladder_iv);
+        all.push_back(o.small_rung);
         for (const auto& r : o.ladder) all.push_back(r.first), all.push_back(r.second);
     }
     for (int r : all)
@@ -516,6 +494,32 @@ bool validate_options(const BakeOptions& o, const std::vector<Method>& methods, 
 }
 
 }  // namespace
+
+double colour_residual(const Brdf& f) {
+    Rng rng(0xc01005u);
+    std::vector<glm::dvec3> values;
+    values.reserve(4096);
+    double ll = 0;
+    glm::dvec3 cl(0.0);
+    for (int i = 0; i < 4096; ++i) {
+        const glm::dvec3 wi = rng.hemisphere(), wo = rng.hemisphere();
+        const glm::dvec3 c = f.eval(wi, wo);
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) continue;
+        const double l = luminance(c);
+        ll += l * l;
+        cl += c * l;
+        values.push_back(c);
+    }
+    if (!(ll > 0)) return 0.0;  // black (or nothing finite): any ratio holds it
+    const glm::dvec3 ratio = cl / ll;
+    double residual = 0, total = 0;
+    for (const glm::dvec3& c : values) {
+        const glm::dvec3 d = c - ratio * luminance(c);
+        residual += glm::dot(d, d);
+        total += glm::dot(c, c);
+    }
+    return std::sqrt(residual / total);
+}
 
 bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::string* err) {
     const auto start = std::chrono::steady_clock::now();
@@ -568,6 +572,24 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     rt.diffuse = out->diffuse;
     const RadianceBrdf radiance(base, rt);
     const Brdf& source = o.radiance ? static_cast<const Brdf&>(radiance) : base;
+    {
+        // The colour mode from what the factors hold, probed through copies so that the
+        // probe's evaluations stay out of the cap counters the report gives.
+        const CappedBrdf capped_probe(brdf, o.cap);
+        const Brdf& base_probe = o.cap > 0 ? static_cast<const Brdf&>(capped_probe) : brdf;
+        const RadianceBrdf radiance_probe(base_probe, rt);
+        out->colour_residual = colour_residual(o.radiance ? static_cast<const Brdf&>(radiance_probe) : base_probe);
+        if (o.colour_auto) {
+            o.colour = out->colour_residual <= kColourSeparable ? ColourMode::Luminance : ColourMode::PerChannel;
+            char note[200];
+            std::snprintf(note, sizeof note, "colour: %s (auto): f's colour %s one ratio times its luminance "
+                          "(relative residual %.2g, luminance at or below %.0e)",
+                          colour_name(o.colour), o.colour == ColourMode::Luminance ? "is" : "is not",
+                          out->colour_residual, kColourSeparable);
+            out->notes.push_back(note);
+        }
+        out->colour = o.colour;
+    }
     ErrorOptions eo;
     eo.dense = 0;  // the Monte Carlo metric is the diagnostic; the dense one is for reports
     eo.threads = o.threads;
@@ -684,6 +706,10 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                 last = std::max(last, b);
                 if (!gained) break;
             }
+        if (o.max_bytes > 0)
+            for (const auto& q : pairs)
+                search.run(std::get<0>(q), std::get<1>(q), o.small_rung, o.small_rung, std::get<2>(q), terms, false,
+                           judge);
     }
     // More terms, while the largest term count still paid: the best candidate's configuration
     // with each of more_terms (a new factorization, warm-started term by term as always).
@@ -791,17 +817,9 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     out->asset.material.error_float = float(w.error_float * ev.reference_rms());
     out->asset.material.error_quantized = float(w.rms_quantized);
     out->asset.material.error_relative = float(w.error_quantized);
-    ManifestFit fit;
-    fit.white = out->white;
-    fit.target = target_name(o.target);
-    fit.psnr = w.psnr;
-    fit.views = out->views;
-    out->asset.meta = asset_manifest(out->asset, brdf.spec(), method_name(w.method), w.res, o.key, &fit);
+    out->asset.meta = shipped_manifest(w, brdf.spec(), o, *out);
     if (!o.keep_assets)
         for (BakeCandidate& c : out->candidates) c.asset = AssetData{};
-    else
-        for (BakeCandidate& c : out->candidates)
-            if (c.ok && !c.coarse) c.asset.meta = asset_manifest(c.asset, brdf.spec(), method_name(c.method), c.res, o.key);
     return true;
 }
 

@@ -61,7 +61,7 @@ void print_counts(const BakeResult& r, std::FILE* out) {
 
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
-    std::string white = "auto", fit = "radiance";
+    std::string white = "auto", fit = "radiance", colour = "auto";
     bool no_mips = false;
     BakeOptions o;
 };
@@ -89,6 +89,8 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         o.white = w;
     }
     o.radiance = args.fit == "radiance";
+    o.colour_auto = args.colour == "auto";
+    if (!o.colour_auto) parse_colour(args.colour, &o.colour);
     o.mips = !args.no_mips;
     o.progress = true;  // shown only when stderr is a terminal
     std::unique_ptr<Brdf> brdf = make_brdf(args.spec, &err);
@@ -125,6 +127,8 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         j["seconds"] = r.seconds;
         j["target"] = target_name(r.target);
         j["white_level"] = r.white;
+        j["colour"] = colour_name(r.colour);
+        j["colour_residual"] = r.colour_residual;
         j["diffuse"] = {r.diffuse.scale.x, r.diffuse.scale.y, r.diffuse.scale.z};
         j["diffuse_profile_side"] = r.diffuse.side;
         j["views"] = r.views;
@@ -216,8 +220,9 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--iters", o.iterations, "nmf/acls outer iterations per term count (0: the method's default)")
         ->check(CLI::Range(0, 100000))->capture_default_str();
     app.add_option("--min-psnr", o.min_psnr, "budget: dB on the target, e.g. 35")->check(positive());
-    app.add_option("--colour", o.colour, "rgb: factors per channel; luminance: one factor and a colour ratio")
-        ->transform(colour_names())->capture_default_str();
+    app.add_option("--colour", a->colour, "rgb: factors per channel; luminance: one factor and a colour ratio (a "
+                                          "third of the bytes); auto: luminance where f's colour is one ratio")
+        ->check(CLI::IsMember({"auto", "rgb", "luminance"}))->capture_default_str();
     app.add_option("--bits", o.bits, "bits per texel channel to try: 8, 16 or 8,16")
         ->delimiter(',')->check(CLI::IsMember({8, 16}))->capture_default_str();
     app.add_option("--supersample", o.supersample, "S x S sub-samples per texel")

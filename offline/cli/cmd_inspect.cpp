@@ -70,7 +70,14 @@ int run_inspect(const std::string& path, const CommandIO& io) {
         if (p.tex1 != SEPAL_FMT_NO_TEXTURE) std::fprintf(io.out, " x tex%u", p.tex1);
         std::fprintf(io.out, "  colour %.5g %.5g %.5g\n", double(p.color[0]), double(p.color[1]), double(p.color[2]));
     }
-    if (a->meta) std::fprintf(io.out, "meta        %u bytes of JSON (see sepal bake --export)\n", a->meta_bytes);
+    // The bake writes a few hundred bytes of provenance; another writer's long META is only counted.
+    if (a->meta && a->meta_bytes <= 512) {
+        std::string text(a->meta, a->meta_bytes);
+        for (char& ch : text)
+            if (ch < 0x20 || ch > 0x7e) ch = '?';  // a corrupt asset's bytes never reach the terminal raw
+        std::fprintf(io.out, "meta        %s\n", text.c_str());
+    } else if (a->meta)
+        std::fprintf(io.out, "meta        %u bytes of JSON\n", a->meta_bytes);
     return kExitOk;
 }
 

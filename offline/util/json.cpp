@@ -72,6 +72,12 @@ std::string dump_json(const Json& value) {
     return copy.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
+std::string dump_json_compact(const Json& value) {
+    Json copy = value;
+    round_doubles(&copy);
+    return copy.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
 bool write_json_file(const std::string& path, const Json& value, std::string* err) {
     const std::string text = dump_json(value);
     return write_file_atomic(path, text.data(), text.size(), err);

@@ -18,7 +18,8 @@
 // float widened to double prints 0.100000001, not 0.10000000149011612; the digits the
 // hand-written writer before it printed), NaN and inf become null
 // (JSON has neither), and bytes that are not UTF-8 are replaced (U+FFFD) instead of failing.
-// The same value always gives the same bytes.
+// The same value always gives the same bytes. dump_json_compact: the same rounding, no
+// whitespace and no final newline (an asset's META, where every byte is shipped).
 // Reading (parse_json): RFC 8259 JSON, stricter than nlohmann's default: a key repeated in
 // one object is refused (naming the key and its path, e.g. materials[1].name), nesting
 // deeper than 64 and texts over 16 MiB are refused, numbers beyond the double range are
@@ -37,6 +38,7 @@ namespace sepal {
 using Json = nlohmann::ordered_json;
 
 std::string dump_json(const Json& value);
+std::string dump_json_compact(const Json& value);
 bool write_json_file(const std::string& path, const Json& value, std::string* err);
 
 constexpr size_t kMaxJsonBytes = size_t(16) << 20;

@@ -8,7 +8,9 @@
 // `sepal bake SPEC` does), its wall time, then the asset drawn by llvmpipe on GL ES 1.1 and
 // GL ES 2 (multipass) and by the CPU backend in the default scene (512x512, `sepal render`'s)
 // and on GL ES 1.1 in the grazing view the bake also judges by: PSNR against the exact
-// render (8-bit, as displayed), plan passes, the frame's doublings, asset bytes, the winner.
+// render (8-bit, as displayed), plan passes, the frame's doublings, asset bytes, the colour
+// mode --colour auto chose, the winner; and the same bake within 8 KB (--max-bytes 8192,
+// issue 20): its GL ES 1.1 PSNR and winner, or "none fits".
 // Writes DIR/fidelity.json and DIR/fidelity.md (the README's table, generated). The machine's
 // load average is recorded next to the times: they are wall-clock seconds of one bake with
 // all cores, comparable only on a quiet machine.
@@ -63,6 +65,9 @@ std::vector<Material> materials() {
     };
 }
 
+// Issue 20's size goal: each default material baked again with --max-bytes this.
+constexpr int64_t kSmallBytes = 8192;
+
 sepal::Image clamp8(sepal::Image img) {
     for (float& v : img.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
     return img;
@@ -113,10 +118,11 @@ int main(int argc, char** argv) {
     j.key("load_average_start").value(load_average());
     j.key("rows").begin_array();
     std::string md =
-        "| material | gles1 dB | gles2 dB | cpu dB | gles1 grazing dB | exact 1x1 dB | passes | doublings | bytes | bake s | winner |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
-    std::printf("%-22s %8s %8s %8s %8s %8s %6s %4s %8s %7s  %s\n", "material", "gles1", "gles2", "cpu", "grazing", "exact1",
-                "passes", "dbl", "bytes", "bake s", "winner");
+        "| material | gles1 dB | gles2 dB | cpu dB | gles1 grazing dB | exact 1x1 dB | passes | doublings | bytes | colour | bake s "
+        "| winner | 8 KB gles1 dB | 8 KB winner |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---|\n";
+    std::printf("%-22s %8s %8s %8s %8s %8s %6s %4s %8s %7s %8s %9s  %s\n", "material", "gles1", "gles2", "cpu", "grazing",
+                "exact1", "passes", "dbl", "bytes", "bake s", "8KB", "colour", "winner | 8 KB winner");
     int failures = 0;
     for (const Material& m : materials()) {
         if (!only.empty() && only != m.name) continue;
@@ -139,7 +145,8 @@ int main(int argc, char** argv) {
             ++failures;
             continue;
         }
-        auto psnr_gl = [&](const sepal_ports::SceneSetup& s, const sepal::Image& exact, const char* backend, int* dbl) {
+        auto psnr_asset = [&](const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s,
+                              const sepal::Image& exact, const char* backend, int* dbl) {
             sepal_ports::GlRenderOptions opt;
             sepal_ports::parse_gl_backend(backend, &opt);
             std::vector<uint8_t> rgba;
@@ -162,6 +169,9 @@ int main(int argc, char** argv) {
         }
         exact = clamp8(exact);
         exact_grazing = clamp8(exact_grazing);
+        auto psnr_gl = [&](const sepal_ports::SceneSetup& s, const sepal::Image& exact, const char* backend, int* dbl) {
+            return psnr_asset(bytes, s, exact, backend, dbl);
+        };
         int doublings = 0;
         const double p1 = psnr_gl(def, exact, "gles1", &doublings);
         const double p2 = psnr_gl(def, exact, "gles2", nullptr);
@@ -172,18 +182,36 @@ int main(int argc, char** argv) {
         if (sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), def, nullptr, &cpu.data, nullptr, &err))
             pc = sepal::diff_images(exact, clamp8(cpu), 0).psnr;
         const sepal::BakeCandidate& w = r.candidates[size_t(r.winner)];
-        std::printf("%-22s %8.2f %8.2f %8.2f %8.2f %8.2f %6d %4d %8zu %7.1f  %s\n", m.name, p1, p2, pc, pg, pe, w.passes,
-                    doublings, bytes.size(), seconds, w.label().c_str());
+        // The same bake within 8 KB (issue 20's budget): the best image that fits, or none.
+        sepal::BakeOptions small = o;
+        small.max_bytes = kSmallBytes;
+        sepal::BakeResult rs;
+        std::vector<uint8_t> small_bytes;
+        std::string small_label = "none fits", small_err;
+        double p8 = -1;
+        if (sepal::bake(*f, small, &rs, &small_err) && sepal::encode_asset(rs.asset, &small_bytes, &small_err)) {
+            p8 = psnr_asset(small_bytes, def, exact, "gles1", nullptr);
+            small_label = rs.candidates[size_t(rs.winner)].label();
+        }
+        const char* colour = sepal::colour_name(r.colour);
+        std::printf("%-22s %8.2f %8.2f %8.2f %8.2f %8.2f %6d %4d %8zu %7.1f %8.2f %9s  %s | %s\n", m.name, p1, p2, pc, pg,
+                    pe, w.passes, doublings, bytes.size(), seconds, p8, colour, w.label().c_str(), small_label.c_str());
         std::fflush(stdout);
         j.begin_object().key("material").value(m.name).key("spec").value(f->spec()).key("issue_table").value(m.issue_table);
         j.key("psnr_gles1").value(p1).key("psnr_gles2").value(p2).key("psnr_cpu").value(pc);
         j.key("psnr_gles1_grazing").value(pg).key("psnr_exact_point").value(pe).key("psnr_judged").value(w.psnr);
         j.key("passes").value(w.passes).key("doublings").value(doublings).key("bytes").value(int64_t(bytes.size()));
         j.key("bake_seconds").value(seconds).key("load_average").value(load).key("winner").value(w.label());
-        j.key("white_level").value(r.white).key("diffuse_profile").value(r.diffuse.side > 0).end_object();
-        char row[512];
-        std::snprintf(row, sizeof row, "| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s | %.1f | %s |\n", m.name, p1, p2,
-                      pc, pg, pe, w.passes, doublings, std::to_string(bytes.size()).c_str(), seconds, w.label().c_str());
+        j.key("white_level").value(r.white).key("diffuse_profile").value(r.diffuse.side > 0);
+        j.key("colour").value(colour).key("colour_residual").value(r.colour_residual);
+        j.key("small_max_bytes").value(int64_t(kSmallBytes)).key("small_psnr_gles1").value(p8);
+        j.key("small_bytes").value(int64_t(small_bytes.size())).key("small_winner").value(small_label).end_object();
+        char small_db[32] = "-";
+        if (p8 >= 0) std::snprintf(small_db, sizeof small_db, "%.1f", p8);
+        char row[640];
+        std::snprintf(row, sizeof row, "| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s | %s | %.1f | %s | %s | %s |\n",
+                      m.name, p1, p2, pc, pg, pe, w.passes, doublings, std::to_string(bytes.size()).c_str(), colour,
+                      seconds, w.label().c_str(), small_db, small_label.c_str());
         md += row;
     }
     j.end_array().key("load_average_end").value(load_average()).end_object();
