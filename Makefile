@@ -132,7 +132,10 @@ WEB_SRC    := $(filter-out runtime/src/draw_gles1.cpp runtime/src/preview_gles1.
 WEB_OBJ    := $(patsubst %.cpp,build/web-obj/%.o,$(WEB_SRC))
 WEB_CXXFLAGS := -std=c++17 -O2 $(WARN) -fno-exceptions -fno-rtti -DSEPAL_NO_GLES1 -MMD -MP
 WEB_EXPORTS := $(foreach f,$(shell grep -o '^EMSCRIPTEN_KEEPALIVE.* sepal_web_[a-z_]*' ports/web/sepal_web.cpp 2>/dev/null | grep -o 'sepal_web_[a-z_]*$$'),"_$(f)",)
-WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s ENVIRONMENT=web -s FILESYSTEM=0 -s ALLOW_MEMORY_GROWTH=1 \
+# FULL_ES2 copies client-side vertex arrays into temporary buffers sized by the draw's index
+# count times the stride: the default 128 x 64 sphere (49,152 indices x 44-byte vertices) is
+# 2.1 MB, past Emscripten's default 2 MB ring, and drew nothing; 32 MB holds 760k indices.
+WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s GL_MAX_TEMP_BUFFER_SIZE=33554432 -s ENVIRONMENT=web -s FILESYSTEM=0 -s ALLOW_MEMORY_GROWTH=1 \
                -s EXPORTED_FUNCTIONS='[$(WEB_EXPORTS)"_malloc","_free"]' \
                -s EXPORTED_RUNTIME_METHODS='["cwrap","UTF8ToString"]'
 WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_DIR)/default.sepal

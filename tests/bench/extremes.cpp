@@ -273,14 +273,6 @@ std::string fmt_db(double psnr) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    // Flags are not folders: --help prints the usage; any other option is refused.
-    for (int i = 1; i < argc; ++i)
-        if (argv[i][0] == '-') {
-            const bool help = std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h";
-            std::fprintf(help ? stdout : stderr, "%s%s", help ? "" : "unknown option\n",
-                         "usage: sepal-bench-extremes [OUT_DIR]  (default build/bench)\n  the runtime's extreme cases on every backend as a contact sheet (extremes.png, extremes.json)\n");
-            return help ? 0 : 2;
-        }
     const auto start = std::chrono::steady_clock::now();
     BenchCli cli("sepal-bench-extremes", "The runtime's extreme cases on every backend: a contact sheet and JSON.");
     if (const int code = cli.parse(argc, argv); code >= 0) return code;

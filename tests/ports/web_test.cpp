@@ -164,3 +164,40 @@ TEST_CASE("web port in headless Chromium: WebGL frames against the headless EGL 
                                 "--hide-scrollbars --window-size=560,720 --screenshot=" + shot + " '" + page + "'") == 0);
     }
 }
+
+TEST_CASE("web port in headless Chromium: the default page draws the default sphere") {
+    // The default scene's 128 x 64 sphere (49,152 indices) overflowed Emscripten's 2 MB
+    // client-array ring (GL_MAX_TEMP_BUFFER_SIZE): the draw threw and the page stayed black.
+    REQUIRE_MESSAGE(port_test::have_program("chromium"), "chromium is missing: run `make deps`");
+    const std::string web = sepal_test::source_path("build/web");
+    const std::string dir = sepal_test::temp_dir();
+    const std::string url = "file://" + web + "/index.html?test=1&size=128x128&backends=gles2,gles2-fused";
+    std::string dom;
+    const int code = sepal_test::run(
+        "timeout 90 chromium --headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
+        "--allow-file-access-from-files --virtual-time-budget=20000 --dump-dom '" + url + "' 2> " + dir + "/chromium.log",
+        &dom);
+    REQUIRE_MESSAGE(code == 0, "chromium failed (" << code << "); see " << dir << "/chromium.log");
+    const size_t begin = dom.find("<pre id=\"result\">"), end = dom.find("</pre>", begin);
+    REQUIRE(begin != std::string::npos);
+    std::istringstream lines(dom.substr(begin + 17, end - begin - 17));
+    std::string line;
+    REQUIRE(std::getline(lines, line));  // flags
+    int frames = 0;
+    while (std::getline(lines, line) && line != "done") {
+        CAPTURE(line.substr(0, 200));
+        std::istringstream f(line);
+        std::string status, asset, backend, data;
+        int w = 0, h = 0;
+        f >> status >> asset >> backend >> w >> h >> data;
+        REQUIRE(status == "ok");
+        const std::vector<uint8_t> rgba = base64_decode(data);
+        REQUIRE(rgba.size() == size_t(w) * h * 4);
+        int lit = 0;  // pixels of the lit sphere: about a quarter of the image
+        for (size_t i = 0; i < rgba.size(); i += 4) lit += rgba[i] + rgba[i + 1] + rgba[i + 2] > 30 ? 1 : 0;
+        CHECK(lit > w * h / 10);
+        ++frames;
+    }
+    CHECK(frames == 2);
+    CHECK(line == "done");
+}
