@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
         pixels.points.push_back({double(side) * side, frame_ms(base.bytes, scene(side, 1, 1.0), frames)});
     curves.push_back(pixels);
     Curve coverage{"frame vs coverage", "sphere's share of the image", "ms/frame"};
-    for (double d : quick ? std::vector<double>{2.0, 0.5} : std::vector<double>{2.0, 1.4, 1.0, 0.7, 0.5})
+    for (double d : quick ? std::vector<double>{2.8, 1.0} : std::vector<double>{2.8, 2.0, 1.4, 1.0})
         coverage.points.push_back({sphere_coverage(d * std::sqrt(3.2 * 3.2 + 1.4 * 1.4)),
                                    frame_ms(base.bytes, scene(512, 1, d), frames)});
     curves.push_back(coverage);

@@ -11,7 +11,7 @@
 //     without it and from a random plan, using only the other 99 (plan, residual weights and
 //     fit all exclude it); with 1% multiplicative noise; the oracle (best full-grid fit by the
 //     other 99: no plan can do better); condition numbers. The paper's figures beside ours.
-//  3. Error vs samples, 100 .. 5000, planned vs random, per material. To keep the sweep
+//  3. Error vs samples, 100 .. 1600, planned vs random, per material. To keep the sweep
 //     short, one greedy and one random plan per N serve every material (the plan sees all 100
 //     materials; the fit and its weights still leave the material out: section 2 checks
 //     at 800 that this changes the median by little).
@@ -400,8 +400,9 @@ int main(int argc, char** argv) {
 
     // ---- 3. Error vs samples -------------------------------------------------------------
     {
-        const std::vector<int> ns = quick ? std::vector<int>{100, 800}
-                                          : std::vector<int>{100, 200, 400, 800, 1600, 3200, 5000};
+        // To 1600: 3200 and 5000 took 390 of the bench's 548 s (greedy planning grows with N),
+        // past the make bench budget (issue 20); their last figures are in docs/measure.md.
+        const std::vector<int> ns = quick ? std::vector<int>{100, 800} : std::vector<int>{100, 200, 400, 800, 1600};
         Json js;
         js["samples"] = ns;
         std::vector<std::vector<double>> eg(mats.size()), er(mats.size());
