@@ -52,6 +52,34 @@ std::string url_encode(const std::string& s) {
     return out;
 }
 
+// The page's #result text after Chromium ran `url` (test mode: one line per frame).
+std::string page_result(const std::string& url, const std::string& dir) {
+    const std::string command =
+        "timeout 90 chromium --headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
+        "--allow-file-access-from-files --virtual-time-budget=20000 --dump-dom '" + url + "' 2> " + dir + "/chromium.log";
+    std::string dom;
+    const int code = sepal_test::run(command, &dom);
+    REQUIRE_MESSAGE(code == 0, "chromium failed (" << code << "); see " << dir << "/chromium.log");
+    const size_t begin = dom.find("<pre id=\"result\">"), end = dom.find("</pre>", begin);
+    REQUIRE_MESSAGE(begin != std::string::npos, dom.substr(0, 2000));
+    return dom.substr(begin + 17, end - begin - 17);
+}
+
+// One "ok ASSET BACKEND W H BASE64" line of the page's test mode, decoded.
+struct PageFrame {
+    std::string status, asset, backend;
+    int w = 0, h = 0;
+    std::vector<uint8_t> rgba;
+};
+PageFrame parse_frame(const std::string& line) {
+    PageFrame f;
+    std::string data;
+    std::istringstream in(line);
+    in >> f.status >> f.asset >> f.backend >> f.w >> f.h >> data;
+    f.rgba = base64_decode(data);
+    return f;
+}
+
 double azimuth(const float v[3]) { return std::atan2(double(v[1]), double(v[0])) * 180.0 / M_PI; }
 double elevation(const float v[3]) {
     return std::asin(double(v[2]) / std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2])) * 180.0 /
@@ -75,15 +103,7 @@ TEST_CASE("web port in headless Chromium: WebGL frames against the headless EGL 
     const std::string url = "file://" + web + "/index.html?test=1&size=256x256&backends=gles2,gles2-fused" +
                             "&assets=file://" + assets.intact + ",file://" + assets.masked + "&orbit=100,0&light=0,-40" +
                             "&flags=" + url_encode(flags);
-    const std::string command =
-        "timeout 90 chromium --headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
-        "--allow-file-access-from-files --virtual-time-budget=20000 --dump-dom '" + url + "' 2> " + dir + "/chromium.log";
-    std::string dom;
-    const int code = sepal_test::run(command, &dom);
-    REQUIRE_MESSAGE(code == 0, "chromium failed (" << code << "); see " << dir << "/chromium.log");
-    const size_t begin = dom.find("<pre id=\"result\">"), end = dom.find("</pre>", begin);
-    REQUIRE_MESSAGE(begin != std::string::npos, dom.substr(0, 2000));
-    std::istringstream lines(dom.substr(begin + 17, end - begin - 17));
+    std::istringstream lines(page_result(url, dir));
 
     // The view after the drags: orbit 100 px right (50 degrees), light 40 px up (20 degrees).
     std::string line, err;
@@ -114,13 +134,12 @@ TEST_CASE("web port in headless Chromium: WebGL frames against the headless EGL 
     std::fprintf(figures, "wasm_bytes %lld\n", (long long)st.st_size);
     while (std::getline(lines, line) && line != "done") {
         CAPTURE(line.substr(0, 200));
-        std::istringstream f(line);
-        std::string status, asset, backend, data;
-        int w = 0, h = 0;
-        f >> status >> asset >> backend >> w >> h >> data;
-        REQUIRE(status == "ok");
-        REQUIRE(w == 256);
-        const std::vector<uint8_t> rgba = base64_decode(data);
+        const PageFrame frame = parse_frame(line);
+        REQUIRE(frame.status == "ok");
+        REQUIRE(frame.w == 256);
+        const int w = frame.w, h = frame.h;
+        const std::vector<uint8_t>& rgba = frame.rgba;
+        const std::string &asset = frame.asset, &backend = frame.backend;
         REQUIRE(rgba.size() == size_t(w) * h * 4);
         const sepal::Image page = sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), w, h));
         const bool masked = asset.find("masked") != std::string::npos;
@@ -172,26 +191,16 @@ TEST_CASE("web port in headless Chromium: the default page draws the default sph
     const std::string web = sepal_test::source_path("build/web");
     const std::string dir = sepal_test::temp_dir();
     const std::string url = "file://" + web + "/index.html?test=1&size=128x128&backends=gles2,gles2-fused";
-    std::string dom;
-    const int code = sepal_test::run(
-        "timeout 90 chromium --headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
-        "--allow-file-access-from-files --virtual-time-budget=20000 --dump-dom '" + url + "' 2> " + dir + "/chromium.log",
-        &dom);
-    REQUIRE_MESSAGE(code == 0, "chromium failed (" << code << "); see " << dir << "/chromium.log");
-    const size_t begin = dom.find("<pre id=\"result\">"), end = dom.find("</pre>", begin);
-    REQUIRE(begin != std::string::npos);
-    std::istringstream lines(dom.substr(begin + 17, end - begin - 17));
+    std::istringstream lines(page_result(url, dir));
     std::string line;
     REQUIRE(std::getline(lines, line));  // flags
     int frames = 0;
     while (std::getline(lines, line) && line != "done") {
         CAPTURE(line.substr(0, 200));
-        std::istringstream f(line);
-        std::string status, asset, backend, data;
-        int w = 0, h = 0;
-        f >> status >> asset >> backend >> w >> h >> data;
-        REQUIRE(status == "ok");
-        const std::vector<uint8_t> rgba = base64_decode(data);
+        const PageFrame f = parse_frame(line);
+        REQUIRE(f.status == "ok");
+        const int w = f.w, h = f.h;
+        const std::vector<uint8_t>& rgba = f.rgba;
         REQUIRE(rgba.size() == size_t(w) * h * 4);
         int lit = 0;  // pixels of the lit sphere: about a quarter of the image
         for (size_t i = 0; i < rgba.size(); i += 4) lit += rgba[i] + rgba[i + 1] + rgba[i + 2] > 30 ? 1 : 0;
