@@ -161,7 +161,7 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
             dense.x.push_back(t.terms), dense.y.push_back(t.e.dense_rms);
         }
         p.series = {mc, dense};
-        if (!write_png(args.plot, render_plot({p}, 1), &err)) {
+        if (!write_plot(args.plot, {p}, 1, 480, 360, &err)) {
             std::fprintf(io.err, "sepal factor: %s\n", err.c_str());
             return kExitBadInput;
         }
@@ -208,7 +208,7 @@ CommandRun setup_factor(CLI::App& app) {
     app.add_option("--threads", o.threads, "worker threads, 0 = all cores (results do not depend on it)")
         ->check(CLI::Range(0, 256))->capture_default_str();
     app.add_option("--report", a->report, "write every option, the errors and timings as JSON");
-    app.add_option("--plot", a->plot, "write the error against the number of terms as a plot");
+    app.add_option("--plot", a->plot, "write the error against the number of terms as a plot (SVG for a .svg name, else PNG)");
     app.add_option("--export", a->export_dir, "write every factor as 16-bit PNG codes and PFM floats, and manifest.json, into DIR (the layout of sepal bake --export)");
     CLI::Option* param = app.get_option("--param");
     CLI::Option* map = app.get_option("--map");

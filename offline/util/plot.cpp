@@ -1,5 +1,7 @@
 #include "util/plot.h"
 
+#include "util/io.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -130,13 +132,81 @@ void line(Image* img, int x0, int y0, int x1, int y1, const glm::dvec3& c, int t
     }
 }
 
+// Where draw_panel draws: pixels (the PNG figures) or SVG elements (the same layout, with
+// real fonts a browser scales). Text y is the top of a 7-pixel line at scale 1; anchor 0
+// starts at x, 1 centres on it, 2 ends at it.
+class Canvas {
+  public:
+    virtual ~Canvas() = default;
+    virtual void line(int x0, int y0, int x1, int y1, const glm::dvec3& c, int thick) = 0;
+    virtual void rect(int x0, int y0, int x1, int y1, const glm::dvec3& c) = 0;  // filled, inclusive
+    virtual void text(int x, int y, const std::string& s, const glm::dvec3& c, int scale, int anchor) = 0;
+    int text_width(const std::string& s, int scale) const { return int(s.size()) * 6 * scale; }
+};
+
+class ImageCanvas : public Canvas {
+  public:
+    explicit ImageCanvas(Image* img) : img_(img) {}
+    void line(int x0, int y0, int x1, int y1, const glm::dvec3& c, int thick) override {
+        sepal::line(img_, x0, y0, x1, y1, c, thick);
+    }
+    void rect(int x0, int y0, int x1, int y1, const glm::dvec3& c) override { fill_rect(img_, x0, y0, x1, y1, c); }
+    void text(int x, int y, const std::string& s, const glm::dvec3& c, int scale, int anchor) override {
+        draw_text(img_, x - anchor * text_width(s, scale) / 2, y, s, c, scale);
+    }
+
+  private:
+    Image* img_;
+};
+
+std::string svg_colour(const glm::dvec3& c) {
+    char b[16];
+    std::snprintf(b, sizeof b, "#%02x%02x%02x", int(std::lround(std::clamp(c.x, 0.0, 1.0) * 255)),
+                  int(std::lround(std::clamp(c.y, 0.0, 1.0) * 255)), int(std::lround(std::clamp(c.z, 0.0, 1.0) * 255)));
+    return b;
+}
+
+std::string svg_escape(const std::string& s) {
+    std::string out;
+    for (char ch : s) {
+        if (ch == '&') out += "&amp;";
+        else if (ch == '<') out += "&lt;";
+        else if (ch == '>') out += "&gt;";
+        else if (ch == '"') out += "&quot;";
+        else if (static_cast<unsigned char>(ch) >= 32) out += ch;
+    }
+    return out;
+}
+
+class SvgCanvas : public Canvas {
+  public:
+    std::string body;
+    void line(int x0, int y0, int x1, int y1, const glm::dvec3& c, int thick) override {
+        char b[160];
+        std::snprintf(b, sizeof b, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"%s\" stroke-width=\"%d\"/>\n",
+                      x0, y0, x1, y1, svg_colour(c).c_str(), thick);
+        body += b;
+    }
+    void rect(int x0, int y0, int x1, int y1, const glm::dvec3& c) override {
+        char b[160];
+        std::snprintf(b, sizeof b, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"%s\"/>\n", x0, y0,
+                      x1 - x0 + 1, y1 - y0 + 1, svg_colour(c).c_str());
+        body += b;
+    }
+    void text(int x, int y, const std::string& s, const glm::dvec3& c, int scale, int anchor) override {
+        static const char* kAnchor[] = {"start", "middle", "end"};
+        char b[200];
+        std::snprintf(b, sizeof b, "<text x=\"%d\" y=\"%d\" font-size=\"%d\" fill=\"%s\" text-anchor=\"%s\">", x,
+                      y + 8 * scale, 10 * scale + (scale > 1 ? 0 : 1), svg_colour(c).c_str(), kAnchor[std::clamp(anchor, 0, 2)]);
+        body += b + svg_escape(s) + "</text>\n";
+    }
+};
+
 std::string number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
 }
-
-int text_width(const std::string& s, int scale) { return int(s.size()) * 6 * scale; }
 
 // A step of 1, 2 or 5 times a power of ten giving at most about `target` intervals.
 double nice_step(double span, int target) {
@@ -147,7 +217,7 @@ double nice_step(double span, int target) {
     return 10 * p;
 }
 
-void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
+void draw_panel(Canvas* img, int ox, int oy, int w, int h, const PlotPanel& p) {
     const glm::dvec3 black(0), grey(0.55), light(0.88);
     const int left = 62, right = 14, top = 30, bottom = 44;
     const int x0 = ox + left, x1 = ox + w - right, y0 = oy + top, y1 = oy + h - bottom;
@@ -192,21 +262,21 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
                 if (std::log10(v) > hi + 1e-9) continue;
                 const int y = py(v);
                 const bool major = m == 1;
-                line(img, x0, y, x1, y, major ? light : glm::dvec3(0.95), 1);
-                line(img, x0 - (major ? 6 : 3), y, x0, y, black, 1);
+                img->line(x0, y, x1, y, major ? light : glm::dvec3(0.95), 1);
+                img->line(x0 - (major ? 6 : 3), y, x0, y, black, 1);
                 if (major || decades <= 2) {
                     const std::string s = number(v);
-                    draw_text(img, x0 - 9 - text_width(s, 1), y - 3, s, major ? black : grey);
+                    img->text(x0 - 9, y - 3, s, major ? black : grey, 1, 2);
                 }
             }
     } else {
         const double st = nice_step(hi - lo, 6);
         for (double v = lo; v <= hi + 1e-9 * st; v += st) {
             const int y = py(v);
-            line(img, x0, y, x1, y, light, 1);
-            line(img, x0 - 6, y, x0, y, black, 1);
+            img->line(x0, y, x1, y, light, 1);
+            img->line(x0 - 6, y, x0, y, black, 1);
             const std::string s = number(v);
-            draw_text(img, x0 - 9 - text_width(s, 1), y - 3, s, black);
+            img->text(x0 - 9, y - 3, s, black, 1, 2);
         }
     }
     // x ticks.
@@ -216,28 +286,28 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
                 const double v = m * std::pow(10.0, d), t = std::log10(v);
                 if (t < xa || t > xb) continue;
                 const int x = px(v);
-                line(img, x, y0, x, y1, m == 1 ? light : glm::dvec3(0.95), 1);
-                line(img, x, y1, x, y1 + (m == 1 ? 5 : 3), black, 1);
+                img->line(x, y0, x, y1, m == 1 ? light : glm::dvec3(0.95), 1);
+                img->line(x, y1, x, y1 + (m == 1 ? 5 : 3), black, 1);
                 const std::string s = number(v);
-                draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, m == 1 ? black : grey);
+                img->text(x, y1 + 9, s, m == 1 ? black : grey, 1, 1);
             }
     } else {
         const double xs = std::max(nice_step(xmax - xmin, 8), 1e-12);
         for (double v = std::ceil(xmin / xs) * xs; v <= xmax + 1e-9 * xs; v += xs) {
             const int x = px(v);
-            line(img, x, y1, x, y1 + 5, black, 1);
+            img->line(x, y1, x, y1 + 5, black, 1);
             const std::string s = number(v);
-            draw_text(img, x - text_width(s, 1) / 2, y1 + 9, s, black);
+            img->text(x, y1 + 9, s, black, 1, 1);
         }
     }
     // Frame, labels, title.
-    line(img, x0, y0, x1, y0, black, 1);
-    line(img, x0, y1, x1, y1, black, 1);
-    line(img, x0, y0, x0, y1, black, 1);
-    line(img, x1, y0, x1, y1, black, 1);
-    draw_text(img, (x0 + x1 - text_width(p.x_label, 1)) / 2, y1 + 24, p.x_label, black);
-    draw_text(img, ox + 6, oy + 18, p.y_label, grey);
-    draw_text(img, (x0 + x1 - text_width(p.title, 2)) / 2, oy + 2, p.title, black, 2);
+    img->line(x0, y0, x1, y0, black, 1);
+    img->line(x0, y1, x1, y1, black, 1);
+    img->line(x0, y0, x0, y1, black, 1);
+    img->line(x1, y0, x1, y1, black, 1);
+    img->text((x0 + x1) / 2, y1 + 24, p.x_label, black, 1, 1);
+    img->text(ox + 6, oy + 18, p.y_label, grey, 1, 0);
+    img->text((x0 + x1) / 2, oy + 2, p.title, black, 2, 1);
     // Series.
     for (const PlotSeries& s : p.series) {
         int lx = 0, ly = 0;
@@ -249,27 +319,27 @@ void draw_panel(Image* img, int ox, int oy, int w, int h, const PlotPanel& p) {
                 continue;
             }
             const int cx = px(x), cy = py(y), m = std::clamp(s.marker, 1, 6);
-            if (have && s.lines) line(img, lx, ly, cx, cy, s.colour, 2);
-            fill_rect(img, cx - m, cy - m, cx + m, cy + m, s.colour);
+            if (have && s.lines) img->line(lx, ly, cx, cy, s.colour, 2);
+            img->rect(cx - m, cy - m, cx + m, cy + m, s.colour);
             lx = cx, ly = cy, have = true;
         }
     }
     // Legend, top right inside the frame.
     int lw = 0;
-    for (const PlotSeries& s : p.series) lw = std::max(lw, text_width(s.label, 1));
+    for (const PlotSeries& s : p.series) lw = std::max(lw, img->text_width(s.label, 1));
     if (!p.series.empty()) {
         const int bw = lw + 34, bh = int(p.series.size()) * 12 + 6;
         const int bx = x1 - bw - 6, by = y0 + 6;
-        fill_rect(img, bx, by, bx + bw, by + bh, glm::dvec3(1));
-        line(img, bx, by, bx + bw, by, grey, 1);
-        line(img, bx, by + bh, bx + bw, by + bh, grey, 1);
-        line(img, bx, by, bx, by + bh, grey, 1);
-        line(img, bx + bw, by, bx + bw, by + bh, grey, 1);
+        img->rect(bx, by, bx + bw, by + bh, glm::dvec3(1));
+        img->line(bx, by, bx + bw, by, grey, 1);
+        img->line(bx, by + bh, bx + bw, by + bh, grey, 1);
+        img->line(bx, by, bx, by + bh, grey, 1);
+        img->line(bx + bw, by, bx + bw, by + bh, grey, 1);
         for (size_t i = 0; i < p.series.size(); ++i) {
             const int yy = by + 6 + int(i) * 12;
-            line(img, bx + 5, yy + 3, bx + 23, yy + 3, p.series[i].colour, 2);
-            fill_rect(img, bx + 12, yy + 1, bx + 16, yy + 5, p.series[i].colour);
-            draw_text(img, bx + 28, yy, p.series[i].label, black);
+            img->line(bx + 5, yy + 3, bx + 23, yy + 3, p.series[i].colour, 2);
+            img->rect(bx + 12, yy + 1, bx + 16, yy + 5, p.series[i].colour);
+            img->text(bx + 28, yy, p.series[i].label, black, 1, 0);
         }
     }
 }
@@ -305,10 +375,29 @@ Image render_plot(const std::vector<PlotPanel>& panels, int columns, int panel_w
     const int rows = std::max(1, int((panels.size() + size_t(columns) - 1) / size_t(columns)));
     Image img(columns * panel_w, rows * panel_h, 3);
     std::fill(img.data.begin(), img.data.end(), 1.0f);
+    ImageCanvas canvas(&img);
     for (size_t i = 0; i < panels.size(); ++i)
-        draw_panel(&img, int(i % size_t(columns)) * panel_w, int(i / size_t(columns)) * panel_h,
-                   panel_w, panel_h, panels[i]);
+        draw_panel(&canvas, int(i % size_t(columns)) * panel_w, int(i / size_t(columns)) * panel_h, panel_w, panel_h,
+                   panels[i]);
     return img;
+}
+
+std::string render_plot_svg(const std::vector<PlotPanel>& panels, int columns, int panel_w, int panel_h) {
+    panel_w = std::clamp(panel_w, 160, 2000);
+    panel_h = std::clamp(panel_h, 160, 2000);
+    columns = std::max(1, std::min(columns, int(std::max<size_t>(1, panels.size()))));
+    const int rows = std::max(1, int((panels.size() + size_t(columns) - 1) / size_t(columns)));
+    SvgCanvas canvas;
+    for (size_t i = 0; i < panels.size(); ++i)
+        draw_panel(&canvas, int(i % size_t(columns)) * panel_w, int(i / size_t(columns)) * panel_h, panel_w, panel_h,
+                   panels[i]);
+    char head[320];
+    std::snprintf(head, sizeof head,
+                  "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
+                  "font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">\n<rect width=\"100%%\" height=\"100%%\" "
+                  "fill=\"#ffffff\"/>\n",
+                  columns * panel_w, rows * panel_h, columns * panel_w, rows * panel_h);
+    return head + canvas.body + "</svg>\n";
 }
 
 Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
@@ -348,6 +437,15 @@ Image comparison_sheet(const Image& reference, const Image& test, const std::str
         draw_text(&out, std::clamp(x - tw / 2, 0, out.width - tw), by + bar + 6, label, black);
     }
     return out;
+}
+
+bool write_plot(const std::string& path, const std::vector<PlotPanel>& panels, int columns, int panel_w,
+                int panel_h, std::string* err) {
+    if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".svg") == 0) {
+        const std::string svg = render_plot_svg(panels, columns, panel_w, panel_h);
+        return write_file_atomic(path, svg.data(), svg.size(), err);
+    }
+    return write_png(path, render_plot(panels, columns, panel_w, panel_h), err);
 }
 
 }  // namespace sepal

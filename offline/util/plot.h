@@ -1,4 +1,5 @@
-// A tiny line-plot rasterizer for error curves (README figures, `sepal factor --plot`).
+// A tiny line-plot rasterizer for error curves (README figures, `sepal factor --plot`), and
+// the same plots as SVG.
 //
 // Usage:
 //   sepal::PlotPanel p;
@@ -43,6 +44,15 @@ struct PlotPanel {
 // Returns an RGB image with a white background.
 Image render_plot(const std::vector<PlotPanel>& panels, int columns, int panel_w = 480,
                   int panel_h = 360);
+
+// The same panels as SVG (the same layout; text in a sans-serif font a browser scales, so
+// figures stay readable when zoomed): a complete document, UTF-8.
+std::string render_plot_svg(const std::vector<PlotPanel>& panels, int columns, int panel_w = 480,
+                            int panel_h = 360);
+
+// Writes the panels to `path`: SVG when it ends in ".svg", else PNG (atomically, either way).
+bool write_plot(const std::string& path, const std::vector<PlotPanel>& panels, int columns, int panel_w,
+                int panel_h, std::string* err);
 
 // A palette of distinguishable series colours.
 glm::dvec3 plot_colour(int index);

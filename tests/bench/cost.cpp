@@ -12,7 +12,7 @@
 // exponent b of y = a x^b is the least-squares slope of ln y on ln x over the curve's points.
 // Then the fill-rate arithmetic for embedded GPUs: how many full-screen-equivalent passes fit
 // VGA at 60 fps, and which of the default bakes' plans fit at 1, 2 and 4 lights.
-// Writes DIR/cost.json, DIR/cost.md (the tables) and DIR/cost.png (log-log panels).
+// Writes DIR/cost.json, DIR/cost.md (the tables) and DIR/cost.png and .svg (log-log panels).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -290,8 +290,9 @@ int main(int argc, char** argv) {
     const std::string json = j.str();
     if (!sepal::write_file_atomic(cli.out + "/cost.json", json.data(), json.size(), &err) ||
         !sepal::write_file_atomic(cli.out + "/cost.md", md.data(), md.size(), &err) ||
-        !sepal::write_png(cli.out + "/cost.png", sepal::render_plot(panels, 3, 420, 320), &err))
+        !sepal::write_plot(cli.out + "/cost.png", panels, 3, 420, 320, &err) ||
+        !sepal::write_plot(cli.out + "/cost.svg", panels, 3, 420, 320, &err))
         die(err);
-    std::printf("wrote %s/cost.json, cost.md and cost.png\n", cli.out.c_str());
+    std::printf("wrote %s/cost.json, cost.md, cost.png and cost.svg\n", cli.out.c_str());
     return 0;
 }

@@ -390,7 +390,9 @@ int main(int argc, char** argv) {
     cost.log_x = true;
     for (int b = 0; b < 3; ++b) cost.series.push_back(scatter(rows, b, "", [](const Row& r) { return r.ms_predicted; }));
     panels.push_back(cost);
-    if (!write_png(dir + "/tradeoff.png", render_plot(panels, 4, 420, 340), &err)) die(err);
+    if (!write_plot(dir + "/tradeoff.png", panels, 4, 420, 340, &err) ||
+        !write_plot(dir + "/tradeoff.svg", panels, 4, 420, 340, &err))
+        die(err);
 
     // For people: the models, the pick check, then each material's front.
     std::printf("trade-off sweep: %zu rows, %s, %dx%d, %.0f s\n", rows.size(), device.c_str(), size, size, seconds);

@@ -522,6 +522,25 @@ TEST_CASE("factor: plot") {
         for (int x = 0; x < img.width; ++x)
             if (img.at(x, y, 0) > 0.7f && img.at(x, y, 1) < 0.3f) ++red;
     CHECK(red > 100);  // both curves drawn in the first palette colour
+    // The SVG: the same panels, every label as text (escaped), a polyline's segments per series.
+    p.x_label = "terms <&>";
+    const std::string svg = render_plot_svg({p, p}, 2, 300, 200);
+    CHECK(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"600\" height=\"200\"", 0) == 0);
+    CHECK(svg.find("</svg>") != std::string::npos);
+    CHECK(svg.find(">terms &lt;&amp;&gt;</text>") != std::string::npos);
+    CHECK(svg.find("<terms") == std::string::npos);
+    size_t red_lines = 0;
+    for (size_t at = svg.find("stroke=\"#d63026"); at != std::string::npos; at = svg.find("stroke=\"#d63026", at + 1))
+        ++red_lines;
+    CHECK(red_lines >= 2 * 2);  // two segments per curve, two panels (and the legend's swatches)
+    const std::string dir = sepal_test::temp_dir();
+    std::string err;
+    REQUIRE(write_plot(dir + "/p.svg", {p}, 1, 300, 200, &err));
+    REQUIRE(write_plot(dir + "/p.png", {p}, 1, 300, 200, &err));
+    Image back;
+    REQUIRE(read_image(dir + "/p.png", &back, &err));
+    CHECK(back.width == 300);
+    CHECK(slurp(dir + "/p.svg").rfind("<svg", 0) == 0);
     Image t(40, 10, 3);
     CHECK(draw_text(&t, 0, 0, "1e-3", glm::dvec3(1)) == 24);
     float lit = 0;
