@@ -10,9 +10,11 @@
 //       ... cli.out (default build/bench, created), cli.build (default build) ...
 //   }
 // parse returns -1 to go on, or the exit code: 0 after --help or --version, 2 after a bad
-// flag (the message names it), 2 when the output folder cannot be made.
+// flag (the message names it), 2 when the output folder cannot be made; 0 right after
+// parsing when SEPAL_BENCH_PARSE_ONLY is set (tests/make_bench_test.cpp runs tests/bench/run.sh so).
 #pragma once
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -48,6 +50,8 @@ struct BenchCli {
                          app.get_name().c_str());
             return 2;
         }
+        // The make-bench smoke test: every line of tests/bench/run.sh parses, then stops.
+        if (std::getenv("SEPAL_BENCH_PARSE_ONLY")) return 0;
         std::string err;
         if (!sepal::make_dirs(out, &err)) {
             std::fprintf(stderr, "%s: %s\n", app.get_name().c_str(), err.c_str());

@@ -37,6 +37,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_cli.h"
 #include "brdf/brdf.h"
 #include "common/scene_flags.h"
 #include "database/database.h"
@@ -151,21 +152,12 @@ void blit(Image* dst, const Image& src, int x0, int y0) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string out = "build/bench";
+    BenchCli cli("sepal-bench-database", "The BRDF database and reduced measurement (Matusik 2003), measured.");
     bool quick = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--out" && i + 1 < argc) {
-            out = argv[++i];
-        } else if (a == "--quick") {
-            quick = true;
-        } else {
-            std::fprintf(stderr, "usage: sepal-bench-database [--out DIR] [--quick]\n");
-            return 2;
-        }
-    }
+    cli.app.add_flag("--quick", quick, "12 materials in sections 2-3 and N in {100, 800} (a smoke run)");
+    if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    const std::string& out = cli.out;
     std::string err;
-    if (!make_dirs(out, &err)) die(err);
     const auto t_start = Clock::now();
     auto set = load_default_nbrdf_set(&err);
     if (!set) die(err);

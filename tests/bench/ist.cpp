@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_cli.h"
 #include "ist/figures.h"
 #include "ist/tree.h"
 #include "reference/render_exact.h"
@@ -111,19 +112,17 @@ Image clamp01(Image img) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string out = "build/bench";
+    BenchCli cli("sepal-bench-ist", "Inverse shade trees (Lawrence 2006): the paper's figures, measured.");
     int size = 96, big = 256, runs = 3;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--out" && i + 1 < argc) out = argv[++i];
-        else if (a == "--size" && i + 1 < argc) size = std::atoi(argv[++i]);
-        else if (a == "--big" && i + 1 < argc) big = std::atoi(argv[++i]);
-        else if (a == "--runs" && i + 1 < argc) runs = std::atoi(argv[++i]);
-        else if (a == "--quick") size = 48, big = 96, runs = 1;
-        else die("usage: sepal-bench-ist [--out DIR] [--size N] [--big N] [--runs R] [--quick]");
-    }
+    bool quick = false;
+    cli.app.add_option("--size", size, "SVBRDF side, texels")->check(CLI::Range(8, 4096))->capture_default_str();
+    cli.app.add_option("--big", big, "the large SVBRDF's side, texels")->check(CLI::Range(8, 4096))->capture_default_str();
+    cli.app.add_option("--runs", runs, "timing runs (median)")->check(CLI::Range(1, 100))->capture_default_str();
+    cli.app.add_flag("--quick", quick, "--size 48 --big 96 --runs 1 (a smoke run)");
+    if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    if (quick) size = 48, big = 96, runs = 1;
+    const std::string& out = cli.out;
     std::string err;
-    if (!make_dirs(out, &err)) die(err);
     JsonBuilder j;
     j.begin_object().key("size").value(size).key("big").value(big).key("runs").value(runs);
 
