@@ -69,17 +69,18 @@ bool fit_cost_model(const std::vector<CostSample>& samples, CostModel* out, std:
 const char* cost_model_backends() { return "gles1, gles2-fused, cpu"; }
 
 bool default_cost_model(const std::string& backend, CostModel* out, std::string* err) {
-    // From `make bench` (build/bench/tradeoff.json, "cost_models"; 490 frames per backend):
+    // From `make bench` (build/bench/tradeoff.json, "cost_models"; 280 frames per backend):
     // Mesa 22.3.6 llvmpipe on 2 cores, 512x512 frames of the default scene (sphere, one point
-    // light), 2026-11-21. Re-measure on the target and pass the file to `sepal bake --timings`.
+    // light), default bakes (radiance fit: a depth pre-pass and a diffuse pass in every frame),
+    // 2026-11-25. Re-measure on the target and pass the file to `sepal bake --timings`.
     struct Row {
         const char* backend;
         double base, pass, term, kib, fit;
         int rows;
     } static const kRows[] = {
-        {"gles1", 2.66747, 1.23719, 0.695995, 0.0, 0.116259, 490},
-        {"gles2-fused", 3.86689, 0.0, 1.85882, 0.0, 0.10758, 490},
-        {"cpu", 21.8222, 0.0, 8.13874, 0.000957775, 0.0106832, 490},
+        {"gles1", 4.35015, 2.75816, 1.15295, 0.00719515, 0.0513183, 280},
+        {"gles2-fused", 10.5491, 0.0291996, 4.26548, 0.00400098, 0.0431036, 280},
+        {"cpu", 28.5935, 0, 6.8691, 0.0839003, 0.164678, 280},
     };
     for (const Row& r : kRows)
         if (backend == r.backend) {
