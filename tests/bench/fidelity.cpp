@@ -169,13 +169,10 @@ int main(int argc, char** argv) {
         }
         exact = clamp8(exact);
         exact_grazing = clamp8(exact_grazing);
-        auto psnr_gl = [&](const sepal_ports::SceneSetup& s, const sepal::Image& exact, const char* backend, int* dbl) {
-            return psnr_asset(bytes, s, exact, backend, dbl);
-        };
         int doublings = 0;
-        const double p1 = psnr_gl(def, exact, "gles1", &doublings);
-        const double p2 = psnr_gl(def, exact, "gles2", nullptr);
-        const double pg = psnr_gl(grazing, exact_grazing, "gles1", nullptr);
+        const double p1 = psnr_asset(bytes, def, exact, "gles1", &doublings);
+        const double p2 = psnr_asset(bytes, def, exact, "gles2", nullptr);
+        const double pg = psnr_asset(bytes, grazing, exact_grazing, "gles1", nullptr);
         const double pe = sepal::diff_images(exact, clamp8(exact_point), 0).psnr;
         sepal::Image cpu(def.width, def.height, 3);
         double pc = -1;

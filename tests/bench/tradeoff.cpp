@@ -362,7 +362,6 @@ int main(int argc, char** argv) {
         }
         j["rows"].push_back(std::move(x));
     }
-    if (!write_json_file(dir + "/tradeoff.json", j, &err)) die(err);
 
     // The plot: a panel per material, image RMS error against ms/frame, the front joined;
     // the last panel shows the cost model's predictions against the measured frames.
