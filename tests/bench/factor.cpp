@@ -2,11 +2,12 @@
 //
 //   build/bin/sepal-bench-factor [all | timing | figure5 | blinn | svd] [--out DIR] [--runs N]
 //
-// timing   sample + factor time and peak memory for 64x64 gs-half ward with 4 SVD terms
-//          (plain and weighted), 4 NMF and 4 ACLS terms, and ND at 128x128, each as a ratio
-//          to the time of one pass sampling the matrix at that resolution. Every case runs
+// timing   sample + factor time and peak memory for 48x48 gs-half ward with 4 SVD terms
+//          (plain and weighted), 4 NMF and 4 ACLS terms, and ND at 96x96, each as a ratio
+//          to the time of one pass sampling the matrix at that resolution (48 and 96, not 64
+//          and 128: a third of the time, for the make-bench budget). Every case runs
 //          in a forked child (so its peak resident memory is its own, from wait4) --runs
-//          times (default 3; without --runs a case past 10 s runs once); the table gives medians. Ratios are of medians from one run of
+//          times (default 3; without --runs a case past 5 s runs once); the table gives medians. Ratios are of medians from one run of
 //          the bench, on this machine, with all cores.
 // figure5  Kautz-McCool Figure 5: cosine-weighted RMS (luminance) against the number of
 //          terms, 1..8, SVD at 32x32, for ward, poulin-fournier, cook-torrance and velvet in
@@ -50,6 +51,7 @@ namespace {
 // at 32x32, so a moderate anisotropy is used.
 const char* kFigureBrdfs[] = {"ward:ax=0.2,ay=0.1", "poulin-fournier", "cook-torrance", "velvet"};
 const char* kWard64 = "ward:ax=0.2,ay=0.1";
+constexpr int kTimingRes = 48;
 
 bool tty() { return isatty(fileno(stderr)) != 0; }
 
@@ -113,37 +115,39 @@ void run_timing(int runs, bool all_runs) {
     const auto ward = need_brdf(kWard64);
     std::vector<Case> cases;
     FactorOptions base;
-    base.res = 64;
+    base.res = kTimingRes;
     base.terms = 4;
     base.matrix_error = false;  // sample + factor only
-    cases.push_back({"sample 64x64 (one pass, baseline)", base, true});
+    const std::string small = std::to_string(kTimingRes) + "x" + std::to_string(kTimingRes);
+    const std::string big = std::to_string(2 * kTimingRes) + "x" + std::to_string(2 * kTimingRes);
+    cases.push_back({"sample " + small + " (one pass, baseline)", base, true});
     FactorOptions o = base;
-    cases.push_back({"svd 4 terms 64x64", o, false});
+    cases.push_back({"svd 4 terms " + small, o, false});
     o.svd_weighted = true;
-    cases.push_back({"svd 4 terms 64x64, weighted", o, false});
+    cases.push_back({"svd 4 terms " + small + ", weighted", o, false});
     o = base;
     o.method = Method::NMF;
-    cases.push_back({"nmf 4 terms 64x64", o, false});
+    cases.push_back({"nmf 4 terms " + small, o, false});
     o.method = Method::ACLS;
-    cases.push_back({"acls 4 terms 64x64", o, false});
+    cases.push_back({"acls 4 terms " + small, o, false});
     o = base;
-    o.res = 128;
-    cases.push_back({"sample 128x128 (one pass, baseline)", o, true});
+    o.res = 2 * kTimingRes;
+    cases.push_back({"sample " + big + " (one pass, baseline)", o, true});
     o.method = Method::ND;
-    cases.push_back({"nd 4 terms 128x128", o, false});
+    cases.push_back({"nd 4 terms " + big, o, false});
 
     std::printf("\n## timing: %s, gs-half, colour rgb, %d threads, median of %d runs (%s)\n\n", kWard64,
-                default_threads(), runs, all_runs ? "every case" : "one run of a case past 10 s");
+                default_threads(), runs, all_runs ? "every case" : "one run of a case past 5 s");
     std::printf("| case | seconds | ratio to sampling | peak memory MB | engine estimate MB |\n");
     std::printf("| --- | --- | --- | --- | --- |\n");
     const Sample idle = in_child([] { return 0.0; });
-    double base64 = 0, base128 = 0;
+    double base_small = 0, base_big = 0;
     for (const Case& c : cases) {
         std::vector<double> secs, peaks;
-        // A case past 10 s runs once more only if asked (--runs): its own length averages the
-        // noise a median of short runs is for, and three of them cost make bench 4 minutes.
+        // A case past 5 s runs once more only if asked (--runs): its own length averages the
+        // noise a median of short runs is for, and three of them cost make bench minutes.
         for (int r = 0; r < runs; ++r) {
-            if (r > 0 && !secs.empty() && secs.front() > 10.0 && !all_runs) break;
+            if (r > 0 && !secs.empty() && secs.front() > 5.0 && !all_runs) break;
             if (tty()) std::fprintf(stderr, "\rsepal-bench: %s, run %d/%d   ", c.name.c_str(), r + 1, runs);
             const Sample s = in_child([&]() -> double {
                 std::string err;
@@ -161,8 +165,8 @@ void run_timing(int runs, bool all_runs) {
         }
         if (tty()) std::fprintf(stderr, "\r%70s\r", "");
         const double t = median(secs);
-        if (c.sample_only) (c.o.res == 64 ? base64 : base128) = t;
-        const double unit = c.o.res == 64 ? base64 : base128;
+        if (c.sample_only) (c.o.res == kTimingRes ? base_small : base_big) = t;
+        const double unit = c.o.res == kTimingRes ? base_small : base_big;
         std::printf("| %s | %.2f | %.1f | %.0f | %.0f |\n", c.name.c_str(), t, unit > 0 ? t / unit : 0,
                     *std::max_element(peaks.begin(), peaks.end()),
                     c.sample_only ? 0.0 : estimate_memory_mb(c.o));
@@ -292,7 +296,7 @@ void run_svd() {
     std::printf("\n## randomized truncated SVD (4 terms) against Eigen's full BDCSVD, %s gs-half\n\n", kWard64);
     std::printf("| res | matrix | randomized s | BDCSVD s | max relative difference of sigma_1..4 | matrix RMS randomized / full |\n");
     std::printf("| --- | --- | --- | --- | --- | --- |\n");
-    for (int res : {32, 64}) {
+    for (int res : {32, 48}) {  // BDCSVD at 64 takes 40 s of make bench
         if (tty()) std::fprintf(stderr, "\rsepal-bench: svd %d   ", res);
         FactorOptions o;
         o.res = res;
