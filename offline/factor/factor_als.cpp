@@ -29,14 +29,6 @@ namespace sepal {
 namespace detail {
 
 namespace {
-// Ridge of the least-squares rule, relative to the mean diagonal of the normal equations.
-// With entries wholly below the horizon left out, a term can be non-zero on such entries
-// only, at no cost at the sample points - but bilinear lookups near the edge of the valid
-// region blend those entries in. The ridge (the factor-norm penalty that favours low-rank
-// completions) zeroes any such term in one exact solve however small it is; 1e-9 leaves
-// the fit of valid entries unchanged to float precision.
-constexpr double kRidge = 1e-9;
-
 struct Normals {
     std::vector<double> c, b, ssq;  // n*k*k, n*k, n
 };
@@ -155,12 +147,12 @@ double side_error(const Normals& nm, const std::vector<double>& x, int n, int k)
     return std::max(e, 0.0);
 }
 
-void solve_least_squares(const Normals& nm, std::vector<double>* x, int n, int k, int threads,
-                         std::atomic<int64_t>* fallbacks) {
+void solve_least_squares(const Normals& nm, std::vector<double>* x, int n, int k, double ridge_share,
+                         int threads, std::atomic<int64_t>* fallbacks) {
     double mean_diag = 0;
     for (int r = 0; r < n; ++r)
         for (int a = 0; a < k; ++a) mean_diag += nm.c[size_t(r) * k * k + size_t(a) * k + a];
-    const double ridge = kRidge * mean_diag / (double(n) * k) + 1e-300;
+    const double ridge = ridge_share * mean_diag / (double(n) * k) + 1e-300;
     const size_t chunks = size_t((n + kColChunk - 1) / kColChunk);
     parallel_for(chunks, threads, [&](size_t chunk) {
         const int r0 = int(chunk) * kColChunk, r1 = std::min(n, r0 + kColChunk);
@@ -341,7 +333,7 @@ double solve_sparse(const Normals& nm, std::vector<double>* x, int n, int k, con
 double solve_side(const Normals& nm, std::vector<double>* x, int n, int k, int side,
                   const AlsSettings& s) {
     switch (s.rule) {
-        case AlsRule::LeastSquares: solve_least_squares(nm, x, n, k, s.threads, s.fallbacks); break;
+        case AlsRule::LeastSquares: solve_least_squares(nm, x, n, k, s.ridge, s.threads, s.fallbacks); break;
         case AlsRule::Multiplicative:
             solve_multiplicative(nm, x, n, k, s.inner, s.threads, s.fallbacks);
             break;

@@ -75,8 +75,15 @@ std::vector<detail::EnergyGroup> energy_groups(const std::vector<DirPair>& pairs
     return g;
 }
 
+bool partial(const Matrix& m) {
+    for (float w : m.w)
+        if (w != 1.0f) return true;
+    return false;
+}
+
 struct Stats {
     double variance = 0, row_weight = 0, mean = 0;
+    bool partial = false;  // some entries missing or weighted below 1
 };
 Stats matrix_stats(const Matrix& m) {
     double sw = 0, sv = 0, sv2 = 0;
@@ -93,6 +100,7 @@ Stats matrix_stats(const Matrix& m) {
         s.variance = std::max(sv2 / sw - s.mean * s.mean, 1e-30);
     }
     s.row_weight = m.rows > 0 ? sw / m.rows : 0;
+    s.partial = partial(m);
     return s;
 }
 
@@ -174,11 +182,6 @@ struct RunResult {
     int iterations = 0;
 };
 
-bool partial(const Matrix& m) {
-    for (float w : m.w)
-        if (w != 1.0f) return true;
-    return false;
-}
 
 AlsSettings base_settings(const DecomposeOptions& o, const std::vector<detail::EnergyGroup>* groups,
                           const Stats& st, std::atomic<int64_t>* fallbacks) {
@@ -191,6 +194,10 @@ AlsSettings base_settings(const DecomposeOptions& o, const std::vector<detail::E
     s.anchor = nullptr;
     s.anchor_weight = 0;
     const double unit = st.variance * st.row_weight / 50.0;
+    // Missing samples: 1% of the normal equations' mean diagonal bounds the least-squares
+    // solves' weak directions (als.h; PCA at 96x96 with 50% missing predicted the missing
+    // samples 116x off without it, 1.04x with it; NMF's least-squares start likewise).
+    if (st.partial) s.ridge = 1e-2;
     switch (o.method) {
         case IstMethod::SACLS:
         case IstMethod::ACLS:
