@@ -18,8 +18,9 @@
 //           m are in units of the variance of the observed entries, per 50 observed entries
 //           of a row (the paper's 50 columns), so they mean the same at any column count.
 //   acls    the same with l = m = 0 (non-negative factorization by exact ACLS).
-//   pca     truncated SVD (weighted least-squares ALS from it when samples are missing):
-//           the least error, signed terms.
+//   pca     truncated SVD (weighted least-squares ALS from it when samples are missing,
+//           with a ridge of 1% of the normal equations' mean diagonal: without it a weak
+//           direction predicted missing samples 100x off): the least error, signed terms.
 //   nmf     Lee-Seung multiplicative updates with confidence weights from an NNDSVD start.
 //   kmeans  k-means of the texels (weighted by confidence; k-means++ start), the centres
 //           as bases and the weights by non-negative re-projection (Fig. 5).
