@@ -182,7 +182,6 @@ struct RunResult {
     int iterations = 0;
 };
 
-
 AlsSettings base_settings(const DecomposeOptions& o, const std::vector<detail::EnergyGroup>* groups,
                           const Stats& st, std::atomic<int64_t>* fallbacks) {
     AlsSettings s;
