@@ -16,7 +16,7 @@
 //          the tabular basis, its 2D factors and its 1D curves against the top level's
 //          basis values, and the curves' relative RMS against the true material.
 // timing   a --big x --big SVBRDF (default 256), 4 bases, default options: generation,
-//          decomposition (SACLS, 4 restarts) and tree; --runs times (default 1: one run of about a
+//          decomposition (SACLS, 4 restarts) and tree; --runs times (default 1: one run of half a
 //          minute averages the noise a median of short runs is for), medians.
 // Writes DIR/ist.json, DIR/ist-fig5.png (blend maps, truth first), DIR/ist-fig6.png,
 // DIR/ist-curves.png, DIR/ist-renders.png (truth and tree, exact, with the difference)

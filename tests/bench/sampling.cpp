@@ -468,8 +468,8 @@ void rmse(const Config& c, Output* out) {
 
 // ---- speed ---------------------------------------------------------------------------------------
 void speed(const Config& c, Output* out) {
-    auto b = need_brdf("cook-torrance");
     const Material& m = materials().front();  // Cook-Torrance, table 2's strategies
+    auto b = need_brdf(m.spec);
     note("speed: fitting");
     const Strategies& s = build_strategies(*b, m, true);
     note_done();
