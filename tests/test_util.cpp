@@ -78,13 +78,13 @@ std::string check_golden(const std::string& name, const sepal::Image& actual,
                            update_goldens());
 }
 
-int run_cmd(sepal::CommandFn fn, const std::vector<std::string>& args, std::string* out) {
+int run_cmd(const char* command, const std::vector<std::string>& args, std::string* out) {
     std::FILE* o = std::tmpfile();
     std::FILE* e = std::tmpfile();
     sepal::CommandIO io;
     io.out = o;
     io.err = e;
-    const int code = fn(args, io);
+    const int code = sepal::run_command(command, args, io);
     std::string text;
     for (std::FILE* f : {o, e}) {
         std::rewind(f);

@@ -31,6 +31,6 @@ bool update_goldens();
 // Runs a shell command; returns its exit status (or -1), output captured into *out.
 int run(const std::string& command, std::string* out = nullptr);
 // Runs a sepal subcommand in-process; returns its exit code, stdout + stderr in *out.
-int run_cmd(sepal::CommandFn fn, const std::vector<std::string>& args, std::string* out = nullptr);
+int run_cmd(const char* command, const std::vector<std::string>& args, std::string* out = nullptr);
 
 }  // namespace sepal_test

@@ -376,11 +376,6 @@ class HapkeLommel final : public AnalyticBrdf {
 
 // ---- factories ---------------------------------------------------------------------------
 
-template <class T>
-std::unique_ptr<Brdf> make_simple(const ModelEntry& e, const ParamSet& p, std::string*) {
-    return std::make_unique<T>(e, p);
-}
-
 std::unique_ptr<Brdf> make_lafortune(const ModelEntry& e, const ParamSet& p, std::string* err) {
     std::vector<std::string> texts = p.repeated("lobe");
     if (texts.empty()) texts = {"-1/-1/1/20/0.5"};  // the documented default lobe
@@ -402,7 +397,7 @@ const ModelEntry& lambert_entry() {
                               "Lambert 1760",
                               {{"rho", ParamKind::kColour, 0.5, 0.0, 1.0, "albedo"}},
                               {},
-                              make_simple<Lambert>};
+                              make_model<Lambert>};
     return e;
 }
 
@@ -417,7 +412,7 @@ const ModelEntry& phong_entry() {
          {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular albedo at normal incidence"},
          {"n", ParamKind::kScalar, 30.0, 0.0, 1e6, "exponent"}},
         {},
-        make_simple<Phong>};
+        make_model<Phong>};
     return e;
 }
 
@@ -432,7 +427,7 @@ const ModelEntry& blinn_entry() {
          {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular weight"},
          {"n", ParamKind::kScalar, 100.0, 0.0, 1e6, "exponent"}},
         {},
-        make_simple<Blinn>};
+        make_model<Blinn>};
     return e;
 }
 
@@ -460,7 +455,7 @@ const ModelEntry& oren_nayar_entry() {
         {{"rho", ParamKind::kColour, 0.8, 0.0, 1.0, "albedo"},
          {"sigma", ParamKind::kScalar, 0.3, 0.0, kPi / 2, "facet slope deviation (radians)"}},
         {},
-        make_simple<OrenNayar>};
+        make_model<OrenNayar>};
     return e;
 }
 
@@ -475,7 +470,7 @@ const ModelEntry& hapke_lommel_entry() {
          {"f", ParamKind::kScalar, 0.1, 0.0, 1.0, "forward-scattering fraction"},
          {"r", ParamKind::kColour, 1.0, 0.0, 1.0, "single-scattering albedo (scale)"}},
         {},
-        make_simple<HapkeLommel>};
+        make_model<HapkeLommel>};
     return e;
 }
 

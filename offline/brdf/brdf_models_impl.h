@@ -45,6 +45,12 @@ class AnalyticBrdf : public Brdf {
 using ModelFactory = std::unique_ptr<Brdf> (*)(const ModelEntry& entry, const ParamSet& p,
                                                std::string* err);
 
+// The factory of a model whose constructor takes (entry, params) and cannot fail.
+template <class T>
+std::unique_ptr<Brdf> make_model(const ModelEntry& e, const ParamSet& p, std::string*) {
+    return std::make_unique<T>(e, p);
+}
+
 struct ModelEntry {
     const char* name;
     const char* summary;

@@ -195,10 +195,6 @@ class PoulinFournier final : public AnalyticBrdf {
     double gx_[kGL], gw_[kGL];
 };
 
-std::unique_ptr<Brdf> make_pf(const ModelEntry& e, const ParamSet& p, std::string*) {
-    return std::make_unique<PoulinFournier>(e, p);
-}
-
 }  // namespace
 
 const ModelEntry& poulin_fournier_entry() {
@@ -214,7 +210,7 @@ const ModelEntry& poulin_fournier_entry() {
          {"Rs", ParamKind::kColour, 0.8, 0.0, 1.0, "specular albedo"},
          {"Rd", ParamKind::kColour, 0.2, 0.0, 1.0, "diffuse albedo"}},
         {},
-        make_pf};
+        make_model<PoulinFournier>};
     return e;
 }
 

@@ -4,7 +4,7 @@
 // call it like the shell does:
 //   0 success, 1 a check failed (e.g. a tolerance), 2 bad usage or unreadable input.
 //   std::vector<std::string> args = {"lambert", "--res", "16"};
-//   int code = sepal::cmd_factor(args, sepal::CommandIO{out_file, err_file});
+//   int code = sepal::run_command("factor", args, sepal::CommandIO{out_file, err_file});
 //
 // Adding a command (offline/cli/cmd_foo.cpp):
 //   namespace { struct FooArgs { std::string spec; int res = 32; }; }
@@ -13,9 +13,6 @@
 //       app.add_option("SPEC", a->spec, "BRDF spec or measured file")->required();
 //       add_int(app, "--res", &a->res, 1, 256, "texels per side");   // cli/options.h
 //       return [a](const CommandIO& io) { return run_foo(*a, io); };
-//   }
-//   int cmd_foo(const std::vector<std::string>& args, const CommandIO& io) {
-//       return run_command("foo", args, io);
 //   }
 // plus one row in commands.cpp's table. Parsing, `--help` (generated from the declared
 // flags: every flag is listed, tests/offline/cli/cli_test.cpp checks), unknown flags and
@@ -42,7 +39,6 @@ struct CommandIO {
     FILE* err = stderr;
 };
 
-using CommandFn = int (*)(const std::vector<std::string>& args, const CommandIO& io);
 // What a command does once its flags are parsed.
 using CommandRun = std::function<int(const CommandIO& io)>;
 // Declares a command's flags on `app`, bound to state the returned CommandRun owns.
@@ -52,7 +48,6 @@ struct Command {
     const char* name;
     const char* summary;  // one line
     CommandSetup setup;
-    CommandFn run;  // cmd_<name>: run_command(name, ...)
 };
 
 // The table of subcommands (commands.cpp).
@@ -69,32 +64,19 @@ int run_command(const std::string& name, const std::vector<std::string>& args, c
 // "sepal 0.9.0 (asset format 1.0)"
 std::string version_line(const char* program);
 
-// Subcommands: setup_<name> declares the flags, cmd_<name> parses and runs.
+// Subcommands: setup_<name> declares the flags; run_command(name, ...) parses and runs.
 CommandRun setup_diff(CLI::App& app);
-int cmd_diff(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_eval(CLI::App& app);
 CommandRun setup_ist(CLI::App& app);
-int cmd_ist(const std::vector<std::string>& args, const CommandIO& io);
-int cmd_eval(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_info(CLI::App& app);
-int cmd_info(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_gen_merl(CLI::App& app);
-int cmd_gen_merl(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_factor(CLI::App& app);
-int cmd_factor(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_render(CLI::App& app);
-int cmd_render(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_bake(CLI::App& app);
-int cmd_bake(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_inspect(CLI::App& app);
-int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_bake_scene(CLI::App& app);
-int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_sampler(CLI::App& app);
-int cmd_sampler(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_fit(CLI::App& app);
-int cmd_fit(const std::vector<std::string>& args, const CommandIO& io);
 CommandRun setup_measure(CLI::App& app);
-int cmd_measure(const std::vector<std::string>& args, const CommandIO& io);
 
 }  // namespace sepal

@@ -252,6 +252,4 @@ CommandRun setup_bake(CLI::App& app) {
     return [a](const CommandIO& io) { return run_bake(*a, io); };
 }
 
-int cmd_bake(const std::vector<std::string>& args, const CommandIO& io) { return run_command("bake", args, io); }
-
 }  // namespace sepal

@@ -312,8 +312,4 @@ CommandRun setup_bake_scene(CLI::App& app) {
     return [a](const CommandIO& io) { return run_bake_scene(*a, io); };
 }
 
-int cmd_bake_scene(const std::vector<std::string>& args, const CommandIO& io) {
-    return run_command("bake-scene", args, io);
-}
-
 }  // namespace sepal

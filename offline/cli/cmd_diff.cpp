@@ -103,6 +103,4 @@ CommandRun setup_diff(CLI::App& app) {
     return [a](const CommandIO& io) { return run_diff(*a, io); };
 }
 
-int cmd_diff(const std::vector<std::string>& args, const CommandIO& io) { return run_command("diff", args, io); }
-
 }  // namespace sepal

@@ -39,6 +39,4 @@ CommandRun setup_eval(CLI::App& app) {
     return [a](const CommandIO& io) { return run_eval(*a, io); };
 }
 
-int cmd_eval(const std::vector<std::string>& args, const CommandIO& io) { return run_command("eval", args, io); }
-
 }  // namespace sepal

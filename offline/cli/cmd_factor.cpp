@@ -222,6 +222,4 @@ CommandRun setup_factor(CLI::App& app) {
     };
 }
 
-int cmd_factor(const std::vector<std::string>& args, const CommandIO& io) { return run_command("factor", args, io); }
-
 }  // namespace sepal

@@ -110,6 +110,4 @@ CommandRun setup_fit(CLI::App& app) {
     return [a](const CommandIO& io) { return run_fit_lafortune(*a, io); };
 }
 
-int cmd_fit(const std::vector<std::string>& args, const CommandIO& io) { return run_command("fit", args, io); }
-
 }  // namespace sepal

@@ -75,8 +75,4 @@ CommandRun setup_gen_merl(CLI::App& app) {
     return [a](const CommandIO& io) { return run_gen_merl(*a, io); };
 }
 
-int cmd_gen_merl(const std::vector<std::string>& args, const CommandIO& io) {
-    return run_command("gen-merl", args, io);
-}
-
 }  // namespace sepal

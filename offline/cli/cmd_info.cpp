@@ -78,6 +78,4 @@ CommandRun setup_info(CLI::App& app) {
     return [a](const CommandIO& io) { return run_info(*a, io); };
 }
 
-int cmd_info(const std::vector<std::string>& args, const CommandIO& io) { return run_command("info", args, io); }
-
 }  // namespace sepal

@@ -89,6 +89,4 @@ CommandRun setup_inspect(CLI::App& app) {
     return [path](const CommandIO& io) { return run_inspect(*path, io); };
 }
 
-int cmd_inspect(const std::vector<std::string>& args, const CommandIO& io) { return run_command("inspect", args, io); }
-
 }  // namespace sepal

@@ -261,6 +261,4 @@ CommandRun setup_ist(CLI::App& app) {
     };
 }
 
-int cmd_ist(const std::vector<std::string>& args, const CommandIO& io) { return run_command("ist", args, io); }
-
 }  // namespace sepal

@@ -405,6 +405,4 @@ CommandRun setup_measure(CLI::App& app) {
     };
 }
 
-int cmd_measure(const std::vector<std::string>& args, const CommandIO& io) { return run_command("measure", args, io); }
-
 }  // namespace sepal

@@ -349,6 +349,4 @@ CommandRun setup_render(CLI::App& app) {
     return [a](const CommandIO& io) { return run_render(*a, io); };
 }
 
-int cmd_render(const std::vector<std::string>& args, const CommandIO& io) { return run_command("render", args, io); }
-
 }  // namespace sepal

@@ -104,6 +104,4 @@ CommandRun setup_sampler(CLI::App& app) {
     return [a](const CommandIO& io) { return run_sampler(*a, io); };
 }
 
-int cmd_sampler(const std::vector<std::string>& args, const CommandIO& io) { return run_command("sampler", args, io); }
-
 }  // namespace sepal

@@ -63,8 +63,10 @@ glm::dvec3 plot_colour(int index);
 Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
                        const std::string& test_title, double full_scale);
 
-// Draws text with the built-in font at (x, y) = top-left corner, scale >= 1 (pixel size).
-// Exposed for tests; returns the width drawn.
+// Draws text with stb_easy_font (printable ASCII; anything else draws as '?') at (x, y) =
+// top-left corner, scale >= 1 (pixel size): capitals are 7 pixels tall at scale 1, descenders
+// reach 2 more. Returns the width drawn, text_width's.
+int text_width(const std::string& text, int scale = 1);
 int draw_text(Image* img, int x, int y, const std::string& text, const glm::dvec3& colour,
               int scale = 1);
 

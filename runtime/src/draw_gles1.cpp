@@ -7,9 +7,13 @@
 #include "internal.h"
 #include "sepal/sepal_material.h"
 #include "draw_internal.h"
+#include "gles1_util.h"
 #include "vertex_setup.h"
 
 namespace {
+
+using srt::quad_indices;
+using srt::with_identity_matrices;
 
 constexpr GLenum kFuncAdd = 0x8006;             // GL_FUNC_ADD(_OES)
 constexpr GLenum kFuncSubtract = 0x800A;        // GL_FUNC_SUBTRACT(_OES): src - dst
@@ -112,26 +116,17 @@ void fullscreen(Frame& f, float z, bool textured, const float color[4]) {
     const float sy = (float)f.height / (float)(f.m->copy_height ? f.m->copy_height : 1);
     const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
     const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
-    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
-    glMatrixMode(GL_PROJECTION);
-    glPushMatrix();
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glPushMatrix();
-    glLoadIdentity();
-    glEnableClientState(GL_VERTEX_ARRAY);
-    glVertexPointer(3, GL_FLOAT, 0, pos);
-    glDisableClientState(GL_COLOR_ARRAY);
-    glColor4f(color[0], color[1], color[2], color[3]);
-    bind_unit(GL_TEXTURE1, 0, nullptr);
-    bind_unit(GL_TEXTURE0, textured ? f.m->copy_texture : 0, uv);
-    if (textured) set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
-    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+    with_identity_matrices([&] {
+        glEnableClientState(GL_VERTEX_ARRAY);
+        glVertexPointer(3, GL_FLOAT, 0, pos);
+        glDisableClientState(GL_COLOR_ARRAY);
+        glColor4f(color[0], color[1], color[2], color[3]);
+        bind_unit(GL_TEXTURE1, 0, nullptr);
+        bind_unit(GL_TEXTURE0, textured ? f.m->copy_texture : 0, uv);
+        if (textured) set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
+        glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, quad_indices());
+    });
     ++f.stats->fullscreen_passes;
-    glMatrixMode(GL_PROJECTION);
-    glPopMatrix();
-    glMatrixMode(GL_MODELVIEW);
-    glPopMatrix();
 }
 
 // Passes send colour / boost and scale by 4 in their last combiner stage (GL_RGB_SCALE

@@ -14,9 +14,15 @@
 // ms/frame (GL: median of --frames frames after 2 warm-up frames, each ended by glFinish;
 // cpu: median of 3). The CPU frame is rounded to 8 bits like the GL ones before comparison.
 // The sweep is sampled to keep `make bench` short (issue 20): 8 bits only (GL uploads 8;
-// 16 bits bought the cpu backend at most 0.4 dB, and --bits 16 stays in the bake), and the
+// 16 bits bought the cpu backend at most 0.4 dB, and --bits 16 stays in the bake), the
 // smooth factor at the ladder's size instead of the half-angle one's (same images, a
-// fraction of the matrix: the full square sweep took 58 minutes).
+// fraction of the matrix: the full square sweep took 58 minutes), and each frame cost timed
+// once: a row whose backend, passes, terms and half-angle side match a timed row's draws the
+// same work (texel values do not change what a pass costs; the colour mode changes bytes, not
+// passes, and bytes bought 0.00 ms/KiB in the fitted models) and takes its ms from it,
+// rendering one frame for its image ("ms_from" in the JSON names the material timed).
+// Repeated timings of equal work differed by a median 1.18x (max 2.1x) between materials on
+// llvmpipe: a second timing added noise, not information. 156 of 840 rows are timed.
 //
 // Writes DIR/tradeoff.json (rows, the fitted cost models of cost_model.h, the Pareto
 // fronts and a check that the bake's --max-error pick lies on the measured front) and
@@ -59,7 +65,7 @@ struct Row {
     std::string material, backend, method;
     int res = 0, terms = 0, bits = 0;
     bool ok = false;
-    std::string note;
+    std::string note, ms_from;  // ms_from: the material whose row of equal work was timed
     int passes = 0;
     int64_t bytes = 0;
     double err_float = NAN, err_rel = NAN, psnr = NAN, ms = NAN, ms_predicted = NAN;
@@ -162,6 +168,13 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Row> rows;
     std::string device;
+    // Frame ms by the work a row draws (backend, passes, terms, res), and whose it is.
+    std::map<std::string, std::pair<double, std::string>> timed;
+    // Where the sweep's seconds go (JSON "phase_seconds"), so the next cut aims right.
+    double t_exact = 0, t_bake = 0, t_gl = 0, t_cpu = 0;
+    auto since = [](std::chrono::steady_clock::time_point a) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+    };
     for (const Material& m : mats) {
         std::unique_ptr<Brdf> f = make_brdf(m.spec, &err);
         if (!f) die(err);
@@ -169,10 +182,12 @@ int main(int argc, char** argv) {
         s.width = s.height = size;
         if (!sepal_ports::load_scene_mesh(&s, &err)) die(err);
         Image exact;
+        const auto te = std::chrono::steady_clock::now();
         if (!render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err, false, kReferenceSupersample))
             die(err);
         // As displayed: clamped and rounded to 8 bits (the fidelity bench's reference).
         for (float& v : exact.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
+        t_exact += since(te);
         for (int res : resolutions)
             for (Method method : methods) {
                 std::fprintf(stderr, "%stradeoff: %s %d %s (%.0f s)%s", tty ? "\r" : "", m.name.c_str(), res,
@@ -186,6 +201,7 @@ int main(int argc, char** argv) {
                 std::string berr;
                 bool baked = false;
                 {
+                    const auto tb = std::chrono::steady_clock::now();
                     BakeOptions o;
                     o.params = {Param::GsHalf};
                     o.resolutions = {res};
@@ -196,6 +212,7 @@ int main(int argc, char** argv) {
                     o.cap = m.cap;
                     o.keep_assets = true;
                     baked = bake(*f, o, &r, &berr);
+                    t_bake += since(tb);
                 }
                 for (int k : terms)
                     for (int bits : bit_depths) {
@@ -218,11 +235,16 @@ int main(int argc, char** argv) {
                             row.err_rel = c->error_quantized;
                             std::vector<uint8_t> bytes;
                             if (!encode_asset(c->asset, &bytes, &err)) die(err);
+                            const std::string work = row.backend + "/" + std::to_string(row.passes) + "/" +
+                                                     std::to_string(k) + "/" + std::to_string(res);
+                            const auto seen = timed.find(work);
+                            const bool time_it = seen == timed.end();
                             Image img;
+                            const auto tr = std::chrono::steady_clock::now();
                             if (row.backend == "cpu") {
                                 std::vector<double> times;
                                 std::vector<float> rgb;
-                                for (int i = 0; i < 3; ++i) {
+                                for (int i = 0; i < (time_it ? 3 : 1); ++i) {
                                     double ms = 0;
                                     if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), s, nullptr, &rgb, &ms, &err))
                                         die(m.name + " cpu: " + err);
@@ -236,7 +258,7 @@ int main(int argc, char** argv) {
                             } else {
                                 sepal_ports::GlRenderOptions opt;
                                 if (!sepal_ports::parse_gl_backend(backend, &opt)) die(backend);
-                                opt.frames = frames;
+                                opt.frames = time_it ? frames : 1;
                                 sepal_ports::GlRenderInfo info;
                                 std::vector<uint8_t> px;
                                 if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &px, &info, &err))
@@ -245,6 +267,9 @@ int main(int argc, char** argv) {
                                 row.ms = info.ms;
                                 img = to_rgb(image_from_rgba8(px.data(), s.width, s.height));
                             }
+                            (row.backend == "cpu" ? t_cpu : t_gl) += since(tr);
+                            if (time_it) timed[work] = {row.ms, m.name};
+                            else row.ms = seen->second.first, row.ms_from = seen->second.second;
                             row.psnr = diff_images(exact, img, 0).psnr;
                             row.ok = std::isfinite(row.psnr) && std::isfinite(row.ms);
                             if (!row.ok) row.note = "non-finite measurement";
@@ -327,6 +352,9 @@ int main(int argc, char** argv) {
     j["frames"] = frames;
     j["param"] = "gs-half";
     j["seconds"] = rounded(seconds, 1);
+    j["timed_rows"] = int(timed.size());
+    j["phase_seconds"] = {{"exact", rounded(t_exact, 1)}, {"bake", rounded(t_bake, 1)}, {"gl", rounded(t_gl, 1)},
+                          {"cpu", rounded(t_cpu, 1)}};
     j["cost_models"] = Json::array();
     for (const CostModel& c : models)
         j["cost_models"].push_back({{"backend", c.backend},
@@ -356,6 +384,7 @@ int main(int argc, char** argv) {
             x["cos_rms_relative"] = r.err_rel;
             x["cos_rms_relative_float"] = r.err_float;
             x["ms"] = rounded(r.ms, 3);
+            if (!r.ms_from.empty()) x["ms_from"] = r.ms_from;
             x["ms_predicted"] = rounded(r.ms_predicted, 3);
             x["on_front"] = r.on_front;
             x["on_backend_front"] = r.on_backend_front;
@@ -394,7 +423,9 @@ int main(int argc, char** argv) {
         die(err);
 
     // For people: the models, the pick check, then each material's front.
-    std::printf("trade-off sweep: %zu rows, %s, %dx%d, %.0f s\n", rows.size(), device.c_str(), size, size, seconds);
+    std::printf("trade-off sweep: %zu rows (%zu frame costs timed, the rest drew equal work), %s, %dx%d, %.0f s "
+                "(exact %.0f, bake %.0f, GL %.0f, cpu %.0f)\n",
+                rows.size(), timed.size(), device.c_str(), size, size, seconds, t_exact, t_bake, t_gl, t_cpu);
     std::printf("\ncost models (ms = base + pass * passes + term * terms + kib * KiB; median |rel. residual|):\n");
     for (const CostModel& c : models)
         std::printf("  %-12s base %.3f  pass %.3f  term %.3f  kib %.4f  fit %.1f%% (%d rows)\n", c.backend.c_str(),

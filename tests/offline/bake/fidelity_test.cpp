@@ -229,23 +229,23 @@ TEST_CASE("sepal bake: --target, --white, --fit, --min-psnr; the candidate table
         a.insert(a.end(), extra.begin(), extra.end());
         return a;
     };
-    REQUIRE(sepal_test::run_cmd(sepal::cmd_bake, args({"-o", dir + "/a.sepal", "--target", "cpu"}), &out) == 0);
+    REQUIRE(sepal_test::run_cmd("bake", args({"-o", dir + "/a.sepal", "--target", "cpu"}), &out) == 0);
     CHECK(out.find("PSNR dB") != std::string::npos);
     CHECK(out.find("on cpu against the exact render") != std::string::npos);
-    REQUIRE(sepal_test::run_cmd(sepal::cmd_bake, args({"-o", dir + "/b.sepal", "--white", "none"}), &out) == 0);
+    REQUIRE(sepal_test::run_cmd("bake", args({"-o", dir + "/b.sepal", "--white", "none"}), &out) == 0);
     CHECK(out.find("not capped") != std::string::npos);
-    REQUIRE(sepal_test::run_cmd(sepal::cmd_bake, args({"-o", dir + "/c.sepal", "--fit", "brdf"}), &out) == 0);
-    REQUIRE(sepal_test::run_cmd(sepal::cmd_inspect, {dir + "/c.sepal"}, &out) == 0);
+    REQUIRE(sepal_test::run_cmd("bake", args({"-o", dir + "/c.sepal", "--fit", "brdf"}), &out) == 0);
+    REQUIRE(sepal_test::run_cmd("inspect", {dir + "/c.sepal"}, &out) == 0);
     CHECK(out.find("format 1.0") != std::string::npos);
-    REQUIRE(sepal_test::run_cmd(sepal::cmd_inspect, {dir + "/a.sepal"}, &out) == 0);
+    REQUIRE(sepal_test::run_cmd("inspect", {dir + "/a.sepal"}, &out) == 0);
     CHECK(out.find("format 2.0") != std::string::npos);
     CHECK(out.find("diffuse") != std::string::npos);
     // A PSNR no candidate reaches is refused, naming the best image.
-    CHECK(sepal_test::run_cmd(sepal::cmd_bake, args({"-o", dir + "/d.sepal", "--min-psnr", "90"}), &out) == 2);
+    CHECK(sepal_test::run_cmd("bake", args({"-o", dir + "/d.sepal", "--min-psnr", "90"}), &out) == 2);
     CHECK(out.find("best image") != std::string::npos);
     for (const std::vector<std::string>& bad : {std::vector<std::string>{"--target", "vulkan"},
                                                 {"--white", "-1"}, {"--fit", "f"}, {"--min-psnr", "0"}}) {
         CAPTURE(bad[0]);
-        CHECK(sepal_test::run_cmd(sepal::cmd_bake, args({"-o", dir + "/e.sepal", bad[0], bad[1]}), &out) == 2);
+        CHECK(sepal_test::run_cmd("bake", args({"-o", dir + "/e.sepal", bad[0], bad[1]}), &out) == 2);
     }
 }

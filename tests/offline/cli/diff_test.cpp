@@ -22,7 +22,7 @@ struct Fixture {
     }
     // Runs `sepal diff` in-process; returns the exit code and captures stdout.
     int diff(std::vector<std::string> args, std::string* out = nullptr) {
-        return sepal_test::run_cmd(sepal::cmd_diff, args, out);
+        return sepal_test::run_cmd("diff", args, out);
     }
 };
 }  // namespace

@@ -11,7 +11,7 @@
 
 namespace {
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-int ist(const std::vector<std::string>& args, std::string* out) { return sepal_test::run_cmd(sepal::cmd_ist, args, out); }
+int ist(const std::vector<std::string>& args, std::string* out) { return sepal_test::run_cmd("ist", args, out); }
 }  // namespace
 
 TEST_CASE("ist cli: every subcommand's --help lists its flags") {

@@ -14,7 +14,7 @@ namespace {
 const std::string kMaterials = "gold-paint,dark-red-paint,white-fabric";
 
 int measure(const std::vector<std::string>& args, std::string* out = nullptr) {
-    return sepal_test::run_cmd(sepal::cmd_measure, args, out);
+    return sepal_test::run_cmd("measure", args, out);
 }
 }  // namespace
 

@@ -59,7 +59,7 @@ ErrorOptions quick_metric() {
 }
 
 int run_factor(const std::vector<std::string>& args, std::string* out = nullptr) {
-    return sepal_test::run_cmd(cmd_factor, args, out);
+    return sepal_test::run_cmd("factor", args, out);
 }
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }
@@ -541,9 +541,17 @@ TEST_CASE("factor: plot") {
     REQUIRE(read_image(dir + "/p.png", &back, &err));
     CHECK(back.width == 300);
     CHECK(slurp(dir + "/p.svg").rfind("<svg", 0) == 0);
-    Image t(40, 10, 3);
-    CHECK(draw_text(&t, 0, 0, "1e-3", glm::dvec3(1)) == 24);
-    float lit = 0;
-    for (float x : t.data) lit += x;
+    Image t(40, 12, 3);
+    const int w = draw_text(&t, 0, 0, "1e-3", glm::dvec3(1));
+    CHECK(w == text_width("1e-3"));
+    CHECK(w >= 4 * 4);
+    CHECK(w <= 4 * 7);
+    float lit = 0, outside = 0;
+    for (int y = 0; y < t.height; ++y)
+        for (int x = 0; x < t.width; ++x) (x < w && y < 10 ? lit : outside) += t.at(x, y, 0);
     CHECK(lit > 10);
+    CHECK(outside == 0);
+    // Bytes outside printable ASCII draw as '?' (the font's table starts at ' ').
+    CHECK(text_width("\xc3\xa9") == text_width("??"));
+    CHECK(draw_text(&t, 0, 0, "x", glm::dvec3(1), 2) == 2 * text_width("x"));
 }

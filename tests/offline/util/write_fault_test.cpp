@@ -63,7 +63,7 @@ TEST_CASE("write failure: commands that fail on a full disk leave none of their 
     {
         // render: the PNG fits, the PFM does not.
         FaultScope fault(20000);
-        CHECK(sepal_test::run_cmd(sepal::cmd_render, {"lambert", "--size", "64x64", "-o", dir + "/r.png", "--float",
+        CHECK(sepal_test::run_cmd("render", {"lambert", "--size", "64x64", "-o", dir + "/r.png", "--float",
                                                       dir + "/r.pfm"},
                                   &out) == 2);
         CHECK(out.find("No space left on device") != std::string::npos);
@@ -71,14 +71,14 @@ TEST_CASE("write failure: commands that fail on a full disk leave none of their 
     {
         // bake: the asset does not fit.
         FaultScope fault(100);
-        CHECK(sepal_test::run_cmd(sepal::cmd_bake, {"lambert", "--param", "gs-half", "--res", "8", "--terms", "1", "-o",
+        CHECK(sepal_test::run_cmd("bake", {"lambert", "--param", "gs-half", "--res", "8", "--terms", "1", "-o",
                                                     dir + "/b.sepal"},
                                   &out) == 2);
         CHECK(out.find("No space left on device") != std::string::npos);
     }
     CHECK(listing(dir).empty());
     // The same commands write their outputs once the disk has room.
-    CHECK(sepal_test::run_cmd(sepal::cmd_render, {"lambert", "--size", "64x64", "-o", dir + "/r.png", "--float",
+    CHECK(sepal_test::run_cmd("render", {"lambert", "--size", "64x64", "-o", dir + "/r.png", "--float",
                                                   dir + "/r.pfm"},
                               &out) == 0);
     CHECK(listing(dir).size() == 2);
@@ -93,7 +93,7 @@ TEST_CASE("write failure: a real full disk (a 64 KiB tmpfs) leaves no partial ou
     std::string out;
     // 256x256 RGB floats are 786,449 bytes of PFM: the disk fills part-way through.
     const int code = sepal_test::run_cmd(
-        sepal::cmd_render, {"lambert", "--size", "256x256", "-o", dir + "/r.png", "--float", dir + "/r.pfm"}, &out);
+        "render", {"lambert", "--size", "256x256", "-o", dir + "/r.png", "--float", dir + "/r.pfm"}, &out);
     const std::vector<std::string> left = listing(dir);
     umount(dir.c_str());
     CHECK(code == 2);
