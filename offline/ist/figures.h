@@ -12,7 +12,7 @@
 // fixed scale), grey for non-negative maps, and for maps with negative values (PCA) red
 // for positive and green for negative, brightness the magnitude (as the paper's Fig. 5).
 // Curves: per basis four panels (G theta, G phi, H theta, H phi; degrees), one series per
-// term, the luminance of the RGB curve. Labels use the plot module's built-in font.
+// term, the luminance of the RGB curve. Labels use the plot module's font (stb_easy_font).
 #pragma once
 #include <string>
 #include <utility>

@@ -11,8 +11,8 @@
 // Hand-written because no plotting library is among the project's allowed dependencies
 // (Debian packages: GLM, stb, doctest, Eigen): axes with numbered ticks (a linear x axis
 // with integer-friendly steps, a log-scale y axis with decades and 2x/5x sub-ticks), one
-// polyline (or markers only) with square markers per series, optionally a log x axis, a legend, and a title, drawn with a built-in
-// 5x7 bitmap font (ASCII 32..126; other bytes draw as '?'). Panels are laid out in a grid.
+// polyline (or markers only) with square markers per series, optionally a log x axis, a legend, and a title, drawn with
+// stb_easy_font (ASCII 32..126; other bytes draw as '?'). Panels are laid out in a grid.
 // Limits: no anti-aliasing; non-positive or non-finite y values are skipped on log axes
 // (and non-finite ones on linear axes); panel sizes 160..2000 pixels.
 #pragma once

@@ -30,6 +30,7 @@ struct Frame {
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
     int bad_vertices;  // > 0: triangles touching one are skipped
     GLuint diffuse_texture;  // non-zero: multiplies each pass in its first stage (unit 0)
+    bool lays_depth;  // this pass writes depth (LESS) and replaces colour: no pre-pass drawn
     // The texture environment last set on units 0..2 this frame (set_env_modulate skips what
     // is already so: the passes of a plan share their combiner set-up). Unknown at the start
     // of a frame: whatever ran between frames may have changed it.
@@ -188,7 +189,10 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
             bind_unit(GL_TEXTURE1, 0, nullptr);
         }
     }
-    glEnable(GL_BLEND);
+    // Laying depth: the nearest fragment's colour replaces an occluded one's, which is what
+    // adding it to the cleared framebuffer gives.
+    if (f.lays_depth) glDisable(GL_BLEND);
+    else glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     // Subtracting: dst - src with the extension; in the inverted framebuffer, an add.
     const bool subtract = pass.blend == SEPAL_BLEND_SUBTRACT && !inverted;
@@ -300,7 +304,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     const float* proj = prep.proj;
     const float* view = prep.view;
     Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
-               prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, {}};
+               prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, false, {}};
     glViewport(0, 0, d->width, d->height);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -313,22 +317,30 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glShadeModel(GL_SMOOTH);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
-    // Depth pre-pass: later passes test EQUAL, so each pixel's front surface is shaded once.
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     bind_unit(GL_TEXTURE1, 0, nullptr);
     bind_unit(GL_TEXTURE0, 0, nullptr);
-    mesh_arrays(f, false);
-    draw_mesh(f);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_FALSE);
-    glDepthFunc(GL_EQUAL);
-    if ((r = srt::gl_check("depth pre-pass", err)) != SEPAL_OK) return r;
-
     srt::Gles1Step steps[srt::kMaxGles1Steps];  // ~12 KB of stack
     const int step_count = srt::gles1_schedule(m, prep, stats->doublings, steps);
+    // Later passes test EQUAL, so each pixel's front surface is shaded once. The depth they
+    // test comes from the first plan pass when it adds on two units (drawn with LESS, depth
+    // writes and no blending: f.lays_depth), else from a colour-masked pre-pass: the
+    // single-unit path clears colour between passes, and a subtract or an inversion cannot
+    // stand in for the cleared framebuffer. Folding saves a mesh pass per frame.
+    f.lays_depth = !m->single_unit && d->scene->light_count > 0 && step_count > 0 && steps[0].kind == srt::Gles1Step::kPass && !steps[0].inverted &&
+                   m->passes[steps[0].pass].blend != SEPAL_BLEND_SUBTRACT;
+    if (!f.lays_depth) {
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        mesh_arrays(f, false);
+        draw_mesh(f);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+        if ((r = srt::gl_check("depth pre-pass", err)) != SEPAL_OK) return r;
+    }
+
     // Diffuse map (Fig. 13; a tree's blend maps): one more mesh pass multiplying the
     // framebuffer by the texture at the mesh's UVs, before the final doublings: there the
     // image is at the plan's exposure, so a highlight above 1 is still held (v 2^-k <= 1)
@@ -360,6 +372,11 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
                 pass_single_unit(f, pass, l, step.inverted);
             else
                 pass_multitexture(f, pass, l, step.inverted);
+            if (f.lays_depth) {
+                f.lays_depth = false;
+                glDepthMask(GL_FALSE);
+                glDepthFunc(GL_EQUAL);
+            }
             if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
         }
     }

@@ -52,6 +52,9 @@ struct Frame {
     int bad_vertices;  // > 0: triangles touching one are skipped
     bool repaired;     // some tangents were replaced: per-pixel attributes come from scratch
     bool map_per_pass;  // multipass: the diffuse map multiplies each pass (unit 2)
+    // The next mesh draw lays depth (LESS, depth writes, no blending) instead of a pre-pass;
+    // draw_mesh clears it. Mutable: the passes take the frame as const.
+    mutable bool lays_depth;
 };
 
 void mat4_mul(const float* a, const float* b, float* out) {
@@ -77,10 +80,19 @@ void bind_texture(GLenum unit, GLuint texture) {
 
 // One mesh pass: the whole index list, or the runs of it without bad vertices.
 void draw_mesh(const Frame& f) {
+    // Laying depth: the nearest fragment's colour replaces an occluded one's, which is what
+    // adding it to the cleared framebuffer gives; then EQUAL, as after a pre-pass.
+    if (f.lays_depth) glDisable(GL_BLEND);
     srt::for_each_drawable_run(*f.d->mesh, f.bad_vertices, [&f](int first, int count) {
         glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.d->mesh->indices + first);
     });
     ++f.stats->draw_calls;
+    if (f.lays_depth) {
+        f.lays_depth = false;
+        glEnable(GL_BLEND);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+    }
 }
 
 void fullscreen(const Frame& f, float z, const float color[4]) {
@@ -383,7 +395,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
     }
     Frame f = {m, d, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
-               prep.vertices.fallback_tangents > 0, prep.diffuse_per_pass};
+               prep.vertices.fallback_tangents > 0, prep.diffuse_per_pass, false};
     mat4_mul(prep.proj, prep.view, f.mvp);
     GLint previous_fbo = 0;
     if (m->float_fbo) {
@@ -399,21 +411,35 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glUseProgram(m->program_pass);
-    glUniformMatrix4fv(loc(m->program_pass, "u_mvp"), 1, GL_FALSE, f.mvp);
-    attribs(1);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
-    draw_mesh(f);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_FALSE);
-    glDepthFunc(GL_EQUAL);
+    // Later draws test EQUAL, so each pixel's front surface is shaded once. The first mesh
+    // draw lays that depth when it adds to the cleared framebuffer (every fused draw, and a
+    // plan whose first pass adds); before a subtracting first pass, a colour-masked pre-pass.
+    // Folding saves a mesh pass per frame.
+    f.lays_depth = d->mode == SEPAL_MODE_MULTIPASS
+                       ? m->plan.pass_count > 0 && m->passes[0].blend != SEPAL_BLEND_SUBTRACT
+                       : m->info.terms > 0;
+    if (!f.lays_depth) {
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glUseProgram(m->program_pass);
+        glUniformMatrix4fv(loc(m->program_pass, "u_mvp"), 1, GL_FALSE, f.mvp);
+        attribs(1);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+        draw_mesh(f);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+    }
     sepal_result r = gl_check("depth pre-pass", err);
     if (r != SEPAL_OK) return r;
     if (d->mode == SEPAL_MODE_MULTIPASS)
         multipass(f);
     else
         fused(f, d->mode == SEPAL_MODE_FUSED_PIXEL);
+    if (f.lays_depth) {  // nothing was drawn (no light): no surface to test against either
+        f.lays_depth = false;
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+    }
     if ((r = gl_check("the material's passes", err)) != SEPAL_OK) return r;
     // The diffuse map before the doublings, as on GL ES 1.1 (draw_gles1.cpp says why);
     // in multipass it was a factor of every pass (f.map_per_pass).

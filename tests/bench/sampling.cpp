@@ -574,12 +574,15 @@ void ablation(const Config& c, Output* out) {
         FactoredOptions d;
         d.separate_diffuse = false;
         v.push_back(rv(d));
-        d.separate_diffuse = true;
-        v.push_back(rv_fit(fitted(*b, m, "default")));
-        d.defensive = 0;
-        v.push_back(rv(d));
-        d.defensive = 0.1;
-        v.push_back(rv(d));
+        const Fit& def = fitted(*b, m, "default");
+        v.push_back(rv_fit(def));
+        // The defensive share is a mixing weight in the sampler's header, not an input of
+        // the fit (factored_fit.cpp only copies it): the default fit with the share changed.
+        for (float share : {0.0f, 0.1f}) {
+            SamplerData sd = def.data;
+            sd.desc.defensive = share;
+            v.push_back(def.ok ? rv_of(sd) : -1.0);
+        }
         Sampler cs;
         std::string err;
         cs.build(make_cosine_sampler(), &err);

@@ -72,6 +72,8 @@ TEST_CASE("GL ES 1.1: a plan's passes share their combiner set-up; each further 
     MESSAGE("1 term: " << one.total << " calls, " << one.passes << " mesh passes (" << one.by_name << ")");
     MESSAGE("4 terms: " << four.total << " calls, " << four.passes << " mesh passes (" << four.by_name << ")");
     CHECK(one.total > 0);  // the counter sees the runtime's calls
+    // The plan's passes and nothing else: the first pass lays depth, no pre-pass.
+    CHECK(one.passes == 1);
     CHECK(four.passes == one.passes + 3);
     // The same two combiner stages for every product pass: set once per frame (before the
     // cache, every pass set them again: 20 more calls each).

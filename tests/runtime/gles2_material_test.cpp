@@ -55,8 +55,10 @@ TEST_CASE("gles2 fused shaders against the CPU backend") {
     const Rendered vertex = render(a, 0, s, nullptr, 2, SEPAL_MODE_FUSED_VERTEX);
     const Rendered pixel = render(a, 0, s, nullptr, 2, SEPAL_MODE_FUSED_PIXEL);
     const Rendered multi = render(a, 0, s, nullptr, 2, SEPAL_MODE_MULTIPASS);
-    CHECK(vertex.stats.draw_calls == 1 + 3);  // pre-pass + one pass per light
-    CHECK(pixel.stats.draw_calls == 1 + 1);   // pre-pass + one pass for all lights
+    // No depth pre-pass: the first draw lays depth (the torus occludes itself, so a wrong
+    // fold would add hidden surfaces and fail the comparisons below).
+    CHECK(vertex.stats.draw_calls == 3);  // one pass per light
+    CHECK(pixel.stats.draw_calls == 1);   // one pass for all lights
     const sepal::ImageDiff dp = compare(cpu, pixel.image, 3.0, "gles2_fused_pixel_vs_cpu");
     const sepal::ImageDiff dv = compare(cpu, vertex.image, 8.0, "gles2_fused_vertex_vs_cpu");
     const sepal::ImageDiff dm = compare(cpu, multi.image, 8.0, "gles2_multipass_vs_cpu");
