@@ -199,6 +199,11 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
     set_equation(f.m, subtract ? kFuncReverseSubtract : kFuncAdd);
     draw_mesh(f);
     set_equation(f.m, kFuncAdd);
+    if (f.lays_depth) {  // laid: every later pass tests against it, as after a pre-pass
+        f.lays_depth = false;
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+    }
     // Every other draw here uses units 0 and 1 only.
     if (f.diffuse_texture) bind_unit(GL_TEXTURE2, 0, nullptr);
 }
@@ -329,7 +334,8 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     // writes and no blending: f.lays_depth), else from a colour-masked pre-pass: the
     // single-unit path clears colour between passes, and a subtract or an inversion cannot
     // stand in for the cleared framebuffer. Folding saves a mesh pass per frame.
-    f.lays_depth = !m->single_unit && d->scene->light_count > 0 && step_count > 0 && steps[0].kind == srt::Gles1Step::kPass && !steps[0].inverted &&
+    f.lays_depth = !m->single_unit && d->scene->light_count > 0 && step_count > 0 &&
+                   steps[0].kind == srt::Gles1Step::kPass && !steps[0].inverted &&
                    m->passes[steps[0].pass].blend != SEPAL_BLEND_SUBTRACT;
     if (!f.lays_depth) {
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -372,11 +378,6 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
                 pass_single_unit(f, pass, l, step.inverted);
             else
                 pass_multitexture(f, pass, l, step.inverted);
-            if (f.lays_depth) {
-                f.lays_depth = false;
-                glDepthMask(GL_FALSE);
-                glDepthFunc(GL_EQUAL);
-            }
             if ((r = srt::gl_check("a plan pass", err)) != SEPAL_OK) return r;
         }
     }

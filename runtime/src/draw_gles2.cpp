@@ -429,7 +429,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
     }
-    sepal_result r = gl_check("depth pre-pass", err);
+    sepal_result r = gl_check(f.lays_depth ? "frame set-up" : "depth pre-pass", err);
     if (r != SEPAL_OK) return r;
     if (d->mode == SEPAL_MODE_MULTIPASS)
         multipass(f);

@@ -22,7 +22,7 @@
 // passes, and bytes bought 0.00 ms/KiB in the fitted models) and takes its ms from it,
 // rendering one frame for its image ("ms_from" in the JSON names the material timed).
 // Repeated timings of equal work differed by a median 1.18x (max 2.1x) between materials on
-// llvmpipe: a second timing added noise, not information. 156 of 840 rows are timed.
+// llvmpipe: a second timing added noise, not information. The run prints how many it timed.
 //
 // Writes DIR/tradeoff.json (rows, the fitted cost models of cost_model.h, the Pareto
 // fronts and a check that the bake's --max-error pick lies on the measured front) and
