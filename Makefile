@@ -259,6 +259,13 @@ $(RUNTIME_OBJ): $(BUILD)/obj/%.o: %.cpp | $(SHADER_INCS)
 	$(call say,CXX,$<)
 	$(Q)$(CXX) $(CPPFLAGS) $(CXXFLAGS_ALL) $(RUNTIME_FLAGS) -c $< -o $@
 
+# The per-vertex set-up runs for every vertex and light of every frame and dominates the CPU
+# side of a frame (make bench: runtime): its three files get -O3 (1.4-1.7x faster set-up, the
+# same floats: no -ffast-math); the rest of the runtime stays at -O2 for its size.
+ifeq ($(SAN),)
+$(call obj,runtime/src/vertex_setup.cpp runtime/src/param.cpp runtime/src/common.cpp): RUNTIME_FLAGS += -O3
+endif
+
 $(TEST_OBJ) $(BENCH_OBJ) $(BENCH_SUPPORT_OBJ): CPPFLAGS += $(TEST_CPPFLAGS)
 
 $(BUILD)/obj/%.o: %.cpp

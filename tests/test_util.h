@@ -22,6 +22,15 @@ std::string bin(const std::string& name);              // build/bin/<name> of th
 // owner=false: never rewrite the golden (a second test comparing against it).
 std::string check_golden(const std::string& name, const sepal::Image& actual,
                          const sepal::Tolerance& tol, bool owner = true);
+// A GL render against its golden. GL goldens are made on Mesa's llvmpipe (make
+// update-goldens; CI's renderer): another driver rasterizes, interpolates and rounds
+// differently (NVIDIA's GL ES 1.1 also lacks GL_OES_blend_subtract, so signed plans take
+// another path). There the comparison is printed, not enforced, and the caller's tolerance
+// against the exact render is what binds.
+std::string check_gl_golden(const std::string& name, const sepal::Image& actual,
+                            const sepal::Tolerance& tol, bool owner = true);
+// The GL_RENDERER of a headless GL ES 1.1 context ("" when none can be made).
+const std::string& gl_renderer();
 // The same against an explicit golden folder (for testing the harness itself).
 std::string check_golden_in(const std::string& golden_dir, const std::string& name,
                             const sepal::Image& actual, const sepal::Tolerance& tol,

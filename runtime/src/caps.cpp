@@ -11,6 +11,17 @@ constexpr GLenum kMaxTextureUnitsES1 = 0x84E2;
 }  // namespace
 
 namespace srt {
+int gles_major_version(const char* version) {
+    static const char kPrefix[] = "OpenGL ES";
+    if (!version || strncmp(version, kPrefix, sizeof kPrefix - 1) != 0) return 0;
+    const char* p = version + sizeof kPrefix - 1;
+    if (p[0] == '-' && (p[1] == 'C') && (p[2] == 'M' || p[2] == 'L')) p += 3;
+    if (*p != ' ') return 0;
+    ++p;
+    if (*p < '1' || *p > '9' || p[1] != '.') return 0;
+    return *p - '0';
+}
+
 sepal_result gl_check(const char* what, sepal_error* err) {
     const GLenum e = glGetError();
     if (e == GL_NO_ERROR) return SEPAL_OK;
@@ -37,12 +48,11 @@ extern "C" sepal_result sepal_query_caps(int gles_version, uint32_t mask, sepal_
                          "no current GL context (glGetString(GL_VERSION) returned NULL)");
     snprintf(out->version, sizeof out->version, "%s", version);
     snprintf(out->renderer, sizeof out->renderer, "%s", renderer ? renderer : "?");
-    // "OpenGL ES-CM 1.1 ..." or "OpenGL ES 2.0 ..." / "OpenGL ES 3.2 ...".
-    const bool is_es1 = strstr(version, "ES-CM") || strstr(version, "ES-CL");
-    int major = 0;
-    const char* digits = strpbrk(version, "0123456789");
-    if (digits) major = digits[0] - '0';
-    if ((gles_version == 1) != is_es1)
+    const int major = srt::gles_major_version(version);
+    if (major == 0)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "the current context is not GL ES: GL_VERSION is '%s'", version);
+    if ((gles_version == 1) != (major == 1))
         return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
                          "asked for GL ES %d paths but the current context is '%s'",
                          gles_version, version);

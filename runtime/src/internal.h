@@ -22,6 +22,11 @@ inline sepal_result ok(sepal_error* err) {
 // Whole-word search in a space-separated GL extension string.
 bool has_extension(const char* list, const char* name);
 
+// The GL ES major version of a GL_VERSION string, or 0 when it is not GL ES. Drivers spell
+// GL ES 1.x differently: the spec's "OpenGL ES-CM 1.1 ..." (Mesa) or "OpenGL ES 1.1 ..."
+// (NVIDIA), so the profile suffix is optional and the number decides.
+int gles_major_version(const char* version);
+
 // ---- small vector maths shared by the backends ----
 inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 // Normalizes v in place; false (v unchanged) when it is too short to have a direction.
@@ -29,7 +34,8 @@ inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * 
 inline bool normalize3(float* v) {
     const float l = sqrtf(dot3(v, v));
     if (!(l > 1e-20f) || !isfinite(l)) return false;
-    v[0] /= l, v[1] /= l, v[2] /= l;
+    const float inv = 1.0f / l;  // one divide: the set-up runs per vertex and light, every frame
+    v[0] *= inv, v[1] *= inv, v[2] *= inv;
     return true;
 }
 

@@ -13,7 +13,7 @@ namespace {
 constexpr float kGsMin2 = 1e-6f;
 constexpr float kPoleMin2 = 1e-12f;
 
-void map(sepal_hemi_map m, const float a[3], float uv[2]) {
+inline void map(sepal_hemi_map m, const float a[3], float uv[2]) {
     if (m == SEPAL_MAP_XY) {
         uv[0] = 0.5f * (a[0] + 1.0f);
         uv[1] = 0.5f * (a[1] + 1.0f);
@@ -27,10 +27,11 @@ void map(sepal_hemi_map m, const float a[3], float uv[2]) {
 }
 
 // Normalizes v; false (v = fallback) when it has no direction.
-bool normalize(float v[3], const float fallback[3]) {
+inline bool normalize(float v[3], const float fallback[3]) {
     const float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (l > 1e-12f && isfinite(l)) {
-        v[0] /= l, v[1] /= l, v[2] /= l;
+        const float inv = 1.0f / l;
+        v[0] *= inv, v[1] *= inv, v[2] *= inv;
         return true;
     }
     v[0] = fallback[0], v[1] = fallback[1], v[2] = fallback[2];
@@ -66,8 +67,8 @@ int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const fl
             // (grazing retro-reflection, the frame's singularity) the difference cancels.
             float tp[3] = {half[1] * half[1] + half[2] * half[2], -half[0] * half[1], -half[0] * half[2]};
             if (tp[0] > kGsMin2) {  // |t'|^2 = 1 - h.x^2 = tp[0] for a unit h
-                const float l = sqrtf(tp[0] * tp[0] + tp[1] * tp[1] + tp[2] * tp[2]);
-                tp[0] /= l, tp[1] /= l, tp[2] /= l;
+                const float inv = 1.0f / sqrtf(tp[0] * tp[0] + tp[1] * tp[1] + tp[2] * tp[2]);
+                tp[0] *= inv, tp[1] *= inv, tp[2] *= inv;
             } else {  // h within 1e-3 rad of +-t: Gram-Schmidt on s instead
                 float ty[3] = {-half[0] * half[1], half[0] * half[0] + half[2] * half[2], -half[1] * half[2]};
                 normalize(ty, kUp);

@@ -107,7 +107,7 @@ void run_case(const Case& c) {
     g.max_diff = 2;
     g.max_share = 0.005;
     g.min_psnr = 45;
-    const std::string msg = sepal_test::check_golden(std::string("gles1_") + c.name, gl, g);
+    const std::string msg = sepal_test::check_gl_golden(std::string("gles1_") + c.name, gl, g);
     CHECK_MESSAGE(msg.empty(), msg);
 }
 

@@ -129,9 +129,9 @@ TEST_CASE("ist tree runtime: every backend draws the tree close to the exact SVB
     g.max_diff = 3;
     g.max_share = 0.01;
     g.min_psnr = 40;
-    std::string msg = sepal_test::check_golden("ist_tree_gles1", g1, g);
+    std::string msg = sepal_test::check_gl_golden("ist_tree_gles1", g1, g);
     CHECK_MESSAGE(msg.empty(), msg);
-    msg = sepal_test::check_golden("ist_tree_gles2_fused", g3, g);
+    msg = sepal_test::check_gl_golden("ist_tree_gles2_fused", g3, g);
     CHECK_MESSAGE(msg.empty(), msg);
 
     // A corrupt file is refused, not drawn.
@@ -216,6 +216,6 @@ TEST_CASE("ist tree runtime: an edited tree renders on gles1 within the same tol
     g.max_diff = 3;
     g.max_share = 0.01;
     g.min_psnr = 40;
-    const std::string msg = sepal_test::check_golden("ist_tree_gles1_swapped", got_swap, g);
+    const std::string msg = sepal_test::check_gl_golden("ist_tree_gles1_swapped", got_swap, g);
     CHECK_MESSAGE(msg.empty(), msg);
 }

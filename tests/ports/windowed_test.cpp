@@ -49,7 +49,7 @@ void angles(const float v[3], double* azimuth, double* elevation) {
 
 TEST_CASE("windowed viewer under Xvfb: scripted input, screenshots against the headless render") {
     for (const char* p : {"xvfb-run", "xdotool", "xauth"})
-        REQUIRE_MESSAGE(port_test::have_program(p), p << " is missing: run `make deps` (Debian xvfb, xauth, xdotool)");
+        REQUIRE_MESSAGE(port_test::have_program(p), std::string(p) << " is missing: run `make deps` (Debian xvfb, xauth, xdotool)");
     const std::string dir = sepal_test::temp_dir();
     const port_test::Assets assets = port_test::bake_assets(dir);
     const std::string shots = dir + "/shots";

@@ -1,13 +1,42 @@
 // runtime/: capabilities and masks, meshes, argument checks, and sepal-view end to end.
 #include <doctest/doctest.h>
 
+#include <GLES2/gl2.h>
+
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "util/image.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_rt.h"
 #include "test_util.h"
+#include "internal.h"
+
+TEST_CASE("caps: GL_VERSION strings of real drivers give their GL ES major version") {
+    struct Case {
+        const char* version;
+        int major;
+    };
+    const Case cases[] = {
+        {"OpenGL ES-CM 1.1 Mesa 22.3.6", 1},       // the spec's spelling (Mesa)
+        {"OpenGL ES-CL 1.0", 1},
+        {"OpenGL ES 1.1 NVIDIA 580.159.04", 1},    // NVIDIA drops the profile
+        {"OpenGL ES 2.0 (ANGLE 2.1.0 git hash: x)", 2},
+        {"OpenGL ES 3.2 NVIDIA 580.159.04", 3},
+        {"OpenGL ES 3.2 Mesa 22.3.6", 3},
+        {"4.6.0 NVIDIA 580.159.04", 0},            // desktop GL
+        {"OpenGL ES", 0},
+        {"OpenGL ES-XX 1.1", 0},
+        {"OpenGL ES x.1", 0},
+        {"", 0},
+        {nullptr, 0},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.version ? c.version : "(null)");
+        CHECK(srt::gles_major_version(c.version) == c.major);
+    }
+}
 
 TEST_CASE("caps: detected per GL ES version, and every mask bit hides its capability") {
     for (int version : {1, 2}) {
@@ -23,8 +52,12 @@ TEST_CASE("caps: detected per GL ES version, and every mask bit hides its capabi
         CHECK(caps.gles_version == version);
         CHECK(caps.texture_units >= 2);  // Mesa has at least 2
         CHECK(caps.max_texture_size >= 64);
-        CHECK(caps.has_blend_subtract == 1);  // Mesa has GL_OES_blend_subtract / ES 2 core
-        CHECK(bool(caps.blend_equation));  // found through the port's loader
+        // Core in ES 2; an extension on ES 1.1 that Mesa lists and NVIDIA's driver does not
+        // (the runtime then draws its no-subtraction paths).
+        const char* ext = (const char*)glGetString(GL_EXTENSIONS);
+        const bool subtract = version == 2 || (ext && std::strstr(ext, "GL_OES_blend_subtract"));
+        CHECK(caps.has_blend_subtract == int(subtract));
+        CHECK(bool(caps.blend_equation) == subtract);  // found through the port's loader
         CHECK(caps.has_fbo == 1);
         sepal_caps masked;
         REQUIRE(sepal_query_caps(version, SEPAL_MASK_BLEND_SUBTRACT | SEPAL_MASK_MULTITEXTURE | SEPAL_MASK_FBO |
