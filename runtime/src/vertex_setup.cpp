@@ -6,6 +6,10 @@
 
 namespace srt {
 
+namespace {
+constexpr float kHorizonLimit = 1e-3f;
+}  // namespace
+
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
                                  const sepal_scene& scene, float* scratch, bool swapped) {
     VertexSetupResult r = {0.0f, 0.0f, 0.0f, 0.0f, 0, 0, 0, 0, 0};
@@ -41,6 +45,15 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
         normalize3(to_eye);
         float wo[3];
         fr.to_local(to_eye, wo);
+        // A vertex of a front-facing triangle can see the eye below its own horizon (its
+        // normal already points past the silhouette). A zero there would darken the whole
+        // rim triangle, since GL interpolates vertex colours and coordinates, while the
+        // pixels inside it see the eye just above their interpolated horizon: the vertex
+        // takes that limit, the eye lowered onto its horizon.
+        if (!(wo[2] > kHorizonLimit)) {
+            wo[2] = kHorizonLimit;
+            if (!normalize3(wo)) wo[0] = 0.0f, wo[1] = 0.0f, wo[2] = 1.0f;
+        }
         view_cosine(scratch, n, scene.light_count)[i] = wo[2] > 0.0f ? wo[2] : 0.0f;
         float sum = 0.0f, lit_sum = 0.0f;
         for (int l = 0; l < scene.light_count; ++l) {
