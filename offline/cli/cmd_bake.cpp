@@ -62,7 +62,7 @@ void print_counts(const BakeResult& r, std::FILE* out) {
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
     std::string white = "auto", fit = "radiance", colour = "auto";
-    bool no_mips = false;
+    bool mips = false;
     BakeOptions o;
 };
 
@@ -91,7 +91,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     o.radiance = args.fit == "radiance";
     o.colour_auto = args.colour == "auto";
     if (!o.colour_auto) parse_colour(args.colour, &o.colour);
-    o.mips = !args.no_mips;
+    o.mips = args.mips;
     o.progress = true;  // shown only when stderr is a terminal
     std::unique_ptr<Brdf> brdf = make_brdf(args.spec, &err);
     if (!brdf) return bad(err);
@@ -229,7 +229,9 @@ CommandRun setup_bake(CLI::App& app) {
         ->check(CLI::Range(1, 4))->capture_default_str();
     app.add_option("--cap", o.cap, "clamp f above this value per steradian before factoring (see bake.h)")
         ->check(positive());
-    app.add_flag("--no-mips", a->no_mips, "store level 0 only (no MIP chain)");
+    app.add_flag("--mips,!--no-mips", a->mips,
+                 "store a full MIP chain (default: level 0 only; GL's MIP selection blurs the "
+                 "direction-space factors where the view grazes: docs/fidelity.md)");
     // Budgets and the frame-time model the winner minimizes.
     app.add_option("--max-error", o.max_error, "budget: relative cosine-weighted RMS after quantization, e.g. 0.1")
         ->check(positive());

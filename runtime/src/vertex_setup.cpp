@@ -8,6 +8,7 @@ namespace srt {
 
 namespace {
 constexpr float kHorizonLimit = 1e-3f;
+constexpr float kHorizonSlack = 0.17364818f;  // sin 10 degrees: a 16 x 8 sphere's silhouette vertices
 }  // namespace
 
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
@@ -49,8 +50,10 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
         // normal already points past the silhouette). A zero there would darken the whole
         // rim triangle, since GL interpolates vertex colours and coordinates, while the
         // pixels inside it see the eye just above their interpolated horizon: the vertex
-        // takes that limit, the eye lowered onto its horizon.
-        if (!(wo[2] > kHorizonLimit)) {
+        // takes that limit, the eye lowered onto its horizon. Only just below it (a vertex
+        // normal leans past the face's by about half the mesh's angular spacing): a surface
+        // that faces away from the eye stays black.
+        if (!(wo[2] > kHorizonLimit) && wo[2] > -kHorizonSlack) {
             wo[2] = kHorizonLimit;
             if (!normalize3(wo)) wo[0] = 0.0f, wo[1] = 0.0f, wo[2] = 1.0f;
         }

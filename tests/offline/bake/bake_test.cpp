@@ -115,9 +115,10 @@ TEST_CASE("bake: --colour auto factors a grey BRDF's luminance, keeps rgb for co
     const sepal::BakeCandidate& a = autoc.candidates[size_t(autoc.winner)];
     const sepal::BakeCandidate& b = rgb.candidates[size_t(rgb.winner)];
     // Nothing lost on the judged image (grey: the same factors), a third of the texel bytes
-    // (at 16 x 16 the headers and plan are a third of the file: 5368 against 8088 bytes).
+    // (at 16 x 16 without MIP levels the headers and plan are ~40% of the file: 5000 against
+    // 7048 bytes).
     CHECK(std::abs(a.psnr - b.psnr) < 0.05);
-    CHECK(double(a.bytes) < 0.7 * double(b.bytes));
+    CHECK(double(a.bytes) < 0.75 * double(b.bytes));
     o.colour_auto = true;
     REQUIRE_MESSAGE(sepal::bake(*coloured, o, &col, &err), err);
     CHECK(col.colour == sepal::ColourMode::PerChannel);

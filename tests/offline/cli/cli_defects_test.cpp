@@ -221,7 +221,7 @@ TEST_CASE("cli defect 11: factor and bake export one layout: a PNG per texture p
     const std::string dir = sepal_test::temp_dir();
     std::string out, err;
     REQUIRE(run("bake", {"blinn:n=20", "--param", "gs-half", "--res", "8", "--terms", "1", "--method", "nmf",
-                                  "--bits", "16", "-o", dir + "/b.sepal", "--export", dir + "/bake"},
+                                  "--bits", "16", "--mips", "-o", dir + "/b.sepal", "--export", dir + "/bake"},
                 &out) == 0);
     REQUIRE(run("factor", {"blinn:n=20", "--res", "8", "--terms", "1", "--method", "nmf", "--export",
                                     dir + "/factor"},
