@@ -24,7 +24,10 @@ namespace sepal {
 
 struct TreeAssetOptions {
     int bits = 8;       // 8 or 16 (the fused GL ES 2 shader takes 8)
-    bool mips = true;
+    // MIP chains for the bases' factor textures (direction space): off, as the bake's
+    // (bake.h: GL's level selection blurs them where the view grazes). The blend maps are
+    // surface textures and always get their MIP levels at load.
+    bool mips = false;
 };
 
 struct TreeAssetInfo {
