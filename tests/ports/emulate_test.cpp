@@ -127,7 +127,7 @@ TEST_CASE("emulator: GL ES 2 multipass, and signed plans within their documented
     CAPTURE(d2.psnr);
     CHECK(d2.psnr >= 50.0);
     // llvmpipe: none; NVIDIA's GL ES 2 rounds 1 pixel of 262,144 differently (62.97 dB).
-    CHECK(d2.pixels_over <= 4);
+    CHECK(d2.pixels_over <= (sepal_test::reference_renderer() ? 0 : 4));
     // A signed 3-term SVD: bias passes, subtraction (and the inversion path without it).
     const std::vector<uint8_t> sgn = encode(bake_one(ward, sepal::Param::GsHalf, sepal::Method::SVD, 3, true));
     for (uint32_t mask : {0u, uint32_t(SEPAL_MASK_BLEND_SUBTRACT)}) {
@@ -191,8 +191,10 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
             CAPTURE(p_cpu);
             CAPTURE(doublings);
             // The 8-bit rounding of each pass (variance 1/12 level^2, 4x per doubling), with
-            // slack for the driver's interpolation: NVIDIA measured 1.56 times the model.
-            CHECK(d_gl.mse - d_fused.mse <= 2.0 * c.passes * std::ldexp(1.0, 2 * doublings) / 12.0);
+            // slack for the driver's interpolation: llvmpipe within 1.5 times the model,
+            // NVIDIA measured 1.56 times.
+            const double slack = sepal_test::reference_renderer() ? 1.5 : 2.0;
+            CHECK(d_gl.mse - d_fused.mse <= slack * c.passes * std::ldexp(1.0, 2 * doublings) / 12.0);
             if (p_cpu < 40.0) CHECK(d_gl.psnr >= p_cpu - 1.0);
         }
         CHECK(checked >= 4);
