@@ -29,7 +29,9 @@ std::string check_golden(const std::string& name, const sepal::Image& actual,
 // against the exact render is what binds.
 std::string check_gl_golden(const std::string& name, const sepal::Image& actual,
                             const sepal::Tolerance& tol, bool owner = true);
-// The GL_RENDERER of a headless GL ES 1.1 context ("" when none can be made).
+// The GL_RENDERER of a headless GL ES 1.1 context ("" when none can be made). The first
+// call makes and destroys a probe context, which releases the thread's current one: call it
+// between renders, not inside one.
 const std::string& gl_renderer();
 // Mesa's llvmpipe, the renderer the goldens and the tight rounding bounds were measured on
 // (CI's). Other conformant drivers round and interpolate differently: tests give them the

@@ -261,9 +261,10 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         for (Method p : o.methods) desc += std::string(method_name(p)) + ",";
         for (int r : o.resolutions) desc += std::to_string(r) + ",";
         for (int t : o.terms) desc += std::to_string(t) + ",";
-        char tail[160];
-        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|", o.max_error, o.max_passes,
-                      (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr);
+        char tail[176];
+        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|mips %d|", o.max_error, o.max_passes,
+                      (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr,
+                      int(o.mips));
         desc += tail + views_key;
         uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
         crc = sepal_crc32(crc, measured.data(), measured.size());

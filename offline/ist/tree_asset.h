@@ -10,7 +10,7 @@
 // Blend maps are resampled (bilinear, repeat, as the runtime samples them) onto the next
 // power-of-two size at or above the tree's (at most SEPAL_TREE_MAX_BLEND_SIDE a side) and
 // each divided by its largest weight, which multiplies that basis's H factors instead, so
-// a map uses all 256 levels. Materials: 8-bit textures with MIP chains, add-only plans for
+// a map uses all 256 levels. Materials: 8-bit textures (level 0; TreeAssetOptions), add-only plans for
 // the non-negative factors of a tree. The file is parsed back with the runtime's reader
 // before it is returned: a writer bug cannot make a file the runtime refuses.
 #pragma once

@@ -43,7 +43,7 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
         if (repaired_attributes(v, attr, attr + 3, &fr)) ++r.fallback_tangents;
         float to_eye[3] = {scene.camera.eye[0] - v.position[0], scene.camera.eye[1] - v.position[1],
                            scene.camera.eye[2] - v.position[2]};
-        normalize3(to_eye);
+        const bool eye_apart = normalize3(to_eye);
         float wo[3];
         fr.to_local(to_eye, wo);
         // A vertex of a front-facing triangle can see the eye below its own horizon (its
@@ -53,7 +53,9 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
         // takes that limit, the eye lowered onto its horizon. Only just below it (a vertex
         // normal leans past the face's by about half the mesh's angular spacing): a surface
         // that faces away from the eye stays black.
-        if (!(wo[2] > kHorizonLimit) && wo[2] > -kHorizonSlack) {
+        // (Per vertex only: the per-pixel paths see the eye from each pixel, and a triangle
+        // whose three vertices all lie in this band is lit here and black there.)
+        if (eye_apart && !(wo[2] > kHorizonLimit) && wo[2] > -kHorizonSlack) {
             wo[2] = kHorizonLimit;
             if (!normalize3(wo)) wo[0] = 0.0f, wo[1] = 0.0f, wo[2] = 1.0f;
         }
