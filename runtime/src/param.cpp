@@ -13,7 +13,7 @@ namespace {
 constexpr float kGsMin2 = 1e-6f;
 constexpr float kPoleMin2 = 1e-12f;
 
-inline void map(sepal_hemi_map m, const float a[3], float uv[2]) {
+void map(sepal_hemi_map m, const float a[3], float uv[2]) {
     if (m == SEPAL_MAP_XY) {
         uv[0] = 0.5f * (a[0] + 1.0f);
         uv[1] = 0.5f * (a[1] + 1.0f);
@@ -27,7 +27,7 @@ inline void map(sepal_hemi_map m, const float a[3], float uv[2]) {
 }
 
 // Normalizes v; false (v = fallback) when it has no direction.
-inline bool normalize(float v[3], const float fallback[3]) {
+bool normalize(float v[3], const float fallback[3]) {
     const float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (l > 1e-12f && isfinite(l)) {
         const float inv = 1.0f / l;
