@@ -254,6 +254,12 @@ $(BUILD)/gen/shaders/%.inc: shaders/%
 	@mkdir -p $(dir $@)
 	@{ printf 'R"sepal_glsl('; cat $<; printf ')sepal_glsl"\n'; } > $@.tmp && mv $@.tmp $@
 
+# The analytic models' table (names, documentation, parameter ranges) is data, compiled in.
+$(BUILD)/gen/brdf/%.json.inc: offline/brdf/%.json
+	@mkdir -p $(dir $@)
+	@{ printf 'R"sepal_json('; cat $<; printf ')sepal_json"\n'; } > $@.tmp && mv $@.tmp $@
+$(call obj,offline/brdf/brdf_models.cpp): $(BUILD)/gen/brdf/models.json.inc
+
 $(RUNTIME_OBJ): $(BUILD)/obj/%.o: %.cpp | $(SHADER_INCS)
 	@mkdir -p $(dir $@)
 	$(call say,CXX,$<)

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
 #include "brdf/brdf_models_impl.h"
 #include "brdf/brdf_util.h"
+#include "util/json.h"
 
 namespace sepal {
 
@@ -15,35 +17,120 @@ using glm::dvec3;
 
 // ---- registry ----------------------------------------------------------------------------
 
-static const std::vector<const ModelEntry*>& registry() {
-    static const std::vector<const ModelEntry*> table = {
-        &lambert_entry(),
-        &phong_entry(),
-        &blinn_entry(),
-        &lafortune_entry(),
-        &ward_entry(),
-        &ward_duer_entry(),
-        &cook_torrance_entry(),
-        &ashikhmin_shirley_entry(),
-        &poulin_fournier_entry(),
-        &hapke_lommel_entry(),
-        &oren_nayar_entry(),
-        &velvet_entry(),
-    };
-    return table;
+namespace {
+
+const char kModelsJson[] =
+#include "brdf/models.json.inc"
+    ;
+
+// One parameter of models.json: {"name", "kind", "default" (a number, or [r, g, b] for a
+// colour) or "default_from", "min", "max", "doc"}.
+bool read_param(const Json& v, const std::string& where, ParamDef* d, std::string* err) {
+    const JsonField f{v, where};
+    std::string kind;
+    if (!v.is_object()) return *err = where + ": not an object", false;
+    if (!json_string(f, "name", &d->name, err, true) || !json_string(f, "kind", &kind, err, true) ||
+        !json_number(f, "min", -1e300, 1e300, &d->lo, err, true) ||
+        !json_number(f, "max", d->lo, 1e300, &d->hi, err, true) || !json_string(f, "doc", &d->doc, err, true) ||
+        !json_string(f, "default_from", &d->default_from, err))
+        return false;
+    if (kind != "scalar" && kind != "colour") return *err = where + ".kind: '" + kind + "' is not scalar or colour", false;
+    d->kind = kind == "colour" ? ParamKind::kColour : ParamKind::kScalar;
+    if (!d->default_from.empty()) return true;
+    if (d->kind == ParamKind::kColour && v.contains("default") && v["default"].is_array()) {
+        double rgb[3];
+        if (!json_numbers(f, "default", 3, rgb, err, true)) return false;
+        for (int c = 0; c < 3; ++c)
+            if (!(rgb[c] >= d->lo && rgb[c] <= d->hi)) return *err = where + ".default: outside min..max", false;
+        d->def = dvec3(rgb[0], rgb[1], rgb[2]);
+        return true;
+    }
+    if (!json_number(f, "default", d->lo, d->hi, &d->def.x, err, true)) return false;
+    d->def = dvec3(d->def.x);
+    return true;
 }
+
+}  // namespace
+
+bool read_model_table(const char* json, std::vector<ModelEntry>* out, std::string* err) {
+    Json doc;
+    const Json* models = nullptr;
+    out->clear();
+    if (!parse_json(json, "brdf/models.json", &doc, err) ||
+        !json_array(JsonField{doc, "brdf/models.json"}, "models", 1, 256, &models, err, true))
+        return false;
+    std::vector<ModelCode> code(std::begin(kSimpleModels), std::end(kSimpleModels));
+    code.insert(code.end(), std::begin(kMicrofacetModels), std::end(kMicrofacetModels));
+    code.push_back(kPoulinFournierModel);
+    std::vector<ModelEntry> entries(models->size());
+    for (size_t i = 0; i < models->size(); ++i) {
+        const std::string where = "brdf/models.json: models[" + std::to_string(i) + "]";
+        const Json& m = (*models)[i];
+        const JsonField f{m, where};
+        ModelEntry& e = entries[i];
+        const Json* params = nullptr;
+        const Json* repeated = nullptr;
+        if (!m.is_object()) return *err = where + ": not an object", false;
+        if (!json_string(f, "name", &e.name, err, true) || !json_string(f, "summary", &e.summary, err, true) ||
+            !json_string(f, "source", &e.source, err, true) || !json_array(f, "params", 0, 64, &params, err, true) ||
+            !json_array(f, "repeated", 0, 8, &repeated, err))
+            return false;
+        for (size_t j = 0; j < params->size(); ++j) {
+            e.params.emplace_back();
+            if (!read_param((*params)[j], where + ".params[" + std::to_string(j) + "]", &e.params.back(), err))
+                return false;
+        }
+        for (size_t j = 0; repeated && j < repeated->size(); ++j) {
+            if (!(*repeated)[j].is_string()) return *err = where + ".repeated: not a list of names", false;
+            e.repeated.push_back((*repeated)[j].get<std::string>());
+        }
+        for (const ModelCode& c : code)
+            if (e.name == c.name) e.make = c.make;
+        if (!e.make) return *err = where + ": no code for model '" + e.name + "'", false;
+    }
+    for (const ModelCode& c : code)
+        if (std::none_of(entries.begin(), entries.end(), [&](const ModelEntry& e) { return e.name == c.name; }))
+            return *err = std::string("brdf/models.json: no entry for model '") + c.name + "'", false;
+    *out = std::move(entries);
+    return true;
+}
+
+namespace {
+
+// models.json's entries, each paired with its code by name. Both are part of the build, so a
+// mismatch is this build's defect (tests/offline/brdf/brdf_models_test.cpp fails on it); it
+// is reported by every call that needs a model, never an abort.
+struct Registry {
+    std::vector<ModelEntry> entries;
+    std::string error;
+};
+
+const Registry& registry_state() {
+    static const Registry r = [] {
+        Registry out;
+        read_model_table(kModelsJson, &out.entries, &out.error);
+        return out;
+    }();
+    return r;
+}
+
+const std::vector<ModelEntry>& registry() { return registry_state().entries; }
+
+}  // namespace
+
+std::string analytic_models_error() { return registry_state().error; }
 
 std::vector<std::string> analytic_model_names() {
     std::vector<std::string> names;
-    for (const ModelEntry* e : registry()) names.push_back(e->name);
+    for (const ModelEntry& e : registry()) names.push_back(e.name);
     return names;
 }
 
 static std::string param_doc(const ParamDef& d) {
     std::string s = std::string(d.doc) + " (" + (d.kind == ParamKind::kColour ? "colour " : "") +
                     format_range(d.lo, d.hi);
-    if (d.default_from)
-        s += std::string(", default: ") + d.default_from;
+    if (!d.default_from.empty())
+        s += ", default: " + d.default_from;
     else
         s += ", default " +
              (d.kind == ParamKind::kColour ? format_colour(d.def) : format_number(d.def.x));
@@ -52,11 +139,11 @@ static std::string param_doc(const ParamDef& d) {
 
 std::string analytic_models_help() {
     std::string s;
-    for (const ModelEntry* e : registry()) {
-        s += std::string(e->name) + ": " + e->summary + "\n  source: " + e->source + "\n";
-        for (const ParamDef& d : e->params)
+    for (const ModelEntry& e : registry()) {
+        s += std::string(e.name) + ": " + e.summary + "\n  source: " + e.source + "\n";
+        for (const ParamDef& d : e.params)
             s += "  " + std::string(d.name) + ": " + param_doc(d) + "\n";
-        for (const std::string& r : e->repeated) s += "  " + r + ": repeatable (syntax above)\n";
+        for (const std::string& r : e.repeated) s += "  " + r + ": repeatable (syntax above)\n";
     }
     return s;
 }
@@ -67,16 +154,20 @@ std::unique_ptr<Brdf> make_analytic_brdf(const std::string& spec, std::string* e
     // The model name alone first (bind_spec reads the parameters), so a wrong name is
     // reported as that: "cornell:garnet" names no model, rather than a parameter without '=value'.
     if (!split_spec(spec.substr(0, spec.find(':')), &model, &items, err)) return nullptr;
-    for (const ModelEntry* e : registry()) {
-        if (model != e->name) continue;
+    if (!analytic_models_error().empty()) {
+        if (err) *err = "sepal's model table is broken (a build defect): " + analytic_models_error();
+        return nullptr;
+    }
+    for (const ModelEntry& e : registry()) {
+        if (model != e.name) continue;
         ParamSet p;
-        if (!bind_spec(spec, e->name, e->params, e->repeated, &p, err)) return nullptr;
-        return e->make(*e, p, err);
+        if (!bind_spec(spec, e.name, e.params, e.repeated, &p, err)) return nullptr;
+        return e.make(e, p, err);
     }
     if (err) {
         std::string names;
-        for (const ModelEntry* e : registry())
-            names += (names.empty() ? "" : ", ") + std::string(e->name);
+        for (const ModelEntry& e : registry())
+            names += (names.empty() ? "" : ", ") + std::string(e.name);
         *err = "unknown BRDF model '" + model + "'; models: " + names +
                " (or a measured file: .binary, .brdf)";
     }
@@ -122,7 +213,7 @@ std::string AnalyticBrdf::info() const {
         const std::string v = d.kind == ParamKind::kColour ? format_colour(p_.colour(d.name))
                                                            : format_number(p_.scalar(d.name));
         char line[160];
-        std::snprintf(line, sizeof line, "%-6s = %-20s ", d.name, v.c_str());
+        std::snprintf(line, sizeof line, "%-6s = %-20s ", d.name.c_str(), v.c_str());
         s += line + param_doc(d) + "\n";
     }
     return s + extra_info();
@@ -391,87 +482,13 @@ std::unique_ptr<Brdf> make_lafortune(const ModelEntry& e, const ParamSet& p, std
 
 }  // namespace
 
-const ModelEntry& lambert_entry() {
-    static const ModelEntry e{"lambert",
-                              "Lambertian diffuse: f = rho / pi",
-                              "Lambert 1760",
-                              {{"rho", ParamKind::kColour, 0.5, 0.0, 1.0, "albedo"}},
-                              {},
-                              make_model<Lambert>};
-    return e;
-}
-
-const ModelEntry& phong_entry() {
-    static const ModelEntry e{
-        "phong",
-        "modified Phong, energy normalized: rho_d/pi + rho_s (n+2)/(2 pi) max(0, r.wo)^n, "
-        "r = mirror of wi",
-        "Lafortune and Willems 1994, Using the modified Phong reflectance model for "
-        "physically based rendering",
-        {{"rho_d", ParamKind::kColour, 0.3, 0.0, 1.0, "diffuse albedo"},
-         {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular albedo at normal incidence"},
-         {"n", ParamKind::kScalar, 30.0, 0.0, 1e6, "exponent"}},
-        {},
-        make_model<Phong>};
-    return e;
-}
-
-const ModelEntry& blinn_entry() {
-    static const ModelEntry e{
-        "blinn",
-        "normalized Blinn-Phong: rho_d/pi + rho_s (n+8)/(8 pi) (n.h)^n",
-        "Blinn 1977, Models of light reflection for computer synthesized pictures; (n+8)/(8 pi) "
-        "normalization from Akenine-Moller, Haines and Hoffman, Real-Time Rendering 3rd ed. "
-        "(2008)",
-        {{"rho_d", ParamKind::kColour, 0.3, 0.0, 1.0, "diffuse albedo"},
-         {"rho_s", ParamKind::kColour, 0.5, 0.0, 1.0, "specular weight"},
-         {"n", ParamKind::kScalar, 100.0, 0.0, 1e6, "exponent"}},
-        {},
-        make_model<Blinn>};
-    return e;
-}
-
-const ModelEntry& lafortune_entry() {
-    static const ModelEntry e{
-        "lafortune",
-        "generalized cosine lobes: rho_d/pi + sum_k w_k max(0, Cx x_i x_o + Cy y_i y_o + "
-        "Cz z_i z_o)^n_k; lobe=Cx/Cy/Cz/n, Cx/Cy/Cz/n/w or Cx/Cy/Cz/n/r/g/b, 1 to 16 lobes, "
-        "C in [-100, 100], n in [0, 1e6], w in [0, 1000] (default: one lobe -1/-1/1/20/0.5)",
-        "Lafortune, Foo, Torrance and Greenberg 1997, Non-linear approximation of "
-        "reflectance functions",
-        {{"rho_d", ParamKind::kColour, 0.2, 0.0, 1.0, "diffuse albedo"}},
-        {"lobe"},
-        make_lafortune};
-    return e;
-}
-
-const ModelEntry& oren_nayar_entry() {
-    static const ModelEntry e{
-        "oren-nayar",
-        "Oren-Nayar qualitative model: rho/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) "
-        "tan(beta))",
-        "Oren and Nayar 1994, Generalization of Lambert's reflectance model (the qualitative "
-        "model)",
-        {{"rho", ParamKind::kColour, 0.8, 0.0, 1.0, "albedo"},
-         {"sigma", ParamKind::kScalar, 0.3, 0.0, kPi / 2, "facet slope deviation (radians)"}},
-        {},
-        make_model<OrenNayar>};
-    return e;
-}
-
-const ModelEntry& hapke_lommel_entry() {
-    static const ModelEntry e{
-        "hapke-lommel",
-        "Lommel-Seeliger law with Hapke's back-scattering: r (2/(3 pi)) [(sin a + (pi - a) "
-        "cos a)/pi + f (1 - cos a)^2] B(a, g) / (cos theta_i + cos theta_o), a = phase angle",
-        "Hapke 1963, A theoretical photometric function for the lunar surface; parameters "
-        "as in Lawrence et al. 2004, Table 1",
-        {{"g", ParamKind::kScalar, 0.6, 0.0, 100.0, "compaction (width of the back-scatter peak)"},
-         {"f", ParamKind::kScalar, 0.1, 0.0, 1.0, "forward-scattering fraction"},
-         {"r", ParamKind::kColour, 1.0, 0.0, 1.0, "single-scattering albedo (scale)"}},
-        {},
-        make_model<HapkeLommel>};
-    return e;
-}
+const ModelCode kSimpleModels[6] = {
+    {"lambert", make_model<Lambert>},
+    {"phong", make_model<Phong>},
+    {"blinn", make_model<Blinn>},
+    {"lafortune", make_lafortune},
+    {"oren-nayar", make_model<OrenNayar>},
+    {"hapke-lommel", make_model<HapkeLommel>},
+};
 
 }  // namespace sepal

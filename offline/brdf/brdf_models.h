@@ -15,6 +15,10 @@
 // the normal; x is the tangent, y the bitangent; r = mirror of wi about n; H = wi + wo,
 // h = H/|H|.
 //
+// The table of models, their parameters, defaults and ranges is brdf/models.json, compiled in
+// (`sepal info --models` prints it); each model's code is paired with it by name. Below, the
+// same with the notes a caller needs.
+//
 // Models (defaults in brackets; "colour" = scalar or r/g/b):
 //   lambert            rho colour [0.5] in [0,1].  f = rho/pi.
 //   phong              Modified Phong, energy normalized (Lafortune and Willems 1994):
@@ -110,5 +114,9 @@ std::vector<std::string> analytic_model_names();
 
 // Every model with its formula, source and parameters (defaults, ranges), one block each.
 std::string analytic_models_help();
+
+// Empty, or why brdf/models.json (compiled in) does not match the models' code: a build
+// defect that every make_analytic_brdf call then reports.
+std::string analytic_models_error();
 
 }  // namespace sepal

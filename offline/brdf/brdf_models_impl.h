@@ -51,28 +51,30 @@ std::unique_ptr<Brdf> make_model(const ModelEntry& e, const ParamSet& p, std::st
     return std::make_unique<T>(e, p);
 }
 
+// A model: its description and parameters from brdf/models.json, its code from `make`.
 struct ModelEntry {
-    const char* name;
-    const char* summary;
-    const char* source;
+    std::string name;
+    std::string summary;
+    std::string source;
     std::vector<ParamDef> params;
     std::vector<std::string> repeated;  // keys that may repeat (lafortune: "lobe")
-    ModelFactory make;
+    ModelFactory make = nullptr;
 };
 
-// Table entries defined in the model files.
-const ModelEntry& lambert_entry();
-const ModelEntry& phong_entry();
-const ModelEntry& blinn_entry();
-const ModelEntry& lafortune_entry();
-const ModelEntry& oren_nayar_entry();
-const ModelEntry& hapke_lommel_entry();
-const ModelEntry& ward_entry();
-const ModelEntry& ward_duer_entry();
-const ModelEntry& cook_torrance_entry();
-const ModelEntry& ashikhmin_shirley_entry();
-const ModelEntry& velvet_entry();
-const ModelEntry& poulin_fournier_entry();
+// The code side of each model, defined in the model files and paired with models.json's
+// entry of the same name by the registry (brdf_models.cpp).
+struct ModelCode {
+    const char* name;
+    ModelFactory make;
+};
+extern const ModelCode kSimpleModels[6];      // brdf_models.cpp
+extern const ModelCode kMicrofacetModels[5];  // brdf_microfacet.cpp
+extern const ModelCode kPoulinFournierModel;  // brdf_poulin_fournier.cpp
+
+// Reads a model table in the format of brdf/models.json and pairs every entry with its code;
+// false with the reason (what and where) when it is malformed, names a model without code, or
+// leaves one out. The registry reads the compiled-in models.json this way; tests feed it others.
+bool read_model_table(const char* json, std::vector<ModelEntry>* out, std::string* err);
 
 inline double max3(const glm::dvec3& v) {
     return v.x > v.y ? (v.x > v.z ? v.x : v.z) : (v.y > v.z ? v.y : v.z);

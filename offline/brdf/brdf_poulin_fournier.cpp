@@ -42,12 +42,7 @@ struct Profile2D {
 class PoulinFournier final : public AnalyticBrdf {
   public:
     PoulinFournier(const ModelEntry& e, const ParamSet& p)
-        : AnalyticBrdf(e, p),
-          d_(scalar("d")),
-          h_(scalar("h")),
-          n_(scalar("n")),
-          rs_(colour("Rs")),
-          rd_(colour("Rd")) {
+        : AnalyticBrdf(e, p), d_(scalar("d")), h_(scalar("h")), n_(scalar("n")), rs_(colour("Rs")), rd_(colour("Rd")) {
         psi_max_ = std::acos(std::clamp(-h_, -1.0, 1.0));
         c_ = std::sqrt(std::max(0.0, 1.0 - h_ * h_));
         gauss_legendre(kGL, gx_, gw_);
@@ -197,21 +192,6 @@ class PoulinFournier final : public AnalyticBrdf {
 
 }  // namespace
 
-const ModelEntry& poulin_fournier_entry() {
-    static const ModelEntry e{
-        "poulin-fournier",
-        "Poulin-Fournier microcylinders (brushed along x): modified-Phong cylinders and "
-        "ground, exact 2D shadowing and masking, integrated numerically over the profile",
-        "Poulin and Fournier 1990, A model for anisotropic reflection; parameters and "
-        "defaults of Lawrence et al. 2004, Table 1",
-        {{"d", ParamKind::kScalar, 2.0, 2.0, 100.0, "axis spacing in cylinder radii"},
-         {"h", ParamKind::kScalar, 0.0, -1.0, 1.0, "axis height above the base plane in radii"},
-         {"n", ParamKind::kScalar, 20.0, 0.0, 1e6, "Phong exponent of the cylinders"},
-         {"Rs", ParamKind::kColour, 0.8, 0.0, 1.0, "specular albedo"},
-         {"Rd", ParamKind::kColour, 0.2, 0.0, 1.0, "diffuse albedo"}},
-        {},
-        make_model<PoulinFournier>};
-    return e;
-}
+const ModelCode kPoulinFournierModel = {"poulin-fournier", make_model<PoulinFournier>};
 
 }  // namespace sepal

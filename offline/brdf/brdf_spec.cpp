@@ -186,9 +186,9 @@ bool bind_spec(const std::string& spec, const std::string& model, const std::vec
     }
     // Defaults, then the ones that follow another parameter.
     for (const ParamDef& d : defs)
-        if (!seen.count(d.name) && !d.default_from) out->set(d.name, d.def);
+        if (!seen.count(d.name) && d.default_from.empty()) out->set(d.name, d.def);
     for (const ParamDef& d : defs)
-        if (!seen.count(d.name) && d.default_from) out->set(d.name, out->colour(d.default_from));
+        if (!seen.count(d.name) && !d.default_from.empty()) out->set(d.name, out->colour(d.default_from));
     return true;
 }
 

@@ -1,8 +1,8 @@
 // Spec strings of analytic BRDF models: "model" or "model:key=value,key=value,...".
 //
-// Usage (brdf_models.cpp does this for every model):
+// Usage (brdf_models.cpp does this for every model of brdf/models.json):
 //   static const std::vector<sepal::ParamDef> defs = {
-//       {"rho", sepal::ParamKind::kColour, 0.5, 0.0, 1.0, "diffuse albedo"}};
+//       {"rho", sepal::ParamKind::kColour, glm::dvec3(0.5), 0.0, 1.0, "diffuse albedo", ""}};
 //   sepal::ParamSet p;
 //   if (!sepal::bind_spec(spec, "lambert", defs, {}, &p, &err)) return nullptr;
 //   glm::dvec3 rho = p.colour("rho");
@@ -40,26 +40,14 @@ std::string format_colour(const glm::dvec3& c);
 enum class ParamKind { kScalar, kColour };
 
 struct ParamDef {
-    ParamDef(const char* name_, ParamKind kind_, double def_, double lo_, double hi_,
-             const char* doc_, const char* default_from_ = nullptr)
-        : ParamDef(name_, kind_, glm::dvec3(def_), lo_, hi_, doc_, default_from_) {}
-    ParamDef(const char* name_, ParamKind kind_, const glm::dvec3& def_, double lo_, double hi_,
-             const char* doc_, const char* default_from_ = nullptr)
-        : name(name_),
-          kind(kind_),
-          def(def_),
-          lo(lo_),
-          hi(hi_),
-          doc(doc_),
-          default_from(default_from_) {}
-    const char* name;
-    ParamKind kind;
-    glm::dvec3 def;  // default (a scalar's is def.x)
-    double lo, hi;   // accepted closed range, for each channel of a colour
-    const char* doc;
-    // When set, an absent parameter takes this other (colour) parameter's value, e.g.
+    std::string name;
+    ParamKind kind = ParamKind::kScalar;
+    glm::dvec3 def{0.0};  // default (a scalar's is def.x)
+    double lo = 0.0, hi = 0.0;  // accepted closed range, for each channel of a colour
+    std::string doc;
+    // When not empty, an absent parameter takes this other (colour) parameter's value, e.g.
     // Cook-Torrance's F0 defaults to its Rd.
-    const char* default_from;
+    std::string default_from;
 };
 
 class ParamSet {

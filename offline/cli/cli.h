@@ -50,6 +50,10 @@ struct Command {
     CommandSetup setup;
 };
 
+// A command made of subcommands (`sepal measure plan|simulate|...`): each row declares one
+// subcommand's flags as a command's setup does; the returned run runs the one parsed.
+CommandRun setup_subcommands(CLI::App& app, const std::vector<Command>& subs);
+
 // The table of subcommands (commands.cpp).
 const std::vector<Command>& commands();
 // `sepal`'s parser: every command a subcommand with its flags declared; (*runs)[i] is

@@ -91,23 +91,27 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
     return kExitOk;
 }
 
+CommandRun setup_fit_lafortune(CLI::App& c) {
+    auto a = std::make_shared<FitArgs>();
+    c.add_option("SAMPLES", a->samples, "samples.csv (sepal measure capture) or a Cornell .brdf file")->required();
+    c.add_option("-o,--output", a->out, "write the fit, its intervals and covariance as JSON");
+    c.add_option("--lobes", a->o.lobes, "specular lobes")->check(CLI::Range(1, 4))->capture_default_str();
+    c.add_flag("--anisotropic", a->anisotropic, "fit Cx and Cy apart (default: Cx = Cy)");
+    c.add_flag("--grey", a->grey, "one grey diffuse value from the samples' luminance (default: RGB)");
+    c.add_option("--sigma", a->o.sigma,
+                 "the samples' known noise (weights are 1/std relative to it); default: estimated from the residual")
+        ->check(positive());
+    c.add_option("--max-evaluations", a->o.max_evaluations, "model evaluations of the solver")
+        ->check(CLI::Range(10, 1000000))->capture_default_str();
+    return [a](const CommandIO& io) { return run_fit_lafortune(*a, io); };
+}
+
 }  // namespace
 
 CommandRun setup_fit(CLI::App& app) {
-    auto a = std::make_shared<FitArgs>();
-    app.require_subcommand(1, 1);
-    CLI::App* laf = app.add_subcommand("lafortune", "fit a Lafortune model with its parameters' covariance");
-    laf->add_option("SAMPLES", a->samples, "samples.csv (sepal measure capture) or a Cornell .brdf file")->required();
-    laf->add_option("-o,--output", a->out, "write the fit, its intervals and covariance as JSON");
-    laf->add_option("--lobes", a->o.lobes, "specular lobes")->check(CLI::Range(1, 4))->capture_default_str();
-    laf->add_flag("--anisotropic", a->anisotropic, "fit Cx and Cy apart (default: Cx = Cy)");
-    laf->add_flag("--grey", a->grey, "one grey diffuse value from the samples' luminance (default: RGB)");
-    laf->add_option("--sigma", a->o.sigma,
-                    "the samples' known noise (weights are 1/std relative to it); default: estimated from the residual")
-        ->check(positive());
-    laf->add_option("--max-evaluations", a->o.max_evaluations, "model evaluations of the solver")
-        ->check(CLI::Range(10, 1000000))->capture_default_str();
-    return [a](const CommandIO& io) { return run_fit_lafortune(*a, io); };
+    return setup_subcommands(app, {
+        {"lafortune", "fit a Lafortune model with its parameters' covariance", setup_fit_lafortune},
+    });
 }
 
 }  // namespace sepal

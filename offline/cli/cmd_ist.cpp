@@ -192,73 +192,80 @@ int run_render(RenderArgs a, const CommandIO& io) {
     return kExitOk;
 }
 
+CommandRun setup_generate(CLI::App& c) {
+    auto a = std::make_shared<GenerateArgs>();
+    c.add_option("-o,--output", a->out, "the SVBRDF folder to write")->required();
+    c.add_option("--size", a->size, "texels per side")->check(CLI::Range(4, 1024))->capture_default_str();
+    c.add_option("--materials", a->o.materials, "basis materials blended (2..6)")
+        ->check(CLI::Range(2, 6))->capture_default_str();
+    c.add_option("--preset", a->o.preset, "the basis materials' preset")->capture_default_str();
+    c.add_option("--noise", a->o.noise, "relative measurement noise")
+        ->check(finite_range(0, 1))->capture_default_str();
+    c.add_option("--misregistration", a->o.misregistration, "misregistration, texels")
+        ->check(finite_range(0, 8))->capture_default_str();
+    c.add_option("--missing", a->o.missing, "share of samples missing (confidence 0)")
+        ->check(finite_range(0, 0.95))->capture_default_str();
+    c.add_option("--seed", a->o.seed, "random seed")->capture_default_str();
+    return [a](const CommandIO& io) { return run_generate(*a, io); };
+}
+
+CommandRun setup_decompose(CLI::App& c) {
+    auto a = std::make_shared<DecomposeArgs>();
+    c.add_option("SVBRDF", a->in, "an SVBRDF folder (sepal ist generate, docs/ist.md)")->required();
+    c.add_option("-o,--output", a->out, "the tree folder to write")->required();
+    c.add_option("--method", a->method, "top level: sacls, acls, pca, nmf or kmeans")
+        ->check(CLI::IsMember({"sacls", "acls", "pca", "nmf", "kmeans"}))->capture_default_str();
+    c.add_option("--terms", a->d.terms, "basis materials; 0: chosen by error")
+        ->check(CLI::Range(0, 16))->capture_default_str();
+    c.add_option("--max-terms", a->d.max_terms, "most basis materials tried when choosing")
+        ->check(CLI::Range(1, 16))->capture_default_str();
+    c.add_option("--sparsity", a->d.sparsity, "SACLS's l (one material per texel)")
+        ->check(finite_range(0, 1e6))->capture_default_str();
+    c.add_option("--normalization", a->d.normalization, "SACLS's m (weights sum to one)")
+        ->check(finite_range(0, 1e6))->capture_default_str();
+    c.add_option("--curve-terms", a->t.terms, "separable terms per basis (second level)")
+        ->check(CLI::Range(1, 8))->capture_default_str();
+    c.add_option("--res", a->t.res, "factor texture side per basis")->check(CLI::Range(4, 256))->capture_default_str();
+    c.add_option("--seed", a->d.seed, "random seed (restarts)")->capture_default_str();
+    return [a](const CommandIO& io) { return run_decompose(*a, io); };
+}
+
+CommandRun setup_edit(CLI::App& c) {
+    auto a = std::make_shared<EditArgs>();
+    c.add_option("TREE", a->tree, "a tree folder (sepal ist decompose)")->required();
+    c.add_option("-o,--output", a->out, "the edited tree's folder (default: in place)");
+    c.add_option("--curve", a->curves, "BASIS.CURVE=FILE.csv: curve 4*term+i (g theta, g phi, h theta, h phi)");
+    c.add_option("--blend", a->blends, "J=IMAGE.png: basis J's blend map (grey)");
+    c.add_option("--swap", a->swaps, "J=SPEC: basis J replaced by any BRDF spec or measured file");
+    return [a](const CommandIO& io) { return run_edit(*a, io); };
+}
+
+CommandRun setup_render_tree(CLI::App& c) {
+    auto a = std::make_shared<RenderArgs>();
+    c.add_option("TREE", a->tree, "a tree folder")->required();
+    c.add_option("-o,--output", a->out, "the PNG to write")->required();
+    c.add_option("--backend", a->backend, "exact, cpu, gles1, gles2 or gles2-fused-pixel")
+        ->check(CLI::IsMember({"exact", "cpu", "gles1", "gles2", "gles2-fused-pixel"}))->capture_default_str();
+    // The scene (figures.h): the wave mesh lit for the shiny bases' highlights; flags override.
+    a->setup.mesh_name = "wave";
+    a->setup.width = a->setup.height = 256;
+    ist_default_scene(&a->setup.scene);
+    add_scene_options(c, &a->setup);
+    return [a](const CommandIO& io) { return run_render(*a, io); };
+}
+
 }  // namespace
 
 CommandRun setup_ist(CLI::App& app) {
-    struct State {
-        GenerateArgs gen;
-        DecomposeArgs dec;
-        EditArgs edit;
-        RenderArgs render;
-        CLI::App *g = nullptr, *d = nullptr, *e = nullptr, *r = nullptr;
-    };
-    auto st = std::make_shared<State>();
-    app.require_subcommand(1, 1);
-    st->g = app.add_subcommand("generate", "a test SVBRDF with known truth: regions blending basis materials");
-    st->g->add_option("-o,--output", st->gen.out, "the SVBRDF folder to write")->required();
-    st->g->add_option("--size", st->gen.size, "texels per side")->check(CLI::Range(4, 1024))->capture_default_str();
-    st->g->add_option("--materials", st->gen.o.materials, "basis materials blended (2..6)")
-        ->check(CLI::Range(2, 6))->capture_default_str();
-    st->g->add_option("--preset", st->gen.o.preset, "the basis materials' preset")->capture_default_str();
-    st->g->add_option("--noise", st->gen.o.noise, "relative measurement noise")
-        ->check(finite_range(0, 1))->capture_default_str();
-    st->g->add_option("--misregistration", st->gen.o.misregistration, "misregistration, texels")
-        ->check(finite_range(0, 8))->capture_default_str();
-    st->g->add_option("--missing", st->gen.o.missing, "share of samples missing (confidence 0)")
-        ->check(finite_range(0, 0.95))->capture_default_str();
-    st->g->add_option("--seed", st->gen.o.seed, "random seed")->capture_default_str();
-
-    st->d = app.add_subcommand("decompose", "SVBRDF -> blend maps x basis BRDFs -> 1D curves (a tree folder)");
-    st->d->add_option("SVBRDF", st->dec.in, "an SVBRDF folder (sepal ist generate, docs/ist.md)")->required();
-    st->d->add_option("-o,--output", st->dec.out, "the tree folder to write")->required();
-    st->d->add_option("--method", st->dec.method, "top level: sacls, acls, pca, nmf or kmeans")
-        ->check(CLI::IsMember({"sacls", "acls", "pca", "nmf", "kmeans"}))->capture_default_str();
-    st->d->add_option("--terms", st->dec.d.terms, "basis materials; 0: chosen by error")
-        ->check(CLI::Range(0, 16))->capture_default_str();
-    st->d->add_option("--max-terms", st->dec.d.max_terms, "most basis materials tried when choosing")
-        ->check(CLI::Range(1, 16))->capture_default_str();
-    st->d->add_option("--sparsity", st->dec.d.sparsity, "SACLS's l (one material per texel)")
-        ->check(finite_range(0, 1e6))->capture_default_str();
-    st->d->add_option("--normalization", st->dec.d.normalization, "SACLS's m (weights sum to one)")
-        ->check(finite_range(0, 1e6))->capture_default_str();
-    st->d->add_option("--curve-terms", st->dec.t.terms, "separable terms per basis (second level)")
-        ->check(CLI::Range(1, 8))->capture_default_str();
-    st->d->add_option("--res", st->dec.t.res, "factor texture side per basis")->check(CLI::Range(4, 256))->capture_default_str();
-    st->d->add_option("--seed", st->dec.d.seed, "random seed (restarts)")->capture_default_str();
-
-    st->e = app.add_subcommand("edit", "edit a tree: replace a curve, a blend map or a basis BRDF");
-    st->e->add_option("TREE", st->edit.tree, "a tree folder (sepal ist decompose)")->required();
-    st->e->add_option("-o,--output", st->edit.out, "the edited tree's folder (default: in place)");
-    st->e->add_option("--curve", st->edit.curves, "BASIS.CURVE=FILE.csv: curve 4*term+i (g theta, g phi, h theta, h phi)");
-    st->e->add_option("--blend", st->edit.blends, "J=IMAGE.png: basis J's blend map (grey)");
-    st->e->add_option("--swap", st->edit.swaps, "J=SPEC: basis J replaced by any BRDF spec or measured file");
-
-    st->r = app.add_subcommand("render", "draw a tree: exact, cpu, gles1, gles2 or gles2-fused-pixel (headless); scene defaults here: wave mesh, 256x256, the lights of ist/figures.h (not the defaults listed under Scene)");
-    st->r->add_option("TREE", st->render.tree, "a tree folder")->required();
-    st->r->add_option("-o,--output", st->render.out, "the PNG to write")->required();
-    st->r->add_option("--backend", st->render.backend, "exact, cpu, gles1, gles2 or gles2-fused-pixel")
-        ->check(CLI::IsMember({"exact", "cpu", "gles1", "gles2", "gles2-fused-pixel"}))->capture_default_str();
-    // The scene (figures.h): the wave mesh lit for the shiny bases' highlights; flags override.
-    st->render.setup.mesh_name = "wave";
-    st->render.setup.width = st->render.setup.height = 256;
-    ist_default_scene(&st->render.setup.scene);
-    add_scene_options(*st->r, &st->render.setup);
-    return [st](const CommandIO& io) {
-        if (st->g->parsed()) return run_generate(st->gen, io);
-        if (st->d->parsed()) return run_decompose(st->dec, io);
-        if (st->e->parsed()) return run_edit(st->edit, io);
-        return run_render(st->render, io);
-    };
+    return setup_subcommands(app, {
+        {"generate", "a test SVBRDF with known truth: regions blending basis materials", setup_generate},
+        {"decompose", "SVBRDF -> blend maps x basis BRDFs -> 1D curves (a tree folder)", setup_decompose},
+        {"edit", "edit a tree: replace a curve, a blend map or a basis BRDF", setup_edit},
+        {"render",
+         "draw a tree: exact, cpu, gles1, gles2 or gles2-fused-pixel (headless); scene defaults here: wave mesh, "
+         "256x256, the lights of ist/figures.h (not the defaults listed under Scene)",
+         setup_render_tree},
+    });
 }
 
 }  // namespace sepal

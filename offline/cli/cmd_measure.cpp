@@ -333,76 +333,81 @@ int run_capture(const CaptureArgs& a, const CommandIO& io) {
     return kExitOk;
 }
 
+// The subcommands' flags (the run_* functions above hold the work).
+const char* const kMaterialsHelp = "limit the database to these merl-nbrdf materials (smaller and faster)";
+
+CommandRun setup_plan(CLI::App& c) {
+    auto a = std::make_shared<PlanArgs>();
+    c.add_option("--samples", a->samples, "direction pairs to measure")
+        ->check(CLI::Range(1, 100000))->capture_default_str();
+    c.add_option("-o,--output", a->out, "the plan to write (.json)")->required();
+    c.add_option("--method", a->method, "greedy (conditioning), random or uniform")
+        ->check(CLI::IsMember({"greedy", "random", "uniform"}))->capture_default_str();
+    c.add_option("--seed", a->seed, "random seed (random plans, greedy's tie breaks)")->capture_default_str();
+    c.add_option("--swaps", a->swaps, "greedy's improving swaps after the first pass")
+        ->check(CLI::Range(0, 1 << 20))->capture_default_str();
+    c.add_option("--exclude", a->exclude, "materials left out of the database (leave-one-out)")
+        ->delimiter(',');
+    c.add_option("--materials", a->materials, kMaterialsHelp)->delimiter(',');
+    return [a](const CommandIO& io) { return run_plan(*a, io); };
+}
+
+CommandRun setup_simulate(CLI::App& c) {
+    auto a = std::make_shared<SimulateArgs>();
+    c.add_option("SPEC", a->spec, "the BRDF to measure (spec or measured file)")->required();
+    c.add_option("PLAN", a->plan, "a plan from `sepal measure plan`")->required();
+    c.add_option("-o,--output", a->out, "the samples to write (.csv)")->required();
+    c.add_option("--noise", a->noise, "relative Gaussian noise per sample, e.g. 0.01")
+        ->check(finite_range(0, 10))->capture_default_str();
+    c.add_option("--seed", a->seed, "noise seed")->capture_default_str();
+    c.add_option("--materials", a->materials, kMaterialsHelp)->delimiter(',');
+    return [a](const CommandIO& io) { return run_simulate(*a, io); };
+}
+
+CommandRun setup_reconstruct(CLI::App& c) {
+    auto a = std::make_shared<ReconstructArgs>();
+    c.add_option("PLAN", a->plan, "the plan the samples follow")->required();
+    c.add_option("SAMPLES", a->samples, "measured samples (.csv)")->required();
+    c.add_option("-o,--output", a->out, "the reconstruction to write (MERL .binary)")->required();
+    c.add_option("--solver", a->solver, "ls (least squares) or nnls (non-negative weights)")
+        ->check(CLI::IsMember({"ls", "nnls"}))->capture_default_str();
+    c.add_option("--max-condition", a->max_condition, "refuse fits worse conditioned than this")
+        ->check(positive())->capture_default_str();
+    c.add_option("--truth", a->truth, "the true BRDF, to report the reconstruction's error");
+    c.add_option("--report", a->report, "write the fit and its errors as JSON");
+    c.add_option("--bake", a->bake, "also bake the reconstruction with the default search");
+    c.add_option("--exclude", a->exclude, "materials left out of the database")->delimiter(',');
+    c.add_option("--materials", a->materials, kMaterialsHelp)->delimiter(',');
+    return [a](const CommandIO& io) { return run_reconstruct(*a, io); };
+}
+
+CommandRun setup_capture(CLI::App& c) {
+    auto a = std::make_shared<CaptureArgs>();
+    c.add_option("-o,--output", a->out, "the photograph (PNG)")->required();
+    c.add_option("--samples", a->samples, "also write the measured samples (.csv, for sepal fit)");
+    c.add_option("--object", a->object, "sphere, torus or wave")
+        ->check(CLI::IsMember({"sphere", "torus", "wave"}))->capture_default_str();
+    c.add_option("--atlas", a->atlas, "the object's texture atlas, texels per side")
+        ->check(CLI::Range(8, 1024))->capture_default_str();
+    c.add_option("--size", a->size, "photograph side, pixels")->check(CLI::Range(16, 4096))->capture_default_str();
+    c.add_option("--camera", a->camera, "camera azimuth,elevation in degrees")
+        ->delimiter(',')->expected(2)->check(finite_range(-360, 360))->capture_default_str();
+    c.add_option("--light", a->light, "light azimuth,elevation in degrees")
+        ->delimiter(',')->expected(2)->check(finite_range(-360, 360))->capture_default_str();
+    c.add_option("--seed", a->seed, "sensor noise seed")->capture_default_str();
+    c.add_flag("--no-noise", a->no_noise, "a noiseless photograph");
+    return [a](const CommandIO& io) { return run_capture(*a, io); };
+}
+
 }  // namespace
 
-// The subcommands' flags (the run_* functions above hold the work).
 CommandRun setup_measure(CLI::App& app) {
-    struct State {
-        PlanArgs plan;
-        SimulateArgs simulate;
-        ReconstructArgs reconstruct;
-        CaptureArgs capture;
-        CLI::App *p = nullptr, *s = nullptr, *r = nullptr, *c = nullptr;
-    };
-    auto st = std::make_shared<State>();
-    app.require_subcommand(1, 1);
-    const char* materials_help = "limit the database to these merl-nbrdf materials (smaller and faster)";
-    st->p = app.add_subcommand("plan", "choose the sample directions that condition the database best");
-    st->p->add_option("--samples", st->plan.samples, "direction pairs to measure")
-        ->check(CLI::Range(1, 100000))->capture_default_str();
-    st->p->add_option("-o,--output", st->plan.out, "the plan to write (.json)")->required();
-    st->p->add_option("--method", st->plan.method, "greedy (conditioning), random or uniform")
-        ->check(CLI::IsMember({"greedy", "random", "uniform"}))->capture_default_str();
-    st->p->add_option("--seed", st->plan.seed, "random seed (random plans, greedy's tie breaks)")->capture_default_str();
-    st->p->add_option("--swaps", st->plan.swaps, "greedy's improving swaps after the first pass")
-        ->check(CLI::Range(0, 1 << 20))->capture_default_str();
-    st->p->add_option("--exclude", st->plan.exclude, "materials left out of the database (leave-one-out)")
-        ->delimiter(',');
-    st->p->add_option("--materials", st->plan.materials, materials_help)->delimiter(',');
-
-    st->s = app.add_subcommand("simulate", "measure a known BRDF at a plan's directions (virtual gonioreflectometer)");
-    st->s->add_option("SPEC", st->simulate.spec, "the BRDF to measure (spec or measured file)")->required();
-    st->s->add_option("PLAN", st->simulate.plan, "a plan from `sepal measure plan`")->required();
-    st->s->add_option("-o,--output", st->simulate.out, "the samples to write (.csv)")->required();
-    st->s->add_option("--noise", st->simulate.noise, "relative Gaussian noise per sample, e.g. 0.01")
-        ->check(finite_range(0, 10))->capture_default_str();
-    st->s->add_option("--seed", st->simulate.seed, "noise seed")->capture_default_str();
-    st->s->add_option("--materials", st->simulate.materials, materials_help)->delimiter(',');
-
-    st->r = app.add_subcommand("reconstruct", "fit the database's linear model to measured samples");
-    st->r->add_option("PLAN", st->reconstruct.plan, "the plan the samples follow")->required();
-    st->r->add_option("SAMPLES", st->reconstruct.samples, "measured samples (.csv)")->required();
-    st->r->add_option("-o,--output", st->reconstruct.out, "the reconstruction to write (MERL .binary)")->required();
-    st->r->add_option("--solver", st->reconstruct.solver, "ls (least squares) or nnls (non-negative weights)")
-        ->check(CLI::IsMember({"ls", "nnls"}))->capture_default_str();
-    st->r->add_option("--max-condition", st->reconstruct.max_condition, "refuse fits worse conditioned than this")
-        ->check(positive())->capture_default_str();
-    st->r->add_option("--truth", st->reconstruct.truth, "the true BRDF, to report the reconstruction's error");
-    st->r->add_option("--report", st->reconstruct.report, "write the fit and its errors as JSON");
-    st->r->add_option("--bake", st->reconstruct.bake, "also bake the reconstruction with the default search");
-    st->r->add_option("--exclude", st->reconstruct.exclude, "materials left out of the database")->delimiter(',');
-    st->r->add_option("--materials", st->reconstruct.materials, materials_help)->delimiter(',');
-
-    st->c = app.add_subcommand("capture", "photograph the virtual acquisition setup (known object and SVBRDF)");
-    st->c->add_option("-o,--output", st->capture.out, "the photograph (PNG)")->required();
-    st->c->add_option("--samples", st->capture.samples, "also write the measured samples (.csv, for sepal fit)");
-    st->c->add_option("--object", st->capture.object, "sphere, torus or wave")
-        ->check(CLI::IsMember({"sphere", "torus", "wave"}))->capture_default_str();
-    st->c->add_option("--atlas", st->capture.atlas, "the object's texture atlas, texels per side")
-        ->check(CLI::Range(8, 1024))->capture_default_str();
-    st->c->add_option("--size", st->capture.size, "photograph side, pixels")->check(CLI::Range(16, 4096))->capture_default_str();
-    st->c->add_option("--camera", st->capture.camera, "camera azimuth,elevation in degrees")
-        ->delimiter(',')->expected(2)->check(finite_range(-360, 360))->capture_default_str();
-    st->c->add_option("--light", st->capture.light, "light azimuth,elevation in degrees")
-        ->delimiter(',')->expected(2)->check(finite_range(-360, 360))->capture_default_str();
-    st->c->add_option("--seed", st->capture.seed, "sensor noise seed")->capture_default_str();
-    st->c->add_flag("--no-noise", st->capture.no_noise, "a noiseless photograph");
-    return [st](const CommandIO& io) {
-        if (st->c->parsed()) return run_capture(st->capture, io);
-        if (st->p->parsed()) return run_plan(st->plan, io);
-        if (st->s->parsed()) return run_simulate(st->simulate, io);
-        return run_reconstruct(st->reconstruct, io);
-    };
+    return setup_subcommands(app, {
+        {"plan", "choose the sample directions that condition the database best", setup_plan},
+        {"simulate", "measure a known BRDF at a plan's directions (virtual gonioreflectometer)", setup_simulate},
+        {"reconstruct", "fit the database's linear model to measured samples", setup_reconstruct},
+        {"capture", "photograph the virtual acquisition setup (known object and SVBRDF)", setup_capture},
+    });
 }
 
 }  // namespace sepal

@@ -35,6 +35,20 @@ const std::vector<Command>& commands() {
     return table;
 }
 
+CommandRun setup_subcommands(CLI::App& app, const std::vector<Command>& subs) {
+    app.require_subcommand(1, 1);
+    std::vector<std::pair<const CLI::App*, CommandRun>> runs;
+    for (const Command& c : subs) {
+        CLI::App* sub = app.add_subcommand(c.name, c.summary);
+        runs.emplace_back(sub, c.setup(*sub));
+    }
+    return [runs](const CommandIO& io) {
+        for (const auto& r : runs)
+            if (r.first->parsed()) return r.second(io);
+        return kExitBadInput;  // require_subcommand makes this unreachable
+    };
+}
+
 std::string version_line(const char* program) {
     return std::string(program) + " " SEPAL_VERSION_STRING " (asset format " +
            std::to_string(SEPAL_FMT_VERSION_MAJOR) + "." + std::to_string(SEPAL_FMT_VERSION_MINOR) + ")";

@@ -17,9 +17,11 @@
 
 #include "brdf/brdf.h"
 #include "brdf/brdf_models.h"
+#include "brdf/brdf_models_impl.h"
 #include "brdf/brdf_spec.h"
 #include "brdf/brdf_util.h"
 #include "cli/cli.h"
+#include "util/io.h"
 #include "test_util.h"
 
 using glm::dvec3;
@@ -119,6 +121,64 @@ std::vector<std::pair<dvec3, dvec3>> test_pairs(int random_count) {
 }  // namespace
 
 // ---- hand-worked values ------------------------------------------------------------------
+
+TEST_CASE("brdf models.json: every entry has code, every model an entry, and a broken table says where") {
+    // The compiled-in table (offline/brdf/models.json) is whole: 12 models, each buildable
+    // from its defaults, in documentation order.
+    CHECK(sepal::analytic_models_error() == "");
+    const std::vector<std::string> names = sepal::analytic_model_names();
+    CHECK(names == std::vector<std::string>{"lambert", "phong", "blinn", "lafortune", "ward", "ward-duer",
+                                            "cook-torrance", "ashikhmin-shirley", "poulin-fournier",
+                                            "hapke-lommel", "oren-nayar", "velvet"});
+    for (const std::string& n : names) {
+        std::string err;
+        CHECK_MESSAGE(sepal::make_analytic_brdf(n, &err) != nullptr, n, ": ", err);
+    }
+    // The same file read from the source tree gives the same table (the build embeds it).
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::read_file(sepal_test::source_path("offline/brdf/models.json"), &bytes, &err), err);
+    const std::string text(bytes.begin(), bytes.end());
+    std::vector<sepal::ModelEntry> table;
+    REQUIRE_MESSAGE(sepal::read_model_table(text.c_str(), &table, &err), err);
+    REQUIRE(table.size() == names.size());
+    CHECK(table[6].params[3].default_from == "Rd");  // cook-torrance's F0
+    CHECK(table[6].params[1].def == dvec3(0.12, 0.22, 0.48));
+
+    struct Broken {
+        const char* what;
+        std::string from, to, message;
+    };
+    const Broken cases[] = {
+        {"a model without code", "\"name\": \"velvet\"", "\"name\": \"velour\"",
+         "models[11]: no code for model 'velour'"},
+        {"a kind that is neither", "\"kind\": \"scalar\", \"default\": 30", "\"kind\": \"vector\", \"default\": 30",
+         "models[1].params[2].kind: 'vector' is not scalar or colour"},
+        {"a default out of its range", "\"default\": 30, \"min\": 0", "\"default\": -30, \"min\": 0",
+         "models[1].params[2]"},
+        {"a colour default out of range", "[0.12, 0.22, 0.48]", "[0.12, 2.22, 0.48]",
+         "models[6].params[1].default: outside min..max"},
+        {"not JSON", "\"models\": [", "\"models\" [", "brdf/models.json: line"},
+    };
+    for (const Broken& b : cases) {
+        CAPTURE(b.what);
+        std::string t = text;
+        const size_t at = t.find(b.from);
+        REQUIRE(at != std::string::npos);
+        t.replace(at, b.from.size(), b.to);
+        err.clear();
+        CHECK_FALSE(sepal::read_model_table(t.c_str(), &table, &err));
+        CHECK_MESSAGE(err.find(b.message) != std::string::npos, err);
+        CHECK(table.empty());
+    }
+    // A model whose entry is missing is named too.
+    std::string t = text;
+    const size_t a = t.find("    {\n      \"name\": \"velvet\"");
+    REQUIRE(a != std::string::npos);
+    t.erase(t.rfind(',', a), t.find("\n  ]", a) - t.rfind(',', a));
+    CHECK_FALSE(sepal::read_model_table(t.c_str(), &table, &err));
+    CHECK(err == "brdf/models.json: no entry for model 'velvet'");
+}
 
 TEST_CASE("brdf lambert: hand-worked values") {
     // Lambert: f = rho / pi (e.g. Pharr, Jakob and Humphreys, PBRT 3rd ed., section 8.3).
