@@ -29,6 +29,11 @@ int gles_major_version(const char* version);
 
 // ---- small vector maths shared by the backends ----
 inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+// Below this gs-half's frame is undefined (a fallback is taken and counted): |t'|^2 =
+// 1 - h.x^2 (h within 1e-3 rad of the tangent). param.cpp, the batched set-up and
+// shaders/fused_pixel.frag use it.
+constexpr float kGsMin2 = 1e-6f;
+
 // Normalizes v in place; false (v unchanged) when it is too short to have a direction.
 // Inline: the per-vertex set-up calls it several times per vertex and light.
 inline bool normalize3(float* v) {

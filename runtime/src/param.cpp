@@ -7,10 +7,9 @@
 
 namespace {
 
-// Below these the parameterization's frame is undefined (a fallback is taken and counted):
-// |t'|^2 = 1 - h.x^2 for gs-half (h within 1e-3 rad of the tangent), sin^2 theta_h for
-// rusinkiewicz (h within 1e-6 rad of the normal). The shader uses the same constants.
-constexpr float kGsMin2 = 1e-6f;
+// Below this the rusinkiewicz frame is undefined (a fallback is taken and counted): sin^2
+// theta_h (h within 1e-6 rad of the normal); gs-half's is kGsMin2 (internal.h). The shader
+// uses the same constants.
 constexpr float kPoleMin2 = 1e-12f;
 
 void map(sepal_hemi_map m, const float a[3], float uv[2]) {
