@@ -152,6 +152,66 @@ double mesh_limit_ms(int passes, GLuint texture, const sepal_ports::SceneSetup& 
     return median(times);
 }
 
+// The pass limit: `passes` draws of the scene's mesh as the plan's passes draw it on the GPU,
+// both texture units sampled and modulated with a per-vertex colour, depth-tested against a
+// cleared depth buffer, additively blended, back faces culled; its arrays (texture coordinates
+// from the mesh's UVs, one colour for all vertices) are set once. What the frame's passes
+// cost the GPU with nothing of the per-frame CPU work, state changes or texture coordinates
+// of the lights: the frame's floor.
+double pass_limit_ms(int passes, GLuint texture, const sepal_ports::SceneSetup& s, int frames, int warmup = 2) {
+    float view[16], proj[16];
+    sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
+    const std::vector<float> colours(4 * size_t(s.mesh.vertex_count), 0.25f);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(view);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].position);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glColorPointer(4, GL_FLOAT, 0, colours.data());
+    for (GLenum unit : {GL_TEXTURE0, GL_TEXTURE1}) {
+        glActiveTexture(unit);
+        glClientActiveTexture(unit);
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, texture);
+        glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+        glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].uv);
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    std::vector<double> times;
+    for (int f = 0; f < frames + warmup; ++f) {
+        const auto t = Clock::now();
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        for (int p = 0; p < passes; ++p)
+            glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
+        glFinish();
+        if (f >= warmup) times.push_back(ms_since(t));
+    }
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    for (GLenum unit : {GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glClientActiveTexture(unit);
+        glDisable(GL_TEXTURE_2D);
+        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    return median(times);
+}
+
 long file_size(const std::string& path) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return -1;
@@ -258,10 +318,10 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::string json = "{\n  \"device\": \"" + std::string(sepal_headless_describe(ctx)) + "\",\n  \"size\": [512, 512],\n  \"frames\": [\n";
-    std::printf("GL ES 1.1 multipass, %dx%d, %s; medians of %d rounds (a frame, a fill-limit frame, a mesh-limit frame)\n",
+    std::printf("GL ES 1.1 multipass, %dx%d, %s; medians of %d rounds (a frame, a fill-limit, a mesh-limit and a pass-limit frame)\n",
                 W, H, sepal_headless_describe(ctx), rounds);
-    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s %-11s %-8s %-9s %-9s\n", "terms", "lights", "passes", "ms/frame",
-                "fill-limit", "ratio", "mesh-limit", "ratio", "set-up ms", "GL calls");
+    std::printf("%-6s %-6s %-7s %-9s %-11s %-8s %-11s %-8s %-11s %-8s %-9s %-9s\n", "terms", "lights", "passes",
+                "ms/frame", "fill-limit", "ratio", "mesh-limit", "ratio", "pass-limit", "ratio", "set-up ms", "GL calls");
     std::string gl_breakdown;
     bool first = true;
     for (int terms : {1, 2, 4}) {
@@ -306,7 +366,7 @@ int main(int argc, char** argv) {
             sepal_draw_stats stats = {};
             // Rounds of one frame, one fill-limit frame and one mesh-limit frame each, so a
             // drift of the machine (llvmpipe's threads share 2 cores) moves all three alike.
-            std::vector<double> times, fills, meshes;
+            std::vector<double> times, fills, meshes, pass_floor;
             // Warm-up: the JIT compiles the frame's state sets; the first row also waits out
             // whatever made it 1.6-3x slower than the same configuration measured later.
             for (int f = 0; f < (first ? 20 : 2); ++f)
@@ -318,6 +378,7 @@ int main(int argc, char** argv) {
             int passes = stats.draw_calls + stats.fullscreen_passes;
             fill_limit_ms(passes, mat->gl_textures[0], 0);  // their warm-up
             mesh_limit_ms(passes, mat->gl_textures[0], s, 0);
+            pass_limit_ms(passes, mat->gl_textures[0], s, 0);
             for (int r = 0; r < rounds; ++r) {
                 const auto t = Clock::now();
                 if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
@@ -329,8 +390,9 @@ int main(int argc, char** argv) {
                 passes = stats.draw_calls + stats.fullscreen_passes;
                 fills.push_back(fill_limit_ms(passes, mat->gl_textures[0], 1, 0));
                 meshes.push_back(mesh_limit_ms(passes, mat->gl_textures[0], s, 1, 0));
+                pass_floor.push_back(pass_limit_ms(passes, mat->gl_textures[0], s, 1, 0));
             }
-            const double ms = median(times), fill = median(fills), mesh = median(meshes);
+            const double ms = median(times), fill = median(fills), mesh = median(meshes), pass = median(pass_floor);
             // The frame's CPU set-up (frames, directions, coordinates, irradiance of every
             // vertex and light), timed alone.
             std::vector<double> setup;
@@ -354,15 +416,16 @@ int main(int argc, char** argv) {
             if (terms == 2 && lights == 1)
                 gl_breakdown = "GL calls of a 2-term, 1-light frame (" + std::to_string(gl_calls) +
                                "): " + sepal_test::gl_calls_by_name();
-            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f %-11.2f %-8.2f %-9.2f %-9ld\n", terms, lights, passes, ms,
-                        fill, ms / fill, mesh, ms / mesh, setup_ms, gl_calls);
+            std::printf("%-6d %-6d %-7d %-9.2f %-11.2f %-8.2f %-11.2f %-8.2f %-11.2f %-8.2f %-9.2f %-9ld\n", terms,
+                        lights, passes, ms, fill, ms / fill, mesh, ms / mesh, pass, ms / pass, setup_ms, gl_calls);
             char row[448];
             std::snprintf(row, sizeof row,
                           "%s    {\"terms\": %d, \"lights\": %d, \"passes\": %d, \"ms\": %.3f, \"fill_limit_ms\": %.3f, "
-                          "\"ratio\": %.3f, \"mesh_limit_ms\": %.3f, \"ratio_mesh\": %.3f, \"setup_ms\": %.3f, "
+                          "\"ratio\": %.3f, \"mesh_limit_ms\": %.3f, \"ratio_mesh\": %.3f, \"pass_limit_ms\": %.3f, "
+                          "\"ratio_pass\": %.3f, \"setup_ms\": %.3f, "
                           "\"gl_calls\": %ld}",
-                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill, mesh, ms / mesh, setup_ms,
-                          gl_calls);
+                          first ? "" : ",\n", terms, lights, passes, ms, fill, ms / fill, mesh, ms / mesh, pass,
+                          ms / pass, setup_ms, gl_calls);
             json += row;
             first = false;
         }
