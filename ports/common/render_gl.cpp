@@ -123,15 +123,25 @@ void rgb_to_rgba8(const float* rgb, size_t pixels, uint8_t* rgba) {
 
 bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const HeadlessJob& job,
                   std::vector<uint8_t>* rgba, GlRenderInfo* info, std::string* err) {
-    sepal_headless_desc hd = {};
-    hd.width = setup.width;
-    hd.height = setup.height;
-    hd.gles_version = options.gles_version;
-    char msg[512];
-    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
-    if (!ctx) {
-        *err = msg;
-        return false;
+    sepal_headless_context* ctx = options.context;
+    if (ctx) {
+        if (sepal_headless_width(ctx) != setup.width || sepal_headless_height(ctx) != setup.height ||
+            !sepal_headless_make_current(ctx)) {
+            *err = "the context given is not the scene's size (" + std::to_string(sepal_headless_width(ctx)) + "x" +
+                   std::to_string(sepal_headless_height(ctx)) + ") or cannot be made current";
+            return false;
+        }
+    } else {
+        sepal_headless_desc hd = {};
+        hd.width = setup.width;
+        hd.height = setup.height;
+        hd.gles_version = options.gles_version;
+        char msg[512];
+        ctx = sepal_headless_create(&hd, msg, sizeof msg);
+        if (!ctx) {
+            *err = msg;
+            return false;
+        }
     }
     sepal_error e = {};
     sepal_caps caps;
@@ -159,7 +169,7 @@ bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const
         if (ok && job.finish) ok = job.finish(&e);
     }
     if (have_caps && job.destroy) job.destroy();
-    sepal_headless_destroy(ctx);
+    if (!options.context) sepal_headless_destroy(ctx);
     if (!ok) *err = e.message;
     return ok;
 }

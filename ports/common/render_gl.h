@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/scene_flags.h"
+#include "headless/sepal_headless.h"
 #include "sepal/sepal_material.h"
 
 namespace sepal_ports {
@@ -45,6 +46,10 @@ struct GlRenderOptions {
     // Frames to draw: with more than 1, two extra warm-up frames come first and
     // GlRenderInfo::ms is the median of the timed ones (benchmarks).
     int frames = 1;
+    // A context to draw in, made current here and left alive (a sweep of many renders pays
+    // for EGL set-up and the driver's shader compiles once): its size must be the scene's and
+    // its version gles_version. Null: a context is made for this render and destroyed after.
+    sepal_headless_context* context = nullptr;
 };
 
 bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& setup,

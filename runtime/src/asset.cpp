@@ -13,8 +13,13 @@ static_assert(sizeof(sepal_fmt_plan) == 32, "plan layout");
 static_assert(sizeof(sepal_fmt_pass) == 24, "pass layout");
 static_assert(sizeof(sepal_fmt_diffuse) == 16, "diffuse profile layout");
 
-extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
-    if (!profile || side < 2) return 1.0f;
+namespace srt {
+
+void diffuse_profile_rgb(const void* profile, uint32_t side, float cos_i, float cos_o, float out[3]) {
+    if (!profile || side < 2) {
+        out[0] = out[1] = out[2] = 1.0f;
+        return;
+    }
     const float n = (float)(side - 1);
     // Clamped to [0,1], NaN to 0: (int)NaN is undefined (found by the fuzz harness).
     const float x = (cos_i >= 0.0f ? (cos_i <= 1.0f ? cos_i : 1.0f) : 0.0f) * n;
@@ -24,12 +29,23 @@ extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float
     if (j0 > (int)side - 2) j0 = (int)side - 2;
     const float ax = x - (float)i0, ay = y - (float)j0;
     const uint8_t* b = (const uint8_t*)profile;
-    auto at = [&](int i, int j) {
-        float v;
-        memcpy(&v, b + 4 * (((size_t)j * side + (size_t)i) * 3 + (size_t)c), 4);
-        return v;
-    };
-    return (1 - ay) * ((1 - ax) * at(i0, j0) + ax * at(i0 + 1, j0)) + ay * ((1 - ax) * at(i0, j0 + 1) + ax * at(i0 + 1, j0 + 1));
+    for (int c = 0; c < 3; ++c) {
+        auto at = [&](int i, int j) {
+            float v;
+            memcpy(&v, b + 4 * (((size_t)j * side + (size_t)i) * 3 + (size_t)c), 4);
+            return v;
+        };
+        out[c] = (1 - ay) * ((1 - ax) * at(i0, j0) + ax * at(i0 + 1, j0)) +
+                 ay * ((1 - ax) * at(i0, j0 + 1) + ax * at(i0 + 1, j0 + 1));
+    }
+}
+
+}  // namespace srt
+
+extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
+    float rgb[3];
+    srt::diffuse_profile_rgb(profile, side, cos_i, cos_o, rgb);
+    return c >= 0 && c < 3 ? rgb[c] : 1.0f;
 }
 
 namespace {

@@ -111,10 +111,10 @@ void shade(void* user, int x, int y, float, const float* v) {
         if (f[0] < 0.0f || f[1] < 0.0f || f[2] < 0.0f) ++s.st.negative_clamped;
         // Radiance materials hold cos(theta_i) in their factors and add the diffuse part.
         const bool radiance = (a.material.flags & SEPAL_MATERIAL_RADIANCE) != 0;
+        float prof[3];
+        srt::diffuse_profile_rgb(a.diffuse_profile, a.diffuse_side, wi[2], wo[2], prof);
         for (int c = 0; c < 3; ++c)
-            sum[c] += ((f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? 1.0f : wi[2]) +
-                       a.material.diffuse[c] * wi[2] *
-                           sepal_diffuse_profile(a.diffuse_profile, a.diffuse_side, wi[2], wo[2], c)) *
+            sum[c] += ((f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? 1.0f : wi[2]) + a.material.diffuse[c] * wi[2] * prof[c]) *
                       falloff * light.intensity[c];
     }
     float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;

@@ -188,3 +188,34 @@ TEST_CASE("half-float target: the price of the 8-bit framebuffer, measured on a 
         if (std::string(backend) == "gles2") CHECK(pf > p8 + 5.0);  // the signed plan's 8-bit cost
     }
 }
+
+TEST_CASE("a context kept across renders draws what a fresh one does (the sweeps' reuse)") {
+    const Baked ward = bake_scene(kWard, sepal::Method::NMF, 2, 2.0, "torus");
+    const Baked other = bake_scene(kWard, sepal::Method::WSVD, 3, 2.0, "torus");  // signed: other state
+    for (const char* backend : {"gles1", "gles2-fused"}) {
+        CAPTURE(std::string(backend));
+        sepal_ports::GlRenderOptions opt;
+        REQUIRE(sepal_ports::parse_gl_backend(backend, &opt));
+        sepal_ports::GlRenderInfo info;
+        const sepal::Image fresh = render_gl(ward, opt, &info);
+        sepal_headless_desc hd = {};
+        hd.width = ward.scene.width;
+        hd.height = ward.scene.height;
+        hd.gles_version = opt.gles_version;
+        char msg[256];
+        sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
+        REQUIRE_MESSAGE(ctx, msg);
+        opt.context = ctx;
+        render_gl(other, opt, &info);
+        const sepal::Image kept = render_gl(ward, opt, &info);
+        CHECK(sepal::diff_images(fresh, kept, 0).max_diff == 0.0);
+        // A context of another size is refused, not drawn into.
+        sepal_ports::SceneSetup small = ward.scene;
+        small.width = small.height = 64;
+        std::vector<uint8_t> rgba;
+        std::string err;
+        CHECK_FALSE(sepal_ports::render_asset_headless(ward.bytes.data(), ward.bytes.size(), small, opt, &rgba, &info, &err));
+        CHECK(err.find("not the scene's size (128x128)") != std::string::npos);
+        sepal_headless_destroy(ctx);
+    }
+}
