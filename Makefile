@@ -272,6 +272,9 @@ $(RUNTIME_OBJ): $(BUILD)/obj/%.o: %.cpp | $(SHADER_INCS)
 ifeq ($(SAN),)
 $(call obj,runtime/src/vertex_setup.cpp runtime/src/param.cpp runtime/src/common.cpp): RUNTIME_FLAGS += -O3
 endif
+# No a * b + c fused into one rounding (FMA targets: aarch64, x86 with -mfma): the batched
+# set-up and the one-vertex reference it must equal bit for bit would fuse differently.
+$(call obj,runtime/src/vertex_setup.cpp runtime/src/param.cpp runtime/src/common.cpp): RUNTIME_FLAGS += -ffp-contract=off
 # The batched set-up loops vectorize only when sqrtf need not set errno and a division may be
 # computed before the select that picks it (neither changes a result: the same IEEE floats).
 $(call obj,runtime/src/vertex_setup.cpp): RUNTIME_FLAGS += -fno-math-errno -fno-trapping-math

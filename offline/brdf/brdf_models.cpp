@@ -76,10 +76,28 @@ bool read_model_table(const char* json, std::vector<ModelEntry>* out, std::strin
             !json_array(f, "repeated", 0, 8, &repeated, err))
             return false;
         for (size_t j = 0; j < params->size(); ++j) {
+            const std::string at = where + ".params[" + std::to_string(j) + "]";
             e.params.emplace_back();
-            if (!read_param((*params)[j], where + ".params[" + std::to_string(j) + "]", &e.params.back(), err))
-                return false;
+            if (!read_param((*params)[j], at, &e.params.back(), err)) return false;
+            for (size_t k = 0; k + 1 < e.params.size(); ++k)
+                if (e.params[k].name == e.params.back().name)
+                    return *err = at + ": parameter '" + e.params[k].name + "' listed twice", false;
         }
+        // A default taken from another parameter names an earlier colour one (bind_spec sets
+        // those first).
+        for (size_t j = 0; j < e.params.size(); ++j) {
+            const ParamDef& d = e.params[j];
+            if (d.default_from.empty()) continue;
+            const auto from = std::find_if(e.params.begin(), e.params.end(),
+                                           [&](const ParamDef& o) { return o.name == d.default_from; });
+            if (from == e.params.end() || from->kind != ParamKind::kColour || !from->default_from.empty() ||
+                d.kind != ParamKind::kColour)
+                return *err = where + ".params[" + std::to_string(j) + "].default_from: '" + d.default_from +
+                              "' is not a colour parameter of this model with its own default",
+                       false;
+        }
+        for (size_t k = 0; k < i; ++k)
+            if (entries[k].name == e.name) return *err = where + ": model '" + e.name + "' listed twice", false;
         for (size_t j = 0; repeated && j < repeated->size(); ++j) {
             if (!(*repeated)[j].is_string()) return *err = where + ".repeated: not a list of names", false;
             e.repeated.push_back((*repeated)[j].get<std::string>());

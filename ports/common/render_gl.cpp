@@ -126,11 +126,20 @@ bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const
     sepal_headless_context* ctx = options.context;
     if (ctx) {
         if (sepal_headless_width(ctx) != setup.width || sepal_headless_height(ctx) != setup.height ||
-            !sepal_headless_make_current(ctx)) {
-            *err = "the context given is not the scene's size (" + std::to_string(sepal_headless_width(ctx)) + "x" +
-                   std::to_string(sepal_headless_height(ctx)) + ") or cannot be made current";
+            sepal_headless_gles_version(ctx) != options.gles_version) {
+            *err = "the context given is " + std::to_string(sepal_headless_width(ctx)) + "x" +
+                   std::to_string(sepal_headless_height(ctx)) + " GL ES " +
+                   std::to_string(sepal_headless_gles_version(ctx)) + ", not the scene's " +
+                   std::to_string(setup.width) + "x" + std::to_string(setup.height) + " GL ES " +
+                   std::to_string(options.gles_version);
             return false;
         }
+        if (!sepal_headless_make_current(ctx)) {
+            *err = "the context given cannot be made current";
+            return false;
+        }
+        while (glGetError() != GL_NO_ERROR) {
+        }  // an earlier render's error flags are not this one's
     } else {
         sepal_headless_desc hd = {};
         hd.width = setup.width;

@@ -16,6 +16,7 @@ struct sepal_headless_context {
     EGLSurface surface;
     EGLContext context;
     int width, height;
+    int gles_version;  // as requested: 1 or 2
     char description[512];
 };
 
@@ -142,6 +143,7 @@ extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_de
     c->context = context;
     c->width = d.width;
     c->height = d.height;
+    c->gles_version = d.gles_version;
     const char* renderer = (const char*)glGetString(GL_RENDERER);
     const char* version = (const char*)glGetString(GL_VERSION);
     snprintf(c->description, sizeof c->description, "EGL %s (%s) | %s | %s", platform,
@@ -166,6 +168,7 @@ extern "C" int sepal_headless_read_rgba(sepal_headless_context* c, uint8_t* out)
 
 extern "C" int sepal_headless_width(const sepal_headless_context* c) { return c ? c->width : 0; }
 extern "C" int sepal_headless_height(const sepal_headless_context* c) { return c ? c->height : 0; }
+extern "C" int sepal_headless_gles_version(const sepal_headless_context* c) { return c ? c->gles_version : 0; }
 extern "C" const char* sepal_headless_describe(const sepal_headless_context* c) { return c ? c->description : ""; }
 
 extern "C" void sepal_headless_destroy(sepal_headless_context* c) {

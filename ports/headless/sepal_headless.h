@@ -42,6 +42,8 @@ int sepal_headless_make_current(sepal_headless_context* c);
 int sepal_headless_read_rgba(sepal_headless_context* c, uint8_t* out);
 int sepal_headless_width(const sepal_headless_context* c);
 int sepal_headless_height(const sepal_headless_context* c);
+// The GL ES version the context was made for: 1 or 2.
+int sepal_headless_gles_version(const sepal_headless_context* c);
 // Human-readable description: platform, EGL vendor, GL renderer and version.
 const char* sepal_headless_describe(const sepal_headless_context* c);
 void sepal_headless_destroy(sepal_headless_context* c);

@@ -34,8 +34,8 @@ void setup_one(int i, sepal_param param, sepal_hemi_map map, const sepal_mesh& m
                 x[0] = x[1] = 0.5f;
             }
             light_cosine(scratch, n, l)[i] = 0.0f;
-            view_cosine(scratch, n, scene.light_count)[i] = 0.0f;
         }
+        view_cosine(scratch, n, scene.light_count)[i] = 0.0f;
         return;
     }
     ShadingFrame fr;
@@ -172,23 +172,22 @@ void batch_frames(Batch& B, int m, const float eye[3]) {
     }
 }
 
-template <sepal_hemi_map M>
-inline void map_uv(float a0, float a1, float a2, float* u, float* v) {
-    if (M == SEPAL_MAP_XY) {
-        *u = 0.5f * (a0 + 1.0f);
-        *v = 0.5f * (a1 + 1.0f);
-    } else {
-        float d = 1.0f + a2;
-        d = d < 1e-4f ? 1e-4f : d;
-        *u = 0.5f * (a0 / d + 1.0f);
-        *v = 0.5f * (a1 / d + 1.0f);
-    }
+// map() of param.cpp for both maps without a branch: d is the parabolic map's divisor or 1
+// (pm = 1, om = 0 for parabolic, the other way round for xy; pm d + om is d or 1 exactly for
+// a finite d, and x / 1 is x), so one loop serves both maps. (A select on `parabolic` itself
+// would not vectorize: GCC 12 makes no lane mask of a scalar condition.)
+inline void map_uv(float pm, float om, float a0, float a1, float a2, float* u, float* v) {
+    float d = 1.0f + a2;
+    d = d < 1e-4f ? 1e-4f : d;
+    d = pm * d + om;
+    *u = 0.5f * (a0 / d + 1.0f);
+    *v = 0.5f * (a1 / d + 1.0f);
 }
 
 // One light over lanes [0, m): param_texcoords (iv, vh or gs-half), cos(theta_i) and E,
 // as setup_one computes them.
-template <sepal_param P, sepal_hemi_map M>
-void batch_light(Batch& B, int m, const sepal_light& light) {
+template <sepal_param P>
+void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
     // light_direction without a branch: a directional light's direction is the same for every
     // vertex (normalized once; x - 0 and x * 1 are exact), a point light's is normalized here.
     const bool point = light.type == SEPAL_LIGHT_POINT;
@@ -196,6 +195,7 @@ void batch_light(Batch& B, int m, const sepal_light& light) {
     if (!point) normalize3(dir);
     const float d0 = dir[0], d1 = dir[1], d2_ = dir[2], at = point ? 1.0f : 0.0f;
     const float I0 = light.intensity[0], I1 = light.intensity[1], I2 = light.intensity[2];
+    const float pm = parabolic ? 1.0f : 0.0f, om = 1.0f - pm;
     for (int j = 0; j < m; ++j) {
         float l0 = d0 - at * B.px[j], l1 = d1 - at * B.py[j], l2 = d2_ - at * B.pz[j];
         const float d2 = l0 * l0 + l1 * l1 + l2 * l2;
@@ -212,8 +212,8 @@ void batch_light(Batch& B, int m, const sepal_light& light) {
         const float wo0 = B.wox[j], wo1 = B.woy[j], wo2 = B.woz[j];
         const bool above = (wi2 > 0.0f) & (wo2 > 0.0f);
         if (P == SEPAL_PARAM_IV) {
-            map_uv<M>(wi0, wi1, wi2, &B.gu[j], &B.gv[j]);
-            map_uv<M>(wo0, wo1, wo2, &B.hu[j], &B.hv[j]);
+            map_uv(pm, om, wi0, wi1, wi2, &B.gu[j], &B.gv[j]);
+            map_uv(pm, om, wo0, wo1, wo2, &B.hu[j], &B.hv[j]);
         } else {
             float h0 = wi0 + wo0, h1 = wi1 + wo1, h2 = wi2 + wo2;
             const float lh = sqrtf(h0 * h0 + h1 * h1 + h2 * h2);
@@ -221,16 +221,16 @@ void batch_light(Batch& B, int m, const sepal_light& light) {
             h0 *= ih, h1 *= ih, h2 *= ih;
             ok = ok & (lh > 1e-12f) & finite(lh);
             if (P == SEPAL_PARAM_VH) {
-                map_uv<M>(wo0, wo1, wo2, &B.gu[j], &B.gv[j]);
-                map_uv<M>(h0, h1, h2, &B.hu[j], &B.hv[j]);
+                map_uv(pm, om, wo0, wo1, wo2, &B.gu[j], &B.gv[j]);
+                map_uv(pm, om, h0, h1, h2, &B.hu[j], &B.hv[j]);
             } else {  // gs-half: param.cpp's Kautz-McCool frame
-                map_uv<M>(h0, h1, h2, &B.gu[j], &B.gv[j]);
+                map_uv(pm, om, h0, h1, h2, &B.gu[j], &B.gv[j]);
                 float p0 = h1 * h1 + h2 * h2, p1 = -h0 * h1, p2 = -h0 * h2;
                 ok = ok & (p0 > kGsMin2);
                 const float ip = 1.0f / sqrtf(p0 * p0 + p1 * p1 + p2 * p2);
                 p0 *= ip, p1 *= ip, p2 *= ip;
                 const float q0 = h1 * p2 - h2 * p1, q1 = h2 * p0 - h0 * p2, q2 = h0 * p1 - h1 * p0;
-                map_uv<M>(wi0 * p0 + wi1 * p1 + wi2 * p2, wi0 * q0 + wi1 * q1 + wi2 * q2,
+                map_uv(pm, om, wi0 * p0 + wi1 * p1 + wi2 * p2, wi0 * q0 + wi1 * q1 + wi2 * q2,
                           wi0 * h0 + wi1 * h1 + wi2 * h2, &B.hu[j], &B.hv[j]);
             }
         }
@@ -258,9 +258,10 @@ void batch_light(Batch& B, int m, const sepal_light& light) {
     }
 }
 
-template <sepal_param P, sepal_hemi_map M>
-void setup_batched(const sepal_mesh& mesh, const sepal_scene& scene, float* scratch, VertexSetupResult& r,
-                   Batch& B) {
+using BatchLight = void (*)(Batch& B, int m, const sepal_light& light, bool parabolic);
+
+void setup_batched(BatchLight batch_light, sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+                   const sepal_scene& scene, float* scratch, VertexSetupResult& r, Batch& B) {
     const int n = mesh.vertex_count, lights = scene.light_count;
     float* frames = vertex_frames(scratch, n, lights);
     float* view = view_cosine(scratch, n, lights);
@@ -281,7 +282,7 @@ void setup_batched(const sepal_mesh& mesh, const sepal_scene& scene, float* scra
             view[b + j] = B.woz[j] > 0.0f ? B.woz[j] : 0.0f;
         }
         for (int l = 0; l < lights; ++l) {
-            batch_light<P, M>(B, m, scene.lights[l]);
+            batch_light(B, m, scene.lights[l], map == SEPAL_MAP_PARABOLIC);
             float* g = light_g_uv(scratch, n, l) + 2 * (size_t)b;
             float* h = light_h_uv(scratch, n, l) + 2 * (size_t)b;
             float* e = light_irradiance(scratch, n, l) + 3 * (size_t)b;
@@ -295,7 +296,7 @@ void setup_batched(const sepal_mesh& mesh, const sepal_scene& scene, float* scra
         }
         for (int j = 0; j < m; ++j) {
             if (B.slow[j]) {
-                setup_one(b + j, P, M, mesh, scene, scratch, false, r);
+                setup_one(b + j, param, map, mesh, scene, scratch, false, r);
                 continue;
             }
             r.below_horizon += B.below[j];
@@ -313,19 +314,12 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
                                  const sepal_scene& scene, float* scratch, bool swapped) {
     VertexSetupResult r = {0.0f, 0.0f, 0.0f, 0.0f, 0, 0, 0, 0, 0};
     Batch batch;
-    const bool xy = map == SEPAL_MAP_XY, parabolic = map == SEPAL_MAP_PARABOLIC;
-    if (!swapped && param == SEPAL_PARAM_GS_HALF && xy)
-        setup_batched<SEPAL_PARAM_GS_HALF, SEPAL_MAP_XY>(mesh, scene, scratch, r, batch);
-    else if (!swapped && param == SEPAL_PARAM_GS_HALF && parabolic)
-        setup_batched<SEPAL_PARAM_GS_HALF, SEPAL_MAP_PARABOLIC>(mesh, scene, scratch, r, batch);
-    else if (!swapped && param == SEPAL_PARAM_VH && xy)
-        setup_batched<SEPAL_PARAM_VH, SEPAL_MAP_XY>(mesh, scene, scratch, r, batch);
-    else if (!swapped && param == SEPAL_PARAM_VH && parabolic)
-        setup_batched<SEPAL_PARAM_VH, SEPAL_MAP_PARABOLIC>(mesh, scene, scratch, r, batch);
-    else if (!swapped && param == SEPAL_PARAM_IV && xy)
-        setup_batched<SEPAL_PARAM_IV, SEPAL_MAP_XY>(mesh, scene, scratch, r, batch);
-    else if (!swapped && param == SEPAL_PARAM_IV && parabolic)
-        setup_batched<SEPAL_PARAM_IV, SEPAL_MAP_PARABOLIC>(mesh, scene, scratch, r, batch);
+    const BatchLight batch_light = param == SEPAL_PARAM_GS_HALF ? batch_light_of<SEPAL_PARAM_GS_HALF>
+                                   : param == SEPAL_PARAM_VH    ? batch_light_of<SEPAL_PARAM_VH>
+                                   : param == SEPAL_PARAM_IV    ? batch_light_of<SEPAL_PARAM_IV>
+                                                                : nullptr;
+    if (batch_light && !swapped && (map == SEPAL_MAP_XY || map == SEPAL_MAP_PARABOLIC))
+        setup_batched(batch_light, param, map, mesh, scene, scratch, r, batch);
     else
         for (int i = 0; i < mesh.vertex_count; ++i) setup_one(i, param, map, mesh, scene, scratch, swapped, r);
     return r;

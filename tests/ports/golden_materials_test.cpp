@@ -215,7 +215,14 @@ TEST_CASE("a context kept across renders draws what a fresh one does (the sweeps
         std::vector<uint8_t> rgba;
         std::string err;
         CHECK_FALSE(sepal_ports::render_asset_headless(ward.bytes.data(), ward.bytes.size(), small, opt, &rgba, &info, &err));
-        CHECK(err.find("not the scene's size (128x128)") != std::string::npos);
+        CHECK(err == std::string("the context given is 128x128 GL ES ") + std::to_string(opt.gles_version) +
+                         ", not the scene's 64x64 GL ES " + std::to_string(opt.gles_version));
+        // Nor is a context of the other GL ES version.
+        sepal_ports::GlRenderOptions other_version = opt;
+        other_version.gles_version = 3 - opt.gles_version;
+        CHECK_FALSE(sepal_ports::render_asset_headless(ward.bytes.data(), ward.bytes.size(), ward.scene, other_version,
+                                                       &rgba, &info, &err));
+        CHECK(err.find("not the scene's 128x128 GL ES " + std::to_string(3 - opt.gles_version)) != std::string::npos);
         sepal_headless_destroy(ctx);
     }
 }

@@ -159,6 +159,11 @@ TEST_CASE("brdf models.json: every entry has code, every model an entry, and a b
         {"a colour default out of range", "[0.12, 0.22, 0.48]", "[0.12, 2.22, 0.48]",
          "models[6].params[1].default: outside min..max"},
         {"not JSON", "\"models\": [", "\"models\" [", "brdf/models.json: line"},
+        {"a default taken from nowhere", "\"default_from\": \"Rd\"", "\"default_from\": \"Rs\"",
+         "models[6].params[3].default_from: 'Rs' is not a colour parameter of this model"},
+        {"a parameter listed twice", "{\"name\": \"n\", \"kind\": \"scalar\", \"default\": 30",
+         "{\"name\": \"rho_d\", \"kind\": \"scalar\", \"default\": 30", "models[1].params[2]: parameter 'rho_d' listed twice"},
+        {"a model listed twice", "\"name\": \"blinn\"", "\"name\": \"phong\"", "models[2]: model 'phong' listed twice"},
     };
     for (const Broken& b : cases) {
         CAPTURE(b.what);
