@@ -128,6 +128,12 @@ struct Batch {
 
 inline bool finite(float x) { return fabsf(x) <= FLT_MAX; }  // isfinite as a compare (vectorizes)
 
+// The conditions below are combined with & on purpose: && would branch, and a loop with
+// branches does not vectorize. clang warns about & between booleans with a call on one side.
+#ifdef __clang__
+#pragma clang diagnostic ignored "-Wbitwise-instead-of-logical"
+#endif
+
 // Frames, wo and cos(theta_o) of lanes [0, m); marks the lanes setup_one must redo.
 void batch_frames(Batch& B, int m, const float eye[3]) {
     const float ex = eye[0], ey = eye[1], ez = eye[2];  // locals: no aliasing with B to rule out
