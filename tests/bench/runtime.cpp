@@ -110,69 +110,33 @@ double fill_limit_ms(int passes, GLuint texture, int frames, int warmup = 2) {
     return median(times);
 }
 
-// The mesh limit: `passes` bare textured draws of the scene's mesh (the same vertices and
-// covered pixels as the frame, back faces culled, additively blended, texture coordinates
-// from the mesh's UVs): what the GPU must spend on these passes with no per-frame CPU work,
-// no colour arrays and no depth pre-pass.
-double mesh_limit_ms(int passes, GLuint texture, const sepal_ports::SceneSetup& s, int frames, int warmup = 2) {
+// `passes` draws of the scene's mesh with no per-frame CPU work (arrays set once, texture
+// coordinates from the mesh's UVs), back faces culled, additively blended:
+// - the mesh limit (as_plan false): bare single-textured draws, no colour array, no depth;
+// - the pass limit (as_plan true): the draws as the plan's passes make the GPU work, both
+//   texture units sampled and modulated with a per-vertex colour, depth-tested against a
+//   cleared depth buffer: the frame's floor, without its set-up, colours and state changes.
+double mesh_passes_ms(bool as_plan, int passes, GLuint texture, const sepal_ports::SceneSetup& s, int frames,
+                      int warmup = 2) {
     float view[16], proj[16];
     sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
+    const std::vector<float> colours(as_plan ? 4 * size_t(s.mesh.vertex_count) : 0, 0.25f);
     glMatrixMode(GL_PROJECTION);
     glLoadMatrixf(proj);
     glMatrixMode(GL_MODELVIEW);
     glLoadMatrixf(view);
     glEnableClientState(GL_VERTEX_ARRAY);
-    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
     glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].position);
-    glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].uv);
-    glEnable(GL_TEXTURE_2D);
-    glBindTexture(GL_TEXTURE_2D, texture);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    std::vector<double> times;
-    for (int f = 0; f < frames + warmup; ++f) {
-        const auto t = Clock::now();
-        glClear(GL_COLOR_BUFFER_BIT);
-        for (int p = 0; p < passes; ++p)
-            glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
-        glFinish();
-        if (f >= warmup) times.push_back(ms_since(t));
+    if (as_plan) {
+        glEnableClientState(GL_COLOR_ARRAY);
+        glColorPointer(4, GL_FLOAT, 0, colours.data());
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
     }
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_TEXTURE_2D);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
-    return median(times);
-}
-
-// The pass limit: `passes` draws of the scene's mesh as the plan's passes draw it on the GPU,
-// both texture units sampled and modulated with a per-vertex colour, depth-tested against a
-// cleared depth buffer, additively blended, back faces culled; its arrays (texture coordinates
-// from the mesh's UVs, one colour for all vertices) are set once. What the frame's passes
-// cost the GPU with nothing of the per-frame CPU work, state changes or texture coordinates
-// of the lights: the frame's floor.
-double pass_limit_ms(int passes, GLuint texture, const sepal_ports::SceneSetup& s, int frames, int warmup = 2) {
-    float view[16], proj[16];
-    sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
-    const std::vector<float> colours(4 * size_t(s.mesh.vertex_count), 0.25f);
-    glMatrixMode(GL_PROJECTION);
-    glLoadMatrixf(proj);
-    glMatrixMode(GL_MODELVIEW);
-    glLoadMatrixf(view);
-    glEnableClientState(GL_VERTEX_ARRAY);
-    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].position);
-    glEnableClientState(GL_COLOR_ARRAY);
-    glColorPointer(4, GL_FLOAT, 0, colours.data());
-    for (GLenum unit : {GL_TEXTURE0, GL_TEXTURE1}) {
-        glActiveTexture(unit);
-        glClientActiveTexture(unit);
+    const int units = as_plan ? 2 : 1;
+    for (int u = 0; u < units; ++u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
         glEnable(GL_TEXTURE_2D);
         glBindTexture(GL_TEXTURE_2D, texture);
         glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
@@ -183,23 +147,21 @@ double pass_limit_ms(int passes, GLuint texture, const sepal_ports::SceneSetup& 
     glBlendFunc(GL_ONE, GL_ONE);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LEQUAL);
     std::vector<double> times;
     for (int f = 0; f < frames + warmup; ++f) {
         const auto t = Clock::now();
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glClear(as_plan ? GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT);
         for (int p = 0; p < passes; ++p)
             glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
         glFinish();
         if (f >= warmup) times.push_back(ms_since(t));
     }
-    glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    for (GLenum unit : {GL_TEXTURE1, GL_TEXTURE0}) {
-        glActiveTexture(unit);
-        glClientActiveTexture(unit);
+    glDisable(GL_DEPTH_TEST);
+    for (int u = units - 1; u >= 0; --u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
         glDisable(GL_TEXTURE_2D);
         glDisableClientState(GL_TEXTURE_COORD_ARRAY);
     }
@@ -377,8 +339,8 @@ int main(int argc, char** argv) {
             glFinish();
             int passes = stats.draw_calls + stats.fullscreen_passes;
             fill_limit_ms(passes, mat->gl_textures[0], 0);  // their warm-up
-            mesh_limit_ms(passes, mat->gl_textures[0], s, 0);
-            pass_limit_ms(passes, mat->gl_textures[0], s, 0);
+            mesh_passes_ms(false, passes, mat->gl_textures[0], s, 0);
+            mesh_passes_ms(true, passes, mat->gl_textures[0], s, 0);
             for (int r = 0; r < rounds; ++r) {
                 const auto t = Clock::now();
                 if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
@@ -389,8 +351,8 @@ int main(int argc, char** argv) {
                 times.push_back(ms_since(t));
                 passes = stats.draw_calls + stats.fullscreen_passes;
                 fills.push_back(fill_limit_ms(passes, mat->gl_textures[0], 1, 0));
-                meshes.push_back(mesh_limit_ms(passes, mat->gl_textures[0], s, 1, 0));
-                pass_floor.push_back(pass_limit_ms(passes, mat->gl_textures[0], s, 1, 0));
+                meshes.push_back(mesh_passes_ms(false, passes, mat->gl_textures[0], s, 1, 0));
+                pass_floor.push_back(mesh_passes_ms(true, passes, mat->gl_textures[0], s, 1, 0));
             }
             const double ms = median(times), fill = median(fills), mesh = median(meshes), pass = median(pass_floor);
             // The frame's CPU set-up (frames, directions, coordinates, irradiance of every
