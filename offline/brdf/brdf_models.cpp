@@ -83,8 +83,8 @@ bool read_model_table(const char* json, std::vector<ModelEntry>* out, std::strin
                 if (e.params[k].name == e.params.back().name)
                     return *err = at + ": parameter '" + e.params[k].name + "' listed twice", false;
         }
-        // A default taken from another parameter names an earlier colour one (bind_spec sets
-        // those first).
+        // A default taken from another parameter names a colour one of this model with a default
+        // of its own (bind_spec sets the plain defaults first, then these from them).
         for (size_t j = 0; j < e.params.size(); ++j) {
             const ParamDef& d = e.params[j];
             if (d.default_from.empty()) continue;

@@ -138,8 +138,10 @@ bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const
             *err = "the context given cannot be made current";
             return false;
         }
-        while (glGetError() != GL_NO_ERROR) {
-        }  // an earlier render's error flags are not this one's
+        // An earlier render's error flags are not this one's. Bounded: GL keeps one flag per
+        // error kind, and a lost context may report an error on every call.
+        for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i) {
+        }
     } else {
         sepal_headless_desc hd = {};
         hd.width = setup.width;

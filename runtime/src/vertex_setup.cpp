@@ -140,7 +140,6 @@ void batch_frames(Batch& B, int m, const float eye[3]) {
     for (int j = 0; j < m; ++j) {
         // vertex_usable, then shading_frame's Gram-Schmidt (normalize3: sqrt, one divide).
         const float nn = B.nx[j] * B.nx[j] + B.ny[j] * B.ny[j] + B.nz[j] * B.nz[j];
-        // & rather than &&, here and below: no branches in the loop, so that it vectorizes.
         const bool usable = finite(B.px[j]) & finite(B.py[j]) & finite(B.pz[j]) & finite(B.nx[j]) &
                             finite(B.ny[j]) & finite(B.nz[j]) & (nn > 1e-30f);
         const float ln = sqrtf(nn);
