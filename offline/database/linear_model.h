@@ -55,7 +55,8 @@ struct ResidualModel {
     double n_used = 0, floor = 0, grid_mean = 0;
 };
 ResidualModel residual_model(const BrdfDatabase& db, const std::vector<uint8_t>& use);
-double row_sigma2(const BrdfDatabase& db, const ResidualModel& m, size_t row);
+// sigma^2 of each of `rows` (pool or grid row indices), in one matrix product per block.
+std::vector<double> row_sigma2(const BrdfDatabase& db, const ResidualModel& m, const std::vector<size_t>& rows);
 // The floor of any reconstruction from the database: for each material (in `use`), the
 // relative RMS over the whole grid of its best least-squares fit by the other materials
 // (the residual model's r_j; 0 for materials not in use).

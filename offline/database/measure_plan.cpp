@@ -76,10 +76,16 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
     }
     // Rows scaled by 1/sigma of the residual model: the system the fit solves.
     const ResidualModel rm = residual_model(db, o.use);
+    std::vector<double> sigma2;
+    if (o.weighted) {
+        std::vector<size_t> grid_rows(M);
+        for (size_t i = 0; i < M; ++i) grid_rows[i] = db.pool_row_index(cand[i]);
+        sigma2 = row_sigma2(db, rm, grid_rows);
+    }
     MatrixXd pool(Index(M), K);
     for (size_t i = 0; i < M; ++i) {
         const float* r = db.pool_row(cand[i]);
-        const double w = o.weighted ? 1.0 / std::sqrt(row_sigma2(db, rm, db.pool_row_index(cand[i]))) : 1.0;
+        const double w = o.weighted ? 1.0 / std::sqrt(sigma2[i]) : 1.0;
         for (int j = 0; j < K; ++j)
             pool(Index(i), j) = double(r[cols[size_t(j)]]) * scale[size_t(j)] * w;
     }

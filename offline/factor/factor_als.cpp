@@ -89,7 +89,7 @@ struct Scratch {
     std::vector<double> cp, bp;  // sized once for a full chunk, viewed by Maps
 };
 
-// All normal equations of one side in two matrix products per chunk of 32 rows (or
+// All normal equations of one side in two matrix products per chunk of 256 rows (or
 // columns), so the work runs at GEMM speed: with P[c][ab] = h_c[a] h_c[b] (a >= b),
 //   C_r[a][b] = sum_c w_rc P[c][ab]   ->  C = W P,      b_r = (W.M) H.
 void build_normals(const Weighted& wt, int side, const std::vector<double>& other, int k,
@@ -105,7 +105,9 @@ void build_normals(const Weighted& wt, int side, const std::vector<double>& othe
     for (int c = 0; c < n_other; ++c)
         for (int a = 0, q = 0; a < k; ++a)
             for (int bb = 0; bb <= a; ++bb, ++q) p(c, q) = o(c, a) * o(c, bb);
-    const int step = 32;
+    // Chunks of 256 lines: each chunk's product packs all of p (n_other x kk) again, which
+    // at 32 lines took as long as the multiply-adds (IST's 96 x 96 decompositions).
+    const int step = 256;
     const size_t chunks = size_t((n + step - 1) / step);
     scratch->resize(size_t(workers(chunks, threads)));
     parallel_for_workers(chunks, threads, [&](size_t chunk, int worker) {
