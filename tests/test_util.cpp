@@ -9,6 +9,7 @@
 #include "headless/sepal_headless.h"
 #include "util/io.h"
 
+#include <EGL/egl.h>
 #include <GLES2/gl2.h>
 
 namespace sepal_test {
@@ -83,6 +84,20 @@ std::string check_golden(const std::string& name, const sepal::Image& actual,
 
 const std::string& gl_renderer() {
     static const std::string renderer = [] {
+        // The probe's context replaces the caller's as current: put the caller's back, or a
+        // test whose first golden check comes between two draws loses its context (the caps
+        // test, run alone, did).
+        const EGLDisplay dpy = eglGetCurrentDisplay();
+        const EGLContext ctx = eglGetCurrentContext();
+        const EGLSurface draw = eglGetCurrentSurface(EGL_DRAW), read = eglGetCurrentSurface(EGL_READ);
+        struct Restore {
+            EGLDisplay dpy;
+            EGLContext ctx;
+            EGLSurface draw, read;
+            ~Restore() {
+                if (ctx != EGL_NO_CONTEXT) eglMakeCurrent(dpy, draw, read, ctx);
+            }
+        } restore{dpy, ctx, draw, read};
         sepal_headless_desc d = {};
         d.width = d.height = 4;
         char err[512];

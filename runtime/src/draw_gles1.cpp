@@ -8,6 +8,7 @@
 #include "sepal/sepal_material.h"
 #include "draw_internal.h"
 #include "gles1_util.h"
+#include "gl_clear.h"
 #include "vertex_setup.h"
 
 namespace {
@@ -311,8 +312,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
                prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, false, {}};
     glViewport(0, 0, d->width, d->height);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    clear_frame(0, 0, 0, 0);
     glMatrixMode(GL_PROJECTION);
     glLoadMatrixf(proj);
     glMatrixMode(GL_MODELVIEW);

@@ -5,6 +5,7 @@
 
 #include "draw_internal.h"
 #include "gles2_util.h"
+#include "gl_clear.h"
 
 namespace {
 
@@ -403,8 +404,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
     }
     glViewport(0, 0, d->width, d->height);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    clear_frame(0, 0, 0, 0);
     glDisable(GL_DITHER);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);

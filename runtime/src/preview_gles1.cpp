@@ -1,5 +1,6 @@
 // Preview on GL ES 1.1 fixed function: glLight Gouraud shading x texture (GL_MODULATE).
 #include <GLES/gl.h>
+#include "gl_clear.h"
 
 #include "preview.h"
 
@@ -7,8 +8,7 @@ namespace srt {
 
 sepal_result preview_gles1(const sepal_caps&, const sepal_preview_desc& d, const float light[3],
                          sepal_error* err) {
-    glClearColor(d.clear_color[0], d.clear_color[1], d.clear_color[2], d.clear_color[3]);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    clear_frame(d.clear_color[0], d.clear_color[1], d.clear_color[2], d.clear_color[3]);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
 

@@ -1,5 +1,6 @@
 // Preview on GL ES 2: shaders/preview.{vert,frag}, the same maths as the GL ES 1.1 path.
 #include "gles2_util.h"
+#include "gl_clear.h"
 #include "preview.h"
 
 namespace {
@@ -19,8 +20,7 @@ sepal_result preview_gles2(const sepal_caps&, const sepal_preview_desc& d, const
     // Compiled per call: the preview draws a handful of frames; asset paths compile once.
     const GLuint program = gles2_program("preview", kVertex, kFragment, kAttributes, err);
     if (!program) return err ? err->code : SEPAL_ERR_GL;
-    glClearColor(d.clear_color[0], d.clear_color[1], d.clear_color[2], d.clear_color[3]);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    clear_frame(d.clear_color[0], d.clear_color[1], d.clear_color[2], d.clear_color[3]);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
     glUseProgram(program);

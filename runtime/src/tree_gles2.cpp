@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "gles2_util.h"
+#include "gl_clear.h"
 #include "tree_internal.h"
 
 namespace {
@@ -196,8 +197,7 @@ sepal_result tree_draw_fused_gles2(const sepal_tree_draw_desc* d, sepal_draw_sta
             mvp[c * 4 + row] = s;
         }
     glViewport(0, 0, d->width, d->height);
-    glClearColor(scene.background[0], scene.background[1], scene.background[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    clear_frame(scene.background[0], scene.background[1], scene.background[2], 1.0f);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);

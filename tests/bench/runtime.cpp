@@ -110,14 +110,43 @@ double fill_limit_ms(int passes, GLuint texture, int frames, int warmup = 2) {
     return median(times);
 }
 
-// `passes` draws of the scene's mesh with no per-frame CPU work (arrays set once, texture
-// coordinates from the mesh's UVs), back faces culled, additively blended:
-// - the mesh limit (as_plan false): bare single-textured draws, no colour array, no depth;
-// - the pass limit (as_plan true): the draws as the plan's passes make the GPU work, both
-//   texture units sampled and modulated with a per-vertex colour, depth-tested against a
-//   cleared depth buffer: the frame's floor, without its set-up, colours and state changes.
-double mesh_passes_ms(bool as_plan, int passes, GLuint texture, const sepal_ports::SceneSetup& s, int frames,
-                      int warmup = 2) {
+// One plan pass as the GPU draws it: its two factor textures at the coordinates the frame's
+// set-up computed (left in the draw's scratch).
+struct PassDraw {
+    GLuint texture[2];
+    const float* uv[2];
+};
+
+// The frame's passes (plan passes x lights) as PassDraws, from the scratch of the last draw.
+std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc& d) {
+    std::vector<PassDraw> out;
+    const int n = d.mesh->vertex_count;
+    for (uint32_t p = 0; p < m.plan.pass_count; ++p)
+        for (int l = 0; l < d.scene->light_count; ++l) {
+            PassDraw pd = {};  // a unit without a factor: texture 0, no coordinates read
+            const uint16_t tex[2] = {m.passes[p].tex0, m.passes[p].tex1};
+            for (int u = 0; u < srt::pass_texture_count(m.passes[p]) && u < 2; ++u) {
+                pd.texture[u] = m.gl_textures[tex[u]];
+                pd.uv[u] = m.texture_role[tex[u]] == SEPAL_ROLE_G ? srt::light_g_uv(d.scratch, n, l)
+                                                                  : srt::light_h_uv(d.scratch, n, l);
+            }
+            out.push_back(pd);
+        }
+    return out;
+}
+
+// `passes` draws of the scene's mesh with no per-frame CPU work (arrays set once), back faces
+// culled, additively blended:
+// - the mesh limit (draws null): bare single-textured draws at the mesh's UVs, no colour
+//   array, no depth;
+// - the pass limit (draws given): the frame's passes as the GPU draws them, each with its two
+//   factor textures at the set-up's coordinates, modulated with a per-vertex colour,
+//   depth-tested against a cleared depth buffer: the frame's floor, without its set-up,
+//   colours and state changes. (Until 2026-11-27 it sampled one texture twice at the mesh's
+//   UVs: the same texel on both units, less texture traffic than the frame's.)
+double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint texture, const sepal_ports::SceneSetup& s,
+                      int frames, int warmup = 2) {
+    const bool as_plan = draws != nullptr;
     float view[16], proj[16];
     sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
     const std::vector<float> colours(as_plan ? 4 * size_t(s.mesh.vertex_count) : 0, 0.25f);
@@ -151,8 +180,19 @@ double mesh_passes_ms(bool as_plan, int passes, GLuint texture, const sepal_port
     for (int f = 0; f < frames + warmup; ++f) {
         const auto t = Clock::now();
         glClear(as_plan ? GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT);
-        for (int p = 0; p < passes; ++p)
+        for (int p = 0; p < passes; ++p) {
+            if (as_plan) {
+                const PassDraw& pd = (*draws)[size_t(p) % draws->size()];
+                for (int u = 0; u < 2; ++u) {
+                    glActiveTexture(GL_TEXTURE0 + u);
+                    glClientActiveTexture(GL_TEXTURE0 + u);
+                    glBindTexture(GL_TEXTURE_2D, pd.texture[u]);
+                    if (pd.uv[u]) glTexCoordPointer(2, GL_FLOAT, 0, pd.uv[u]);
+                    else glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].uv);
+                }
+            }
             glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
+        }
         glFinish();
         if (f >= warmup) times.push_back(ms_since(t));
     }
@@ -339,8 +379,9 @@ int main(int argc, char** argv) {
             glFinish();
             int passes = stats.draw_calls + stats.fullscreen_passes;
             fill_limit_ms(passes, mat->gl_textures[0], 0);  // their warm-up
-            mesh_passes_ms(false, passes, mat->gl_textures[0], s, 0);
-            mesh_passes_ms(true, passes, mat->gl_textures[0], s, 0);
+            const std::vector<PassDraw> draws = plan_draws(*mat, d);
+            mesh_passes_ms(nullptr, passes, mat->gl_textures[0], s, 0);
+            mesh_passes_ms(&draws, passes, mat->gl_textures[0], s, 0);
             for (int r = 0; r < rounds; ++r) {
                 const auto t = Clock::now();
                 if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
@@ -351,8 +392,8 @@ int main(int argc, char** argv) {
                 times.push_back(ms_since(t));
                 passes = stats.draw_calls + stats.fullscreen_passes;
                 fills.push_back(fill_limit_ms(passes, mat->gl_textures[0], 1, 0));
-                meshes.push_back(mesh_passes_ms(false, passes, mat->gl_textures[0], s, 1, 0));
-                pass_floor.push_back(mesh_passes_ms(true, passes, mat->gl_textures[0], s, 1, 0));
+                meshes.push_back(mesh_passes_ms(nullptr, passes, mat->gl_textures[0], s, 1, 0));
+                pass_floor.push_back(mesh_passes_ms(&draws, passes, mat->gl_textures[0], s, 1, 0));
             }
             const double ms = median(times), fill = median(fills), mesh = median(meshes), pass = median(pass_floor);
             // The frame's CPU set-up (frames, directions, coordinates, irradiance of every

@@ -61,9 +61,10 @@ TEST_CASE("caps: detected per GL ES version, and every mask bit hides its capabi
         CHECK(bool(caps.blend_equation) == subtract);  // found through the port's loader
         CHECK(caps.has_fbo == 1);
         sepal_caps masked;
-        REQUIRE(sepal_query_caps(version, SEPAL_MASK_BLEND_SUBTRACT | SEPAL_MASK_MULTITEXTURE | SEPAL_MASK_FBO |
-                                   SEPAL_MASK_NPOT, sepal_headless_get_proc_address,
-                               &masked, &err) == SEPAL_OK);
+        REQUIRE_MESSAGE(sepal_query_caps(version, SEPAL_MASK_BLEND_SUBTRACT | SEPAL_MASK_MULTITEXTURE | SEPAL_MASK_FBO |
+                                           SEPAL_MASK_NPOT, sepal_headless_get_proc_address,
+                                       &masked, &err) == SEPAL_OK,
+                        err.message);
         CHECK(masked.texture_units == 1);
         CHECK(masked.has_blend_subtract == 0);
         CHECK_FALSE(bool(masked.blend_equation));
