@@ -105,9 +105,11 @@ void build_normals(const Weighted& wt, int side, const std::vector<double>& othe
     for (int c = 0; c < n_other; ++c)
         for (int a = 0, q = 0; a < k; ++a)
             for (int bb = 0; bb <= a; ++bb, ++q) p(c, q) = o(c, a) * o(c, bb);
-    // Chunks of 256 lines: each chunk's product packs all of p (n_other x kk) again, which
-    // at 32 lines took as long as the multiply-adds (IST's 96 x 96 decompositions).
-    const int step = 256;
+    // Chunks of 256 lines on long sides: each chunk's product packs all of p (n_other x kk)
+    // again, which at 32 lines took as long as the multiply-adds (IST's 96 x 96 texels); short
+    // sides keep 32 so they still split across threads. A function of n only (determinism);
+    // Eigen's products gave the same results at either size (ist.json identical).
+    const int step = n >= 2048 ? 256 : 32;
     const size_t chunks = size_t((n + step - 1) / step);
     scratch->resize(size_t(workers(chunks, threads)));
     parallel_for_workers(chunks, threads, [&](size_t chunk, int worker) {

@@ -318,6 +318,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glMatrixMode(GL_MODELVIEW);
     glLoadMatrixf(view);
     glDisable(GL_LIGHTING);
+    glDisable(GL_ALPHA_TEST);  // GL ES 1.1 only: an application's alpha test would drop fragments
     glDisable(GL_DITHER);  // dithering would make passes disagree by a level
     glShadeModel(GL_SMOOTH);
     glEnable(GL_CULL_FACE);

@@ -146,7 +146,7 @@ std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc&
 //   UVs: the same texel on both units, less texture traffic than the frame's.)
 double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint texture, const sepal_ports::SceneSetup& s,
                       int frames, int warmup = 2) {
-    const bool as_plan = draws != nullptr;
+    const bool as_plan = draws != nullptr && !draws->empty();
     float view[16], proj[16];
     sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
     const std::vector<float> colours(as_plan ? 4 * size_t(s.mesh.vertex_count) : 0, 0.25f);

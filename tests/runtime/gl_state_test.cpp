@@ -39,13 +39,23 @@ TEST_CASE("a frame clears and draws the same whatever state the caller left (GL 
             char msg[512];
             sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
             REQUIRE_MESSAGE(ctx, msg);
+            auto asset = std::make_unique<sepal_asset>();
+            auto mat = std::make_unique<sepal_material>();
+            struct Destroy {  // also when a REQUIRE below ends the case (declared after the
+                              // material's storage, so it runs first)
+                sepal_headless_context* ctx;
+                sepal_material* mat = nullptr;
+                ~Destroy() {
+                    if (mat) sepal_material_destroy(mat);
+                    sepal_headless_destroy(ctx);
+                }
+            } destroy{ctx};
             sepal_caps caps;
             sepal_error e = {};
             REQUIRE(sepal_query_caps(version, 0, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK);
-            auto asset = std::make_unique<sepal_asset>();
-            auto mat = std::make_unique<sepal_material>();
             REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SEPAL_OK);
             REQUIRE_MESSAGE(sepal_material_create(&caps, asset.get(), 64, 64, mat.get(), &e) == SEPAL_OK, e.message);
+            destroy.mat = mat.get();
             sepal_ports::SceneSetup s;
             s.width = s.height = 64;
             std::string err;
@@ -71,19 +81,23 @@ TEST_CASE("a frame clears and draws the same whatever state the caller left (GL 
             CHECK(lit > 500);     // the sphere is there
             CHECK(moved > 1000);  // and the light's move shows
             draw(false);
-            // What an application might leave: masks off, a scissor box, dithering, a clear colour.
+            // What an application might leave: masks off, a scissor box, dithering, a clear colour, a
+            // stencil test, a polygon offset, the other front face.
             glDepthMask(GL_FALSE);
             glColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE);
             glEnable(GL_SCISSOR_TEST);
             glScissor(10, 10, 5, 5);
             glEnable(GL_DITHER);
             glClearColor(0.5f, 0.25f, 0.75f, 1.0f);
+            glEnable(GL_STENCIL_TEST);
+            glStencilFunc(GL_NEVER, 0, 0xff);  // would drop every fragment
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(0.0f, -1000.0f);
+            glFrontFace(GL_CW);  // would cull the front faces
             draw(true);
             const std::vector<uint8_t> again = read_rgba(64, 64);
             size_t differ = 0;
             for (size_t i = 0; i < fresh.size(); ++i) differ += fresh[i] != again[i];
             CHECK_MESSAGE(differ == 0, differ << " of " << fresh.size() << " bytes differ from the frame drawn after ours");
-            sepal_material_destroy(mat.get());
-            sepal_headless_destroy(ctx);
         }
 }
