@@ -324,8 +324,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);  // depth writes: on since clear_frame
     bind_unit(GL_TEXTURE1, 0, nullptr);
     bind_unit(GL_TEXTURE0, 0, nullptr);
     srt::Gles1Step steps[srt::kMaxGles1Steps];  // ~12 KB of stack

@@ -409,8 +409,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);  // depth writes: on since clear_frame
     // Later draws test EQUAL, so each pixel's front surface is shaded once. The first mesh
     // draw lays that depth when it adds to the cleared framebuffer (every fused draw, and a
     // plan whose first pass adds); before a subtracting first pass, a colour-masked pre-pass.

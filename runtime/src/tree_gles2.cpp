@@ -199,8 +199,7 @@ sepal_result tree_draw_fused_gles2(const sepal_tree_draw_desc* d, sepal_draw_sta
     glViewport(0, 0, d->width, d->height);
     clear_frame(scene.background[0], scene.background[1], scene.background[2], 1.0f);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);  // depth writes: on since clear_frame
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glDisable(GL_BLEND);
