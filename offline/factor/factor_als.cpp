@@ -90,7 +90,7 @@ struct Scratch {
 };
 
 // All normal equations of one side in two matrix products per chunk of 256 rows (or
-// columns), so the work runs at GEMM speed: with P[c][ab] = h_c[a] h_c[b] (a >= b),
+// columns; 32 on short sides), so the work runs at GEMM speed: with P[c][ab] = h_c[a] h_c[b] (a >= b),
 //   C_r[a][b] = sum_c w_rc P[c][ab]   ->  C = W P,      b_r = (W.M) H.
 void build_normals(const Weighted& wt, int side, const std::vector<double>& other, int k,
                    const std::vector<double>& ssq, Normals* out, std::vector<Scratch>* scratch, int threads) {

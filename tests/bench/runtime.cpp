@@ -115,6 +115,7 @@ double fill_limit_ms(int passes, GLuint texture, int frames, int warmup = 2) {
 struct PassDraw {
     GLuint texture[2];
     const float* uv[2];
+    const float* colors;  // the last pass's vertex colours (RGBA): what they hold costs nothing
 };
 
 // The frame's passes (plan passes x lights) as PassDraws, from the scratch of the last draw.
@@ -124,6 +125,7 @@ std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc&
     for (uint32_t p = 0; p < m.plan.pass_count; ++p)
         for (int l = 0; l < d.scene->light_count; ++l) {
             PassDraw pd = {};  // a unit without a factor: texture 0, no coordinates read
+            pd.colors = srt::pass_colors(d.scratch, n, d.scene->light_count);
             const uint16_t tex[2] = {m.passes[p].tex0, m.passes[p].tex1};
             for (int u = 0; u < srt::pass_texture_count(m.passes[p]) && u < 2; ++u) {
                 pd.texture[u] = m.gl_textures[tex[u]];
@@ -140,7 +142,7 @@ std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc&
 // - the mesh limit (draws null): bare single-textured draws at the mesh's UVs, no colour
 //   array, no depth;
 // - the pass limit (draws given): the frame's passes as the GPU draws them, each with its two
-//   factor textures at the set-up's coordinates, modulated with a per-vertex colour,
+//   factor textures at the set-up's coordinates, modulated with the frame's vertex colours,
 //   depth-tested against a cleared depth buffer: the frame's floor, without its set-up,
 //   colours and state changes. (Until 2026-11-27 it sampled one texture twice at the mesh's
 //   UVs: the same texel on both units, less texture traffic than the frame's.)
@@ -149,7 +151,6 @@ double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint tex
     const bool as_plan = draws != nullptr && !draws->empty();
     float view[16], proj[16];
     sepal_scene_matrices(&s.scene, s.width, s.height, view, proj, nullptr);
-    const std::vector<float> colours(as_plan ? 4 * size_t(s.mesh.vertex_count) : 0, 0.25f);
     glMatrixMode(GL_PROJECTION);
     glLoadMatrixf(proj);
     glMatrixMode(GL_MODELVIEW);
@@ -158,7 +159,7 @@ double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint tex
     glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].position);
     if (as_plan) {
         glEnableClientState(GL_COLOR_ARRAY);
-        glColorPointer(4, GL_FLOAT, 0, colours.data());
+        glColorPointer(4, GL_FLOAT, 0, draws->front().colors);
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LEQUAL);
     }
