@@ -1,6 +1,6 @@
 // sepal ist: inverse shade trees (Lawrence et al. 2006; offline/ist/, docs/ist.md). Subcommands:
 //   sepal ist generate -o DIR [--size N] [--materials N] [--preset P] [--noise S]
-//                      [--misregistration S] [--missing SHARE] [--seed S]
+//                      [--misregistration S] [--missing SHARE] [--halftone A] [--seed S]
 //   sepal ist decompose DIR -o TREE [--method sacls|acls|pca|nmf|kmeans] [--terms K] [--max-terms K]
 //                      [--sparsity L] [--normalization M] [--curve-terms N] [--res N] [--seed S]
 //   sepal ist edit TREE [--curve BASIS.CURVE=FILE.csv] [--blend J=IMAGE.png] [--swap J=SPEC] [-o OUT]
@@ -202,9 +202,11 @@ CommandRun setup_generate(CLI::App& c) {
     c.add_option("--noise", a->o.noise, "relative measurement noise")
         ->check(finite_range(0, 1))->capture_default_str();
     c.add_option("--misregistration", a->o.misregistration, "misregistration, texels")
-        ->check(finite_range(0, 8))->capture_default_str();
+        ->check(finite_range(0, 4))->capture_default_str();
     c.add_option("--missing", a->o.missing, "share of samples missing (confidence 0)")
         ->check(finite_range(0, 0.95))->capture_default_str();
+    c.add_option("--halftone", a->o.halftone, "opacity of the gold stripes (1: materials mix only along edges)")
+        ->check(finite_range(0, 1))->capture_default_str();
     c.add_option("--seed", a->o.seed, "random seed")->capture_default_str();
     return [a](const CommandIO& io) { return run_generate(*a, io); };
 }

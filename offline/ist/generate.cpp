@@ -147,7 +147,7 @@ std::vector<DirPair> gantry_pairs(int views, int lights, int lobe_lights) {
     return out;
 }
 
-void card_weights(int materials, double u, double v, double e, double* w) {
+void card_weights(int materials, double u, double v, double e, double halftone, double* w) {
     const int k = materials;
     std::fill(w, w + k, 0.0);
     // Papers: a wavy boundary.
@@ -164,7 +164,7 @@ void card_weights(int materials, double u, double v, double e, double* w) {
     const double edge = std::min({u, v, 1 - u, 1 - v});
     over(2, cover(edge - 0.07, e));
     const double stripe = std::fabs(std::fmod((u + v) * 7.0, 1.0) - 0.5) - 0.22;
-    over(2, 0.45 * cover(stripe / 7.0, e) * white);
+    over(2, halftone * cover(stripe / 7.0, e) * white);
     const double plaque = std::max(std::fabs(u - 0.38) - 0.2, std::fabs(v - 0.3) - 0.08);
     over(2, cover(plaque, 3 * e));
     // Silver: disks, one of them overlapping the plaque.
@@ -186,8 +186,8 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
     if (o.views < 1 || o.views > 64 || o.lights < 1 || o.lights > 512 || o.lobe_lights < 0 || o.lobe_lights > 256)
         return fail(err, "generate: views 1..64, lights 1..512, lobe lights 0..256");
     if (!(o.noise >= 0 && o.noise <= 1) || !(o.missing >= 0 && o.missing <= 0.95) ||
-        !(o.misregistration >= 0 && o.misregistration <= 4))
-        return fail(err, "generate: noise 0..1, missing 0..0.95, misregistration 0..4 texels");
+        !(o.misregistration >= 0 && o.misregistration <= 4) || !(o.halftone >= 0 && o.halftone <= 1))
+        return fail(err, "generate: noise 0..1, missing 0..0.95, misregistration 0..4 texels, halftone 0..1");
     SvbrdfTruth t;
     std::vector<std::unique_ptr<Brdf>> brdfs;
     for (int j = 0; j < k; ++j) {
@@ -224,11 +224,11 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
         std::vector<double> wt(static_cast<size_t>(k));
         for (int x = 0; x < w; ++x) {
             const int texel = y * w + x;
-            card_weights(k, (x + 0.5) / w, (y + 0.5) / h, edge, wt.data());
+            card_weights(k, (x + 0.5) / w, (y + 0.5) / h, edge, o.halftone, wt.data());
             for (int j = 0; j < k; ++j) t.blend.w[size_t(texel) * k + size_t(j)] = float(wt[size_t(j)]);
             for (int p = 0; p < np; ++p) {
                 const glm::dvec2 sh = shift[size_t(p)];
-                card_weights(k, (x + 0.5 + sh.x) / w, (y + 0.5 + sh.y) / h, edge, wt.data());
+                card_weights(k, (x + 0.5 + sh.x) / w, (y + 0.5 + sh.y) / h, edge, o.halftone, wt.data());
                 glm::dvec3 v(0);
                 for (int j = 0; j < k; ++j) v += wt[size_t(j)] * f[size_t(j) * np + p];
                 const uint64_t id = (uint64_t(texel) * np + uint64_t(p)) * 3;

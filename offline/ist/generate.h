@@ -11,7 +11,8 @@
 //
 // The layout ("card", after the paper's Seasons Greetings): a blue and a white paper split
 // by a wavy soft boundary, a gold foil border and halftone stripes of gold over the papers
-// (partial blends), silver foil disks, then (5, 6 materials) a satin band and a velvet ring.
+// (partial blends: `halftone` is their opacity, 0.45 by default; 1 prints them opaque, so
+// materials mix only along edges), silver foil disks, then (5, 6 materials) a satin band and a velvet ring.
 // Layers are composited "over" with edges about 1.5 texels wide, so the true weights are
 // non-negative and sum to 1 at every texel. Bases: a preset (default_bases: "analytic"
 // models, "measured" MERL materials from data/merl-nbrdf, or "mixed", the default:
@@ -29,7 +30,7 @@
 // random share `missing` of the samples gets confidence 0. All randomness is counter-based
 // from `seed`: the same options give byte-identical output.
 // Limits: width and height 4..4096, materials 2..6, views 1..64, lights 1..512,
-// lobe_lights 0..256 (at most Svbrdf::kMaxPairs pairs), noise 0..1, missing 0..0.95,
+// lobe_lights 0..256 (at most Svbrdf::kMaxPairs pairs), noise 0..1, missing 0..0.95, halftone 0..1,
 // misregistration 0..4 texels.
 #pragma once
 #include <memory>
@@ -65,6 +66,7 @@ struct GenerateOptions {
     double noise = 0.02;
     double misregistration = 0.1;
     double missing = 0;
+    double halftone = 0.45;  // opacity of the gold stripes over the white paper, 0..1
     uint64_t seed = 1;
     int threads = 0;
 };
@@ -78,7 +80,7 @@ const std::vector<NamedBasis>& default_bases(const std::string& preset);
 
 std::vector<DirPair> gantry_pairs(int views, int lights, int lobe_lights);
 // The true weights of the "card" layout at (u, v) in [0,1]^2 (edge width in UV units).
-void card_weights(int materials, double u, double v, double edge, double* w);
+void card_weights(int materials, double u, double v, double edge, double halftone, double* w);
 
 bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, std::string* err);
 

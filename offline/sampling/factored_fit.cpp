@@ -241,6 +241,7 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     no.max_iterations = o.iterations;
     no.tolerance = o.tolerance;
     no.seed = o.seed;
+    no.threads = o.threads;
     NmfKl level1;
     nmf_kl(Y, o.J, no, &level1);
     r.kl_level1 = level1.relative;

@@ -1,6 +1,8 @@
 #include "sampling/nmf_kl.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "util/parallel.h"
 
@@ -23,6 +25,121 @@ double kl_divergence(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X) {
     return d;
 }
 
+namespace {
+
+// The updates below are written as loops over (column or row) chunks instead of Eigen
+// products: each half-step needs X = WH only through R = Y / X, and with k of 2-8 terms an
+// Eigen GEMM spent as long packing W and H as multiplying (and R, X and the products were
+// three full-size temporaries per half-step). Fused, a chunk computes its part of X, R and
+// the numerator in one sweep over Y, and chunks run on threads. The chunk sizes are fixed,
+// so the results do not depend on the thread count.
+constexpr Eigen::Index kColChunk = 8, kRowChunk = 128;
+// Below this many entries of Y a solve stays on one thread (starting threads twice per
+// iteration would cost more than the work).
+constexpr Eigen::Index kParallelEntries = 1 << 16;
+
+struct Fused {
+    const Eigen::MatrixXd& Y;
+    Eigen::MatrixXd& W;
+    Eigen::MatrixXd& H;
+    int k;
+    double floor;
+    int threads;
+    std::vector<std::vector<double>> scratch;  // per worker
+
+    Eigen::Index n() const { return Y.rows(); }
+    Eigen::Index m() const { return Y.cols(); }
+
+    // x[i] = (W H)(i, j) for the rows [i0, i1).
+    void column_of_x(Eigen::Index j, Eigen::Index i0, Eigen::Index i1, double* x) const {
+        for (Eigen::Index i = i0; i < i1; ++i) x[i - i0] = 0.0;
+        for (int a = 0; a < k; ++a) {
+            const double h = H(a, j);
+            const double* w = &W(i0, a);
+            for (Eigen::Index i = 0; i < i1 - i0; ++i) x[i] += w[i] * h;
+        }
+    }
+
+    // H <- H .* (W^T R) ./ (W^T 1): column j's numerator needs only column j of H.
+    void update_h(const Eigen::VectorXd& wsum) {
+        const Eigen::Index chunks = (m() + kColChunk - 1) / kColChunk;
+        run(size_t(chunks), [&](size_t chunk, int worker) {
+            double* x = worker_buffer(worker, size_t(n()));
+            const Eigen::Index j1 = std::min(m(), Eigen::Index(chunk + 1) * kColChunk);
+            for (Eigen::Index j = Eigen::Index(chunk) * kColChunk; j < j1; ++j) {
+                column_of_x(j, 0, n(), x);
+                const double* y = &Y(0, j);
+                for (Eigen::Index i = 0; i < n(); ++i) x[i] = y[i] / std::max(x[i], floor);
+                for (int a = 0; a < k; ++a) {
+                    const double* w = &W(0, a);
+                    double s = 0.0;
+                    for (Eigen::Index i = 0; i < n(); ++i) s += w[i] * x[i];
+                    H(a, j) *= s / std::max(wsum(a), 1e-300);
+                }
+            }
+        });
+    }
+
+    // W <- W .* (R H^T) ./ (1 H^T): row i's numerator needs only row i of W.
+    void update_w(const Eigen::VectorXd& hsum) {
+        const Eigen::Index chunks = (n() + kRowChunk - 1) / kRowChunk;
+        run(size_t(chunks), [&](size_t chunk, int worker) {
+            const Eigen::Index i0 = Eigen::Index(chunk) * kRowChunk, i1 = std::min(n(), i0 + kRowChunk), b = i1 - i0;
+            double* x = worker_buffer(worker, size_t(kRowChunk) * size_t(k + 1));
+            double* acc = x + kRowChunk;  // acc[a * kRowChunk + i]
+            for (Eigen::Index q = 0; q < kRowChunk * k; ++q) acc[q] = 0.0;
+            for (Eigen::Index j = 0; j < m(); ++j) {
+                column_of_x(j, i0, i1, x);
+                const double* y = &Y(i0, j);
+                for (Eigen::Index i = 0; i < b; ++i) x[i] = y[i] / std::max(x[i], floor);
+                for (int a = 0; a < k; ++a) {
+                    const double h = H(a, j);
+                    double* ac = acc + a * kRowChunk;
+                    for (Eigen::Index i = 0; i < b; ++i) ac[i] += x[i] * h;
+                }
+            }
+            for (int a = 0; a < k; ++a)
+                for (Eigen::Index i = 0; i < b; ++i) W(i0 + i, a) *= acc[a * kRowChunk + i] / std::max(hsum(a), 1e-300);
+        });
+    }
+
+    // D(Y || WH), summed per column chunk and then over chunks in order.
+    double divergence() {
+        const Eigen::Index chunks = (m() + kColChunk - 1) / kColChunk;
+        std::vector<double> part(size_t(chunks), 0.0);
+        run(size_t(chunks), [&](size_t chunk, int worker) {
+            double* x = worker_buffer(worker, size_t(n()));
+            const Eigen::Index j1 = std::min(m(), Eigen::Index(chunk + 1) * kColChunk);
+            double d = 0.0;
+            for (Eigen::Index j = Eigen::Index(chunk) * kColChunk; j < j1; ++j) {
+                column_of_x(j, 0, n(), x);
+                for (Eigen::Index i = 0; i < n(); ++i) {
+                    const double y = Y(i, j);
+                    d += x[i] - y;
+                    if (y > 0) d += y * std::log(y / std::max(x[i], 1e-300));
+                }
+            }
+            part[chunk] = d;
+        });
+        double d = 0.0;
+        for (double v : part) d += v;
+        return d;
+    }
+
+    double* worker_buffer(int worker, size_t size) {
+        std::vector<double>& b = scratch[size_t(worker)];
+        if (b.size() < size) b.resize(size);
+        return b.data();
+    }
+
+    template <class Fn>
+    void run(size_t chunks, const Fn& fn) {
+        parallel_for_workers(chunks, threads, fn);
+    }
+};
+
+}  // namespace
+
 void nmf_kl(const Eigen::MatrixXd& Y, int k, const NmfKlOptions& o, NmfKl* out) {
     const Eigen::Index n = Y.rows(), m = Y.cols();
     const double total = Y.sum();
@@ -39,26 +156,17 @@ void nmf_kl(const Eigen::MatrixXd& Y, int k, const NmfKlOptions& o, NmfKl* out) 
     for (int a = 0; a < k; ++a)
         for (Eigen::Index j = 0; j < m; ++j)
             H(a, j) = (a == 0 && total > 0 ? cols(j) : 0.0) / k + (0.5 + rng.uniform()) * mean * double(n) / k;
-    Eigen::MatrixXd X(n, m), R(n, m);
-    auto ratio = [&] {
-        X.noalias() = W * H;
-        R = Y.array() / X.array().max(floor);
-    };
+    const int threads = n * m >= kParallelEntries ? o.threads : 1;
+    Fused f{Y, W, H, k, floor, threads, {}};
+    f.scratch.resize(size_t(std::max(workers(size_t((m + kColChunk - 1) / kColChunk), threads),
+                                     workers(size_t((n + kRowChunk - 1) / kRowChunk), threads))));
     double previous = -1;
     int it = 0;
     for (; it < o.max_iterations; ++it) {
-        ratio();
         // H <- H .* (W^T R) ./ (W^T 1)      (eq. 14)
-        const Eigen::VectorXd wsum = W.colwise().sum().transpose();
-        Eigen::MatrixXd num = W.transpose() * R;
-        for (int a = 0; a < k; ++a)
-            H.row(a) = H.row(a).array() * num.row(a).array() / std::max(wsum(a), 1e-300);
-        ratio();
-        // W <- W .* (R H^T) ./ (1 H^T)      (eq. 15)
-        const Eigen::VectorXd hsum = H.rowwise().sum();
-        Eigen::MatrixXd numw = R * H.transpose();
-        for (int a = 0; a < k; ++a)
-            W.col(a) = W.col(a).array() * numw.col(a).array() / std::max(hsum(a), 1e-300);
+        f.update_h(W.colwise().sum().transpose());
+        // W <- W .* (R H^T) ./ (1 H^T)      (eq. 15), R from the new H
+        f.update_w(H.rowwise().sum());
         // Columns of W sum to 1, the scale goes to H (eq. 16).
         for (int a = 0; a < k; ++a) {
             const double s = W.col(a).sum();
@@ -68,8 +176,7 @@ void nmf_kl(const Eigen::MatrixXd& Y, int k, const NmfKlOptions& o, NmfKl* out) 
             }
         }
         if ((it + 1) % 10 == 0) {
-            X.noalias() = W * H;
-            const double d = kl_divergence(Y, X);
+            const double d = f.divergence();
             if (previous >= 0 && previous - d <= o.tolerance * std::max(previous, 1e-300)) {
                 ++it;
                 break;
@@ -77,8 +184,7 @@ void nmf_kl(const Eigen::MatrixXd& Y, int k, const NmfKlOptions& o, NmfKl* out) 
             previous = d;
         }
     }
-    X.noalias() = W * H;
-    out->divergence = kl_divergence(Y, X);
+    out->divergence = f.divergence();
     out->relative = total > 0 ? out->divergence / total : 0.0;
     out->iterations = it;
     out->W = std::move(W);

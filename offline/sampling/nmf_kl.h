@@ -10,8 +10,9 @@
 // Why KL and not the Euclidean NMF of factor/: the factors become sampling distributions,
 // and KL(Y || WH) is the measure of how well sampling WH matches Y (relative errors where
 // Y is small count as much as where it is large), as the paper chose.
-// Determinism: a fixed-seed start (splitmix64) and single-threaded Eigen products; equal
-// inputs give equal factors. Limits: k <= min(rows, cols) is not required (extra columns
+// Determinism: a fixed-seed start (splitmix64) and fused updates over chunks of a fixed size
+// (threads decide only who computes a chunk); equal inputs give equal factors whatever the
+// thread count. Limits: k <= min(rows, cols) is not required (extra columns
 // stay near 0); entries must be finite and >= 0 (checked by the caller).
 #pragma once
 #include <cstdint>
@@ -24,6 +25,7 @@ struct NmfKlOptions {
     int max_iterations = 1000;
     double tolerance = 1e-6;  // stop when the divergence falls by less than this share (per 10 iterations)
     uint64_t seed = 1;
+    int threads = 0;  // 0 = default_threads(); matrices under 65,536 entries use one
 };
 
 struct NmfKl {

@@ -327,6 +327,11 @@ int main(int argc, char** argv) {
                 "ms/frame", "fill-limit", "ratio", "mesh-limit", "ratio", "pass-limit", "ratio", "set-up ms", "GL calls");
     std::string gl_breakdown;
     bool first = true;
+    // Two sweeps over every configuration, the first untimed (printed to stderr only): measured
+    // first in the run, the 1-term 1-light row read 1.15-1.23x its pass limit in four `make
+    // bench` runs; behind a warm-up sweep the largest row of five runs read 1.03-1.10x (the
+    // build before, in the same sitting: 1.11 and 1.18). A row still moves by ~0.05 between runs.
+    for (int sweep = 0; sweep < 2; ++sweep)
     for (int terms : {1, 2, 4}) {
         const sepal::AssetData a = synthetic_asset(terms);
         std::vector<uint8_t> bytes;
@@ -372,7 +377,7 @@ int main(int argc, char** argv) {
             std::vector<double> times, fills, meshes, pass_floor;
             // Warm-up: the JIT compiles the frame's state sets; the first row also waits out
             // whatever made it 1.6-3x slower than the same configuration measured later.
-            for (int f = 0; f < (first ? 20 : 2); ++f)
+            for (int f = 0; f < (sweep == 0 && terms == 1 && lights == 1 ? 20 : 2); ++f)
                 if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
                     std::fprintf(stderr, "bench: %s\n", e.message);
                     return 1;
@@ -417,6 +422,11 @@ int main(int argc, char** argv) {
                 return 1;
             }
             const long gl_calls = sepal_test::gl_calls_total();
+            if (sweep == 0) {
+                std::fprintf(stderr, "warm-up sweep: %d terms %d lights: %.2f ms, %.2fx the pass limit\n", terms,
+                             lights, ms, ms / pass);
+                continue;
+            }
             if (terms == 2 && lights == 1)
                 gl_breakdown = "GL calls of a 2-term, 1-light frame (" + std::to_string(gl_calls) +
                                "): " + sepal_test::gl_calls_by_name();

@@ -179,7 +179,7 @@ struct Output {
 // ---- samplers of a material -----------------------------------------------------------------
 // The fits are most of the bench's time and the sections share them (table 1's two fits are the
 // ablation's first and fifth; the defaults serve tables 2 and 3, rmse, speed and the bytes
-// table): each is made once per run. `kind` names the options: "default" (FactoredOptions{}) or
+// table): each is made once per run, as is the Lafortune fit (lafortune_fitted). `kind` names the options: "default" (FactoredOptions{}) or
 // "paper" (paper_options).
 struct Fit {
     bool ok = false;
@@ -210,6 +210,24 @@ const Fit& fitted(const Brdf& b, const Material& m, const std::string& kind) {
     return memo[key] = f;
 }
 
+// The Lafortune sampler fit (table 1's Laf. column and the strategies' "lafortune"), once
+// per material and run like the factored fits.
+struct LobeFit {
+    bool ok = false;
+    SamplerData data;
+    LobeFitReport report;
+};
+
+const LobeFit& lafortune_fitted(const Brdf& b, const Material& m) {
+    static std::map<std::string, LobeFit> memo;
+    auto it = memo.find(m.label);
+    if (it != memo.end()) return it->second;
+    LobeFit f;
+    std::string err;
+    f.ok = fit_lafortune_sampler(b, m.lafortune_lobes, &f.data, &f.report, &err);
+    return memo[m.label] = f;
+}
+
 struct Strategies {
     std::map<std::string, SamplerData> data;
     std::map<std::string, std::string> fit_spec;  // lafortune, as: the fitted model
@@ -225,9 +243,9 @@ Strategies make_strategies(const Brdf& b, const Material& m, bool tabulated) {
     else s.data["factored"] = fo.data, s.factored = fo.report;
     s.data["cosine"] = make_cosine_sampler();
     LobeFitReport rep;
-    if (fit_lafortune_sampler(b, m.lafortune_lobes, &d, &rep, &err)) {
-        s.data["lafortune"] = d;
-        s.fit_spec["lafortune"] = rep.spec;
+    if (const LobeFit& lf = lafortune_fitted(b, m); lf.ok) {
+        s.data["lafortune"] = lf.data;
+        s.fit_spec["lafortune"] = lf.report.spec;
     }
     if (fit_as_sampler(b, &d, &rep, &err)) {
         s.data["as"] = d;
@@ -298,10 +316,10 @@ void table1(const Config& c, Output* out) {
         note("table1: " + m.label);
         auto b = need_brdf(m.spec);
         std::string err;
-        LobeFitReport laf;
-        SamplerData ld;
+        const LobeFit& lf = lafortune_fitted(*b, m);
+        const LobeFitReport& laf = lf.report;
         double laf_mae = -1;
-        if (fit_lafortune_sampler(*b, m.lafortune_lobes, &ld, &laf, &err)) {
+        if (lf.ok) {
             auto lm = need_brdf(laf.spec);
             laf_mae = normalized_mae(*b, [&](const glm::dvec3& wi, const glm::dvec3& wo) {
                 return luminance(lm->eval(wi, wo)) * wi.z;

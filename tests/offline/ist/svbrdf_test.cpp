@@ -201,6 +201,41 @@ TEST_CASE("ist generate: deterministic, with the requested share of missing samp
     bad = g;
     bad.missing = 1.0;
     CHECK_FALSE(generate_svbrdf(bad, &a, nullptr, &err));
+    for (double h : {-0.1, 1.5, std::nan("")}) {
+        bad = g;
+        bad.halftone = h;
+        CHECK_FALSE(generate_svbrdf(bad, &a, nullptr, &err));
+        CHECK(err.find("halftone") != std::string::npos);
+    }
+}
+
+TEST_CASE("ist generate: an opaque halftone mixes materials only along edges") {
+    // Texels whose largest true weight is under 0.95, on the default (45%) and opaque prints.
+    auto blended_share = [](double halftone) {
+        GenerateOptions g;
+        g.width = g.height = 64;
+        g.views = 1;
+        g.lights = 4;
+        g.lobe_lights = 0;
+        g.preset = "analytic";
+        g.halftone = halftone;
+        Svbrdf s;
+        SvbrdfTruth t;
+        std::string err;
+        REQUIRE_MESSAGE(generate_svbrdf(g, &s, &t, &err), err);
+        int blended = 0;
+        for (int i = 0; i < s.texels(); ++i) {
+            double top = 0;
+            for (int j = 0; j < t.blend.count; ++j) top = std::max(top, double(t.blend.at(i, j)));
+            blended += top < 0.95;
+        }
+        return double(blended) / s.texels();
+    };
+    const double half = blended_share(0.45), opaque = blended_share(1.0);
+    CAPTURE(half);
+    CAPTURE(opaque);
+    CHECK(opaque < 0.7 * half);
+    CHECK(opaque > 0.02);  // the edges stay soft
 }
 
 TEST_CASE("ist generate: truth files round trip and render like the SVBRDF they describe") {

@@ -76,6 +76,26 @@ TEST_CASE("nmf_kl: recovers an exact non-negative rank-2 matrix; the KL divergen
     CHECK(kl_divergence(Y, Y) == doctest::Approx(0.0));
 }
 
+TEST_CASE("nmf_kl: the threaded fused updates give the one-thread factors and the divergence's value") {
+    // 400 x 300 (past the one-thread size), rank 3 plus noise, partial chunks on both sides.
+    Eigen::MatrixXd Y(403, 301);
+    SplitMix64 r(11);
+    for (int i = 0; i < Y.size(); ++i) Y.data()[i] = r.uniform() < 0.1 ? 0.0 : r.uniform();
+    NmfKlOptions o;
+    o.max_iterations = 40;
+    o.threads = 1;
+    NmfKl one, two;
+    nmf_kl(Y, 3, o, &one);
+    o.threads = 2;
+    nmf_kl(Y, 3, o, &two);
+    CHECK(one.W == two.W);
+    CHECK(one.H == two.H);
+    CHECK(one.divergence == two.divergence);
+    // The fused divergence is the reference formula's, to summation order.
+    CHECK(one.divergence == doctest::Approx(kl_divergence(Y, one.W * one.H)).epsilon(1e-10));
+    CHECK(one.iterations == 40);
+}
+
 TEST_CASE("factored fit: a Blinn lobe is exactly separable; bytes, bounds, options and the Table 1 MAE") {
     std::string err;
     auto blinn = make_brdf("blinn:rho_d=0,rho_s=1,n=50", &err);
