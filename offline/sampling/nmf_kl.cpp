@@ -126,11 +126,8 @@ struct Fused {
         return d;
     }
 
-    double* worker_buffer(int worker, size_t size) {
-        std::vector<double>& b = scratch[size_t(worker)];
-        if (b.size() < size) b.resize(size);
-        return b.data();
-    }
+    // Sized once before the iterations (a worker must not allocate: parallel.h).
+    double* worker_buffer(int worker, size_t /*size*/) { return scratch[size_t(worker)].data(); }
 
     template <class Fn>
     void run(size_t chunks, const Fn& fn) {
@@ -156,10 +153,17 @@ void nmf_kl(const Eigen::MatrixXd& Y, int k, const NmfKlOptions& o, NmfKl* out) 
     for (int a = 0; a < k; ++a)
         for (Eigen::Index j = 0; j < m; ++j)
             H(a, j) = (a == 0 && total > 0 ? cols(j) : 0.0) / k + (0.5 + rng.uniform()) * mean * double(n) / k;
+    if (n == 0 || m == 0) {  // nothing to fit (the chunks below would index an empty Y)
+        *out = NmfKl{};
+        out->W = std::move(W);
+        out->H = std::move(H);
+        return;
+    }
     const int threads = n * m >= kParallelEntries ? o.threads : 1;
     Fused f{Y, W, H, k, floor, threads, {}};
-    f.scratch.resize(size_t(std::max(workers(size_t((m + kColChunk - 1) / kColChunk), threads),
-                                     workers(size_t((n + kRowChunk - 1) / kRowChunk), threads))));
+    f.scratch.assign(size_t(std::max(workers(size_t((m + kColChunk - 1) / kColChunk), threads),
+                                     workers(size_t((n + kRowChunk - 1) / kRowChunk), threads))),
+                     std::vector<double>(std::max(size_t(n), size_t(kRowChunk) * size_t(k + 1)), 0.0));
     double previous = -1;
     int it = 0;
     for (; it < o.max_iterations; ++it) {

@@ -204,6 +204,7 @@ TEST_CASE("ist generate: deterministic, with the requested share of missing samp
     for (double h : {-0.1, 1.5, std::nan("")}) {
         bad = g;
         bad.halftone = h;
+        err.clear();
         CHECK_FALSE(generate_svbrdf(bad, &a, nullptr, &err));
         CHECK(err.find("halftone") != std::string::npos);
     }

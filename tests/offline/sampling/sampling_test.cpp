@@ -77,7 +77,7 @@ TEST_CASE("nmf_kl: recovers an exact non-negative rank-2 matrix; the KL divergen
 }
 
 TEST_CASE("nmf_kl: the threaded fused updates give the one-thread factors and the divergence's value") {
-    // 400 x 300 (past the one-thread size), rank 3 plus noise, partial chunks on both sides.
+    // 403 x 301 (past the one-thread size, partial chunks on both sides), sparse noise.
     Eigen::MatrixXd Y(403, 301);
     SplitMix64 r(11);
     for (int i = 0; i < Y.size(); ++i) Y.data()[i] = r.uniform() < 0.1 ? 0.0 : r.uniform();
@@ -94,6 +94,32 @@ TEST_CASE("nmf_kl: the threaded fused updates give the one-thread factors and th
     // The fused divergence is the reference formula's, to summation order.
     CHECK(one.divergence == doctest::Approx(kl_divergence(Y, one.W * one.H)).epsilon(1e-10));
     CHECK(one.iterations == 40);
+    // An iteration is a function of (W, H) alone: the 41st from the 40th's factors, by the
+    // paper's equations 14-16 as Eigen products, is the fused code's 41st.
+    o.max_iterations = 41;
+    NmfKl next;
+    nmf_kl(Y, 3, o, &next);
+    Eigen::MatrixXd W = one.W, H = one.H;
+    const double floor = 1e-14 * Y.sum() / double(Y.size());
+    const Eigen::VectorXd wsum = W.colwise().sum().transpose();
+    Eigen::MatrixXd R = Y.array() / (W * H).array().max(floor);
+    const Eigen::MatrixXd num = W.transpose() * R;
+    for (int a = 0; a < 3; ++a) H.row(a) = H.row(a).array() * num.row(a).array() / wsum(a);
+    const Eigen::VectorXd hsum = H.rowwise().sum();
+    R = Y.array() / (W * H).array().max(floor);
+    const Eigen::MatrixXd numw = R * H.transpose();
+    for (int a = 0; a < 3; ++a) W.col(a) = W.col(a).array() * numw.col(a).array() / hsum(a);
+    for (int a = 0; a < 3; ++a) {
+        const double sum = W.col(a).sum();
+        W.col(a) /= sum;
+        H.row(a) *= sum;
+    }
+    CHECK((W - next.W).cwiseAbs().maxCoeff() <= 1e-12 * W.cwiseAbs().maxCoeff());
+    CHECK((H - next.H).cwiseAbs().maxCoeff() <= 1e-12 * H.cwiseAbs().maxCoeff());
+    // An empty matrix: no factors to fit, no crash.
+    NmfKl empty;
+    nmf_kl(Eigen::MatrixXd(0, 5), 2, o, &empty);
+    CHECK(empty.iterations == 0);
 }
 
 TEST_CASE("factored fit: a Blinn lobe is exactly separable; bytes, bounds, options and the Table 1 MAE") {
