@@ -115,13 +115,23 @@ void kmeans(const Matrix& m, int k, uint64_t seed, int threads, std::vector<doub
         const size_t i = size_t(r) * cols + col;
         return m.w[i] > 0 ? double(m.wv[0][i]) / m.w[i] : 0.0;
     };
-    auto dist = [&](int r, int j) {
+    // A row's values, read once per pass into its worker's buffer (not once per centre: the
+    // division in `value` was most of the k-means baseline's time).
+    std::vector<std::vector<double>> row_values(size_t(workers(size_t(rows), threads)), std::vector<double>(size_t(cols)));
+    auto load_row = [&](int r, int worker) {
+        double* v = row_values[size_t(worker)].data();
+        for (int col = 0; col < cols; ++col) v[col] = value(r, col);
+        return v;
+    };
+    // Weighted squared distance of row r (its values v) to centre j.
+    auto dist = [&](int r, const double* v, int j) {
+        const float* w = &m.w[size_t(r) * cols];
+        const double* cj = &c[size_t(j) * cols];
         double d = 0;
         for (int col = 0; col < cols; ++col) {
-            const float w = m.w[size_t(r) * cols + col];
-            if (w <= 0) continue;
-            const double e = value(r, col) - c[size_t(j) * cols + col];
-            d += w * e * e;
+            if (w[col] <= 0) continue;
+            const double e = v[col] - cj[col];
+            d += w[col] * e * e;
         }
         return d;
     };
@@ -131,7 +141,9 @@ void kmeans(const Matrix& m, int k, uint64_t seed, int threads, std::vector<doub
     };
     set_centre(0, std::min(rows - 1, int(counter_uniform(seed, 0) * rows)));
     for (int j = 1; j < k; ++j) {
-        parallel_for(size_t(rows), threads, [&](size_t r) { best[r] = std::min(best[r], dist(int(r), j - 1)); });
+        parallel_for_workers(size_t(rows), threads, [&](size_t r, int worker) {
+            best[r] = std::min(best[r], dist(int(r), load_row(int(r), worker), j - 1));
+        });
         double total = 0;
         for (double b : best) total += b;
         double pick = counter_uniform(seed, uint64_t(j)) * total;
@@ -146,27 +158,14 @@ void kmeans(const Matrix& m, int k, uint64_t seed, int threads, std::vector<doub
         set_centre(j, chosen);
     }
     std::vector<int> assign(size_t(rows), -1);
-    std::vector<std::vector<double>> row_values;  // per worker
     for (int it = 0; it < 50; ++it) {
         std::vector<int> next(static_cast<size_t>(rows));
-        // The row's values once, not once per centre (dist's division was most of the
-        // k-means baseline's time); the same operations in the same order as dist.
-        row_values.resize(size_t(workers(size_t(rows), threads)));
         parallel_for_workers(size_t(rows), threads, [&](size_t r, int worker) {
-            std::vector<double>& v = row_values[size_t(worker)];
-            v.resize(size_t(cols));
-            const float* w = &m.w[r * size_t(cols)];
-            for (int col = 0; col < cols; ++col) v[size_t(col)] = w[col] > 0 ? value(int(r), col) : 0.0;
+            const double* v = load_row(int(r), worker);
             int arg = 0;
             double bd = std::numeric_limits<double>::infinity();
             for (int j = 0; j < k; ++j) {
-                const double* cj = &c[size_t(j) * cols];
-                double d = 0;
-                for (int col = 0; col < cols; ++col) {
-                    if (w[col] <= 0) continue;
-                    const double e = v[size_t(col)] - cj[col];
-                    d += w[col] * e * e;
-                }
+                const double d = dist(int(r), v, j);
                 if (d < bd) bd = d, arg = j;
             }
             next[r] = arg;
@@ -562,18 +561,20 @@ TermMatch match_terms(const Decomposition& d, const BlendMaps& truth) {
     return m;
 }
 
-double multi_material_share(const Decomposition& d, double threshold) {
-    const int k = d.terms, texels = d.width * d.height;
+double multi_material_share(const BlendMaps& maps, double threshold) {
+    const int k = maps.count, texels = maps.width * maps.height;
     int64_t multi = 0;
     for (int t = 0; t < texels; ++t) {
         double sum = 0;
-        for (int j = 0; j < k; ++j) sum += std::fabs(d.weights[size_t(t) * k + size_t(j)]);
+        for (int j = 0; j < k; ++j) sum += std::fabs(maps.at(t, j));
         int used = 0;
-        for (int j = 0; j < k; ++j) used += std::fabs(d.weights[size_t(t) * k + size_t(j)]) > threshold * sum;
+        for (int j = 0; j < k; ++j) used += std::fabs(maps.at(t, j)) > threshold * sum;
         multi += used > 1;
     }
     return texels ? double(multi) / texels : 0;
 }
+
+double multi_material_share(const Decomposition& d, double threshold) { return multi_material_share(d.blend(), threshold); }
 
 double max_basis_albedo(const Decomposition& d) {
     double worst = 0;

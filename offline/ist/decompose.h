@@ -114,8 +114,9 @@ struct TermMatch {
 };
 TermMatch match_terms(const Decomposition& d, const BlendMaps& truth);
 
-// Share of texels using more than one material: more than one weight above `threshold`
-// times the texel's sum of |weights|.
+// Share of texels using more than one material: more than one |weight| above `threshold`
+// times the texel's sum of |weights|; of a decomposition's maps or of true ones.
+double multi_material_share(const BlendMaps& maps, double threshold = 0.1);
 double multi_material_share(const Decomposition& d, double threshold = 0.1);
 
 // Per basis, per view, per channel: sum albedo_weight * f * cos(theta_i); the largest.

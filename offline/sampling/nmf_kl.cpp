@@ -63,8 +63,8 @@ struct Fused {
     // H <- H .* (W^T R) ./ (W^T 1): column j's numerator needs only column j of H.
     void update_h(const Eigen::VectorXd& wsum) {
         const Eigen::Index chunks = (m() + kColChunk - 1) / kColChunk;
-        run(size_t(chunks), [&](size_t chunk, int worker) {
-            double* x = worker_buffer(worker, size_t(n()));
+        parallel_for_workers(size_t(chunks), threads, [&](size_t chunk, int worker) {
+            double* x = worker_buffer(worker);
             const Eigen::Index j1 = std::min(m(), Eigen::Index(chunk + 1) * kColChunk);
             for (Eigen::Index j = Eigen::Index(chunk) * kColChunk; j < j1; ++j) {
                 column_of_x(j, 0, n(), x);
@@ -83,9 +83,9 @@ struct Fused {
     // W <- W .* (R H^T) ./ (1 H^T): row i's numerator needs only row i of W.
     void update_w(const Eigen::VectorXd& hsum) {
         const Eigen::Index chunks = (n() + kRowChunk - 1) / kRowChunk;
-        run(size_t(chunks), [&](size_t chunk, int worker) {
+        parallel_for_workers(size_t(chunks), threads, [&](size_t chunk, int worker) {
             const Eigen::Index i0 = Eigen::Index(chunk) * kRowChunk, i1 = std::min(n(), i0 + kRowChunk), b = i1 - i0;
-            double* x = worker_buffer(worker, size_t(kRowChunk) * size_t(k + 1));
+            double* x = worker_buffer(worker);
             double* acc = x + kRowChunk;  // acc[a * kRowChunk + i]
             for (Eigen::Index q = 0; q < kRowChunk * k; ++q) acc[q] = 0.0;
             for (Eigen::Index j = 0; j < m(); ++j) {
@@ -107,8 +107,8 @@ struct Fused {
     double divergence() {
         const Eigen::Index chunks = (m() + kColChunk - 1) / kColChunk;
         std::vector<double> part(size_t(chunks), 0.0);
-        run(size_t(chunks), [&](size_t chunk, int worker) {
-            double* x = worker_buffer(worker, size_t(n()));
+        parallel_for_workers(size_t(chunks), threads, [&](size_t chunk, int worker) {
+            double* x = worker_buffer(worker);
             const Eigen::Index j1 = std::min(m(), Eigen::Index(chunk + 1) * kColChunk);
             double d = 0.0;
             for (Eigen::Index j = Eigen::Index(chunk) * kColChunk; j < j1; ++j) {
@@ -127,12 +127,7 @@ struct Fused {
     }
 
     // Sized once before the iterations (a worker must not allocate: parallel.h).
-    double* worker_buffer(int worker, size_t /*size*/) { return scratch[size_t(worker)].data(); }
-
-    template <class Fn>
-    void run(size_t chunks, const Fn& fn) {
-        parallel_for_workers(chunks, threads, fn);
-    }
+    double* worker_buffer(int worker) { return scratch[size_t(worker)].data(); }
 };
 
 }  // namespace

@@ -86,20 +86,6 @@ struct Fig6Card {
     std::vector<Row> rows;
 };
 
-// multi_material_share's count (a weight above 10% of the texel's sum) on the true maps.
-double truth_multi_share(const BlendMaps& b) {
-    const int texels = b.width * b.height;
-    int64_t multi = 0;
-    for (int t = 0; t < texels; ++t) {
-        double sum = 0;
-        for (int j = 0; j < b.count; ++j) sum += b.at(t, j);
-        int used = 0;
-        for (int j = 0; j < b.count; ++j) used += b.at(t, j) > 0.1 * sum;
-        multi += used > 1;
-    }
-    return texels ? double(multi) / texels : 0;
-}
-
 void row_json(JsonBuilder& j, const Row& r) {
     j.begin_object().key("preset").value(r.preset).key("method").value(r.method).key("l").value(r.l);
     j.key("rms").value(r.rms).key("rms_over_pca").value(r.rms_ratio).key("map_rms_mean").value(r.map_mean);
@@ -202,8 +188,8 @@ int main(int argc, char** argv) {
     pca_o.terms = 4;
     pca_o.method = IstMethod::PCA;
     const double pca_opaque = measure("opaque", opaque, opaque_truth, pca_o, 0).rms;
-    std::vector<Fig6Card> fig6 = {{"mixed", size, truth_multi_share(mixed_truth.blend), {}},
-                                  {"opaque", 2 * size, truth_multi_share(opaque_truth.blend), {}}};
+    std::vector<Fig6Card> fig6 = {{"mixed", size, multi_material_share(mixed_truth.blend), {}},
+                                  {"opaque", 2 * size, multi_material_share(opaque_truth.blend), {}}};
     std::vector<BlendRow> rows6 = {{"truth", opaque_truth.blend, {}}};
     j.key("fig6").begin_array();
     for (Fig6Card& card6 : fig6) {

@@ -329,7 +329,7 @@ int main(int argc, char** argv) {
     bool first = true;
     // Two sweeps over every configuration, the first untimed (printed to stderr only): measured
     // first in the run, the 1-term 1-light row read 1.15-1.23x its pass limit in four `make
-    // bench` runs; behind a warm-up sweep the largest row of five runs read 1.03-1.10x (the
+    // bench` runs; behind a warm-up sweep the largest row of six runs read 1.06-1.12x (the
     // build before, in the same sitting: 1.11 and 1.18). A row still moves by ~0.05 between runs.
     for (int sweep = 0; sweep < 2; ++sweep)
     for (int terms : {1, 2, 4}) {
@@ -402,6 +402,11 @@ int main(int argc, char** argv) {
                 pass_floor.push_back(mesh_passes_ms(&draws, passes, mat->gl_textures[0], s, 1, 0));
             }
             const double ms = median(times), fill = median(fills), mesh = median(meshes), pass = median(pass_floor);
+            if (sweep == 0) {  // untimed: no set-up timing or GL count either
+                std::fprintf(stderr, "warm-up sweep: %d terms %d lights: %.2f ms, %.2fx the pass limit\n", terms,
+                             lights, ms, ms / pass);
+                continue;
+            }
             // The frame's CPU set-up (frames, directions, coordinates, irradiance of every
             // vertex and light), timed alone.
             std::vector<double> setup;
@@ -422,11 +427,6 @@ int main(int argc, char** argv) {
                 return 1;
             }
             const long gl_calls = sepal_test::gl_calls_total();
-            if (sweep == 0) {
-                std::fprintf(stderr, "warm-up sweep: %d terms %d lights: %.2f ms, %.2fx the pass limit\n", terms,
-                             lights, ms, ms / pass);
-                continue;
-            }
             if (terms == 2 && lights == 1)
                 gl_breakdown = "GL calls of a 2-term, 1-light frame (" + std::to_string(gl_calls) +
                                "): " + sepal_test::gl_calls_by_name();
