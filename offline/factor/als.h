@@ -97,6 +97,10 @@ struct AlsSettings {
     // Constrained and Sparse rules: inequalities on the columns of h (null: none).
     const std::vector<EnergyGroup>* energy = nullptr;
     int threads = 0;
+    // Complete data with one confidence everywhere shares one Gram matrix across the lines
+    // of a side (computed once, not as a product with the weights); false takes the general
+    // weighted products anyway (tests compare the two).
+    bool uniform_shortcut = true;
     // Counts updates that fell back (never silent): a least-squares solution that is not
     // finite, or a multiplicative update whose denominator vanished while the entry was
     // nonzero; either sets the entry to 0. Totals do not depend on the thread count.

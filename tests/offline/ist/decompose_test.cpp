@@ -234,3 +234,51 @@ TEST_CASE("ist solver: Lawson-Hanson NNLS is exact, and SACLS never raises its o
         prev = d.objective;
     }
 }
+
+TEST_CASE("als: complete data with one confidence takes the shared-Gram shortcut, with the general products' results") {
+    // The shortcut replaces the W P product by a column sum of P when every weight is the
+    // same (IST's complete SVBRDFs): the factors must match the general path's to rounding.
+    SplitMix64 rng(11);
+    const int rows = 300, cols = 40, k = 3;
+    detail::Matrix m;
+    m.rows = rows, m.cols = cols, m.channels = 1;
+    m.w.assign(size_t(rows) * cols, 0.7f);
+    m.wv.assign(1, std::vector<float>(size_t(rows) * cols));
+    std::vector<double> tg(size_t(rows) * k), th(size_t(cols) * k);
+    for (double& x : tg) x = rng.uniform();
+    for (double& x : th) x = rng.uniform();
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c) {
+            double v = 0.05 * rng.uniform();
+            for (int a = 0; a < k; ++a) v += tg[size_t(r) * k + a] * th[size_t(c) * k + a];
+            m.wv[0][size_t(r) * cols + c] = float(0.7 * v);
+        }
+    detail::LowRank start;
+    start.k = k;
+    start.g.resize(tg.size()), start.h.resize(th.size());
+    for (double& x : start.g) x = 0.1 + rng.uniform();
+    for (double& x : start.h) x = 0.1 + rng.uniform();
+    for (detail::AlsRule rule : {detail::AlsRule::LeastSquares, detail::AlsRule::Constrained, detail::AlsRule::Sparse}) {
+        CAPTURE(int(rule));
+        detail::AlsSettings s;
+        s.rule = rule;
+        s.max_iters = 6;
+        s.tolerance = 0;
+        s.sparsity_l = rule == detail::AlsRule::Sparse ? 0.5 : 0.0;
+        s.sparsity_m = rule == detail::AlsRule::Sparse ? 2.0 : 0.0;
+        detail::LowRank a = start, b = start;
+        int ia = 0, ib = 0;
+        const double ea = detail::als_solve(m, 0, s, &a, &ia);
+        s.uniform_shortcut = false;
+        const double eb = detail::als_solve(m, 0, s, &b, &ib);
+        CHECK(ia == ib);
+        CHECK(ea == doctest::Approx(eb).epsilon(1e-9));
+        double scale = 0, diff = 0;
+        for (size_t i = 0; i < a.g.size(); ++i) scale = std::max(scale, std::fabs(b.g[i])), diff = std::max(diff, std::fabs(a.g[i] - b.g[i]));
+        CHECK(diff <= 1e-8 * scale);
+        scale = 0, diff = 0;
+        for (size_t i = 0; i < a.h.size(); ++i) scale = std::max(scale, std::fabs(b.h[i])), diff = std::max(diff, std::fabs(a.h[i] - b.h[i]));
+        CHECK(diff <= 1e-8 * scale);
+        CHECK(std::isfinite(ea));
+    }
+}
