@@ -1,16 +1,20 @@
 // `make bench` as tests/bench/run.sh runs it, without the hour: every program accepts the
 // flags its line gives (a refusal stops the script there, `set -e`: sepal-bench-extremes
-// refused --out and nothing after it ever ran), and every tests/bench/<name>.cpp has a line.
+// refused --out and nothing after it ever ran), and every tests/bench/<name>.cpp has a line;
+// and the quiet sections (tests/bench/quiet.h) that keep timings alone while two lanes run.
 #include <doctest/doctest.h>
 
 #include <dirent.h>
 #include <limits.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "bench/quiet.h"
 #include "test_util.h"
 
 TEST_CASE("make bench: tests/bench/run.sh runs every bench, and each accepts its flags") {
@@ -44,4 +48,51 @@ TEST_CASE("make bench: tests/bench/run.sh runs every bench, and each accepts its
                                      &out);
     INFO(out);
     CHECK(code == 0);
+}
+
+namespace {
+// The state letter of /proc/PID/stat ('T' stopped, 'S' sleeping, ...).
+char proc_state(pid_t pid) {
+    std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    std::getline(f, line);
+    const size_t close = line.rfind(')');
+    return close != std::string::npos && close + 2 < line.size() ? line[close + 2] : '?';
+}
+char wait_state(pid_t pid, char want) {
+    char s = '?';
+    for (int i = 0; i < 200 && (s = proc_state(pid)) != want; ++i) usleep(10000);
+    return s;
+}
+}  // namespace
+
+TEST_CASE("make bench: a quiet section stops the other lanes' process groups and resumes them") {
+    // A stand-in lane: a child in its own process group, sleeping.
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        setpgid(0, 0);
+        for (;;) pause();
+    }
+    setpgid(child, child);
+    const std::string list = sepal_test::temp_dir() + "/lanes";
+    {
+        std::ofstream(list) << child << "\n" << getpgrp() << "\n";  // our own group is skipped
+    }
+    REQUIRE(wait_state(child, 'S') == 'S');
+    setenv("SEPAL_BENCH_LANES", list.c_str(), 1);
+    {
+        BenchQuiet quiet;
+        CHECK(wait_state(child, 'T') == 'T');
+    }
+    CHECK(wait_state(child, 'S') == 'S');
+    // Without the variable it does nothing.
+    unsetenv("SEPAL_BENCH_LANES");
+    {
+        BenchQuiet quiet;
+        usleep(60000);
+        CHECK(proc_state(child) == 'S');
+    }
+    kill(child, SIGKILL);
+    waitpid(child, nullptr, 0);
 }

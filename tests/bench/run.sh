@@ -3,32 +3,105 @@
 # from tests/bench/<name>.cpp). Usage: sh tests/bench/run.sh BUILD_DIR OUT_DIR
 # Each line prints its wall time; OUT_DIR/bench-times.txt keeps them (the budget is 15 minutes
 # on 2 cores, issue 20), so a bench that grows shows up in the next run.
+#
+# Two phases. First the programs that are mostly timing (frames, set-up, binary sizes, fit and
+# bake seconds) run one at a time. Then two lanes of programs run at once, each in its own process group: most of
+# their work is arithmetic that leaves a core idle part of the time (one lane alone used 1.3
+# to 1.8 of the 2 cores), and wherever they time something a user plans with (bake seconds,
+# frame ms, sampler ns, planner seconds) they do it inside a BenchQuiet section
+# (tests/bench/quiet.h), which stops the other lane meanwhile. A lane's per-program seconds
+# in bench-times.txt are wall time shared with the other lane. Each lane's output (the tables
+# the programs print) goes to OUT/bench-lane-a.log and -b.log; the JSON and markdown files
+# are the same as ever.
+# Internal: run.sh --lane NAME BUILD_DIR OUT_DIR runs one lane.
 set -e
+lane=""
+if [ "$1" = "--lane" ]; then lane="$2"; shift 2; fi
 build="$1"; out="$2"; bin="$build/bin"
 mkdir -p "$out"
 times="$out/bench-times.txt"
-: > "$times.tmp"
-start=$(date +%s)
+lanes="$out/.bench-lanes"
 bench() {
     name="$1"; shift
     t0=$(date +%s)
     "$@"
     t1=$(date +%s)
+    # A program that died inside a quiet section must not leave the other lane stopped.
+    resume_lanes
     [ -n "$SEPAL_BENCH_PARSE_ONLY" ] && return 0
-    printf '%-12s %5d s\n' "$name" $((t1 - t0)) | tee -a "$times.tmp" >&2
+    line=$(printf '%-12s %5d s%s' "$name" $((t1 - t0)) "${lane:+ (lane $lane)}")
+    echo "$line" >> "$times.$lane.tmp"
+    # A lane's own output goes to its log; its timing lines also reach the terminal (fd 3).
+    if [ -n "$lane" ]; then echo "$line" >&3; else echo "$line" >&2; fi
 }
-bench factor      "$bin/sepal-bench-factor" all --out "$out"
+resume_lanes() {
+    [ -n "$SEPAL_BENCH_LANES" ] && [ -f "$SEPAL_BENCH_LANES" ] || return 0
+    for g in $(cat "$SEPAL_BENCH_LANES"); do kill -CONT -"$g" 2>/dev/null || true; done
+}
+# Split so that the lanes take about as long (each program's seconds: docs/performance.md).
+lane_a() {
+    bench tradeoff    "$bin/sepal-bench-tradeoff" --out "$out"
+    bench fidelity    "$bin/sepal-bench-fidelity" --out "$out"
+    bench acquire     "$bin/sepal-bench-acquire" --out "$out"
+    bench factor      "$bin/sepal-bench-factor" all --out "$out"
+}
+lane_b() {
+    bench ist         "$bin/sepal-bench-ist" --out "$out"
+    bench sampling    "$bin/sepal-bench-sampling" all --out "$out"
+    bench database    "$bin/sepal-bench-database" --out "$out"
+}
+if [ -n "$lane" ]; then
+    trap resume_lanes EXIT
+    # The lane's process group (setsid made this shell its leader), for the others' quiet sections.
+    echo $$ >> "$SEPAL_BENCH_LANES.new"
+    while [ ! -f "$SEPAL_BENCH_LANES" ]; do sleep 0.1; done  # until both lanes are listed
+    "lane_$lane"
+    exit 0
+fi
+
+: > "$times..tmp"
+start=$(date +%s)
+# Phase 1: one at a time.
 bench runtime     "$bin/sepal-bench-runtime" --out "$out" --build "$build"
-bench extremes    "$bin/sepal-bench-extremes" --out "$out"
-bench tradeoff    "$bin/sepal-bench-tradeoff" --out "$out"
 bench cost        "$bin/sepal-bench-cost" --out "$out"
-bench fidelity    "$bin/sepal-bench-fidelity" --out "$out"
 bench ports       "$bin/sepal-bench-ports" --out "$out" --build "$(cd "$build" && pwd)"
-bench database    "$bin/sepal-bench-database" --out "$out"
-bench acquire     "$bin/sepal-bench-acquire" --out "$out"
-bench sampling    "$bin/sepal-bench-sampling" all --out "$out"
-bench ist         "$bin/sepal-bench-ist" --out "$out"
+bench extremes    "$bin/sepal-bench-extremes" --out "$out"
 bench homomorphic "$bin/sepal-bench-homomorphic" --out "$out"
-[ -n "$SEPAL_BENCH_PARSE_ONLY" ] && exit 0
-printf '%-12s %5d s\n' total $(($(date +%s) - start)) | tee -a "$times.tmp" >&2
-mv "$times.tmp" "$times"
+# Phase 2: two lanes at once.
+if [ -n "$SEPAL_BENCH_PARSE_ONLY" ]; then
+    lane_a
+    lane_b
+    exit 0
+fi
+rm -f "$lanes" "$lanes.new" "$times.a.tmp" "$times.b.tmp"
+export SEPAL_BENCH_LANES="$lanes"
+echo "bench: two lanes from here; their output goes to $out/bench-lane-a.log and -b.log" >&2
+exec 3>&2
+setsid -w sh "$0" --lane a "$build" "$out" > "$out/bench-lane-a.log" 2>&1 & pa=$!
+setsid -w sh "$0" --lane b "$build" "$out" > "$out/bench-lane-b.log" 2>&1 & pb=$!
+# An interrupted make must not leave the lanes running in their own sessions.
+stop_lanes() {
+    for g in $(cat "$lanes" "$lanes.new" 2>/dev/null); do kill -CONT -"$g" 2>/dev/null; kill -TERM -"$g" 2>/dev/null; done
+}
+trap 'stop_lanes; exit 130' INT TERM
+tries=0
+while [ "$(cat "$lanes.new" 2>/dev/null | wc -l)" -lt 2 ]; do
+    tries=$((tries + 1))
+    if [ $tries -gt 300 ]; then echo "bench: the lanes did not start" >&2; stop_lanes; exit 1; fi
+    sleep 0.1
+done
+mv "$lanes.new" "$lanes"
+ra=0; rb=0
+wait $pa || ra=$?
+wait $pb || rb=$?
+trap - INT TERM
+rm -f "$lanes" "$lanes.new"
+cat "$times.a.tmp" "$times.b.tmp" >> "$times..tmp" 2>/dev/null || true
+rm -f "$times.a.tmp" "$times.b.tmp"
+if [ $ra -ne 0 ] || [ $rb -ne 0 ]; then
+    echo "bench: lane a exited $ra, lane b exited $rb (the end of each lane's log:)" >&2
+    tail -n 5 "$out/bench-lane-a.log" "$out/bench-lane-b.log" >&2
+    exit 1
+fi
+printf '%-12s %5d s\n' total $(($(date +%s) - start)) | tee -a "$times..tmp" >&2
+mv "$times..tmp" "$times"

@@ -48,6 +48,7 @@
 #include "util/json.h"
 #include "util/plot.h"
 #include "bench/bench_cli.h"
+#include "bench/quiet.h"
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
@@ -252,6 +253,8 @@ int main(int argc, char** argv) {
                             const auto seen = timed.find(work);
                             const bool time_it = seen == timed.end();
                             Image img;
+                            // A timed frame runs with the other bench lane stopped (quiet.h).
+                            std::unique_ptr<BenchQuiet> quiet(time_it ? new BenchQuiet : nullptr);
                             const auto tr = std::chrono::steady_clock::now();
                             if (row.backend == "cpu") {
                                 std::vector<double> times;
@@ -280,6 +283,7 @@ int main(int argc, char** argv) {
                                 row.ms = info.ms;
                                 img = to_rgb(image_from_rgba8(px.data(), s.width, s.height));
                             }
+                            quiet.reset();
                             (row.backend == "cpu" ? t_cpu : t_gl) += since(tr);
                             if (time_it) timed[work] = {row.ms, m.name};
                             else row.ms = seen->second.first, row.ms_from = seen->second.second;
