@@ -50,8 +50,15 @@ lane_b() {
     bench sampling    "$bin/sepal-bench-sampling" all --out "$out"
     bench database    "$bin/sepal-bench-database" --out "$out"
 }
+# A finished lane leaves the list (in place, under the lock: a reused process-group id must
+# never be stopped), and resumes the others.
+leave_lanes() {
+    resume_lanes
+    flock "$SEPAL_BENCH_LANES" sh -c 'grep -v "^$1\$" "$0" > "$0.tmp"; cat "$0.tmp" > "$0"; rm -f "$0.tmp"' \
+        "$SEPAL_BENCH_LANES" $$ || true
+}
 if [ -n "$lane" ]; then
-    trap resume_lanes EXIT
+    trap leave_lanes EXIT
     # The lane's process group (setsid made this shell its leader), for the others' quiet sections.
     echo $$ >> "$SEPAL_BENCH_LANES.new"
     while [ ! -f "$SEPAL_BENCH_LANES" ]; do sleep 0.1; done  # until both lanes are listed
