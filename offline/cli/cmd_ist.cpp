@@ -217,10 +217,11 @@ CommandRun setup_decompose(CLI::App& c) {
     c.add_option("-o,--output", a->out, "the tree folder to write")->required();
     c.add_option("--method", a->method, "top level: sacls, acls, pca, nmf or kmeans")
         ->check(CLI::IsMember({"sacls", "acls", "pca", "nmf", "kmeans"}))->capture_default_str();
+    // The library's bounds (decompose.h: terms 1..8), so the flag is refused by name.
     c.add_option("--terms", a->d.terms, "basis materials; 0: chosen by error")
-        ->check(CLI::Range(0, 16))->capture_default_str();
+        ->check(CLI::Range(0, 8))->capture_default_str();
     c.add_option("--max-terms", a->d.max_terms, "most basis materials tried when choosing")
-        ->check(CLI::Range(1, 16))->capture_default_str();
+        ->check(CLI::Range(1, 8))->capture_default_str();
     c.add_option("--sparsity", a->d.sparsity, "SACLS's l (one material per texel)")
         ->check(finite_range(0, 1e6))->capture_default_str();
     c.add_option("--normalization", a->d.normalization, "SACLS's m (weights sum to one)")

@@ -46,6 +46,11 @@ TEST_CASE("ist cli: bad usage exits 2 and says what") {
     CHECK(contains(out, "sepal ist decompose: "));
     CHECK(ist({"decompose", "d", "-o", "t", "--method", "svd"}, &out) == 2);
     CHECK(contains(out, "--method"));
+    // The library takes 1..8 terms: the flags say so themselves (they took 0..16).
+    CHECK(ist({"decompose", "d", "-o", "t", "--terms", "9"}, &out) == 2);
+    CHECK(contains(out, "--terms"));
+    CHECK(ist({"decompose", "d", "-o", "t", "--max-terms", "9"}, &out) == 2);
+    CHECK(contains(out, "--max-terms"));
     CHECK(ist({"render", "/no/such/tree", "-o", "x.png", "--backend", "gles7"}, &out) == 2);
     CHECK(contains(out, "--backend"));
     CHECK(ist({"render", "/no/such/tree", "-o", "x.png"}, &out) == 2);
