@@ -10,13 +10,15 @@
 // file named by $SEPAL_BENCH_LANES. A BenchQuiet takes an exclusive lock on that file (so two
 // lanes' timings never overlap), stops every other lane's group (SIGSTOP: the processes and
 // all their threads, llvmpipe's included), and gives them 50 ms to come off the cores; leaving
-// it resumes them (SIGCONT) and unlocks. A stopped lane's own wall clock runs on, but it
-// times only inside its own quiet sections, never across another's. Without the variable (a
-// program run by hand, or run.sh's first phase, where programs run one at a time) it does
-// nothing. A program that dies inside a section cannot leave the others stopped: each lane's
+// it resumes them (SIGCONT) and unlocks. A stopped lane's wall clock runs on: what it times
+// outside a quiet section of its own (phase seconds, per-decomposition seconds: diagnostics)
+// includes the time it was stopped and shared the machine, so every figure a user plans with
+// is timed inside one. Without the variable (a program run by hand, or run.sh's first
+// phase, where programs run one at a time) it does nothing. A program that dies inside a section cannot leave the others stopped: each lane's
 // script resumes every lane when a program ends (run.sh).
 // Limits: POSIX (flock, kill on process groups); sections do not nest.
 #pragma once
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
 #include <time.h>
@@ -24,7 +26,6 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <fcntl.h>
 #include <vector>
 
 class BenchQuiet {
