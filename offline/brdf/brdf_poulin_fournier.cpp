@@ -46,6 +46,7 @@ class PoulinFournier final : public AnalyticBrdf {
         psi_max_ = std::acos(std::clamp(-h_, -1.0, 1.0));
         c_ = std::sqrt(std::max(0.0, 1.0 - h_ * h_));
         gauss_legendre(kGL, gx_, gw_);
+        if (n_ >= 0.0 && n_ <= 1024.0 && n_ == std::floor(n_)) n_int_ = int(n_);
     }
     bool isotropic() const override { return h_ <= -1.0; }  // only the flat limit
     // Each facet's modified Phong conserves energy when Rd + Rs <= 1 (Lafortune-Willems);
@@ -82,7 +83,31 @@ class PoulinFournier final : public AnalyticBrdf {
     }
 
   private:
-    double lobe(double c) const { return c > 0.0 ? std::pow(std::min(c, 1.0), n_) : 0.0; }
+    double lobe(double c) const {
+        double r[1] = {c}, l[1];
+        lobes<1>(r, l);
+        return l[0];
+    }
+    // max(0, min(c, 1))^n for a panel's nodes at once. Integer exponents (the default 20) by
+    // squaring, the nodes' chains side by side: pow was a quarter of the sampling and factor
+    // benches; squaring rounds <= 2 log2(n) times (~1e-15 relative).
+    template <int N = kGL>
+    void lobes(const double* c, double* out) const {
+        double x[N];
+        for (int j = 0; j < N; ++j) x[j] = c[j] > 0.0 ? std::min(c[j], 1.0) : 0.0;
+        if (n_int_ < 0) {
+            for (int j = 0; j < N; ++j) out[j] = x[j] > 0.0 ? std::pow(x[j], n_) : 0.0;
+            return;
+        }
+        for (int j = 0; j < N; ++j) out[j] = 1.0;
+        for (int e = n_int_; e; e >>= 1) {
+            if (e & 1)
+                for (int j = 0; j < N; ++j) out[j] *= x[j];
+            for (int j = 0; j < N; ++j) x[j] *= x[j];
+        }
+        for (int j = 0; j < N; ++j)
+            if (!(c[j] > 0.0)) out[j] = 0.0;  // n = 0: 0^0 would be 1
+    }
 
     // Visible interval of psi on a cylinder from a direction of profile angle beta.
     void arc(double beta, double* lo, double* hi) const {
@@ -167,18 +192,32 @@ class PoulinFournier final : public AnalyticBrdf {
         }
         std::sort(edges, edges + ne);
 
+        // With t = psi - centre, (m.wi)(m.wo) = aa (cos(beta_i - beta_o) + cos 2t) / 2, so the
+        // lobe's argument 2 (m.wi)(m.wo) - wi.wo is peak - 2 aa sin^2 t and
+        // (m.wi)(m.wo) = (that + wi.wo) / 2: symmetric in (wi, wo). The nodes' sines by angle
+        // addition from the panel's middle (the nodes pair up as mid +- half x_j).
         double sum = 0.0;
         for (int k = 0; k + 1 < ne; ++k) {
             const double a = edges[k], b = edges[k + 1];
             if (!(b > a)) continue;
-            const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-            double s = 0.0;
-            for (int j = 0; j < kGL; ++j) {
-                const double psi = mid + half * gx_[j];
-                const double sp = std::sin(psi), cp = std::cos(psi);  // m = (0, sp, cp)
-                const double mm = (sp * wi.y + cp * wi.z) * (sp * wo.y + cp * wo.z);
-                s += gw_[j] * mm * lobe(2.0 * mm - dot_io);
+            // The lobe falls away from the centre: a panel whose nearest edge has none
+            // has none anywhere (exactly 0: skipping it changes no bit).
+            const double near = a >= centre ? a - centre : b <= centre ? centre - b : 0.0;
+            const double sn = std::sin(near);
+            if (lobe(peak - 2.0 * aa * sn * sn) == 0.0) continue;
+            const double half = 0.5 * (b - a), mid = 0.5 * (a + b) - centre;
+            const double sm = std::sin(mid), cm = std::cos(mid);
+            double r[kGL];
+            for (int j = 0; j < kGL / 2; ++j) {
+                const double sx = std::sin(half * gx_[j]), cx = std::cos(half * gx_[j]);
+                const double s1 = sm * cx + cm * sx, s2 = sm * cx - cm * sx;  // +x_j, -x_j
+                r[j] = peak - 2.0 * aa * s1 * s1;
+                r[kGL - 1 - j] = peak - 2.0 * aa * s2 * s2;
             }
+            double l[kGL];
+            lobes(r, l);
+            double s = 0.0;
+            for (int j = 0; j < kGL; ++j) s += gw_[j] * 0.5 * (r[j] + dot_io) * l[j];
             sum += half * s;
         }
         return sum;
@@ -187,6 +226,7 @@ class PoulinFournier final : public AnalyticBrdf {
     double d_, h_, n_;
     dvec3 rs_, rd_;
     double psi_max_ = 0.0, c_ = 0.0;
+    int n_int_ = -1;  // n when it is a small integer (lobe by squaring), else -1
     double gx_[kGL], gw_[kGL];
 };
 

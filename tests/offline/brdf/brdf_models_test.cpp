@@ -419,6 +419,10 @@ TEST_CASE("brdf poulin-fournier: hand-worked values and brute force") {
          dvec3(0.7, 0.6, 0.5), dvec3(0.1), 60, 100, 55, 290},
         {"poulin-fournier:d=2.5,h=-0.6,n=8", 2.5, -0.6, 8, dvec3(0.8), dvec3(0.2), 30, 20, 85, 260},
         {"poulin-fournier:d=2,h=0,n=20", 2, 0, 20, dvec3(0.8), dvec3(0.2), 60, 0, 60, 180},
+        // Integer exponents take the lobe by squaring, others pow; n = 0 is a flat lobe.
+        {"poulin-fournier:d=2.5,h=-0.6,n=12.5", 2.5, -0.6, 12.5, dvec3(0.8), dvec3(0.2), 30, 20, 85, 260},
+        {"poulin-fournier:d=2.5,h=-0.6,n=0", 2.5, -0.6, 0, dvec3(0.8), dvec3(0.2), 30, 20, 50, 200},
+        {"poulin-fournier:d=3,h=0.2,n=1000", 3, 0.2, 1000, dvec3(0.8), dvec3(0.2), 40, 80, 40, 100},
     };
     for (const Case& c : cases) {
         CAPTURE(c.spec);
