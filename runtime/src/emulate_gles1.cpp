@@ -93,32 +93,47 @@ void sample(const Tex& tx, float u, float v, float lambda, float out[3]) {
     for (int c = 0; c < 3; ++c) out[c] = (1 - frac) * a[c] + frac * b[c];
 }
 
-// Perspective-correct barycentrics of window position (wx, wy) (pixel units, y up) for a
-// triangle with clip coordinates c0, c1, c2: solve [x; y; w] b' = [ndc x; ndc y; 1].
-bool barycentrics(const float* c0, const float* c1, const float* c2, double wx, double wy, int width,
-                  int height, double b[3]) {
-    const double nx = 2.0 * wx / width - 1.0, ny = 2.0 * wy / height - 1.0;
-    const double m[3][3] = {{c0[0], c1[0], c2[0]}, {c0[1], c1[1], c2[1]}, {c0[3], c1[3], c2[3]}};
-    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if (!(fabs(det) > 1e-30)) return false;
-    // b' = M^-1 (nx, ny, 1), by Cramer's rule.
-    const double r[3] = {nx, ny, 1.0};
-    double bp[3];
-    for (int k = 0; k < 3; ++k) {
-        double a[3][3];
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) a[i][j] = j == k ? r[i] : m[i][j];
-        bp[k] = (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                 a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])) /
-                det;
+// Perspective-correct barycentrics of window positions for a triangle with clip coordinates
+// c0, c1, c2: b' solves [x; y; w] b' = [ndc x; ndc y; 1], b = b' / sum(b'). The cofactors of
+// that matrix are the triangle's, so they are computed once per triangle (pixels come in
+// raster order, runs of one triangle) and each position costs three dot products instead
+// of four determinants (four positions per pixel and pass).
+struct TriangleSetup {
+    int t = -1;
+    bool ok = false;
+    double cof[3][3];  // cof[i][k]: cofactor of element (i, k); b'_k = sum_i cof[i][k] r_i / det
+    double det = 0;
+    int width = 1, height = 1;
+
+    void set(int tri, const float* c0, const float* c1, const float* c2, int w, int h) {
+        t = tri;
+        width = w;
+        height = h;
+        const double m[3][3] = {{c0[0], c1[0], c2[0]}, {c0[1], c1[1], c2[1]}, {c0[3], c1[3], c2[3]}};
+        cof[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+        cof[0][1] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+        cof[0][2] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+        cof[1][0] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+        cof[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+        cof[1][2] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+        cof[2][0] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+        cof[2][1] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+        cof[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
+        ok = fabs(det) > 1e-30;
     }
-    const double s = bp[0] + bp[1] + bp[2];
-    if (!(fabs(s) > 1e-30)) return false;
-    for (int k = 0; k < 3; ++k) b[k] = bp[k] / s;
-    return true;
-}
+    // Window position (wx, wy) in pixel units, y up.
+    bool at(double wx, double wy, double b[3]) const {
+        if (!ok) return false;
+        const double nx = 2.0 * wx / width - 1.0, ny = 2.0 * wy / height - 1.0;
+        double bp[3];
+        for (int k = 0; k < 3; ++k) bp[k] = (cof[0][k] * nx + cof[1][k] * ny + cof[2][k]) / det;
+        const double s = bp[0] + bp[1] + bp[2];
+        if (!(fabs(s) > 1e-30)) return false;
+        for (int k = 0; k < 3; ++k) b[k] = bp[k] / s;
+        return true;
+    }
+};
 
 inline float clamp01(float v) { return v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v; }
 inline int to8(float v) { return (int)(clamp01(v) * 255.0f + 0.5f); }
@@ -281,23 +296,22 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
                 for (size_t k = 0; k < 4 * (size_t)n; ++k) c[k] = clamp01(c[k]);
         }
         const bool subtract = pass.blend == SEPAL_BLEND_SUBTRACT && !step.inverted;
+        TriangleSetup setup;
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
                 const size_t p = (size_t)y * W + x;
                 const int t = (int)tri[p];
                 if (t < 0) continue;
                 const uint16_t* idx = e->mesh->indices + 3 * t;
-                const float* c0 = clip + 4 * (size_t)idx[0];
-                const float* c1 = clip + 4 * (size_t)idx[1];
-                const float* c2 = clip + 4 * (size_t)idx[2];
+                if (t != setup.t)
+                    setup.set(t, clip + 4 * (size_t)idx[0], clip + 4 * (size_t)idx[1], clip + 4 * (size_t)idx[2], W, H);
                 // Window coordinates (y up) of the pixel and of its 2x2 quad's corner.
                 const int wy = H - 1 - y;
                 const int qx = x & ~1, qy = wy & ~1;
                 double b[3], bx[3], by[3], bq[3];
-                if (!barycentrics(c0, c1, c2, x + 0.5, wy + 0.5, W, H, b)) continue;
-                const bool quad = barycentrics(c0, c1, c2, qx + 0.5, qy + 0.5, W, H, bq) &&
-                                  barycentrics(c0, c1, c2, qx + 1.5, qy + 0.5, W, H, bx) &&
-                                  barycentrics(c0, c1, c2, qx + 0.5, qy + 1.5, W, H, by);
+                if (!setup.at(x + 0.5, wy + 0.5, b)) continue;
+                const bool quad = setup.at(qx + 0.5, qy + 0.5, bq) && setup.at(qx + 1.5, qy + 0.5, bx) &&
+                                  setup.at(qx + 0.5, qy + 1.5, by);
                 for (int l = 0; l < lights; ++l) {
                     const float* cl = colors + 4 * (size_t)n * l;
                     float value[3];
