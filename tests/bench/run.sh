@@ -1,8 +1,8 @@
 #!/bin/sh
 # What `make bench` runs: one line per benchmark program (build/bin/sepal-bench-<name>,
 # from tests/bench/<name>.cpp). Usage: sh tests/bench/run.sh BUILD_DIR OUT_DIR
-# Each line prints its wall time; OUT_DIR/bench-times.txt keeps them (the budget is 15 minutes
-# on 2 cores, issue 20), so a bench that grows shows up in the next run.
+# Each line prints its wall time and its processor-seconds; OUT_DIR/bench-times.txt keeps them
+# (the budget is 15 minutes on 2 cores, issue 20), so a bench that grows shows up in the next run.
 #
 # Two phases. First the programs that are mostly timing (frames, set-up, binary sizes) run one
 # at a time. Then two lanes of programs run at once, each in its own process group: most of
@@ -21,15 +21,26 @@ build="$1"; out="$2"; bin="$build/bin"
 mkdir -p "$out"
 times="$out/bench-times.txt"
 lanes="$out/.bench-lanes"
+# Processor-seconds (user + system) of this shell's finished children, from the file the
+# `times` builtin wrote (it must run in this shell: a subshell has no children of its own).
+# Wall seconds move with the machine's state by a fifth or more within hours; processor-
+# seconds show better what a change cut, and two lanes can at best halve their sum.
+cpu_file="$out/.bench-cpu${lane:+.$lane}"
+cpu_read() {
+    awk 'NR == 2 { split($1, u, "m"); split($2, s, "m"); printf "%.2f", u[1] * 60 + u[2] + s[1] * 60 + s[2] }' "$cpu_file"
+}
 bench() {
     name="$1"; shift
     t0=$(date +%s)
+    times > "$cpu_file"; c0=$(cpu_read)
     "$@"
     t1=$(date +%s)
+    times > "$cpu_file"; c1=$(cpu_read)
     # A program that died inside a quiet section must not leave the other lane stopped.
     resume_lanes
     [ -n "$SEPAL_BENCH_PARSE_ONLY" ] && return 0
-    line=$(printf '%-12s %5d s%s' "$name" $((t1 - t0)) "${lane:+ (lane $lane)}")
+    cpu=$(awk -v a="$c0" -v b="$c1" 'BEGIN { printf "%d", b - a + 0.5 }')
+    line=$(printf '%-12s %5d s %5d cpu-s%s' "$name" $((t1 - t0)) "$cpu" "${lane:+ (lane $lane)}")
     echo "$line" >> "$times.$lane.tmp"
     # A lane's own output goes to its log; its timing lines also reach the terminal (fd 3).
     if [ -n "$lane" ]; then echo "$line" >&3; else echo "$line" >&2; fi
@@ -57,6 +68,7 @@ lane_b() {
 # never be stopped), and resumes the others.
 leave_lanes() {
     resume_lanes
+    rm -f "$cpu_file"
     flock "$SEPAL_BENCH_LANES" sh -c 'grep -v "^$1\$" "$0" > "$0.tmp"; cat "$0.tmp" > "$0"; rm -f "$0.tmp"' \
         "$SEPAL_BENCH_LANES" $$ || true
 }
@@ -79,6 +91,7 @@ bench ports       "$bin/sepal-bench-ports" --out "$out" --build "$(cd "$build" &
 if [ -n "$SEPAL_BENCH_PARSE_ONLY" ]; then
     lane_a
     lane_b
+    rm -f "$cpu_file" "$times..tmp"
     exit 0
 fi
 rm -f "$lanes" "$lanes.new" "$times.a.tmp" "$times.b.tmp"
@@ -109,7 +122,10 @@ rm -f "$times.a.tmp" "$times.b.tmp"
 if [ $ra -ne 0 ] || [ $rb -ne 0 ]; then
     echo "bench: lane a exited $ra, lane b exited $rb (the end of each lane's log:)" >&2
     tail -n 5 "$out/bench-lane-a.log" "$out/bench-lane-b.log" >&2
+    rm -f "$cpu_file"
     exit 1
 fi
-printf '%-12s %5d s\n' total $(($(date +%s) - start)) | tee -a "$times..tmp" >&2
+times > "$cpu_file"
+printf '%-12s %5d s %5.0f cpu-s\n' total $(($(date +%s) - start)) "$(cpu_read)" | tee -a "$times..tmp" >&2
+rm -f "$cpu_file"
 mv "$times..tmp" "$times"
