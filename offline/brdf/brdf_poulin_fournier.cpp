@@ -89,8 +89,8 @@ class PoulinFournier final : public AnalyticBrdf {
         return l[0];
     }
     // max(0, min(c, 1))^n for a panel's nodes at once. Integer exponents (the default 20) by
-    // squaring, the nodes' chains side by side: pow was a quarter of the sampling and factor
-    // benches; squaring rounds <= 2 log2(n) times (~1e-15 relative).
+    // squaring, the nodes' chains side by side: pow was a quarter of the sampling bench's
+    // table 1; squaring rounds <= 2 log2(n) times (~1e-15 relative).
     template <int N = kGL>
     void lobes(const double* c, double* out) const {
         double x[N];
