@@ -14,8 +14,9 @@
 // outside a quiet section of its own (phase seconds, per-decomposition seconds: diagnostics)
 // includes the time it was stopped and shared the machine, so every figure a user plans with
 // is timed inside one. Without the variable (a program run by hand, or run.sh's first
-// phase, where programs run one at a time) it does nothing. A program that dies inside a section cannot leave the others stopped: each lane's
-// script resumes every lane when a program ends (run.sh).
+// phase, where programs run one at a time) it does nothing. A program that dies inside a
+// section cannot leave the others stopped: each lane's script resumes every lane when a
+// program ends (run.sh).
 // Limits: POSIX (flock, kill on process groups); sections do not nest.
 #pragma once
 #include <fcntl.h>
