@@ -14,6 +14,7 @@
 #include "database/linear_model.h"
 #include "util/io.h"
 #include "util/parallel.h"
+#include "util/thin_product.h"
 
 namespace sepal {
 
@@ -40,15 +41,21 @@ double exact_condition(const MatrixXd& A) {
     return lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
 }
 
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 // rows x B = pool (M x K) * U (K x B), computed in row blocks on all cores (each block is
-// independent: the result does not depend on the thread count).
-MatrixXd pool_times(const MatrixXd& pool, const MatrixXd& U) {
-    MatrixXd T(pool.rows(), U.cols());
+// independent: the result does not depend on the thread count). The swap loop's B = 2
+// scans go through thin_product: Eigen's product copied ("packed") the whole 24,576 x 99
+// pool on every call, 3.4 ms against 1.7 ms streamed, 120-odd times per plan.
+RowMat pool_times(const RowMat& pool, const RowMat& U) {
+    RowMat T(pool.rows(), U.cols());
     constexpr Index kBlock = 8192;
     const size_t blocks = size_t((pool.rows() + kBlock - 1) / kBlock);
     parallel_for(blocks, 0, [&](size_t b) {
         const Index r0 = Index(b) * kBlock, n = std::min(kBlock, pool.rows() - r0);
-        T.middleRows(r0, n).noalias() = pool.middleRows(r0, n) * U;
+        if (!thin_product(pool.row(r0).data(), size_t(pool.cols()), int(n), int(pool.cols()), U.data(),
+                          int(U.cols()), T.row(r0).data()))
+            T.middleRows(r0, n).noalias() = pool.middleRows(r0, n) * U;
     });
     return T;
 }
@@ -82,7 +89,7 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
         for (size_t i = 0; i < M; ++i) grid_rows[i] = db.pool_row_index(cand[i]);
         sigma2 = row_sigma2(db, rm, grid_rows);
     }
-    MatrixXd pool(Index(M), K);
+    RowMat pool(Index(M), K);  // row-major: rows are what every step reads
     for (size_t i = 0; i < M; ++i) {
         const float* r = db.pool_row(cand[i]);
         const double w = o.weighted ? 1.0 / std::sqrt(sigma2[i]) : 1.0;
@@ -110,7 +117,7 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
         idx.resize(ns);
         std::vector<double> slev(ns);
         for (size_t s = 0; s < ns; ++s) slev[s] = lev(Index(idx[s]));
-        MatrixXd U(K, B);
+        RowMat U(K, B);
         VectorXd den(B);
         for (int b = 0; b < B; ++b) {
             size_t best = ns;
@@ -130,7 +137,7 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
                 slev[s] -= t * t / d;
             }
         }
-        const MatrixXd T = pool_times(pool, U);
+        const RowMat T = pool_times(pool, U);
         for (int b = 0; b < B; ++b) lev -= T.col(b).cwiseAbs2() / den(b);
     }
     MatrixXd A = MatrixXd::Zero(K, K);
@@ -146,10 +153,10 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
     for (int it = 0; it < o.max_swaps; ++it) {
         Eigen::SelfAdjointEigenSolver<MatrixXd> es(A);
         const double lo = es.eigenvalues()(0), hi = es.eigenvalues()(K - 1);
-        MatrixXd V(K, 2);
+        RowMat V(K, 2);
         V.col(0) = es.eigenvectors().col(0);
         V.col(1) = es.eigenvectors().col(K - 1);
-        const MatrixXd T = pool_times(pool, V);
+        const RowMat T = pool_times(pool, V);
         // First-order estimates of the condition number after adding / removing each row.
         std::vector<std::pair<double, size_t>> adds, rems;
         for (size_t i = 0; i < M; ++i) {
