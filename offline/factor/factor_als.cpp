@@ -128,10 +128,11 @@ void build_normals(const Weighted& wt, int side, const std::vector<double>& othe
     // Chunks of 256 lines on long sides: each chunk's Eigen product packs all of p (n_other x kk)
     // again, which at 32 lines took as long as the multiply-adds (IST's 96 x 96 texels), and
     // thin_product_t streams 256-wide row segments far better than 32-wide ones (2.8 vs 5.7
-    // ms at 2304 x 1344, k = 4); short sides keep 32 so they still split across threads. A
-    // function of n only (determinism); the thin products do not depend on it at all, and
-    // Eigen's gave the same results at either size (ist.json identical).
-    const int step = n >= 1024 ? 256 : 32;
+    // ms at 2304 x 1344, k = 4; 128 lines 10% better than 32 at 812 x 812); short sides keep
+    // 32 so they still split across threads. A function of n only (determinism); the thin
+    // products do not depend on it at all, and Eigen's gave the same results at either size
+    // (ist.json identical).
+    const int step = n >= 1024 ? 256 : n >= 512 ? 128 : 32;
     const size_t chunks = size_t((n + step - 1) / step);
     scratch->resize(size_t(workers(chunks, threads)));
     parallel_for_workers(chunks, threads, [&](size_t chunk, int worker) {
