@@ -24,8 +24,12 @@ bool render_mc(const Brdf& brdf, const sepal_sampler& sampler, const Environment
     }
     const auto start = std::chrono::steady_clock::now();
     const bool mis = o.mis == Mis::On || (o.mis == Mis::Auto && !env.constant(nullptr));
-    EnvironmentSampler light;
-    if (mis && !light.build(env, 512, 256, err)) return false;
+    EnvironmentSampler own;
+    const EnvironmentSampler* light = o.light;
+    if (mis && !light) {
+        if (!own.build(env, kMcLightWidth, kMcLightHeight, err)) return false;
+        light = &own;
+    }
     SurfaceBuffer g;
     if (!rasterize_surface(scene, mesh, width, height, &g, err)) return false;
     McResult r;
@@ -73,13 +77,13 @@ bool render_mc(const Brdf& brdf, const sepal_sampler& sampler, const Environment
                             const dvec3 wl(wi[0], wi[1], wi[2]);
                             const dvec3 dir = glm::normalize(sp.world(wl));
                             const dvec3 f = brdf.eval(wl, wo);
-                            L += env.radiance(dir) * f * (wl.z / (pdf + (mis ? light.pdf(dir) : 0.0)));
+                            L += env.radiance(dir) * f * (wl.z / (pdf + (mis ? light->pdf(dir) : 0.0)));
                         } else {
                             ++(k == 0 ? bl : fl);
                         }
                         if (!mis) continue;
                         double pl = 0;
-                        const dvec3 dir = light.sample(ul[size_t(s) * 2], ul[size_t(s) * 2 + 1], &pl);
+                        const dvec3 dir = light->sample(ul[size_t(s) * 2], ul[size_t(s) * 2 + 1], &pl);
                         ++ls;
                         const dvec3 wl = sp.local(dir);
                         if (!(wl.z > 0) || !(pl > 0)) continue;

@@ -35,6 +35,9 @@ namespace sepal {
 
 enum class Mis { Auto, On, Off };  // auto: on unless the environment is constant
 
+// The light sampler's grid (environment.h): 512 x 256 cells.
+constexpr int kMcLightWidth = 512, kMcLightHeight = 256;
+
 struct McOptions {
     int spp = 16;  // 1..1e6 (with MIS: spp BRDF samples and spp light samples)
     Mis mis = Mis::Auto;
@@ -42,6 +45,11 @@ struct McOptions {
     SampleSequence sequence = SampleSequence::Stratified;
     int threads = 0;
     bool progress = false;
+    // With MIS: the light sampler of this same environment, built by the caller
+    // (build(env, kMcLightWidth, kMcLightHeight)), so a loop of renders under one
+    // environment builds it once instead of every time (2 M radiance lookups each). Not
+    // owned; nullptr: built here.
+    const EnvironmentSampler* light = nullptr;
 };
 
 struct McResult {

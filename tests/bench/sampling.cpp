@@ -270,13 +270,47 @@ const Strategies& build_strategies(const Brdf& b, const Material& m, bool tabula
 
 using sepal_test::SphereScene;
 
+// The run's environments, each made once with its light sampler (MIS): table 2 alone
+// renders 240 times under the sky, and each build is 2 M radiance lookups. Addresses are
+// stable for the whole run, so render() finds an environment's sampler by its address.
+struct Lit {
+    std::unique_ptr<Environment> env;
+    std::unique_ptr<EnvironmentSampler> light;  // null for a constant environment (no MIS)
+};
+std::map<std::string, Lit>& lits() {
+    static std::map<std::string, Lit> memo;
+    return memo;
+}
+const Environment& environment(const std::string& spec) {
+    Lit& l = lits()[spec];
+    if (!l.env) {
+        std::string err;
+        l.env = make_environment(spec, &err);
+        if (l.env && !l.env->constant(nullptr)) {
+            l.light = std::make_unique<EnvironmentSampler>();
+            if (!l.light->build(*l.env, kMcLightWidth, kMcLightHeight, &err)) l.env.reset();
+        }
+        if (!l.env) {
+            std::fprintf(stderr, "sepal-bench-sampling: %s\n", err.c_str());
+            std::exit(2);
+        }
+    }
+    return *l.env;
+}
+const EnvironmentSampler* light_of(const Environment& env) {
+    for (const auto& [spec, l] : lits())
+        if (l.env.get() == &env) return l.light.get();
+    return nullptr;  // not one of ours: render_mc builds its own
+}
+
 McResult render(const Brdf& b, const Sampler& s, const Environment& env, int size, int spp, uint64_t seed) {
     static SphereScene sc(96);
+    std::string err;
     McOptions o;
     o.spp = spp;
     o.seed = seed;
+    o.light = light_of(env);
     McResult r;
-    std::string err;
     if (!render_mc(b, s.get(), env, sc.scene, sc.mesh, size, size, o, &r, &err)) {
         std::fprintf(stderr, "sepal-bench-sampling: %s\n", err.c_str());
         std::exit(2);
@@ -371,8 +405,8 @@ void table1(const Config& c, Output* out) {
 // ---- tables 2 and 3 ------------------------------------------------------------------------------
 void table23(const Config& c, Output* out) {
     std::string err;
-    auto constant = make_environment("constant", &err);
-    auto sky = make_environment("sky", &err);
+    const Environment& constant = environment("constant");
+    const Environment& sky = environment("sky");
     const char* cols[] = {"cosine", "lafortune", "as", "tabulated", "analytic"};
     struct Row {
         std::string label;
@@ -390,7 +424,7 @@ void table23(const Config& c, Output* out) {
         const Strategies& s = build_strategies(*b, m, true);
         Row r{m.label, {}, {0, 0}, &m};
         for (int e = 0; e < 2; ++e) {
-            const Environment& env = e == 0 ? *constant : *sky;
+            const Environment& env = e == 0 ? constant : sky;
             note("tables 2, 3: rendering " + m.label + (e ? " (sky)" : " (constant)"));
             const double vf = variance_of(*b, s.data.at("factored"), env, c);
             r.var_factored[e] = vf;
@@ -430,7 +464,7 @@ void table23(const Config& c, Output* out) {
 // ---- rmse ------------------------------------------------------------------------------------------
 void rmse(const Config& c, Output* out) {
     std::string err;
-    auto constant = make_environment("constant", &err);
+    const Environment& constant = environment("constant");
     const int size = c.quick ? 16 : 32, ref_spp = c.quick ? 1024 : 16384;
     const std::vector<int> spps = c.quick ? std::vector<int>{4, 16, 64} : std::vector<int>{4, 16, 64, 256, 1024};
     std::vector<PlotPanel> panels;
@@ -444,7 +478,7 @@ void rmse(const Config& c, Output* out) {
         const Strategies& s = build_strategies(*b, m, !c.quick);
         Sampler fs;
         fs.build(s.data.at("factored"), &err);
-        const McResult ref = render(*b, fs, *constant, size, ref_spp, 99);
+        const McResult ref = render(*b, fs, constant, size, ref_spp, 99);
         PlotPanel p;
         p.title = m.label;
         p.x_label = "samples per pixel";
@@ -466,7 +500,7 @@ void rmse(const Config& c, Output* out) {
             for (int spp : spps) out->json.value(spp);
             out->json.end_array().key("rmse").begin_array();
             for (int spp : spps) {
-                const McResult r = render(*b, smp, *constant, size, spp, 7);
+                const McResult r = render(*b, smp, constant, size, spp, 7);
                 const double e = std::sqrt(image_mse(r.image, ref.image, ref.shaded));
                 series.x.push_back(spp);
                 series.y.push_back(e);
@@ -623,7 +657,7 @@ void ablation(const Config& c, Output* out) {
 // ---- renders ---------------------------------------------------------------------------------------
 void renders(const Config& c, Output* out) {
     std::string err;
-    auto sky = make_environment("sky", &err);
+    const Environment& sky = environment("sky");
     const int size = c.quick ? 48 : 128, spp = 16;
     const char* names[] = {"factored", "cosine", "lafortune", "as"};
     std::vector<const Material*> mats;
@@ -643,7 +677,7 @@ void renders(const Config& c, Output* out) {
             if (it == s.data.end()) continue;
             Sampler smp;
             smp.build(it->second, &err);
-            const McResult r = render(*b, smp, *sky, size, spp, 3);
+            const McResult r = render(*b, smp, sky, size, spp, 3);
             const int y0 = label_h + int(row) * (size + label_h);
             for (int y = 0; y < size; ++y)
                 for (int x = 0; x < size; ++x)
