@@ -271,6 +271,20 @@ TEST_CASE("MC renderer: deterministic for a seed whatever the thread count; the 
     o.threads = 2;
     REQUIRE(render_mc(*ct, s.get(), *env, sc.scene, sc.mesh, 40, 30, o, &b, &err));
     CHECK(a.image.data == b.image.data);
+    // A light sampler built by the caller (McOptions::light) renders the same image; one of
+    // another environment does not (so the option is really used).
+    EnvironmentSampler own, other;
+    REQUIRE(own.build(*env, kMcLightWidth, kMcLightHeight, &err));
+    o.light = &own;
+    REQUIRE(render_mc(*ct, s.get(), *env, sc.scene, sc.mesh, 40, 30, o, &b, &err));
+    CHECK(a.image.data == b.image.data);
+    auto sun = make_environment("sky:elevation=80,azimuth=90", &err);
+    REQUIRE_MESSAGE(sun, err);
+    REQUIRE(other.build(*sun, kMcLightWidth, kMcLightHeight, &err));
+    o.light = &other;
+    REQUIRE(render_mc(*ct, s.get(), *env, sc.scene, sc.mesh, 40, 30, o, &b, &err));
+    CHECK(a.image.data != b.image.data);
+    o.light = nullptr;
     o.seed = 6;
     REQUIRE(render_mc(*ct, s.get(), *env, sc.scene, sc.mesh, 40, 30, o, &c, &err));
     CHECK(a.image.data != c.image.data);
