@@ -18,7 +18,7 @@
 // and a colour per lobe would need that weight back.
 //
 // The fit: weighted least squares, Q = sum_s sum_c (weight_s (f_c(s) - value_s,c))^2, by
-// Levenberg-Marquardt (Eigen's unsupported MINPACK port, analytic Jacobian) from the best of a
+// Levenberg-Marquardt (normal equations, Marquardt's scaling, analytic Jacobian) from the best of a
 // small grid of starts (lobe shape Cxy/Cz and exponent n on a grid, rho_d and the lobe's
 // scale by linear least squares at each; lobes added greedily).
 // Covariance: cov = s^2 (J^T J)^+ at the minimum (J the weighted Jacobian), s^2 = Q / (m - p)
@@ -75,6 +75,11 @@ struct LafortuneFitOptions {
     int max_evaluations = 400;  // function evaluations of the LM solver
 };
 
+// Why the Levenberg-Marquardt solver stopped (LafortuneFit::lm_status): converged on the
+// cost's relative reduction or on the step's relative size (both below sqrt(eps)), a zero
+// gradient, the evaluation budget spent, or no finite step left to take.
+enum LmStop { kLmCost = 1, kLmStep = 2, kLmGradient = 4, kLmBudget = 5, kLmStuck = 6 };
+
 // Singular values of the scaled Jacobian below this times the largest count as unmeasured.
 constexpr double kRankTolerance = 1e-6;
 
@@ -90,7 +95,7 @@ struct LafortuneFit {
     double sigma = 0;                // noise scale used for cov (estimated or given)
     double rms = 0;                  // unweighted RMS of f - value over residuals
     int evaluations = 0;             // model evaluations of the LM solver
-    int lm_status = 0;               // Eigen's LevenbergMarquardtSpace::Status
+    int lm_status = 0;               // why the solver stopped, for the best start: an LmStop
     bool clamped = false;            // model.spec() had to clamp (see Limits)
     double ci95(int j) const;        // 1.959964 sqrt(cov(j, j)); inf when unmeasured
 };

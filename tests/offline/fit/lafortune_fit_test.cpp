@@ -145,6 +145,19 @@ TEST_CASE("fit lafortune: noise-free samples give back the model, and its spec r
     for (int j = 0; j < want.size(); ++j) CHECK(fit.params[j] == doctest::Approx(want[j]).epsilon(1e-6));
     CHECK(fit.rank == 6);
     CHECK(fit.rms < 1e-9);
+    // The solver says why it stopped: converged here, well inside its budget; with a budget
+    // of 3 evaluations from the same start it runs out and says so.
+    CHECK((fit.lm_status == sepal::kLmCost || fit.lm_status == sepal::kLmStep || fit.lm_status == sepal::kLmGradient));
+    CHECK(fit.evaluations < 400);
+    sepal::LafortuneFitOptions tight;
+    tight.max_evaluations = 3;
+    LafortuneModel start = truth;
+    start.lobes[0].n = 5;
+    tight.start = &start;
+    sepal::LafortuneFit short_fit;
+    REQUIRE(sepal::fit_lafortune(samples, tight, &short_fit, &err));
+    CHECK(short_fit.lm_status == sepal::kLmBudget);
+    CHECK(short_fit.evaluations == 3);
     auto brdf = sepal::make_brdf(fit.model.spec(), &err);
     REQUIRE(brdf);
     for (const BrdfSample& s : samples) {
