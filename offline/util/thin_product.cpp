@@ -1,6 +1,7 @@
 #include "util/thin_product.h"
 
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 namespace sepal {
@@ -89,18 +90,24 @@ void cols_kernel(const double* a, size_t lda, int rows, int ni, const V2* b, int
     for (int l = 0; l < ni; ++l) unpad(&acc[size_t(l) * K2], k, out + size_t(l) * size_t(k));
 }
 
+// Calls f with the register width K2 (1..4 vectors of two doubles) as a compile-time constant.
+template <typename F>
+void with_width(int k2, F&& f) {
+    switch (k2) {
+        case 1: f(std::integral_constant<int, 1>{}); break;
+        case 2: f(std::integral_constant<int, 2>{}); break;
+        case 3: f(std::integral_constant<int, 3>{}); break;
+        default: f(std::integral_constant<int, 4>{}); break;
+    }
+}
+
 }  // namespace
 
 bool thin_product(const double* a, size_t lda, int n, int m, const double* b, int k, double* out) {
     if (k < kThinMinCols || k > kThinMaxCols || n < 0 || m < 0) return false;
     const int k2 = (k + 1) / 2;
     const std::vector<V2> bp = padded(b, m, k, k2);
-    switch (k2) {
-        case 1: rows_kernel<1>(a, lda, n, m, bp.data(), k, out); break;
-        case 2: rows_kernel<2>(a, lda, n, m, bp.data(), k, out); break;
-        case 3: rows_kernel<3>(a, lda, n, m, bp.data(), k, out); break;
-        default: rows_kernel<4>(a, lda, n, m, bp.data(), k, out); break;
-    }
+    with_width(k2, [&](auto w) { rows_kernel<decltype(w)::value>(a, lda, n, m, bp.data(), k, out); });
     return true;
 }
 
@@ -110,12 +117,7 @@ bool thin_product_t(const double* a, size_t lda, int rows, int c0, int ni, const
     const int k2 = (k + 1) / 2;
     const std::vector<V2> bp = padded(b, rows, k, k2);
     a += c0;
-    switch (k2) {
-        case 1: cols_kernel<1>(a, lda, rows, ni, bp.data(), k, out); break;
-        case 2: cols_kernel<2>(a, lda, rows, ni, bp.data(), k, out); break;
-        case 3: cols_kernel<3>(a, lda, rows, ni, bp.data(), k, out); break;
-        default: cols_kernel<4>(a, lda, rows, ni, bp.data(), k, out); break;
-    }
+    with_width(k2, [&](auto w) { cols_kernel<decltype(w)::value>(a, lda, rows, ni, bp.data(), k, out); });
     return true;
 }
 
