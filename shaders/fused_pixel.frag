@@ -68,6 +68,14 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
         float x1 = wi.x * cp + wi.y * sn, y1 = -wi.x * sn + wi.y * cp;
         g = hemi(hv);
         h = hemi(vec3(x1 * ct - wi.z * st, y1, x1 * st + wi.z * ct));
+    } else if (u_param == 5) {  // axis: G(alpha_i, alpha_o), H(beta_i, beta_o) about the tangent
+        // beta = atan(y, z) is undefined at y = z = 0 (w = +-t, on the horizon): 0 there,
+        // clamped to +-pi/2 below the horizon, as runtime/src/param.cpp does.
+        const float kPi = 3.14159265;
+        g = asin(clamp(vec2(wi.x, wo.x), -1.0, 1.0)) / kPi + 0.5;
+        float bi = dot(wi.yz, wi.yz) > 0.0 ? atan(wi.y, wi.z) : 0.0;
+        float bo = dot(wo.yz, wo.yz) > 0.0 ? atan(wo.y, wo.z) : 0.0;
+        h = clamp(vec2(bi, bo) / kPi + 0.5, 0.0, 1.0);
     } else {  // elevation/azimuth: G(theta_i, theta_o), H(phi_i, phi_o), H wraps
         const float kPi = 3.14159265;
         g = vec2(acos(clamp(wi.z, -1.0, 1.0)), acos(clamp(wo.z, -1.0, 1.0))) / (0.5 * kPi);

@@ -395,6 +395,7 @@ bool bake_asset(const std::string& spec, sepal_param param, int res, sepal::Asse
     o.params = {param == SEPAL_PARAM_RUSINKIEWICZ ? sepal::Param::Rusinkiewicz
                 : param == SEPAL_PARAM_IV         ? sepal::Param::IncidentView
                 : param == SEPAL_PARAM_VH         ? sepal::Param::ViewHalf
+                : param == SEPAL_PARAM_AXIS       ? sepal::Param::Axis
                                                 : sepal::Param::GsHalf};
     o.resolutions = {res};
     o.methods = {sepal::Method::NMF};

@@ -51,7 +51,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const Param kAllParams[] = {Param::IncidentView, Param::GsHalf, Param::ViewHalf,
-                            Param::Rusinkiewicz, Param::ElevAzim};
+                            Param::Rusinkiewicz, Param::ElevAzim, Param::Axis};
 const Method kAllMethods[] = {Method::SVD, Method::ND, Method::NMF, Method::ACLS};
 
 glm::dvec3 dir(double theta, double phi) {
@@ -1363,6 +1363,38 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
     // and counted; the coordinates stay finite.
     check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, rot(wi0, 1e-7), rot(wo0, 1e-7), 0, 1);
     check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, wi0, wo0, 0, 1);
+    // axis near its poles w = +-t (grazing along the tangent), where asin's slope is
+    // unbounded: float inputs (6e-8) move alpha by up to sqrt(2 x 6e-8) = 3.5e-4 rad, 1.1e-4
+    // in texture units (a 64-texel factor's texel is 0.016); beta stays within 1e-6 while
+    // the direction keeps a cross-section part (here down to 1e-3 rad from t).
+    for (double off : {1e-1, 1e-2, 1e-3}) {
+        CAPTURE(off);
+        const double el = 90 - off * 180 / M_PI;  // degrees from n, in the t-n plane
+        const glm::dvec3 wi(std::sin(el * M_PI / 180), 1e-4, std::cos(el * M_PI / 180)), wo = dir(30, 200);
+        const glm::dvec3 wn = glm::normalize(wi);
+        const float fi[3] = {float(wn.x), float(wn.y), float(wn.z)}, fo[3] = {float(wo.x), float(wo.y), float(wo.z)};
+        float g[2], h[2];
+        int taken = 0;
+        REQUIRE(srt::param_texcoords(SEPAL_PARAM_AXIS, SEPAL_MAP_XY, fi, fo, g, h, false, &taken) == 1);
+        CHECK(taken == 0);
+        sepal::TexCoords ref;
+        REQUIRE(sepal::param_forward(sepal::Param::Axis, sepal::HemiMap::XY, glm::dvec3(fi[0], fi[1], fi[2]),
+                                     glm::dvec3(fo[0], fo[1], fo[2]), &ref));
+        CHECK(std::fabs(g[0] - ref.x.x) < 2e-4);
+        CHECK(std::fabs(g[1] - ref.x.y) < 1e-6);
+        CHECK(std::fabs(h[0] - ref.y.x) < 1e-5);
+        CHECK(std::fabs(h[1] - ref.y.y) < 1e-6);
+    }
+    // Below the horizon (per vertex, for interpolation only): finite, beta clamped to the
+    // texture's edge on the side of its s component; at w = t exactly beta is 0 (the centre).
+    const float below[3] = {0.0f, 0.6f, -0.8f}, at_t[3] = {1.0f, 0.0f, 0.0f}, up[3] = {0.0f, 0.0f, 1.0f};
+    float g[2], h[2];
+    CHECK(srt::param_texcoords(SEPAL_PARAM_AXIS, SEPAL_MAP_XY, below, up, g, h, false, nullptr) == 0);
+    CHECK(h[0] == 1.0f);
+    CHECK(g[0] == doctest::Approx(0.5));
+    CHECK(srt::param_texcoords(SEPAL_PARAM_AXIS, SEPAL_MAP_XY, at_t, up, g, h, false, nullptr) == 0);
+    CHECK(g[0] == doctest::Approx(1.0));
+    CHECK(h[0] == doctest::Approx(0.5));
 }
 
 TEST_CASE("extreme assets: the reader takes 1x1 factors with one level and 256x256 ones; NaN is refused") {

@@ -83,8 +83,12 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     // byte-identical to what earlier writers produced.
     const bool v2 = asset_needs_version2(asset);
     h.version_major = v2 ? SEPAL_FMT_VERSION_MAJOR : 1;
-    // 2.1 only for reciprocal materials: other version-2 assets stay 2.0, byte for byte.
-    h.version_minor = v2 && (asset.material.flags & SEPAL_MATERIAL_RECIPROCAL) ? SEPAL_FMT_VERSION_MINOR_RECIPROCAL : 0;
+    // 2.1 only for reciprocal materials, 2.2 only for axis ones: other version-2 assets stay
+    // 2.0, byte for byte.
+    h.version_minor = !v2                                             ? 0
+                      : asset.material.param == SEPAL_PARAM_AXIS      ? SEPAL_FMT_VERSION_MINOR_AXIS
+                      : asset.material.flags & SEPAL_MATERIAL_RECIPROCAL ? SEPAL_FMT_VERSION_MINOR_RECIPROCAL
+                                                                         : 0;
     h.header_bytes = sizeof h;
     h.file_bytes = file.size();
     h.chunk_count = uint32_t(chunks.size());
@@ -108,6 +112,7 @@ bool asset_needs_version2(const AssetData& a) {
     bool v2 = m.flags != 0 || m.diffuse[0] != 0.0f || m.diffuse[1] != 0.0f || m.diffuse[2] != 0.0f ||
               !a.diffuse_profile.empty();
     for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE || p.op == SEPAL_OP_RECIPROCAL;
+    v2 = v2 || m.param == SEPAL_PARAM_AXIS;  // 2.2
     return v2;
 }
 

@@ -30,6 +30,7 @@ sepal_param to_fmt(Param p) {
         case Param::GsHalf: return SEPAL_PARAM_GS_HALF;
         case Param::ViewHalf: return SEPAL_PARAM_VH;
         case Param::Rusinkiewicz: return SEPAL_PARAM_RUSINKIEWICZ;
+        case Param::Axis: return SEPAL_PARAM_AXIS;
         default: return SEPAL_PARAM_ELEV_AZIM;
     }
 }
@@ -323,11 +324,12 @@ class Search {
 
     // Factors one (param, map, res, method) with up to max_terms terms and appends its
     // candidates (every listed term count and depth), judged on `judge`.
-    // res: the half-angle factor's side (both sides for iv); res_other: the other factor's.
+    // res: the sharp factor's side (param.h's sharp_factor; both sides for iv); res_other: the
+    // other factor's.
     void run(Param param, HemiMap map, int res, int res_other, Method method, const std::vector<int>& terms,
              bool coarse, const ImageJudge& judge) {
         const int max_terms = *std::max_element(terms.begin(), terms.end());
-        const int half = half_angle_factor(param);
+        const int half = sharp_factor(param);
         // Homomorphic: p and q share the half-angle factor's resolution, at most
         // SEPAL_FMT_MAX_RECIPROCAL_TERMS terms.
         const bool homomorphic = method == Method::Homomorphic;
@@ -645,10 +647,10 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         // Listed resolutions: every one (the grid), no climbing.
         for (const auto& p : pairs)
             for (int res : o.resolutions) {
-                // A half-angle factor at res with the other one at each of smooth_resolutions not
+                // The sharp factor (half-angle, axis's G) at res with the other one at each of smooth_resolutions not
                 // above it (or at res too); iv's two factors always alike.
                 std::vector<int> others = {res};
-                if (!o.smooth_resolutions.empty() && half_angle_factor(std::get<0>(p)) >= 0) {
+                if (!o.smooth_resolutions.empty() && sharp_factor(std::get<0>(p)) >= 0) {
                     others.clear();
                     for (int r : o.smooth_resolutions)
                         if (r <= res) others.push_back(r);
@@ -657,20 +659,20 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                     search.run(std::get<0>(p), std::get<1>(p), res, other, std::get<2>(p), terms, false, judge);
             }
     } else {
-        // The ladder: every kept pair on its first rung; the best half-angle one climbs while
-        // a rung gains climb_db (a sharper lobe needs a finer half-angle factor; iv has no
-        // such factor and stays on its rung).
-        // The climber: the best half-angle pair on the first rung, a sum-of-products one
+        // The ladder: every kept pair on its first rung; the best one with a sharp factor
+        // (half-angle, axis's G) climbs while a rung gains climb_db (a sharper lobe needs a
+        // finer sharp factor; iv has no such factor and stays on its rung).
+        // The climber: the best pair with a sharp factor on the first rung, a sum-of-products one
         // (its term count grows on the way) before a homomorphic one (one product).
         auto climber_rank = [](const std::tuple<Param, HemiMap, Method>& q) {
-            return half_angle_factor(std::get<0>(q)) < 0 ? 0 : std::get<2>(q) == Method::Homomorphic ? 1 : 2;
+            return sharp_factor(std::get<0>(q)) < 0 ? 0 : std::get<2>(q) == Method::Homomorphic ? 1 : 2;
         };
         double top = -1e30;
         int top_pair = -1, top_rank = 0;
         std::vector<double> rung_best(pairs.size());
         for (size_t i = 0; i < pairs.size(); ++i) {
             const Param param = std::get<0>(pairs[i]);
-            const bool half = half_angle_factor(param) >= 0;
+            const bool half = sharp_factor(param) >= 0;
             const auto rung = half ? o.ladder[0] : std::make_pair(o.ladder_iv, o.ladder_iv);
             const size_t first = out->candidates.size();
             search.run(param, std::get<1>(pairs[i]), rung.first, rung.second, std::get<2>(pairs[i]), terms, false, judge);
@@ -679,21 +681,25 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
             if (rank > 0 && (rank > top_rank || (rank == top_rank && rung_best[i] > top)))
                 top = rung_best[i], top_pair = int(i), top_rank = rank;
         }
-        if (top_rank < 2 && o.coarse_res > 0) {
-            // No sum-of-products half-angle pair was kept (iv, or iv and homomorphic, led
-            // a coarse stage that resolved no lobe: ward's ay = 0.02 is 22.9-24.6 dB in every
-            // parameterization at 16): the best one of the coarse stage climbs anyway.
+        // A sum-of-products half-angle pair always reaches the first rung: the coarse stage's
+        // 16 texels resolve no narrow lobe (ward's ay = 0.02 is 22.9-26 dB in every
+        // parameterization there, axis or iv ahead), and only a half-angle factor resolves a
+        // narrow isotropic lobe on the finer rungs (ward: gs-half 128/8 39.8 dB, axis 25.7).
+        auto half_sop = [](const std::tuple<Param, HemiMap, Method>& q) {
+            return half_angle_factor(std::get<0>(q)) >= 0 && std::get<2>(q) != Method::Homomorphic;
+        };
+        if (o.coarse_res > 0 && std::none_of(pairs.begin(), pairs.end(), half_sop))
             for (const auto& q : all_pairs)
-                if (climber_rank(q) == 2) {
+                if (half_sop(q)) {
                     pairs.push_back(q);
                     const size_t first = out->candidates.size();
                     search.run(std::get<0>(q), std::get<1>(q), o.ladder[0].first, o.ladder[0].second, std::get<2>(q),
                                terms, false, judge);
                     rung_best.push_back(best_since(first));
-                    top_pair = int(pairs.size() - 1);
+                    if (top_rank < 2 || rung_best.back() > top)
+                        top = rung_best.back(), top_pair = int(pairs.size() - 1), top_rank = 2;
                     break;
                 }
-        }
         const auto p = top_pair >= 0 ? pairs[size_t(top_pair)] : pairs[0];
         double last = top_pair >= 0 ? rung_best[size_t(top_pair)] : -1e30;
         if (top_pair >= 0)
@@ -728,7 +734,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                     c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
                     at_max = c.psnr;
             if (b.psnr < o.goal_db && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
-                const int half = half_angle_factor(b.param);
+                const int half = sharp_factor(b.param);
                 const int res = half == 1 ? b.res_h : b.res, other = half == 1 ? b.res : b.res_h;
                 std::vector<int> more;
                 for (int k : o.more_terms)

@@ -52,10 +52,10 @@
 namespace sepal {
 
 struct BakeOptions {
-    std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf};
+    std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Axis};
     std::vector<HemiMap> maps = {HemiMap::XY};
-    // Texels per side: of both factors, or with smooth_resolutions given, of the half-angle
-    // factor (gs-half's G, vh's H) while the other one takes each of smooth_resolutions not
+    // Texels per side: of both factors, or with smooth_resolutions given, of the sharp
+    // factor (param.h: gs-half's G, vh's H, axis's G) while the other one takes each of smooth_resolutions not
     // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
     // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
     // factors at ladder_iv), and the best one climbs while a rung gains climb_db.
@@ -104,8 +104,8 @@ struct BakeOptions {
     int coarse_res = 16;
     int coarse_terms = 3;
     int coarse_size = 64;
-    double keep_db = 1.5;
-    int keep = 2;
+    double keep_db = 3;
+    int keep = 3;
     double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best PSNR
     // Radiance fit (radiance.h, format 2): the factors hold f cos(theta_i) capped at white,
     // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the views (1.25 /

@@ -18,7 +18,7 @@ struct ExportInfo {
     float ratio[3] = {1, 1, 1};
 };
 
-const char* kParamNames[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"};
+const char* kParamNames[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis"};
 
 // Writes every texture's levels and level-0 floats, then the manifest.
 bool export_textures(const std::vector<AssetTexture>& textures, const ExportInfo& info, const std::string& dir,
@@ -119,7 +119,7 @@ bool export_asset(const AssetData& a, const std::string& dir, std::string* err) 
         json_string(JsonField{meta, ""}, "spec", &info.source, nullptr);
         json_string(JsonField{meta, ""}, "method", &info.method, nullptr);
     }
-    info.param = kParamNames[a.material.param % 5];
+    info.param = kParamNames[a.material.param % SEPAL_PARAM_COUNT];
     info.map = a.material.map == SEPAL_MAP_XY ? "xy" : "parabolic";
     info.colour = a.material.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance";
     info.terms = int(a.material.terms);
@@ -131,7 +131,7 @@ bool export_factored(const Factored& f, const std::string& dir, std::string* err
     ExportInfo info;
     info.source = f.source;
     info.param = param_name(f.param);
-    info.map = f.param == Param::ElevAzim ? "angles" : map_name(f.map);
+    info.map = angle_textures(f.param) ? "angles" : map_name(f.map);
     info.colour = colour_name(f.colour);
     info.method = f.method;
     info.terms = f.term_count();

@@ -110,7 +110,7 @@ bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* e
         }
     }
     int bits = 8;
-    ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, rusinkiewicz, elev-azim"), &o.params, &perr) &&
+    ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, axis, rusinkiewicz, elev-azim"), &o.params, &perr) &&
          list<HemiMap>(f, "map", named(parse_map, "xy, parabolic"), &o.maps, &perr) &&
          list<Method>(f, "method", named(parse_method, "acls, wsvd, svd, nmf, nd"), &o.methods, &perr) &&
          list<int>(f, "res", int_item, &o.resolutions, &perr) && list<int>(f, "terms", int_item, &o.terms, &perr) &&

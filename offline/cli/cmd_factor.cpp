@@ -34,7 +34,7 @@ Json report(const std::string& spec, const FactorOptions& o, const FactorResult&
     j["spec"] = spec;
     j["brdf"] = r.factored.source;
     j["options"] = {{"param", param_name(o.param)},
-                    {"map", o.param == Param::ElevAzim ? "angles" : map_name(o.map)},
+                    {"map", angle_textures(o.param) ? "angles" : map_name(o.map)},
                     {"res", o.res},
                     {"terms", o.terms},
                     {"method", method_name(o.method)},
@@ -118,7 +118,7 @@ int run_factor(FactorArgs& args, const CommandIO& io) {
     std::fprintf(io.out, "factor %s\n", r.factored.source.c_str());
     std::fprintf(io.out, "  %s%s, %s map, %d x %d texels, %s, colour %s%s\n", param_name(o.param),
                  hardware_compatible(o.param) ? "" : " (per-pixel backends only)",
-                 o.param == Param::ElevAzim ? "angle" : map_name(o.map), o.res, o.res,
+                 angle_textures(o.param) ? "angle" : map_name(o.map), o.res, o.res,
                  method_name(o.method), colour_name(o.colour),
                  r.factored.non_negative() ? ", non-negative factors" : ", signed factors");
     if (o.colour == ColourMode::Luminance)

@@ -19,7 +19,8 @@ constexpr NamedParam kParams[] = {{Param::IncidentView, "iv"},
                                   {Param::GsHalf, "gs-half"},
                                   {Param::ViewHalf, "vh"},
                                   {Param::Rusinkiewicz, "rusinkiewicz"},
-                                  {Param::ElevAzim, "elev-azim"}};
+                                  {Param::ElevAzim, "elev-azim"},
+                                  {Param::Axis, "axis"}};
 
 glm::dvec3 rotate_z(const glm::dvec3& v, double a) {
     const double c = std::cos(a), s = std::sin(a);
@@ -37,6 +38,17 @@ double azimuth(const glm::dvec3& a) {
     if (phi < 0) phi += 2 * kPi;
     // atan2 of a tiny negative y gives -tiny, and -tiny + 2 pi may round to 2 pi itself.
     return phi < 2 * kPi ? phi : 0.0;
+}
+
+// axis: latitude out of the cross-section plane and longitude within it (param.h).
+double axis_alpha(const glm::dvec3& w) { return std::asin(glm::clamp(w.x, -1.0, 1.0)); }
+double axis_beta(const glm::dvec3& w) {
+    if (w.y == 0 && w.z == 0) return 0.0;  // w = +-t: no longitude (param.h)
+    return std::atan2(w.y, w.z);
+}
+glm::dvec3 axis_direction(double alpha, double beta) {
+    const double ca = std::cos(alpha);
+    return {std::sin(alpha), ca * std::sin(beta), ca * std::cos(beta)};
 }
 
 glm::dvec3 difference_rusinkiewicz(const glm::dvec3& h, const glm::dvec3& wi) {
@@ -107,8 +119,10 @@ bool parse_map(const std::string& name, HemiMap* m) {
 }
 
 bool hardware_compatible(Param p) {
-    return p == Param::IncidentView || p == Param::GsHalf || p == Param::ViewHalf;
+    return p == Param::IncidentView || p == Param::GsHalf || p == Param::ViewHalf || p == Param::Axis;
 }
+
+bool angle_textures(Param p) { return p == Param::ElevAzim || p == Param::Axis; }
 
 int half_angle_factor(Param p) {
     switch (p) {
@@ -118,6 +132,8 @@ int half_angle_factor(Param p) {
         default: return -1;
     }
 }
+
+int sharp_factor(Param p) { return p == Param::Axis ? 0 : half_angle_factor(p); }
 
 bool factor_wraps(Param p, int which) { return p == Param::ElevAzim && which == 1; }
 
@@ -177,6 +193,10 @@ bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& w
             tc->y = {azimuth(wi) / (2 * kPi), azimuth(wo) / (2 * kPi)};
             return true;
         }
+        case Param::Axis:
+            tc->x = {axis_alpha(wi) / kPi + 0.5, axis_alpha(wo) / kPi + 0.5};
+            tc->y = {axis_beta(wi) / kPi + 0.5, axis_beta(wo) / kPi + 0.5};
+            return true;
     }
     return false;
 }
@@ -186,6 +206,11 @@ bool factor_point(Param p, HemiMap m, int which, const glm::dvec2& uv, glm::dvec
         if (!(uv.x >= 0 && uv.x <= 1 && uv.y >= 0 && uv.y <= 1)) return false;
         const double scale = which == 0 ? 0.5 * kPi : 2 * kPi;
         *point = {uv.x * scale, uv.y * scale, 0};
+        return true;
+    }
+    if (p == Param::Axis) {
+        if (!(uv.x >= 0 && uv.x <= 1 && uv.y >= 0 && uv.y <= 1)) return false;
+        *point = {(uv.x - 0.5) * kPi, (uv.y - 0.5) * kPi, 0};  // (alpha_i, alpha_o) or (beta_i, beta_o)
         return true;
     }
     return map_inverse(m, uv, point);
@@ -224,6 +249,10 @@ bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dv
             *wo = {so * std::cos(py.y), so * std::sin(py.y), std::cos(px.y)};
             break;
         }
+        case Param::Axis:
+            *wi = axis_direction(px.x, py.x);
+            *wo = axis_direction(px.y, py.y);
+            break;
     }
     // Renormalize against rounding: evaluators expect unit vectors.
     *wi = glm::normalize(*wi);

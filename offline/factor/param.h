@@ -25,6 +25,15 @@
 //   elev-azim     x = (theta_i, theta_o), y = (phi_i, phi_o) as plain angle textures
 //                 (u = theta / (pi/2); u = phi / (2 pi), periodic): per-pixel only; the
 //                 hemisphere map does not apply to it.
+//   axis          angles about the tangent (latitude and longitude with the pole on t):
+//                 alpha = asin(w.t), out of the cross-section plane (s, n); beta =
+//                 atan2(w.s, w.n), within it. x = (alpha_i, alpha_o), y = (beta_i, beta_o),
+//                 u = angle / pi + 1/2 (both in (-pi/2, pi/2) above the horizon). Brushed,
+//                 grooved and cylinder-like surfaces along t (Poulin-Fournier) are nearly
+//                 separable here: a cylinder's specular peak depends on alpha_i + alpha_o,
+//                 its shadowing and masking on the betas. Both poles (w = +-t) lie on the
+//                 horizon, so every coordinate is smooth above it: hardware-compatible. No
+//                 hemisphere map applies; every texel is valid.
 // Hemisphere maps for a unit vector a with a.z >= 0 in its frame:
 //   XY         (u, v) = ((a.x + 1)/2, (a.y + 1)/2)
 //   parabolic  (u, v) = ((a.x/(1 + a.z) + 1)/2, (a.y/(1 + a.z) + 1)/2)
@@ -47,6 +56,8 @@
 //                 lost; the sampler counts pairs built this way (FactorResult::frame_fallbacks).
 //                 It happens at the texel centre (0.5, 0.5): only for --res 1.
 //     elev-azim   the azimuth of a direction at the pole is 0 (same threshold).
+//     axis        beta = atan2(w.s, w.n) is undefined at w = +-t (on the horizon, so only
+//                 for grazing pairs): 0 there; alpha = asin of w.t clamped to [-1, 1].
 //     frame_fallback() says whether a G point (the half vector) takes a fallback.
 #pragma once
 #include <cstdint>
@@ -58,18 +69,22 @@
 
 namespace sepal {
 
-enum class Param { IncidentView, GsHalf, ViewHalf, Rusinkiewicz, ElevAzim };
+enum class Param { IncidentView, GsHalf, ViewHalf, Rusinkiewicz, ElevAzim, Axis };
 enum class HemiMap { XY, Parabolic };
 
-const char* param_name(Param p);  // "iv", "gs-half", "vh", "rusinkiewicz", "elev-azim"
+const char* param_name(Param p);  // "iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis"
 bool parse_param(const std::string& name, Param* p);
 const char* map_name(HemiMap m);  // "xy", "parabolic"
 bool parse_map(const std::string& name, HemiMap* m);
 // True when texture coordinates computed per vertex may be interpolated linearly
-// (iv, gs-half, vh): the parameterizations the GL ES backends can use.
+// (iv, gs-half, vh, axis): the parameterizations the GL ES backends can use.
 bool hardware_compatible(Param p);
 // Which factor depends on the half vector h only: 0 (G), 1 (H), or -1 (none).
 int half_angle_factor(Param p);
+// Which factor holds a lobe's sharp part, the one a bake gives the finer resolution: the
+// half-angle factor, axis's G (the lobe along alpha_i + alpha_o), or -1 (iv, elev-azim:
+// both factors alike).
+int sharp_factor(Param p);
 // True when factor `which` (0 = G, 1 = H) is periodic in u and v (elev-azim's azimuths);
 // all other factors clamp at the texture edge.
 bool factor_wraps(Param p, int which);
@@ -88,8 +103,8 @@ bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& w
                    TexCoords* tc);
 
 // Inverse, in two steps so samplers can precompute per texel: the point of factor `which`
-// at texture coordinate uv (a unit vector in its frame; for elev-azim the two angles in
-// .x, .y), false outside the factor's domain; then the direction pair of two points,
+// at texture coordinate uv (a unit vector in its frame; for elev-azim and axis the two
+// angles in .x, .y), false outside the factor's domain; then the direction pair of two points,
 // false when it is not a valid pair (a direction at or below the horizon).
 bool factor_point(Param p, HemiMap m, int which, const glm::dvec2& uv, glm::dvec3* point);
 bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dvec3* wi,
@@ -100,6 +115,9 @@ bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dv
 bool gs_half_frame(const glm::dvec3& h, glm::dvec3* tp, glm::dvec3* sp);
 // Rusinkiewicz's azimuth of h, 0 at the pole (*fallback, if given, says so).
 double rusinkiewicz_phi_h(const glm::dvec3& h, bool* fallback = nullptr);
+// True for the parameterizations whose factors are plain angle textures (elev-azim, axis):
+// no hemisphere map applies.
+bool angle_textures(Param p);
 // True when the G point (the half vector of gs-half or rusinkiewicz) has a degenerate frame
 // and the fallback above applies; always false for the other parameterizations.
 bool frame_fallback(Param p, const glm::dvec3& point);

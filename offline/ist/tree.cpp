@@ -91,7 +91,8 @@ FactorOptions level2_options(const TreeOptions& o) {
 }
 
 bool check_options(const TreeOptions& o, std::string* err) {
-    if (o.param == Param::ElevAzim) return fail(err, "tree: the elev-azim parameterization has no hemisphere maps to make curves of");
+    if (angle_textures(o.param))
+        return fail(err, std::string("tree: the ") + param_name(o.param) + " parameterization has no hemisphere maps to make curves of");
     if (o.res < 4 || o.res > 128 || o.terms < 1 || o.terms > 4 || o.curve_samples < 2 || o.curve_samples > 1024)
         return fail(err, "tree: res 4..128, terms 1..4, curve samples 2..1024");
     return true;
@@ -176,7 +177,7 @@ Factored ShadeTree::textures(int j) const {
 }
 
 bool curves_from_factors(const Factored& f, int samples, int threads, TreeBasis* out, std::string* err) {
-    if (f.param == Param::ElevAzim) return fail(err, "curves: elev-azim factors have no hemisphere map");
+    if (angle_textures(f.param)) return fail(err, std::string("curves: ") + param_name(f.param) + " factors have no hemisphere map");
     const int half = half_angle_factor(f.param);
     const int n_phi = samples;
     TreeBasis b = *out;
@@ -399,8 +400,8 @@ void refine_curves(const std::vector<ScatteredSample>& samples, Param param, Hem
 }  // namespace
 
 bool validate_tree(const ShadeTree& t, std::string* err) {
-    if (t.param == Param::ElevAzim || t.res < 4 || t.res > 128)
-        return fail(err, "tree: parameterization iv, gs-half, vh or rusinkiewicz, res 4..128");
+    if (angle_textures(t.param) || t.res < 4 || t.res > 128)
+        return fail(err, "tree: parameterization iv, gs-half, vh or rusinkiewicz (hemisphere maps), res 4..128");
     if (t.bases.empty() || t.bases.size() > 8) return fail(err, "tree: 1..8 bases");
     if (t.blend.count != t.basis_count() || t.blend.width < 1 || t.blend.height < 1 ||
         t.blend.width > Svbrdf::kMaxSide || t.blend.height > Svbrdf::kMaxSide ||

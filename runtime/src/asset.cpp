@@ -278,6 +278,11 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
                          m.channels, m.color_mode);
+    if (m.param == SEPAL_PARAM_AXIS &&
+        (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_AXIS)))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: the axis parameterization needs version 2.2 (this file is %u.%u)", h.version_major,
+                         h.version_minor);
     // Version 1 left these words reserved (written as 0).
     if (h.version_major < 2 && !all_zero(&m.flags, sizeof m.flags + sizeof m.diffuse))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,

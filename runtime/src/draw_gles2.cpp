@@ -388,7 +388,7 @@ void destroy_gles2_programs(sepal_material* m) {
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
     const sepal_material* m = d->material;
     if (d->mode == SEPAL_MODE_FUSED_VERTEX || d->mode == SEPAL_MODE_MULTIPASS) {
-        if (m->info.param != SEPAL_PARAM_IV && m->info.param != SEPAL_PARAM_GS_HALF && m->info.param != SEPAL_PARAM_VH)
+        if (!param_per_vertex((sepal_param)m->info.param))
             return fail(err, SEPAL_ERR_UNSUPPORTED,
                         "draw: parameterization %u needs per-pixel coordinates (SEPAL_MODE_FUSED_PIXEL)",
                         m->info.param);

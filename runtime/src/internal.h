@@ -78,6 +78,11 @@ bool repaired_attributes(const sepal_vertex& v, float normal[3], float tangent[4
 // horizon, 0 below, -1 for a per-pixel-only parameterization when per_pixel is false.
 int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3], float g[2],
                     float h[2], bool per_pixel, int* fallbacks);
+// True for the parameterizations whose coordinates may be computed per vertex and
+// interpolated (iv, gs-half, vh, axis): GL ES 1.1 and the per-vertex GL ES 2 paths.
+inline bool param_per_vertex(sepal_param p) {
+    return p == SEPAL_PARAM_IV || p == SEPAL_PARAM_GS_HALF || p == SEPAL_PARAM_VH || p == SEPAL_PARAM_AXIS;
+}
 
 // Unit direction from a surface point towards a light, and the light's falloff there
 // (1/d^2 for point lights, 1 for directional ones).

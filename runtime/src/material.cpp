@@ -89,11 +89,10 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: viewport %dx%d out of 1..%d",
                          max_width, max_height, caps->max_texture_size);
     const sepal_fmt_material& info = asset->material;
-    if (caps->gles_version == 1 && info.param != SEPAL_PARAM_IV && info.param != SEPAL_PARAM_GS_HALF &&
-        info.param != SEPAL_PARAM_VH)
+    if (caps->gles_version == 1 && !srt::param_per_vertex((sepal_param)info.param))
         return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
                          "material: parameterization %u needs per-pixel evaluation (GL ES 2 or "
-                         "CPU); GL ES 1.1 takes iv, gs-half or vh",
+                         "CPU); GL ES 1.1 takes iv, gs-half, vh or axis",
                          info.param);
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
         const sepal_fmt_texture& d = asset->textures[i].desc;

@@ -147,7 +147,7 @@ TEST_CASE("emulator: GL ES 2 multipass, and signed plans within their documented
 
 TEST_CASE("bake: every candidate the default search can pick renders on gles1 within 1 dB of cpu") {
     // The issue's promise, over the candidates themselves (not only the winner): the default
-    // search (coarse stage, ladder, more terms) of two materials, each fine candidate drawn
+    // search (coarse stage, ladder, more terms) of three materials, each fine candidate drawn
     // by llvmpipe on GL ES 1.1, by GL ES 2's fused per-vertex path (the same per-vertex
     // coordinates, summed in float) and by the CPU backend (per pixel), all against exact.
     // What the plan costs is gles1 against fused: its passes' 8-bit rounding, uniform noise of
@@ -156,7 +156,9 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
     // while the factorization's error dominates (cpu below 40 dB); above, per-vertex
     // interpolation (every GL path) and that rounding are the floor (measured: up to 2 dB
     // at 49-51 dB, README).
-    for (const char* spec : {"ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", "ashikhmin-shirley"}) {
+    // Poulin-Fournier: the one whose winner is in axis coordinates (candidates of every
+    // parameterization but iv reach the fine stage).
+    for (const char* spec : {"ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", "ashikhmin-shirley", "poulin-fournier"}) {
         CAPTURE(std::string(spec));
         std::string err;
         std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(spec, &err);
@@ -183,18 +185,25 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
                             err);
             for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
             int doublings = 0;
-            const sepal::ImageDiff d_gl = sepal::diff_images(exact, gl(bytes, s, "gles1", 0, &doublings), 0);
-            const sepal::ImageDiff d_fused = sepal::diff_images(exact, gl(bytes, s, "gles2-fused"), 0);
+            const sepal::Image img_gl = gl(bytes, s, "gles1", 0, &doublings), img_fused = gl(bytes, s, "gles2-fused");
+            const sepal::ImageDiff d_gl = sepal::diff_images(exact, img_gl, 0);
+            const sepal::ImageDiff d_fused = sepal::diff_images(exact, img_fused, 0);
+            const double rounding = sepal::diff_images(img_fused, img_gl, 0).mse;
             const double p_cpu = sepal::diff_images(exact, cpu, 0).psnr;
             CAPTURE(d_gl.psnr);
             CAPTURE(d_fused.psnr);
             CAPTURE(p_cpu);
             CAPTURE(doublings);
+            CAPTURE(rounding);
             // The 8-bit rounding of each pass (variance 1/12 level^2, 4x per doubling), with
-            // slack for the driver's interpolation: llvmpipe within 1.5 times the model,
-            // NVIDIA measured 1.56 times.
+            // slack for the driver's interpolation, measured between the two GL images (llvmpipe:
+            // at most 0.73 of the model over these candidates; 2x for other drivers, where
+            // NVIDIA's measured 1.56x held against exact). Not as the difference of their
+            // errors against exact: that also holds the two errors' cross term, which grows
+            // with the factorization's own error (Poulin-Fournier's axis 32/16 x2 at 31.0 dB:
+            // 0.45 level^2, 0.04 dB, where the rounding itself is 0.15).
             const double slack = sepal_test::reference_renderer() ? 1.5 : 2.0;
-            CHECK(d_gl.mse - d_fused.mse <= slack * c.passes * std::ldexp(1.0, 2 * doublings) / 12.0);
+            CHECK(rounding <= slack * c.passes * std::ldexp(1.0, 2 * doublings) / 12.0);
             if (p_cpu < 40.0) CHECK(d_gl.psnr >= p_cpu - 1.0);
         }
         CHECK(checked >= 4);

@@ -31,14 +31,15 @@ sepal::Image clamp01(sepal::Image img) {
     return img;
 }
 
-Baked bake_scene(const std::string& spec_in, sepal::Method method, int terms, double cap, const char* mesh = "sphere") {
+Baked bake_scene(const std::string& spec_in, sepal::Method method, int terms, double cap,
+                 sepal::Param param = sepal::Param::GsHalf, const char* mesh = "sphere") {
     Baked b;
     std::string err;
     const std::string spec = spec_in[0] == 'f' ? sepal_test::source_path(spec_in) : spec_in;
     b.brdf = sepal::make_brdf(spec, &err);
     REQUIRE_MESSAGE(b.brdf, err);
     sepal::BakeOptions o;
-    o.params = {sepal::Param::GsHalf};
+    o.params = {param};
     o.resolutions = {32};
     o.methods = {method};
     o.terms = {terms};
@@ -81,11 +82,12 @@ struct Case {
     double max_diff;      // against exact, 8-bit levels: this many ...
     double max_share;     // ... may be exceeded by this share of pixels
     bool expect_signed;   // the plan subtracts
+    sepal::Param param = sepal::Param::GsHalf;
 };
 
 void run_case(const Case& c) {
     CAPTURE(std::string(c.name));
-    const Baked b = bake_scene(c.spec, c.method, c.terms, c.cap);
+    const Baked b = bake_scene(c.spec, c.method, c.terms, c.cap, c.param);
     bool subtracts = false;
     for (const sepal_fmt_pass& p : b.asset.passes) subtracts = subtracts || p.blend == SEPAL_BLEND_SUBTRACT;
     CHECK(subtracts == c.expect_signed);
@@ -130,12 +132,18 @@ TEST_CASE("golden: signed 3-term SVD ward on GL ES 1.1 against exact") {
 TEST_CASE("golden: cook-torrance on GL ES 1.1 against exact") {
     run_case({"cook_torrance", "cook-torrance", sepal::Method::NMF, 2, -1, 38.3, 8, 0.053, false});  // 39.8 dB, 4.0%
 }
+TEST_CASE("golden: poulin-fournier in axis coordinates on GL ES 1.1 against exact") {
+    // Cylinders along the tangent separate about it (offline/factor/param.h); in gs-half the
+    // same size and terms score 30.2 dB (`sepal bake --param gs-half --res 32 --method acls --terms 4`).
+    run_case({"poulin_fournier_axis", "poulin-fournier", sepal::Method::ACLS, 4, -1, 38.2, 8, 0.029, false,
+              sepal::Param::Axis});  // measured 39.8 dB, 2.2%
+}
 TEST_CASE("golden: Cornell garnet_red on GL ES 1.1 against exact") {
     run_case({"garnet_red", "fixtures/cornell/garnet_red.brdf", sepal::Method::NMF, 2, -1, 37.6, 8, 0.031, false});  // 39.1 dB, 2.4%
 }
 
 TEST_CASE("every backend against exact, and against each other (2-term NMF ward)") {
-    const Baked b = bake_scene(kWard, sepal::Method::NMF, 2, 2.0, "torus");
+    const Baked b = bake_scene(kWard, sepal::Method::NMF, 2, 2.0, sepal::Param::GsHalf, "torus");
     const sepal::Image& exact = b.exact;
     const sepal::Image cpu = render_cpu(b);
     const double cpu_psnr = sepal::diff_images(exact, cpu, 0).psnr;
@@ -190,8 +198,8 @@ TEST_CASE("half-float target: the price of the 8-bit framebuffer, measured on a 
 }
 
 TEST_CASE("a context kept across renders draws what a fresh one does (the sweeps' reuse)") {
-    const Baked ward = bake_scene(kWard, sepal::Method::NMF, 2, 2.0, "torus");
-    const Baked other = bake_scene(kWard, sepal::Method::WSVD, 3, 2.0, "torus");  // signed: other state
+    const Baked ward = bake_scene(kWard, sepal::Method::NMF, 2, 2.0, sepal::Param::GsHalf, "torus");
+    const Baked other = bake_scene(kWard, sepal::Method::WSVD, 3, 2.0, sepal::Param::GsHalf, "torus");  // signed: other state
     for (const char* backend : {"gles1", "gles2-fused"}) {
         CAPTURE(std::string(backend));
         sepal_ports::GlRenderOptions opt;

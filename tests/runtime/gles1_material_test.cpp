@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -96,6 +97,56 @@ TEST_CASE("gles1 material: every capability-masked path renders the full path's 
                                  r.image, nullptr);
         }
     }
+}
+
+TEST_CASE("gles1 material: the axis parameterization is drawn per vertex; format 2.2 only for it") {
+    // Angles about the tangent (offline/factor/param.h): smooth above the horizon, so GL
+    // interpolates per-vertex coordinates as it does iv's. The non-negative term of the
+    // fixture (every texel valid: the whole square is above the horizon).
+    sepal::AssetData a = base_asset(SEPAL_PARAM_AXIS, 1);
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_G, 0, 1.0f, [](float u, float v, int c) {
+        // a cylinder-like lobe along alpha_i + alpha_o = 0 (the anti-diagonal)
+        const float d = u + v - 1.0f;
+        return 0.1f + std::exp(-d * d * 30.0f) * (0.8f + 0.1f * c);
+    }));
+    a.textures.push_back(make_texture(16, SEPAL_ROLE_H, 0, 0.3f, [](float u, float v, int) { return 0.5f + 0.5f * u * v; }));
+    std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
+    sepal_ports::SceneSetup s = test_scene("sphere", 2);
+    const sepal::Image cpu = render_cpu(a, s);
+    const Rendered gl = render(a, 0, s);
+    const sepal::ImageDiff d = sepal::diff_images(cpu, gl.image, 3.0);
+    CAPTURE(d.psnr);
+    CAPTURE(d.share_over);
+    // Per-vertex against per-pixel coordinates and 8-bit passes, as for the others.
+    CHECK(d.psnr > 38.0);
+    CHECK(d.share_over < 0.02);
+    double peak = 0;
+    for (float v : cpu.data) peak = std::max<double>(peak, v);
+    CHECK(peak > 0.1);
+    // Written as 2.2; a 2.1 header cannot hold it (patched minor version and header CRC).
+    std::vector<uint8_t> bytes;
+    REQUIRE(sepal::encode_asset(a, &bytes, &err));
+    auto parsed = std::make_unique<sepal_asset>();
+    sepal_error e{};
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
+    CHECK(parsed->header.version_major == 2);
+    CHECK(parsed->header.version_minor == SEPAL_FMT_VERSION_MINOR_AXIS);
+    sepal_fmt_header h;
+    memcpy(&h, bytes.data(), sizeof h);
+    h.version_minor = SEPAL_FMT_VERSION_MINOR_AXIS - 1;
+    h.header_crc = 0;
+    memcpy(bytes.data(), &h, sizeof h);
+    uint32_t crc = sepal_crc32(0, bytes.data(), sizeof h);
+    h.header_crc = sepal_crc32(crc, bytes.data() + sizeof h, h.chunk_count * sizeof(sepal_fmt_chunk));
+    memcpy(bytes.data(), &h, sizeof h);
+    CHECK(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) != SEPAL_OK);
+    CHECK(std::string(e.message).find("axis parameterization needs version 2.2") != std::string::npos);
+    // The other parameterizations stay where they were (gs-half: 1.0).
+    a.material.param = SEPAL_PARAM_GS_HALF;
+    REQUIRE(sepal::encode_asset(a, &bytes, &err));
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
+    CHECK(parsed->header.version_major == 1);
 }
 
 TEST_CASE("gles1 material: refusals") {

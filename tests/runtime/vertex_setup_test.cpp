@@ -116,7 +116,7 @@ TEST_CASE("vertex set-up: the batched path is the reference's, bit for bit") {
     }
     scene.lights[3].intensity[1] = 3e38f;  // overflows over a short distance
     const sepal_param params[] = {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_RUSINKIEWICZ,
-                                  SEPAL_PARAM_ELEV_AZIM};
+                                  SEPAL_PARAM_ELEV_AZIM, SEPAL_PARAM_AXIS};
     const sepal_hemi_map maps[] = {SEPAL_MAP_XY, SEPAL_MAP_PARABOLIC};
     for (uint32_t seed : {1u, 2u, 3u}) {
         Mesh odd = odd_sphere(scene, seed);

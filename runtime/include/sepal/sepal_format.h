@@ -41,6 +41,9 @@
 // vertex into the vertex colour, like the diffuse profile (GL ES 1.1 has two texture
 // units); the CPU backend and the fused per-pixel shader evaluate it per pixel. Writers write
 // 2.1 only for reciprocal assets; a 2.0 reader refuses them at the unknown op.
+// Version 2.2 adds the axis parameterization (SEPAL_PARAM_AXIS: angles about the tangent,
+// per vertex like iv, gs-half and vh). Writers write 2.2 only for axis assets; older readers
+// refuse them at the unknown parameterization.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -54,9 +57,11 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 1
-// The minor version of version-2 assets without reciprocal materials (2.1's only addition).
+#define SEPAL_FMT_VERSION_MINOR 2
+// The minor version that introduced reciprocal materials (2.1) and the axis
+// parameterization (2.2); other version-2 assets are 2.0.
 #define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
+#define SEPAL_FMT_VERSION_MINOR_AXIS 2
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
 
 #define SEPAL_FMT_MAX_FILE_BYTES (64u << 20)
@@ -89,15 +94,19 @@ extern "C" {
 #define SEPAL_FMT_MAX_RECIPROCAL_SIDE 64
 #define SEPAL_FMT_MAX_RECIPROCAL_TERMS 2
 
-// Parameterizations (NOTES.md section 1). Per-vertex (GL ES 1.1) paths can use the first
-// three; the last two need per-pixel evaluation (shaders or the CPU).
+// Parameterizations (NOTES.md section 1; offline/factor/param.h). Per-vertex (GL ES 1.1)
+// paths can use iv, gs-half, vh and axis; rusinkiewicz and elev-azim need per-pixel
+// evaluation (shaders or the CPU).
 typedef enum sepal_param {
     SEPAL_PARAM_IV = 0,            // x = wi, y = wo
     SEPAL_PARAM_GS_HALF = 1,       // Gram-Schmidt half/difference (Kautz-McCool eq. 6)
     SEPAL_PARAM_VH = 2,            // x = wo, y = h (Lawrence 2004)
     SEPAL_PARAM_RUSINKIEWICZ = 3,  // per pixel only
     SEPAL_PARAM_ELEV_AZIM = 4,     // per pixel only
-    SEPAL_PARAM_COUNT = 5
+    // Angles about the tangent (version 2.2): G at (alpha_i, alpha_o), H at (beta_i, beta_o),
+    // alpha = asin(w.x), beta = atan2(w.y, w.z), u = angle / pi + 1/2.
+    SEPAL_PARAM_AXIS = 5,
+    SEPAL_PARAM_COUNT = 6
 } sepal_param;
 
 typedef enum sepal_hemi_map { SEPAL_MAP_XY = 0, SEPAL_MAP_PARABOLIC = 1, SEPAL_MAP_COUNT = 2 } sepal_hemi_map;
@@ -256,7 +265,7 @@ sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
 
 // ---- parameterization (runtime/src/param.cpp) --------------------------------------------
 // Texture coordinates of the G and H factors for one direction pair in the local frame
-// (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh); the same
+// (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh, axis); the same
 // maths as offline/factor/param.h. Returns 1 when both directions are above the horizon, 0
 // otherwise (coordinates are still filled and continuous, for interpolation).
 // Returns -1 for the per-pixel-only parameterizations.
