@@ -120,7 +120,8 @@ bool export_asset(const AssetData& a, const std::string& dir, std::string* err) 
         json_string(JsonField{meta, ""}, "method", &info.method, nullptr);
     }
     info.param = kParamNames[a.material.param % SEPAL_PARAM_COUNT];
-    info.map = a.material.map == SEPAL_MAP_XY ? "xy" : "parabolic";
+    const bool angles = a.material.param == SEPAL_PARAM_ELEV_AZIM || a.material.param == SEPAL_PARAM_AXIS;
+    info.map = angles ? "angles" : a.material.map == SEPAL_MAP_XY ? "xy" : "parabolic";
     info.colour = a.material.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance";
     info.terms = int(a.material.terms);
     std::copy(a.material.ratio, a.material.ratio + 3, info.ratio);

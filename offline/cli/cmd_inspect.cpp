@@ -29,7 +29,9 @@ int run_inspect(const std::string& path, const CommandIO& io) {
     std::fprintf(io.out, "file        %s: %zu bytes, format %u.%u, %u chunks, checksums good\n", path.c_str(),
                  bytes.size(), a->header.version_major, a->header.version_minor, a->header.chunk_count);
     std::fprintf(io.out, "material    %s, %s map, %s, %u terms, ratio %g %g %g\n", kParams[m.param],
-                 m.map == SEPAL_MAP_XY ? "xy" : "parabolic", m.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance",
+                 m.param == SEPAL_PARAM_ELEV_AZIM || m.param == SEPAL_PARAM_AXIS ? "angle"
+                 : m.map == SEPAL_MAP_XY                                          ? "xy"
+                                                                                  : "parabolic", m.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance",
                  m.terms, double(m.ratio[0]), double(m.ratio[1]), double(m.ratio[2]));
     if (m.flags & SEPAL_MATERIAL_RADIANCE)
         std::fprintf(io.out, "radiance    factors hold f cos(theta_i); diffuse part %g %g %g /sr%s\n", double(m.diffuse[0]),
