@@ -72,7 +72,7 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
         // beta = atan(y, z) is undefined at y = z = 0 (w = +-t, on the horizon): 0 there,
         // clamped to +-pi/2 below the horizon, as runtime/src/param.cpp does.
         const float kPi = 3.14159265;
-        g = asin(clamp(vec2(wi.x, wo.x), -1.0, 1.0)) / kPi + 0.5;
+        g = vec2(atan(wi.x, length(wi.yz)), atan(wo.x, length(wo.yz))) / kPi + 0.5;  // asin(w.x)
         float bi = dot(wi.yz, wi.yz) > 0.0 ? atan(wi.y, wi.z) : 0.0;
         float bo = dot(wo.yz, wo.yz) > 0.0 ? atan(wo.y, wo.z) : 0.0;
         h = clamp(vec2(bi, bo) / kPi + 0.5, 0.0, 1.0);

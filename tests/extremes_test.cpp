@@ -1363,10 +1363,10 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
     // and counted; the coordinates stay finite.
     check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, rot(wi0, 1e-7), rot(wo0, 1e-7), 0, 1);
     check(SEPAL_PARAM_RUSINKIEWICZ, sepal::Param::Rusinkiewicz, wi0, wo0, 0, 1);
-    // axis near its poles w = +-t (grazing along the tangent), where asin's slope is
-    // unbounded: float inputs (6e-8) move alpha by up to sqrt(2 x 6e-8) = 3.5e-4 rad, 1.1e-4
-    // in texture units (a 64-texel factor's texel is 0.016); beta stays within 1e-6 while
-    // the direction keeps a cross-section part (here down to 1e-3 rad from t).
+    // axis near its poles w = +-t (grazing along the tangent): alpha as atan2(w.t, |(w.s,
+    // w.n)|), not asin(w.t), whose slope is unbounded there, and the runtime's branch-free
+    // atan2 (5e-7 rad, 1.5e-7 in texture units): within 1e-6 of the encoder's double maths
+    // down to 1e-3 rad from t.
     for (double off : {1e-1, 1e-2, 1e-3}) {
         CAPTURE(off);
         const double el = 90 - off * 180 / M_PI;  // degrees from n, in the t-n plane
@@ -1380,9 +1380,9 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
         sepal::TexCoords ref;
         REQUIRE(sepal::param_forward(sepal::Param::Axis, sepal::HemiMap::XY, glm::dvec3(fi[0], fi[1], fi[2]),
                                      glm::dvec3(fo[0], fo[1], fo[2]), &ref));
-        CHECK(std::fabs(g[0] - ref.x.x) < 2e-4);
+        CHECK(std::fabs(g[0] - ref.x.x) < 1e-6);
         CHECK(std::fabs(g[1] - ref.x.y) < 1e-6);
-        CHECK(std::fabs(h[0] - ref.y.x) < 1e-5);
+        CHECK(std::fabs(h[0] - ref.y.x) < 1e-6);
         CHECK(std::fabs(h[1] - ref.y.y) < 1e-6);
     }
     // Below the horizon (per vertex, for interpolation only): finite, beta clamped to the
@@ -1395,6 +1395,21 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
     CHECK(srt::param_texcoords(SEPAL_PARAM_AXIS, SEPAL_MAP_XY, at_t, up, g, h, false, nullptr) == 0);
     CHECK(g[0] == doctest::Approx(1.0));
     CHECK(h[0] == doctest::Approx(0.5));
+    // The runtime's atan2 (srt::atan2_poly, branch-free for the batched set-up) against
+    // libm's in every octant and on its axes (signed zeros included: 1e-30 x sin(-pi)
+    // underflows to -0), at magnitudes 1e-30 .. 1e30; at the origin 0 rather than pi.
+    double worst = 0;
+    for (double scale : {1e-30, 1e-3, 1.0, 1e30})
+        for (int k = 0; k <= 3600; ++k) {
+            const double a = -M_PI + 2 * M_PI * k / 3600;
+            const float y = float(scale * std::sin(a)), x = float(scale * std::cos(a));
+            worst = std::max(worst, std::fabs(double(srt::atan2_poly(y, x)) - std::atan2(double(y), double(x))));
+        }
+    CAPTURE(worst);
+    CHECK(worst < 6e-7);  // measured 4.7e-7
+    CHECK(srt::atan2_poly(0.0f, 0.0f) == 0.0f);
+    CHECK(srt::atan2_poly(1.0f, 0.0f) == doctest::Approx(M_PI / 2));
+    CHECK(srt::atan2_poly(0.0f, -1.0f) == doctest::Approx(M_PI));
 }
 
 TEST_CASE("extreme assets: the reader takes 1x1 factors with one level and 256x256 ones; NaN is refused") {

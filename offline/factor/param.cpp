@@ -41,7 +41,8 @@ double azimuth(const glm::dvec3& a) {
 }
 
 // axis: latitude out of the cross-section plane and longitude within it (param.h).
-double axis_alpha(const glm::dvec3& w) { return std::asin(glm::clamp(w.x, -1.0, 1.0)); }
+// asin(w.x) for a unit w, written as atan2 so it keeps full precision near the poles w = +-t.
+double axis_alpha(const glm::dvec3& w) { return std::atan2(w.x, std::sqrt(w.y * w.y + w.z * w.z)); }
 double axis_beta(const glm::dvec3& w) {
     if (w.y == 0 && w.z == 0) return 0.0;  // w = +-t: no longitude (param.h)
     return std::atan2(w.y, w.z);

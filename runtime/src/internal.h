@@ -78,6 +78,43 @@ bool repaired_attributes(const sepal_vertex& v, float normal[3], float tangent[4
 // horizon, 0 below, -1 for a per-pixel-only parameterization when per_pixel is false.
 int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3], float g[2],
                     float h[2], bool per_pixel, int* fallbacks);
+// atan2(y, x) in float without branches (selects only, so the batched vertex set-up
+// vectorizes it; libm's atan2f and asinf do not, and cost 5.7x gs-half's whole set-up):
+// an odd minimax polynomial of degree 13 for atan on [0, 1] after reduction by octant,
+// within 5e-7 rad of atan2 (the polynomial 3.3e-7, float rounding the rest; tested in
+// tests/extremes_test.cpp); +-0 for y = x = 0 (libm: 0 or pi).
+inline float atan2_poly(float y, float x) {
+    const float ax = fabsf(x), ay = fabsf(y);
+    const float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
+    const float t = hi > 0.0f ? lo / hi : 0.0f;
+    const float t2 = t * t;
+    float p = 0.00681176409f;
+    p = p * t2 - 0.0336041413f;
+    p = p * t2 + 0.0796235949f;
+    p = p * t2 - 0.132333398f;
+    p = p * t2 + 0.198078156f;
+    p = p * t2 - 0.333173692f;
+    p = p * t2 + 0.999996126f;
+    float a = t * p;
+    a = ay > ax ? 1.57079637f - a : a;
+    a = x < 0.0f ? 3.14159274f - a : a;
+    return copysignf(a, y);  // -0 as libm has it: atan2(-0, -1) = -pi
+}
+
+// axis (param.cpp): one direction's coordinates, alpha / pi + 1/2 and beta / pi + 1/2 with
+// alpha = atan2(a.x, |(a.y, a.z)|) (asin(a.x) for a unit a, without asin's loss near the
+// poles) and beta = atan2(a.y, a.z), 0 at a = +-t (a.y = a.z = 0, on the horizon). Below the
+// horizon beta is clamped to +-pi/2 (the texture's edge, as CLAMP_TO_EDGE reads it), so
+// coordinates stay continuous for interpolation except across a.y = 0, a.z < 0 (light or
+// view far behind the surface, where nothing is lit).
+inline void axis_uv(float a0, float a1, float a2, float* alpha_u, float* beta_u) {
+    const float kInvPi = 0.318309886f;
+    const float r = sqrtf(a1 * a1 + a2 * a2);
+    *alpha_u = atan2_poly(a0, r) * kInvPi + 0.5f;
+    const float b = atan2_poly(a1, a2) * kInvPi + 0.5f;
+    *beta_u = b < 0.0f ? 0.0f : b > 1.0f ? 1.0f : b;
+}
+
 // True for the parameterizations whose coordinates may be computed per vertex and
 // interpolated (iv, gs-half, vh, axis): GL ES 1.1 and the per-vertex GL ES 2 paths.
 inline bool param_per_vertex(sepal_param p) {

@@ -25,18 +25,6 @@ void map(sepal_hemi_map m, const float a[3], float uv[2]) {
     uv[1] = 0.5f * (a[1] / d + 1.0f);
 }
 
-// axis: u = angle / pi + 1/2 of alpha = asin(a.x) and beta = atan2(a.y, a.z). Below the
-// horizon beta is clamped to +-pi/2 (the texture's edge, as CLAMP_TO_EDGE would read it),
-// so coordinates stay continuous for interpolation except across a.y = 0, a.z < 0 (light or
-// view far behind the surface, where nothing is lit); at a = +-t (a.y = a.z = 0) beta is 0,
-// as offline/factor/param.cpp has it.
-void axis_uv(const float a[3], float* alpha_u, float* beta_u) {
-    const float kPi = 3.14159265358979f;
-    *alpha_u = asinf(fminf(1.0f, fmaxf(-1.0f, a[0]))) / kPi + 0.5f;
-    const float b = (a[1] == 0.0f && a[2] == 0.0f) ? 0.0f : atan2f(a[1], a[2]);
-    *beta_u = fminf(1.0f, fmaxf(0.0f, b / kPi + 0.5f));
-}
-
 // Normalizes v; false (v = fallback) when it has no direction.
 bool normalize(float v[3], const float fallback[3]) {
     const float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -127,9 +115,9 @@ int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const fl
             break;
         }
         case SEPAL_PARAM_AXIS:
-            // G at (alpha_i, alpha_o), H at (beta_i, beta_o): no half vector.
-            axis_uv(wi, &g[0], &h[0]);
-            axis_uv(wo, &g[1], &h[1]);
+            // G at (alpha_i, alpha_o), H at (beta_i, beta_o) (internal.h): no half vector.
+            srt::axis_uv(wi[0], wi[1], wi[2], &g[0], &h[0]);
+            srt::axis_uv(wo[0], wo[1], wo[2], &g[1], &h[1]);
             break;
         default:
             g[0] = g[1] = h[0] = h[1] = 0.5f;

@@ -189,7 +189,7 @@ inline void map_uv(float pm, float om, float a0, float a1, float a2, float* u, f
     *v = 0.5f * (a1 / d + 1.0f);
 }
 
-// One light over lanes [0, m): param_texcoords (iv, vh or gs-half), cos(theta_i) and E,
+// One light over lanes [0, m): param_texcoords (iv, vh, gs-half or axis), cos(theta_i) and E,
 // as setup_one computes them.
 template <sepal_param P>
 void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
@@ -219,6 +219,9 @@ void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
         if (P == SEPAL_PARAM_IV) {
             map_uv(pm, om, wi0, wi1, wi2, &B.gu[j], &B.gv[j]);
             map_uv(pm, om, wo0, wo1, wo2, &B.hu[j], &B.hv[j]);
+        } else if (P == SEPAL_PARAM_AXIS) {  // G (alpha_i, alpha_o), H (beta_i, beta_o)
+            axis_uv(wi0, wi1, wi2, &B.gu[j], &B.hu[j]);
+            axis_uv(wo0, wo1, wo2, &B.gv[j], &B.hv[j]);
         } else {
             float h0 = wi0 + wo0, h1 = wi1 + wo1, h2 = wi2 + wo2;
             const float lh = sqrtf(h0 * h0 + h1 * h1 + h2 * h2);
@@ -322,6 +325,7 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
     const BatchLight batch_light = param == SEPAL_PARAM_GS_HALF ? batch_light_of<SEPAL_PARAM_GS_HALF>
                                    : param == SEPAL_PARAM_VH    ? batch_light_of<SEPAL_PARAM_VH>
                                    : param == SEPAL_PARAM_IV    ? batch_light_of<SEPAL_PARAM_IV>
+                                   : param == SEPAL_PARAM_AXIS  ? batch_light_of<SEPAL_PARAM_AXIS>
                                                                 : nullptr;
     if (batch_light && !swapped && (map == SEPAL_MAP_XY || map == SEPAL_MAP_PARABOLIC))
         setup_batched(batch_light, param, map, mesh, scene, scratch, r, batch);

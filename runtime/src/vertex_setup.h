@@ -81,7 +81,7 @@ void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass
 
 // Bad vertices get zero irradiance and finite coordinates; the draws skip their triangles.
 // swapped: also fill light_swapped_uv (reciprocal materials).
-// The common case (iv, vh or gs-half; xy or parabolic map; not swapped) runs in batches
+// The common case (iv, vh, gs-half or axis; xy or parabolic map; not swapped) runs in batches
 // the compiler vectorizes, with the same results bit for bit as the one-vertex-at-a-time
 // reference below, which takes everything else and every vertex the batches leave to it.
 VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,

@@ -140,7 +140,8 @@ TEST_CASE("vertex set-up: the batched path is the reference's, bit for bit") {
     Mesh big = sphere(SEPAL_SCENE_SPHERE_SLICES, SEPAL_SCENE_SPHERE_STACKS);
     sepal_scene s;
     sepal_scene_default(&s);
-    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH}) compare(big.mesh(), s, p, SEPAL_MAP_XY, false);
+    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_AXIS})
+        compare(big.mesh(), s, p, SEPAL_MAP_XY, false);
     // Counts the batches leave to the reference are still counted: an odd mesh's statistics
     // are not zero (the comparison above would pass trivially if both were).
     Mesh odd = odd_sphere(scene, 1);
