@@ -100,12 +100,14 @@ struct BakeOptions {
     int judge_size = 128;   // pixels per side of the judged images
     // Coarse stage (only with more than one parameterization, map or method listed): every
     // pair factored at coarse_res (0: no coarse stage) with up to coarse_terms terms and
-    // judged at coarse_size; the best pair and those within keep_db of it (at most keep) go on.
+    // judged at coarse_size; per family (Kautz-McCool's parameterizations and homomorphic;
+    // axis, only within keep_db of the best overall) the best pair and those within keep_db
+    // of it (at most keep) go on.
     int coarse_res = 16;
     int coarse_terms = 3;
     int coarse_size = 64;
-    double keep_db = 3;
-    int keep = 3;
+    double keep_db = 1.5;
+    int keep = 2;
     double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best PSNR
     // Radiance fit (radiance.h, format 2): the factors hold f cos(theta_i) capped at white,
     // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the views (1.25 /
