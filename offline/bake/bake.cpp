@@ -329,11 +329,11 @@ class Search {
     void run(Param param, HemiMap map, int res, int res_other, Method method, const std::vector<int>& terms,
              bool coarse, const ImageJudge& judge) {
         const int max_terms = *std::max_element(terms.begin(), terms.end());
-        const int half = sharp_factor(param);
+        const int sharp = sharp_factor(param);
         // Homomorphic: p and q share the half-angle factor's resolution, at most
         // SEPAL_FMT_MAX_RECIPROCAL_TERMS terms.
         const bool homomorphic = method == Method::Homomorphic;
-        const int res_g = homomorphic ? res : half == 1 ? res_other : res, res_h = half == 0 ? res_other : res;
+        const int res_g = homomorphic ? res : sharp == 1 ? res_other : res, res_h = sharp == 0 ? res_other : res;
         Factorization fz;
         fz.param = param, fz.map = map, fz.res = res_g, fz.method = method, fz.coarse = coarse;
         fz.fo = factor_options(o_, param, map, res_g, res_h, method,
@@ -685,8 +685,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         std::vector<double> rung_best(pairs.size());
         for (size_t i = 0; i < pairs.size(); ++i) {
             const Param param = std::get<0>(pairs[i]);
-            const bool half = sharp_factor(param) >= 0;
-            const auto rung = half ? o.ladder[0] : std::make_pair(o.ladder_iv, o.ladder_iv);
+            const bool sharp = sharp_factor(param) >= 0;
+            const auto rung = sharp ? o.ladder[0] : std::make_pair(o.ladder_iv, o.ladder_iv);
             const size_t first = out->candidates.size();
             search.run(param, std::get<1>(pairs[i]), rung.first, rung.second, std::get<2>(pairs[i]), terms, false, judge);
             rung_best[i] = best_since(first);
@@ -747,8 +747,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                     c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
                     at_max = c.psnr;
             if (b.psnr < o.goal_db && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
-                const int half = sharp_factor(b.param);
-                const int res = half == 1 ? b.res_h : b.res, other = half == 1 ? b.res : b.res_h;
+                const int sharp = sharp_factor(b.param);
+                const int res = sharp == 1 ? b.res_h : b.res, other = sharp == 1 ? b.res : b.res_h;
                 std::vector<int> more;
                 for (int k : o.more_terms)
                     if (k > terms.back() && k <= SEPAL_FMT_MAX_TERMS) more.push_back(k);
