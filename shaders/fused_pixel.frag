@@ -70,7 +70,7 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
         h = hemi(vec3(x1 * ct - wi.z * st, y1, x1 * st + wi.z * ct));
     } else if (u_param == 5) {  // axis: G(alpha_i, alpha_o), H(beta_i, beta_o) about the tangent
         // beta = atan(y, z) is undefined at y = z = 0 (w = +-t, on the horizon): 0 there,
-        // clamped to +-pi/2 below the horizon, as runtime/src/param.cpp does.
+        // clamped to +-pi/2 below the horizon, as runtime/src/internal.h's axis_uv does.
         const float kPi = 3.14159265;
         g = vec2(atan(wi.x, length(wi.yz)), atan(wo.x, length(wo.yz))) / kPi + 0.5;  // asin(w.x)
         float bi = dot(wi.yz, wi.yz) > 0.0 ? atan(wi.y, wi.z) : 0.0;

@@ -57,7 +57,8 @@
 //                 It happens at the texel centre (0.5, 0.5): only for --res 1.
 //     elev-azim   the azimuth of a direction at the pole is 0 (same threshold).
 //     axis        beta = atan2(w.s, w.n) is undefined at w = +-t (on the horizon, so only
-//                 for grazing pairs): 0 there; alpha = asin of w.t clamped to [-1, 1].
+//                 for grazing pairs): 0 there; alpha is atan2(w.t, |(w.s, w.n)|), asin(w.t)
+//                 for a unit w without asin's loss of precision near the poles.
 //     frame_fallback() says whether a G point (the half vector) takes a fallback.
 #pragma once
 #include <cstdint>
