@@ -190,7 +190,7 @@ update-goldens: deps ## rewrite fixtures/golden/*.png, the ports' screenshots in
 	@SEPAL_UPDATE_GOLDENS=1 $(BIN_TESTS) -tc='*golden*,*Xvfb*,*Chromium*,docs/cli.md*'
 
 bench: deps ## benchmarks that produce the README figures (long sweeps live here, not in tests)
-	@$(MAKE) --no-print-directory -j$(NPROC) $(BENCH_BINS)
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BENCH_BINS) web
 	@sh tests/bench/run.sh $(BUILD) $(BENCH_OUT)
 
 clean: ## remove build/
