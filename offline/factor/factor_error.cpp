@@ -170,12 +170,18 @@ std::vector<TermError> measure_terms(const ErrorEvaluator& ev, const FactorResul
 
 double sample_relative_rms(const Factored& f, const std::vector<BrdfSample>& samples,
                            double min_half_angle_deg, bool rgb) {
+    return sample_relative_rms([&f](const glm::dvec3& wi, const glm::dvec3& wo) { return evaluate_radiance(f, wi, wo); },
+                               samples, min_half_angle_deg, rgb);
+}
+
+double sample_relative_rms(const RadianceFn& radiance, const std::vector<BrdfSample>& samples,
+                           double min_half_angle_deg, bool rgb) {
     const double min_cos = std::cos(min_half_angle_deg * 3.14159265358979323846 / 180.0);
     double num = 0, den = 0;
     for (const BrdfSample& s : samples) {
         if (!(s.wi.z > 0) || !(s.wo.z > 0)) continue;
         if (glm::normalize(s.wi + s.wo).z > min_cos) continue;  // inside the peak's cone
-        const glm::dvec3 a = evaluate_radiance(f, s.wi, s.wo), b = s.value * s.wi.z;
+        const glm::dvec3 a = radiance(s.wi, s.wo), b = s.value * s.wi.z;
         if (rgb) {
             num += glm::dot(a - b, a - b), den += glm::dot(b, b);
         } else {

@@ -16,6 +16,7 @@
 // reconstructed by the shared bilinear evaluator (factored.h).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,11 @@ class ErrorEvaluator {
 // angle is at least min_half_angle_deg (5 degrees leaves a mirror peak out: "off-peak"),
 // of the luminance, or of R, G and B together (rgb). 0 when no sample qualifies.
 double sample_relative_rms(const Factored& f, const std::vector<BrdfSample>& samples,
+                           double min_half_angle_deg, bool rgb);
+// The same for any stand-in of f cos theta_i (per channel), e.g. the dense table a bake fits,
+// capped at its white level: the floor no factors of that table can go below.
+using RadianceFn = std::function<glm::dvec3(const glm::dvec3& wi, const glm::dvec3& wo)>;
+double sample_relative_rms(const RadianceFn& radiance, const std::vector<BrdfSample>& samples,
                            double min_half_angle_deg, bool rgb);
 
 // Errors of result.by_terms[k-1] for k = 1..K, with the matrix RMS filled in.

@@ -29,7 +29,6 @@
 #include <vector>
 
 #include <glm/common.hpp>
-#include <glm/geometric.hpp>
 
 #include "bake/bake.h"
 #include "bench/bench_cli.h"
@@ -94,16 +93,12 @@ Entry measure(const std::string& label, const AssetData& a, Param param, HemiMap
 // The off-peak error of the dense table itself, f cos theta_i capped per channel at `white`
 // (<= 0: uncapped), at the raw samples: what no asset fitted to it can go below.
 double table_off_peak(const Brdf& brdf, const std::vector<BrdfSample>& raw, double white) {
-    const double min_cos = std::cos(5.0 * 3.14159265358979323846 / 180.0);
-    double num = 0, den = 0;
-    for (const BrdfSample& s : raw) {
-        if (!(s.wi.z > 0) || !(s.wo.z > 0) || glm::normalize(s.wi + s.wo).z > min_cos) continue;
-        glm::dvec3 a = brdf.eval(s.wi, s.wo) * s.wi.z;
-        if (white > 0) a = glm::min(a, glm::dvec3(white));
-        const double d = luminance(a) - luminance(s.value * s.wi.z), b = luminance(s.value * s.wi.z);
-        num += d * d, den += b * b;
-    }
-    return den > 0 ? std::sqrt(num / den) : 0.0;
+    return sample_relative_rms(
+        [&](const glm::dvec3& wi, const glm::dvec3& wo) {
+            const glm::dvec3 a = brdf.eval(wi, wo) * wi.z;
+            return white > 0 ? glm::min(a, glm::dvec3(white)) : a;
+        },
+        raw, 5.0, false);
 }
 
 void put(JsonBuilder& j, const char* key, const Entry& e) {
