@@ -7,7 +7,8 @@
 
 namespace srt {
 
-sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_stats* stats, sepal_error* err) {
+sepal_result prepare_frame(const sepal_draw_desc* d, const float modelview[16], const float proj[16],
+                           bool float_target, FramePrep* out, sepal_draw_stats* stats, sepal_error* err) {
     if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
     const sepal_material* m = d->material;
@@ -24,8 +25,8 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
         return srt::fail(err, SEPAL_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
                          d->scratch_floats, need);
     FramePrep& prep = *out;
-    sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, prep.view, prep.proj, err);
-    if (r != SEPAL_OK) return r;
+    memcpy(prep.view, modelview, sizeof prep.view);
+    memcpy(prep.proj, proj, sizeof prep.proj);
     memset(stats, 0, sizeof *stats);
     prep.vertices = srt::setup_vertices((sepal_param)m->info.param, (sepal_hemi_map)m->info.map, *d->mesh,
                                         *d->scene, d->scratch, (m->info.flags & SEPAL_MATERIAL_RECIPROCAL) != 0);
@@ -44,7 +45,6 @@ sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_
     const int plan_doublings = (int)m->plan.doublings;
     int e = -plan_doublings;
     // A float target holds any value: no headroom, no exposure, no doublings.
-    const bool float_target = m->float_fbo != 0;
     const bool radiance = (m->info.flags & SEPAL_MATERIAL_RADIANCE) != 0;
     // Only a plan that subtracts needs headroom: without subtractions a partial sum never
     // exceeds the final value, and a final value above 1 is white on screen either way.
@@ -170,11 +170,38 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
     if (d && d->material && d->material->context_lost)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "draw: the material's GL context was lost; sepal_material_restore it on the new context");
+    if (!d || !d->scene)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
+    // One object in a frame of its own: cleared, the scene's camera, the mesh as it is
+    // (the world is its object space), the background where it does not cover.
+    sepal_frame_desc fd = {};
+    sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, fd.view, fd.projection, err);
+    if (r != SEPAL_OK) return r;
     srt::FramePrep prep;
     sepal_draw_stats local_stats;
     sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;
-    const sepal_result r = srt::prepare_frame(d, &prep, stats, err);
+    const sepal_material* m = d->material;
+    r = srt::prepare_frame(d, fd.view, fd.projection, m && m->float_fbo != 0, &prep, stats, err);
     if (r != SEPAL_OK) return r;
-    return d->material->caps.gles_version == 1 ? srt::draw_gles1(d, prep, stats, err)
-                                               : srt::draw_gles2(d, prep, stats, err);
+    fd.caps = &m->caps;
+    fd.viewport[2] = d->width;
+    fd.viewport[3] = d->height;
+    fd.clear = 1;
+    alignas(8) unsigned char saved[srt::kSavedStateBytes];
+    if (m->caps.gles_version == 1) {
+        srt::gles1_frame_begin(fd, saved);
+        r = srt::draw_gles1(d, prep, stats, err);
+        if (r == SEPAL_OK) srt::gles1_background(d->scene->background, stats);
+        srt::gles1_frame_end(m->caps, saved);
+    } else {
+        srt::gles2_frame_begin(fd, saved, m->float_fbo);
+        r = srt::draw_gles2(d, prep, stats, err);
+        if (r == SEPAL_OK) {
+            srt::gles2_background(m, d->scene->background, stats);
+            if (m->float_fbo) srt::gles2_show_float(m, saved, d->width, d->height, stats);
+        }
+        srt::gles2_frame_end(m->caps, saved);
+    }
+    if (r != SEPAL_OK) return r;
+    return srt::gl_check("the frame's end", err);
 }

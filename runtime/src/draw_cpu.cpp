@@ -3,7 +3,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "draw_internal.h"
 #include "internal.h"
+#include "sepal/sepal_frame.h"
 #include "sepal/sepal_material.h"
 #include "sepal/sepal_raster.h"
 #include "vertex_setup.h"
@@ -134,15 +136,18 @@ extern "C" size_t sepal_cpu_scratch_floats(int vertex_count) {
     return (size_t)(vertex_count > 0 ? vertex_count : 0) * (4 + kVaryings);
 }
 
-extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err) {
+namespace {
+
+// One object: d->scene in object space, view (the modelview) and proj its matrices. keep:
+// colour and depth stay where the object is not in front; otherwise both start cleared,
+// the colour to the scene's background.
+sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float* proj, bool keep, sepal_error* err) {
     if (!d || !d->asset || !d->mesh || !d->scene || !d->color || !d->depth || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
     if (d->scratch_floats < sepal_cpu_scratch_floats(d->mesh->vertex_count))
         return srt::fail(err, SEPAL_ERR_CAPACITY, "cpu: scratch holds %zu floats, needs %zu", d->scratch_floats,
                          sepal_cpu_scratch_floats(d->mesh->vertex_count));
-    float view[16], proj[16];
-    sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, view, proj, err);
-    if (r != SEPAL_OK) return r;
+    sepal_result r;
     const int n = d->mesh->vertex_count;
     float* clip = d->scratch;
     float* vary = d->scratch + 4 * (size_t)n;
@@ -178,11 +183,8 @@ extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err
                          d->mesh->indices[tri.bad_index], n);
     st.skipped_triangles = tri.skipped;
     st.zero_area_triangles = tri.zero_area;
-    const size_t pixels = (size_t)d->width * (size_t)d->height;
-    for (size_t p = 0; p < pixels; ++p)
-        for (int c = 0; c < 3; ++c) d->color[p * 3 + c] = d->scene->background[c];
     sepal_raster_target target = {d->width, d->height, d->depth};
-    sepal_raster_clear_depth(&target);
+    if (!keep) sepal_frame_clear_cpu(d->width, d->height, d->scene->background, d->color, d->depth);
     // The rasterizer calls the shader for every fragment passing LEQUAL; the last one
     // written per pixel is the front surface, as GL's depth test gives.
     Shader s = {};
@@ -224,4 +226,47 @@ extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err
         out.pixel_frame_fallbacks = s.st.pixel_frame_fallbacks;
     }
     return r;
+}
+
+}  // namespace
+
+extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err) {
+    if (!d || !d->scene) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
+    float view[16], proj[16];
+    const sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, view, proj, err);
+    if (r != SEPAL_OK) return r;
+    return cpu_object(d, view, proj, false, err);
+}
+
+extern "C" void sepal_frame_clear_cpu(int width, int height, const float rgb[3], float* color, float* depth) {
+    const size_t pixels = (size_t)(width > 0 ? width : 0) * (size_t)(height > 0 ? height : 0);
+    if (color)
+        for (size_t p = 0; p < pixels; ++p)
+            for (int c = 0; c < 3; ++c) color[p * 3 + c] = rgb ? rgb[c] : 0.0f;
+    if (depth) {
+        sepal_raster_target target = {width, height, depth};
+        sepal_raster_clear_depth(&target);
+    }
+}
+
+extern "C" sepal_result sepal_frame_draw_cpu(const sepal_frame_desc* f, const sepal_object* o, float* color,
+                                             float* depth, float* scratch, size_t scratch_floats,
+                                             sepal_draw_stats* stats, sepal_error* err) {
+    if (!f || !o) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL frame or object");
+    sepal_scene scene;
+    float modelview[16];
+    const sepal_result r = srt::object_scene(f->view, o->model, o->lights, o->light_count, &scene, modelview, err);
+    if (r != SEPAL_OK) return r;
+    sepal_cpu_desc d = {};
+    d.asset = o->asset;
+    d.mesh = o->mesh;
+    d.scene = &scene;
+    d.width = f->viewport[2];
+    d.height = f->viewport[3];
+    d.color = color;
+    d.depth = depth;
+    d.scratch = scratch;
+    d.scratch_floats = scratch_floats;
+    d.stats = stats;
+    return cpu_object(&d, modelview, f->projection, true, err);
 }

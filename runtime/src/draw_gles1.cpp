@@ -14,7 +14,6 @@
 namespace {
 
 using srt::quad_indices;
-using srt::with_identity_matrices;
 
 constexpr GLenum kFuncAdd = 0x8006;             // GL_FUNC_ADD(_OES)
 constexpr GLenum kFuncSubtract = 0x800A;        // GL_FUNC_SUBTRACT(_OES): src - dst
@@ -26,6 +25,8 @@ struct Frame {
     const sepal_scene* scene;
     float* scratch;
     int width, height;
+    int x0, y0;  // the viewport's corner (where the single-unit path copies from)
+    const float* mvp;  // clip from object: the single-unit path's screen coordinates
     float exposure;
     sepal_draw_stats* stats;
     bool acc_valid;  // single-unit path: the copy texture holds the running sum
@@ -111,23 +112,42 @@ void draw_mesh(const Frame& f) {
     ++f.stats->draw_calls;
 }
 
-// A quad over the whole viewport at NDC depth z, optionally textured with the copy
-// texture (texel centres line up with pixel centres), in the given constant colour.
-void fullscreen(Frame& f, float z, bool textured, const float color[4]) {
-    const float sx = (float)f.width / (float)(f.m->copy_width ? f.m->copy_width : 1);
-    const float sy = (float)f.height / (float)(f.m->copy_height ? f.m->copy_height : 1);
-    const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
-    const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
-    with_identity_matrices([&] {
-        glEnableClientState(GL_VERTEX_ARRAY);
-        glVertexPointer(3, GL_FLOAT, 0, pos);
-        glDisableClientState(GL_COLOR_ARRAY);
-        glColor4f(color[0], color[1], color[2], color[3]);
-        bind_unit(GL_TEXTURE1, 0, nullptr);
-        bind_unit(GL_TEXTURE0, textured ? f.m->copy_texture : 0, uv);
-        if (textured) set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
-        glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, quad_indices());
+// A framebuffer-wide operation restricted to the object's visible pixels: its mesh with
+// depth EQUAL (after the depth is laid), in a constant colour, optionally textured with the
+// copy texture at the pixel's own position (the single-unit path's running sum). Counted
+// with the full-screen passes it replaces.
+void object_pass(Frame& f, bool textured, const float color[4]) {
+    glDisableClientState(GL_COLOR_ARRAY);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), f.mesh->vertices[0].position);
+    glColor4f(color[0], color[1], color[2], color[3]);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    if (textured) {
+        // Projective coordinates: the texture matrix maps the object-space position to
+        // (s q, t q, 0, q) with q the clip w, so s and t are the pixel's position in the copy
+        // (texel centres on pixel centres; the copy is nearest-sampled).
+        const float sx = 0.5f * (float)f.width / (float)f.m->copy_width;
+        const float sy = 0.5f * (float)f.height / (float)f.m->copy_height;
+        const float screen[16] = {sx, 0, 0, 0, 0, sy, 0, 0, 0, 0, 0, 0, sx, sy, 0, 1};
+        float tm[16];
+        srt::mat4_mul(screen, f.mvp, tm);
+        bind_unit(GL_TEXTURE0, f.m->copy_texture, f.mesh->vertices[0].position, sizeof(sepal_vertex));
+        glTexCoordPointer(3, GL_FLOAT, sizeof(sepal_vertex), f.mesh->vertices[0].position);
+        glMatrixMode(GL_TEXTURE);
+        glLoadMatrixf(tm);
+        glMatrixMode(GL_MODELVIEW);
+        set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
+    } else {
+        bind_unit(GL_TEXTURE0, 0, nullptr);
+    }
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
     });
+    if (textured) {
+        glMatrixMode(GL_TEXTURE);
+        glLoadIdentity();
+        glMatrixMode(GL_MODELVIEW);
+    }
     ++f.stats->fullscreen_passes;
 }
 
@@ -212,7 +232,7 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
 void copy_to_accumulator(Frame& f) {
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, f.m->copy_texture);
-    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, f.width, f.height);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, f.x0, f.y0, f.width, f.height);
     ++f.stats->copies;
     f.acc_valid = true;
 }
@@ -222,7 +242,8 @@ void copy_to_accumulator(Frame& f) {
 // and the result is copied back.
 void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inverted) {
     static const float kWhite[4] = {1, 1, 1, 1};
-    glClear(GL_COLOR_BUFFER_BIT);  // depth stays: EQUAL keeps testing against the pre-pass
+    // Drawn with blending off, P replaces what the object's pixels held (the running sum
+    // is in the copy texture); no other pixel is touched.
     glDisable(GL_BLEND);
     bind_unit(GL_TEXTURE1, 0, nullptr);
     if (srt::pass_texture_count(pass) == 2) {
@@ -246,44 +267,37 @@ void pass_single_unit(Frame& f, const sepal_fmt_pass& pass, int light, bool inve
     }
     draw_mesh(f);
     if (f.acc_valid) {
-        glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ONE);
         const bool subtract = pass.blend == SEPAL_BLEND_SUBTRACT && !inverted;
         set_equation(f.m, subtract ? kFuncSubtract : kFuncAdd);  // acc - P, or acc + P
-        fullscreen(f, 0.0f, true, kWhite);
+        object_pass(f, true, kWhite);
         set_equation(f.m, kFuncAdd);
-        glEnable(GL_DEPTH_TEST);
     }
     copy_to_accumulator(f);
 }
 
-// Scale up: each full-screen pass with blend (GL_DST_COLOR, GL_ONE) doubles the image.
-// Leaves depth testing off.
+// Scale up: each pass over the object with blend (GL_DST_COLOR, GL_ONE) doubles its pixels.
 void doublings(Frame& f, int n) {
     static const float kWhite[4] = {1, 1, 1, 1};
-    glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_DST_COLOR, GL_ONE);
-    for (int i = 0; i < n; ++i) fullscreen(f, 0.0f, false, kWhite);
+    for (int i = 0; i < n; ++i) object_pass(f, false, kWhite);
 }
 
-// framebuffer = 1 - framebuffer (and the running sum with it, on the single-unit path).
+// The object's pixels = 1 - themselves (and the running sum with them, on the single-unit
+// path).
 void invert(Frame& f) {
     static const float kWhite[4] = {1, 1, 1, 1};
-    glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE_MINUS_DST_COLOR, GL_ZERO);
-    fullscreen(f, 0.0f, false, kWhite);
+    object_pass(f, false, kWhite);
     if (f.m->single_unit) copy_to_accumulator(f);
-    glEnable(GL_DEPTH_TEST);
 }
 
-// framebuffer *= the diffuse map at the mesh's UVs (nothing without one). Leaves depth
-// testing off.
+// framebuffer *= the diffuse map at the mesh's UVs (nothing without one).
 void diffuse_map(Frame& f, const sepal_draw_desc* d) {
     if (!d->diffuse_texture) return;
-    glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_EQUAL);
     glEnable(GL_BLEND);
     glBlendFunc(GL_DST_COLOR, GL_ZERO);
@@ -297,7 +311,6 @@ void diffuse_map(Frame& f, const sepal_draw_desc* d) {
     glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), d->mesh->vertices[0].uv);
     set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
     draw_mesh(f);
-    glDisable(GL_DEPTH_TEST);
 }
 
 }  // namespace
@@ -307,41 +320,41 @@ namespace srt {
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
     const sepal_material* m = d->material;
     sepal_result r;
-    const float* proj = prep.proj;
-    const float* view = prep.view;
-    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, prep.exposure, stats, false,
-               prep.vertices.bad_vertices, prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, false, {}};
-    glViewport(0, 0, d->width, d->height);
-    clear_frame(0, 0, 0, 0);
+    float mvp[16];
+    srt::mat4_mul(prep.proj, prep.view, mvp);
+    GLint viewport[4];
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, viewport[0], viewport[1], mvp,
+               prep.exposure, stats, false, prep.vertices.bad_vertices,
+               prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, false, {}};
+    // The frame's begin set what every object shares (gles1_frame_begin); this object's
+    // matrices and depth set-up here.
     glMatrixMode(GL_PROJECTION);
-    glLoadMatrixf(proj);
+    glLoadMatrixf(prep.proj);
     glMatrixMode(GL_MODELVIEW);
-    glLoadMatrixf(view);
-    glDisable(GL_LIGHTING);
-    glDisable(GL_ALPHA_TEST);  // GL ES 1.1 only: an application's alpha test would drop fragments
-    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
-    glShadeModel(GL_SMOOTH);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
+    glLoadMatrixf(prep.view);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);  // depth writes: on since clear_frame
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
     bind_unit(GL_TEXTURE1, 0, nullptr);
     bind_unit(GL_TEXTURE0, 0, nullptr);
     srt::Gles1Step steps[srt::kMaxGles1Steps];  // ~12 KB of stack
     const int step_count = srt::gles1_schedule(m, prep, stats->doublings, steps);
-    // Later passes test EQUAL, so each pixel's front surface is shaded once. The depth they
-    // test comes from the first plan pass when it adds on two units (drawn with LESS, depth
-    // writes and no blending: f.lays_depth), else from a colour-masked pre-pass: the
-    // single-unit path clears colour between passes, and a subtract or an inversion cannot
-    // stand in for the cleared framebuffer. Folding saves a mesh pass per frame.
+    // Later passes test EQUAL, so each pixel's front surface is shaded once, and only the
+    // object's visible pixels are touched. The depth they test comes from the first plan
+    // pass when it adds on two units (drawn with LESS, depth writes and no blending, so it
+    // replaces what the pixel held: f.lays_depth), else from a pre-pass in black (LESS,
+    // no blending): the object's pixels start from 0 whatever the framebuffer held, as the
+    // single-unit path's first pass, a subtract or an inversion need. Folding saves a
+    // mesh pass per object.
     f.lays_depth = !m->single_unit && d->scene->light_count > 0 && step_count > 0 &&
                    steps[0].kind == srt::Gles1Step::kPass && !steps[0].inverted &&
                    m->passes[steps[0].pass].blend != SEPAL_BLEND_SUBTRACT;
     if (!f.lays_depth) {
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         mesh_arrays(f, false);
+        glColor4f(0, 0, 0, 0);
         draw_mesh(f);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
         if ((r = srt::gl_check("depth pre-pass", err)) != SEPAL_OK) return r;
@@ -360,10 +373,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         if (i == final_doubling && !prep.diffuse_per_pass) diffuse_map(f, d);
         if (step.kind == srt::Gles1Step::kDouble) {
             doublings(f, step.count);
-            if (i + 1 < step_count) {  // a stage: the next passes test depth again
-                if (m->single_unit) copy_to_accumulator(f);  // the running sum, doubled
-                glEnable(GL_DEPTH_TEST);
-            }
+            if (i + 1 < step_count && m->single_unit) copy_to_accumulator(f);  // the running sum, doubled
             continue;
         }
         if (step.kind == srt::Gles1Step::kInvert) {
@@ -382,27 +392,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         }
     }
     if (final_doubling == step_count && !prep.diffuse_per_pass) diffuse_map(f, d);
-    // Background where no surface is: a quad at the far plane passes LEQUAL only there.
-    const float* bg = d->scene->background;
-    if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
-        const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
-        glDisable(GL_BLEND);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        fullscreen(f, 1.0f, false, color);
-    }
-    // Leave GL in its default state for whoever draws next.
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_DITHER);
-    glDisable(GL_CULL_FACE);
-    bind_unit(GL_TEXTURE1, 0, nullptr);
-    bind_unit(GL_TEXTURE0, 0, nullptr);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-    glDisableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    return srt::gl_check("the final passes", err);
+    return srt::gl_check("the object's passes", err);
 }
 
 }  // namespace srt
@@ -434,3 +424,200 @@ extern "C" sepal_result sepal_texture_create_rgba8(const uint8_t* rgba, int widt
 extern "C" void sepal_texture_destroy(uint32_t texture) {
     if (texture) glDeleteTextures(1, &texture);
 }
+
+// ---- the frame's GL state (sepal_frame.h's contract) ------------------------------------
+namespace {
+
+constexpr GLenum kBlendEquationQuery = 0x8009;  // GL_BLEND_EQUATION_OES
+constexpr int kUnits = 3;                        // units 0..2: the passes' and the map's
+
+struct ArrayState {
+    GLint enabled, size, type, stride, buffer;
+    void* pointer;
+};
+
+struct Gles1Saved {
+    GLint viewport[4];
+    GLboolean enables[13];
+    GLint front_face, cull_mode, depth_func, blend_src, blend_dst, blend_eq, shade_model, matrix_mode;
+    GLint active_unit, client_unit, array_buffer, element_buffer, units;
+    GLboolean color_mask[4], depth_mask;
+    GLfloat clear_color[4], clear_depth, current_color[4];
+    GLfloat projection[16], modelview[16];
+    struct Unit {
+        GLboolean texture_2d;
+        GLint binding;
+        GLint env[11];
+        GLfloat texture_matrix[16];
+        ArrayState coords;
+    } unit[kUnits];
+    ArrayState vertex, color;
+};
+static_assert(sizeof(Gles1Saved) <= srt::kSavedStateBytes, "sepal_frame.saved is too small");
+
+const GLenum kEnables[13] = {GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_POLYGON_OFFSET_FILL, GL_CULL_FACE,
+                             GL_DEPTH_TEST,   GL_BLEND,        GL_DITHER,             GL_LIGHTING,
+                             GL_ALPHA_TEST,   GL_FOG,          GL_COLOR_LOGIC_OP,     GL_COLOR_MATERIAL,
+                             GL_NORMALIZE};
+const GLenum kEnvParams[11] = {GL_TEXTURE_ENV_MODE, GL_COMBINE_RGB,   GL_COMBINE_ALPHA, GL_SRC0_RGB,
+                               GL_SRC1_RGB,         GL_SRC0_ALPHA,    GL_OPERAND0_RGB,  GL_OPERAND1_RGB,
+                               GL_OPERAND0_ALPHA,   GL_RGB_SCALE,     GL_ALPHA_SCALE};
+
+void save_array(GLenum array, GLenum size, GLenum type, GLenum stride, GLenum buffer, GLenum pointer, ArrayState* a) {
+    a->enabled = glIsEnabled(array);
+    glGetIntegerv(size, &a->size);
+    glGetIntegerv(type, &a->type);
+    glGetIntegerv(stride, &a->stride);
+    glGetIntegerv(buffer, &a->buffer);
+    glGetPointerv(pointer, &a->pointer);
+}
+
+template <class SetPointer>
+void restore_array(GLenum array, const ArrayState& a, SetPointer set) {
+    glBindBuffer(GL_ARRAY_BUFFER, (GLuint)a.buffer);
+    set(a);
+    a.enabled ? glEnableClientState(array) : glDisableClientState(array);
+}
+
+void set_enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
+
+}  // namespace
+
+namespace srt {
+
+void gles1_frame_begin(const sepal_frame_desc& d, void* out) {
+    Gles1Saved& s = *static_cast<Gles1Saved*>(out);
+    memset(&s, 0, sizeof s);
+    glGetIntegerv(GL_VIEWPORT, s.viewport);
+    for (int i = 0; i < 13; ++i) s.enables[i] = glIsEnabled(kEnables[i]);
+    glGetIntegerv(GL_FRONT_FACE, &s.front_face);
+    glGetIntegerv(GL_CULL_FACE_MODE, &s.cull_mode);
+    glGetIntegerv(GL_DEPTH_FUNC, &s.depth_func);
+    glGetIntegerv(GL_BLEND_SRC, &s.blend_src);
+    glGetIntegerv(GL_BLEND_DST, &s.blend_dst);
+    if (d.caps->blend_equation) glGetIntegerv(kBlendEquationQuery, &s.blend_eq);
+    glGetIntegerv(GL_SHADE_MODEL, &s.shade_model);
+    glGetIntegerv(GL_MATRIX_MODE, &s.matrix_mode);
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &s.active_unit);
+    glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &s.client_unit);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &s.array_buffer);
+    glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &s.element_buffer);
+    glGetBooleanv(GL_COLOR_WRITEMASK, s.color_mask);
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depth_mask);
+    glGetFloatv(GL_COLOR_CLEAR_VALUE, s.clear_color);
+    glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s.clear_depth);
+    glGetFloatv(GL_CURRENT_COLOR, s.current_color);
+    glGetFloatv(GL_PROJECTION_MATRIX, s.projection);
+    glGetFloatv(GL_MODELVIEW_MATRIX, s.modelview);
+    s.units = d.caps->texture_units < kUnits ? d.caps->texture_units : kUnits;
+    for (int u = 0; u < s.units; ++u) {
+        Gles1Saved::Unit& t = s.unit[u];
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        t.texture_2d = glIsEnabled(GL_TEXTURE_2D);
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &t.binding);
+        for (int k = 0; k < 11; ++k) glGetTexEnviv(GL_TEXTURE_ENV, kEnvParams[k], &t.env[k]);
+        glGetFloatv(GL_TEXTURE_MATRIX, t.texture_matrix);
+        save_array(GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_SIZE, GL_TEXTURE_COORD_ARRAY_TYPE,
+                   GL_TEXTURE_COORD_ARRAY_STRIDE, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING, GL_TEXTURE_COORD_ARRAY_POINTER,
+                   &t.coords);
+    }
+    save_array(GL_VERTEX_ARRAY, GL_VERTEX_ARRAY_SIZE, GL_VERTEX_ARRAY_TYPE, GL_VERTEX_ARRAY_STRIDE,
+               GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY_POINTER, &s.vertex);
+    save_array(GL_COLOR_ARRAY, GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY_STRIDE,
+               GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY_POINTER, &s.color);
+    // What every object's passes assume. The arrays are client memory: no buffer bound.
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    glViewport(d.viewport[0], d.viewport[1], d.viewport[2], d.viewport[3]);
+    if (d.clear) {
+        const float* c = d.clear_color;
+        clear_frame(c[0], c[1], c[2], c[3]);
+    } else {
+        prepare_state();
+    }
+    glDisable(GL_LIGHTING);
+    glDisable(GL_ALPHA_TEST);  // an application's alpha test would drop fragments
+    glDisable(GL_FOG);
+    glDisable(GL_COLOR_LOGIC_OP);
+    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
+    glShadeModel(GL_SMOOTH);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    for (int u = 0; u < s.units; ++u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glMatrixMode(GL_TEXTURE);
+        glLoadIdentity();
+    }
+    glMatrixMode(GL_MODELVIEW);
+}
+
+void gles1_frame_end(const sepal_caps& caps, const void* in) {
+    const Gles1Saved& s = *static_cast<const Gles1Saved*>(in);
+    glViewport(s.viewport[0], s.viewport[1], s.viewport[2], s.viewport[3]);
+    for (int i = 0; i < 13; ++i) set_enable(kEnables[i], s.enables[i]);
+    glFrontFace((GLenum)s.front_face);
+    glCullFace((GLenum)s.cull_mode);
+    glDepthFunc((GLenum)s.depth_func);
+    glBlendFunc((GLenum)s.blend_src, (GLenum)s.blend_dst);
+    if (caps.blend_equation && s.blend_eq) caps.blend_equation((GLenum)s.blend_eq);
+    glShadeModel((GLenum)s.shade_model);
+    glColorMask(s.color_mask[0], s.color_mask[1], s.color_mask[2], s.color_mask[3]);
+    glDepthMask(s.depth_mask);
+    glClearColor(s.clear_color[0], s.clear_color[1], s.clear_color[2], s.clear_color[3]);
+    glClearDepthf(s.clear_depth);
+    glColor4f(s.current_color[0], s.current_color[1], s.current_color[2], s.current_color[3]);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(s.projection);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(s.modelview);
+    for (int u = 0; u < s.units; ++u) {
+        const Gles1Saved::Unit& t = s.unit[u];
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        set_enable(GL_TEXTURE_2D, t.texture_2d);
+        glBindTexture(GL_TEXTURE_2D, (GLuint)t.binding);
+        for (int k = 0; k < 11; ++k) {
+            if (kEnvParams[k] == GL_RGB_SCALE || kEnvParams[k] == GL_ALPHA_SCALE)
+                glTexEnvf(GL_TEXTURE_ENV, kEnvParams[k], (GLfloat)t.env[k]);
+            else
+                glTexEnvi(GL_TEXTURE_ENV, kEnvParams[k], t.env[k]);
+        }
+        glMatrixMode(GL_TEXTURE);
+        glLoadMatrixf(t.texture_matrix);
+        restore_array(GL_TEXTURE_COORD_ARRAY, t.coords,
+                      [](const ArrayState& a) { glTexCoordPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
+    }
+    glMatrixMode((GLenum)s.matrix_mode);
+    restore_array(GL_VERTEX_ARRAY, s.vertex,
+                  [](const ArrayState& a) { glVertexPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
+    restore_array(GL_COLOR_ARRAY, s.color,
+                  [](const ArrayState& a) { glColorPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
+    glBindBuffer(GL_ARRAY_BUFFER, (GLuint)s.array_buffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, (GLuint)s.element_buffer);
+    glActiveTexture((GLenum)s.active_unit);
+    glClientActiveTexture((GLenum)s.client_unit);
+}
+
+void gles1_background(const float bg[3], sepal_draw_stats* stats) {
+    // A quad at the far plane passes LEQUAL only where no surface is.
+    if (!(bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f)) return;
+    const float pos[12] = {-1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1};
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+    bind_unit(GL_TEXTURE0, 0, nullptr);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, pos);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glColor4f(bg[0], bg[1], bg[2], 1.0f);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, quad_indices());
+    ++stats->fullscreen_passes;
+}
+
+}  // namespace srt

@@ -58,15 +58,6 @@ struct Frame {
     mutable bool lays_depth;
 };
 
-void mat4_mul(const float* a, const float* b, float* out) {
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) {
-            float s = 0.0f;
-            for (int k = 0; k < 4; ++k) s += a[k * 4 + r] * b[c * 4 + k];
-            out[c * 4 + r] = s;
-        }
-}
-
 // Enables attribute arrays 0..count-1 and disables the rest of the 6 the programs use.
 void attribs(int count) {
     for (GLuint i = 0; i < 6; ++i) (int)i < count ? glEnableVertexAttribArray(i) : glDisableVertexAttribArray(i);
@@ -96,30 +87,40 @@ void draw_mesh(const Frame& f) {
     }
 }
 
-void fullscreen(const Frame& f, float z, const float color[4]) {
-    const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
-    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
-    const GLuint p = f.m->program_fullscreen;
+const float* positions(const Frame& f) { return f.d->mesh->vertices[0].position; }
+
+// The object's mesh in a constant colour (the pass program, no texture): the black
+// pre-pass, and the framebuffer-wide operations restricted to the object's visible
+// pixels (doublings, inversions: depth EQUAL), counted with the full-screen passes they
+// replace.
+void solid_mesh(const Frame& f, const float color[4], bool counts_as_pass) {
+    const GLuint p = f.m->program_pass;
     glUseProgram(p);
-    glUniform4fv(loc(p, "u_color"), 1, color);
-    glUniform1i(loc(p, "u_textured"), 0);
+    glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
+    glUniform1i(loc(p, "u_op"), 0);
+    glUniform1f(loc(p, "u_scale"), 1.0f);
+    glUniform1f(loc(p, "u_use_map"), 0.0f);
     attribs(1);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, pos);
-    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+    glVertexAttrib4fv(1, color);
+    if (counts_as_pass) {
+        draw_mesh(f);
+        return;
+    }
+    srt::for_each_drawable_run(*f.d->mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.d->mesh->indices + first);
+    });
     ++f.stats->fullscreen_passes;
 }
 
 void invert(const Frame& f) {
     static const float kWhite[4] = {1, 1, 1, 1};
-    glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
     glBlendFunc(GL_ONE_MINUS_DST_COLOR, GL_ZERO);
-    fullscreen(f, 0.0f, kWhite);
-    glEnable(GL_DEPTH_TEST);
+    solid_mesh(f, kWhite, false);
 }
 
-const float* positions(const Frame& f) { return f.d->mesh->vertices[0].position; }
 
 void multipass(const Frame& f) {
     const sepal_material* m = f.m;
@@ -143,6 +144,7 @@ void multipass(const Frame& f) {
             invert(f);
             inverted = true;
             glUseProgram(p);
+            glUniform1f(loc(p, "u_use_map"), f.map_per_pass ? 1.0f : 0.0f);
             glBlendFunc(GL_ONE, GL_ONE);
         }
         glBlendEquation(pass.blend == SEPAL_BLEND_SUBTRACT && !inverted ? GL_FUNC_REVERSE_SUBTRACT : GL_FUNC_ADD);
@@ -398,53 +400,38 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     Frame f = {m, d, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
                prep.vertices.fallback_tangents > 0, prep.diffuse_per_pass, false};
     mat4_mul(prep.proj, prep.view, f.mvp);
-    GLint previous_fbo = 0;
-    if (m->float_fbo) {
-        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, m->float_fbo);
-    }
-    glViewport(0, 0, d->width, d->height);
-    clear_frame(0, 0, 0, 0);
-    glDisable(GL_DITHER);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
+    // The frame's begin set what every object shares (gles2_frame_begin); the depth set-up
+    // of this object here.
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);  // depth writes: on since clear_frame
-    // Later draws test EQUAL, so each pixel's front surface is shaded once. The first mesh
-    // draw lays that depth when it adds to the cleared framebuffer (every fused draw, and a
-    // plan whose first pass adds); before a subtracting first pass, a colour-masked pre-pass.
-    // Folding saves a mesh pass per frame.
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+    // Later draws test EQUAL, so each pixel's front surface is shaded once and only the
+    // object's visible pixels are touched. The first mesh draw lays that depth when it
+    // adds (every fused draw, and a plan whose first pass adds): drawn without blending, it
+    // replaces what the pixel held. Otherwise a pre-pass in black lays it, so the object's
+    // pixels start from 0 whatever the framebuffer held. Folding saves a mesh pass.
     f.lays_depth = d->mode == SEPAL_MODE_MULTIPASS
-                       ? m->plan.pass_count > 0 && m->passes[0].blend != SEPAL_BLEND_SUBTRACT
-                       : m->info.terms > 0;
+                       ? m->plan.pass_count > 0 && m->passes[0].blend != SEPAL_BLEND_SUBTRACT &&
+                             d->scene->light_count > 0
+                       : m->info.terms > 0 && d->scene->light_count > 0;
     if (!f.lays_depth) {
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glUseProgram(m->program_pass);
-        glUniformMatrix4fv(loc(m->program_pass, "u_mvp"), 1, GL_FALSE, f.mvp);
-        attribs(1);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
-        draw_mesh(f);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        static const float kBlack[4] = {0, 0, 0, 0};
+        solid_mesh(f, kBlack, true);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
     }
-    sepal_result r = gl_check(f.lays_depth ? "frame set-up" : "depth pre-pass", err);
+    sepal_result r = gl_check(f.lays_depth ? "object set-up" : "depth pre-pass", err);
     if (r != SEPAL_OK) return r;
     if (d->mode == SEPAL_MODE_MULTIPASS)
         multipass(f);
     else
         fused(f, d->mode == SEPAL_MODE_FUSED_PIXEL);
-    if (f.lays_depth) {  // nothing was drawn (no light): no surface to test against either
-        f.lays_depth = false;
-        glDepthMask(GL_FALSE);
-        glDepthFunc(GL_EQUAL);
-    }
     if ((r = gl_check("the material's passes", err)) != SEPAL_OK) return r;
     // The diffuse map before the doublings, as on GL ES 1.1 (draw_gles1.cpp says why);
     // in multipass it was a factor of every pass (f.map_per_pass).
     if (d->diffuse_texture && !f.map_per_pass) {
         const GLuint p = m->program_mesh_texture;
-        glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_EQUAL);
         glEnable(GL_BLEND);
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
@@ -461,50 +448,171 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         glEnableVertexAttribArray(2);
         draw_mesh(f);
     }
+    // The doublings over the object's own pixels.
     static const float kWhite[4] = {1, 1, 1, 1};
-    glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
     glBlendFunc(GL_DST_COLOR, GL_ONE);
-    for (int i = 0; i < stats->doublings; ++i) fullscreen(f, 0.0f, kWhite);
-    const float* bg = d->scene->background;
-    if (bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f) {
-        const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
-        glDisable(GL_BLEND);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        fullscreen(f, 1.0f, color);
+    for (int i = 0; i < stats->doublings; ++i) solid_mesh(f, kWhite, false);
+    return gl_check("the object's final passes", err);
+}
+
+}  // namespace srt
+
+namespace {
+
+constexpr int kAttribs = 6;  // the programs' attributes 0..5
+constexpr int kMaxUnits = 32;
+
+struct AttribState {
+    GLint enabled, size, type, normalized, stride, buffer;
+    void* pointer;
+    GLfloat current[4];
+};
+
+struct Gles2Saved {
+    GLint viewport[4];
+    GLboolean enables[7];
+    GLint front_face, cull_mode, depth_func, blend_src_rgb, blend_dst_rgb, blend_src_alpha, blend_dst_alpha;
+    GLint blend_eq_rgb, blend_eq_alpha, program, active_unit, array_buffer, element_buffer, framebuffer, units;
+    GLboolean color_mask[4], depth_mask;
+    GLfloat clear_color[4], clear_depth;
+    GLint bindings[kMaxUnits];
+    AttribState attrib[kAttribs];
+};
+static_assert(sizeof(Gles2Saved) <= srt::kSavedStateBytes, "sepal_frame.saved is too small");
+
+const GLenum kEnables[7] = {GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_POLYGON_OFFSET_FILL, GL_CULL_FACE,
+                            GL_DEPTH_TEST,   GL_BLEND,        GL_DITHER};
+
+void set_enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
+
+// A quad over the viewport at NDC depth z in a constant colour, or textured (the float
+// target shown): sepal_draw's own frame only.
+void viewport_quad(const sepal_material* m, float z, const float color[4], GLuint texture, float sx, float sy) {
+    const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
+    const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
+    static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+    const GLuint p = m->program_fullscreen;
+    glUseProgram(p);
+    glUniform4fv(loc(p, "u_color"), 1, color);
+    glUniform1i(loc(p, "u_textured"), texture ? 1 : 0);
+    glUniform1i(loc(p, "u_texture"), 0);
+    if (texture) bind_texture(GL_TEXTURE0, texture);
+    attribs(texture ? 2 : 1);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, pos);
+    if (texture) glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, uv);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
+}
+
+}  // namespace
+
+namespace srt {
+
+void gles2_frame_begin(const sepal_frame_desc& d, void* out, uint32_t material_fbo) {
+    Gles2Saved& s = *static_cast<Gles2Saved*>(out);
+    memset(&s, 0, sizeof s);
+    glGetIntegerv(GL_VIEWPORT, s.viewport);
+    for (int i = 0; i < 7; ++i) s.enables[i] = glIsEnabled(kEnables[i]);
+    glGetIntegerv(GL_FRONT_FACE, &s.front_face);
+    glGetIntegerv(GL_CULL_FACE_MODE, &s.cull_mode);
+    glGetIntegerv(GL_DEPTH_FUNC, &s.depth_func);
+    glGetIntegerv(GL_BLEND_SRC_RGB, &s.blend_src_rgb);
+    glGetIntegerv(GL_BLEND_DST_RGB, &s.blend_dst_rgb);
+    glGetIntegerv(GL_BLEND_SRC_ALPHA, &s.blend_src_alpha);
+    glGetIntegerv(GL_BLEND_DST_ALPHA, &s.blend_dst_alpha);
+    glGetIntegerv(GL_BLEND_EQUATION_RGB, &s.blend_eq_rgb);
+    glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &s.blend_eq_alpha);
+    glGetIntegerv(GL_CURRENT_PROGRAM, &s.program);
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &s.active_unit);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &s.array_buffer);
+    glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &s.element_buffer);
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &s.framebuffer);
+    glGetBooleanv(GL_COLOR_WRITEMASK, s.color_mask);
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depth_mask);
+    glGetFloatv(GL_COLOR_CLEAR_VALUE, s.clear_color);
+    glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s.clear_depth);
+    s.units = d.caps->texture_units < kMaxUnits ? d.caps->texture_units : kMaxUnits;
+    for (int u = 0; u < s.units; ++u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &s.bindings[u]);
     }
-    if (m->float_fbo) {
-        // Show the float frame in the caller's framebuffer (8-bit there: clamped at 1).
-        glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)previous_fbo);
-        glDisable(GL_BLEND);
-        glDisable(GL_DEPTH_TEST);
-        const float sx = (float)d->width / (float)m->max_width, sy = (float)d->height / (float)m->max_height;
-        const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-        const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
-        static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
-        static const float kWhite[4] = {1, 1, 1, 1};
-        const GLuint p = m->program_fullscreen;
-        glUseProgram(p);
-        glUniform4fv(loc(p, "u_color"), 1, kWhite);
-        glUniform1i(loc(p, "u_textured"), 1);
-        glUniform1i(loc(p, "u_texture"), 0);
-        bind_texture(GL_TEXTURE0, m->float_color);
-        attribs(2);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, pos);
-        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, uv);
-        glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
-        ++stats->fullscreen_passes;
+    for (GLuint a = 0; a < kAttribs; ++a) {
+        AttribState& t = s.attrib[a];
+        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &t.enabled);
+        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_SIZE, &t.size);
+        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_TYPE, &t.type);
+        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_NORMALIZED, &t.normalized);
+        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_STRIDE, &t.stride);
+        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &t.buffer);
+        glGetVertexAttribPointerv(a, GL_VERTEX_ATTRIB_ARRAY_POINTER, &t.pointer);
+        glGetVertexAttribfv(a, GL_CURRENT_VERTEX_ATTRIB, t.current);
     }
-    attribs(0);
-    glUseProgram(0);
+    // What every object's passes assume. The arrays are client memory: no buffer bound.
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    if (material_fbo) glBindFramebuffer(GL_FRAMEBUFFER, material_fbo);
+    glViewport(d.viewport[0], d.viewport[1], d.viewport[2], d.viewport[3]);
+    if (d.clear) {
+        const float* c = d.clear_color;
+        clear_frame(c[0], c[1], c[2], c[3]);
+    } else {
+        prepare_state();
+    }
+    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+}
+
+void gles2_frame_end(const sepal_caps&, const void* in) {
+    const Gles2Saved& s = *static_cast<const Gles2Saved*>(in);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)s.framebuffer);
+    glViewport(s.viewport[0], s.viewport[1], s.viewport[2], s.viewport[3]);
+    for (int i = 0; i < 7; ++i) set_enable(kEnables[i], s.enables[i]);
+    glFrontFace((GLenum)s.front_face);
+    glCullFace((GLenum)s.cull_mode);
+    glDepthFunc((GLenum)s.depth_func);
+    glBlendFuncSeparate((GLenum)s.blend_src_rgb, (GLenum)s.blend_dst_rgb, (GLenum)s.blend_src_alpha,
+                        (GLenum)s.blend_dst_alpha);
+    glBlendEquationSeparate((GLenum)s.blend_eq_rgb, (GLenum)s.blend_eq_alpha);
+    glColorMask(s.color_mask[0], s.color_mask[1], s.color_mask[2], s.color_mask[3]);
+    glDepthMask(s.depth_mask);
+    glClearColor(s.clear_color[0], s.clear_color[1], s.clear_color[2], s.clear_color[3]);
+    glClearDepthf(s.clear_depth);
+    for (int u = 0; u < s.units; ++u) bind_texture(GL_TEXTURE0 + u, (GLuint)s.bindings[u]);
+    glActiveTexture((GLenum)s.active_unit);
+    for (GLuint a = 0; a < kAttribs; ++a) {
+        const AttribState& t = s.attrib[a];
+        glBindBuffer(GL_ARRAY_BUFFER, (GLuint)t.buffer);
+        glVertexAttribPointer(a, t.size, (GLenum)t.type, (GLboolean)t.normalized, t.stride, t.pointer);
+        t.enabled ? glEnableVertexAttribArray(a) : glDisableVertexAttribArray(a);
+        glVertexAttrib4fv(a, t.current);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, (GLuint)s.array_buffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, (GLuint)s.element_buffer);
+    glUseProgram((GLuint)s.program);
+}
+
+void gles2_background(const sepal_material* m, const float bg[3], sepal_draw_stats* stats) {
+    // A quad at the far plane passes LEQUAL only where no surface is.
+    if (!(bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f)) return;
+    const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
     glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glDepthMask(GL_TRUE);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_DITHER);
-    glActiveTexture(GL_TEXTURE0);
-    return gl_check("the final passes", err);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    viewport_quad(m, 1.0f, color, 0, 0.0f, 0.0f);
+    ++stats->fullscreen_passes;
+}
+
+void gles2_show_float(const sepal_material* m, const void* saved, int width, int height, sepal_draw_stats* stats) {
+    // The float frame in the framebuffer bound at begin (8-bit there: clamped at 1).
+    static const float kWhite[4] = {1, 1, 1, 1};
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint) static_cast<const Gles2Saved*>(saved)->framebuffer);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    viewport_quad(m, 0.0f, kWhite, m->float_color, (float)width / (float)m->max_width,
+                  (float)height / (float)m->max_height);
+    ++stats->fullscreen_passes;
 }
 
 }  // namespace srt

@@ -1,12 +1,13 @@
 // Shared by the GL backends' executors (internal): what sepal_draw prepares per frame.
 #pragma once
+#include "sepal/sepal_frame.h"
 #include "sepal/sepal_material.h"
 #include "vertex_setup.h"
 
 namespace srt {
 
 struct FramePrep {
-    float view[16], proj[16];
+    float view[16], proj[16];  // view: the modelview (the engine's view times the model matrix)
     VertexSetupResult vertices;
     // 2^-e on the vertex colours of the plan's passes; 1 for the fused modes, whose
     // shaders compute f E directly and let the framebuffer clamp it at 1, as the display
@@ -29,9 +30,36 @@ struct FramePrep {
 sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
                            sepal_material* out, sepal_error* err);
 // Validates the draw, sets up the vertices (scratch), and sizes the exposure, the doublings
-// and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. stats is
-// cleared and filled with the frame's counters.
-sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_stats* stats, sepal_error* err);
+// and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. d->scene is
+// the object's scene in object space (object_scene), modelview and proj its matrices;
+// float_target: the target holds floats (no exposure, no doublings). stats is cleared and
+// filled with the object's counters.
+sepal_result prepare_frame(const sepal_draw_desc* d, const float modelview[16], const float proj[16],
+                           bool float_target, FramePrep* out, sepal_draw_stats* stats, sepal_error* err);
+
+// An object's scene in object space: the eye (from the inverse view) and the lights moved
+// by the inverse model matrix, point intensities divided by the scale squared (distances
+// grow by it), so that shading the object-space mesh gives the world-space radiance. The
+// model matrix must be a similarity with positive determinant. modelview = view x model.
+sepal_result object_scene(const float view[16], const float model[16], const sepal_light* lights, int light_count,
+                          sepal_scene* out, float modelview[16], sepal_error* err);
+void mat4_mul(const float* a, const float* b, float* out);  // column-major a x b
+
+// The GL ES state a frame touches, saved at begin and put back at end (sepal_frame.h lists
+// it); the begin also sets the frame-wide state the passes assume and clears if asked.
+// Each backend's object draw sets the per-object rest. material_fbo (GL ES 2, sepal_draw
+// of a float-target material): drawn into after the state is saved.
+void gles1_frame_begin(const sepal_frame_desc& d, void* saved);
+void gles1_frame_end(const sepal_caps& caps, const void* saved);
+void gles2_frame_begin(const sepal_frame_desc& d, void* saved, uint32_t material_fbo);
+void gles2_frame_end(const sepal_caps& caps, const void* saved);
+constexpr size_t kSavedStateBytes = sizeof(((sepal_frame*)nullptr)->saved);
+// sepal_draw's background: a far-plane quad where the depth is still clear.
+void gles1_background(const float rgb[3], sepal_draw_stats* stats);
+void gles2_background(const sepal_material* m, const float rgb[3], sepal_draw_stats* stats);
+// sepal_draw of a float-target material: the float frame shown in the framebuffer bound at
+// begin (saved), width x height.
+void gles2_show_float(const sepal_material* m, const void* saved, int width, int height, sepal_draw_stats* stats);
 // The order passes are drawn in (the plan's; staged: by falling exposure shift, stable).
 void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order);
 

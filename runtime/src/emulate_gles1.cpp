@@ -150,9 +150,14 @@ extern "C" size_t sepal_emulate_scratch_floats(int width, int height, int vertex
            4 * (size_t)vertex_count * (size_t)light_count;
 }
 
-extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_error* err) {
-    if (!e || !e->asset || !e->mesh || !e->scene || !e->rgba || !e->scratch)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: NULL asset, mesh, scene, output or scratch");
+namespace {
+
+// One object: e->scene in object space, modelview and proj its matrices. keep: the frame's
+// depth (kept_depth) and colour stay where the object is not in front; otherwise the
+// framebuffer starts cleared and gets the scene's background where nothing is drawn.
+sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[16], const float proj[16],
+                            float* kept_depth, sepal_error* err) {
+    const bool keep = kept_depth != nullptr;
     if (e->gles_version != 1 && e->gles_version != 2)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: gles_version %d (1 or 2)", e->gles_version);
     if (e->mask & SEPAL_MASK_MULTITEXTURE)
@@ -177,8 +182,8 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
     if (r != SEPAL_OK) return r;
     float* vscratch = e->scratch;
     float* clip = vscratch + srt::scratch_floats(n, lights);
-    float* depth = clip + 4 * (size_t)n;
-    float* tri = depth + (size_t)W * H;
+    float* depth = keep ? kept_depth : clip + 4 * (size_t)n;
+    float* tri = clip + 4 * (size_t)n + (size_t)W * H;
     float* colors = tri + (size_t)W * H;  // 4 n per light: the current pass's vertex colours
     sepal_draw_desc d = {};
     d.material = &m;
@@ -192,7 +197,7 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
     srt::FramePrep prep;
     sepal_draw_stats local;
     sepal_draw_stats* stats = e->stats ? e->stats : &local;
-    if ((r = srt::prepare_frame(&d, &prep, stats, err)) != SEPAL_OK) return r;
+    if ((r = srt::prepare_frame(&d, modelview, proj, false, &prep, stats, err)) != SEPAL_OK) return r;
     // Clip positions, as the GL pipeline computes them (proj * view * position).
     float mvp[16];
     for (int c = 0; c < 4; ++c)
@@ -212,7 +217,7 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
     // Coverage: the front-most triangle per pixel (depth LESS, as the pre-pass).
     for (size_t p = 0; p < (size_t)W * H; ++p) tri[p] = -1.0f;
     sepal_raster_target target = {W, H, depth};
-    sepal_raster_clear_depth(&target);
+    if (!keep) sepal_raster_clear_depth(&target);
     Coverage cov = {tri, W};
     const int tris = e->mesh->index_count / 3;
     for (int t = 0; t < tris; ++t) {
@@ -267,15 +272,17 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
         step_count = k;
     }
     // The framebuffer, 8 bits per channel.
+    // The object's pixels start from 0 (the black pre-pass, or the first pass replacing);
+    // the rest is kept (a frame) or cleared (sepal_emulate_draw).
     uint8_t* fb = e->rgba;
-    memset(fb, 0, (size_t)W * H * 4);
-    for (size_t p = 0; p < (size_t)W * H; ++p) fb[4 * p + 3] = 255;
+    for (size_t p = 0; p < (size_t)W * H; ++p)
+        if (!keep || tri[p] >= 0.0f) fb[4 * p] = fb[4 * p + 1] = fb[4 * p + 2] = 0, fb[4 * p + 3] = 255;
     for (int s = 0; s < step_count; ++s) {
         const srt::Gles1Step& step = steps[s];
         if (step.kind != srt::Gles1Step::kPass) {
-            // Full-screen: every pixel, covered or not.
+            // Doublings and inversions: drawn over the object's mesh, its pixels only.
             for (size_t p = 0; p < (size_t)W * H; ++p)
-                for (int c = 0; c < 3; ++c) {
+                for (int c = 0; c < 3 && tri[p] >= 0.0f; ++c) {
                     int v = fb[4 * p + c];
                     if (step.kind == srt::Gles1Step::kInvert) v = 255 - v;
                     else for (int k = 0; k < step.count && v < 255; ++k) v = v * 2 > 255 ? 255 : v * 2;
@@ -357,9 +364,44 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
                 }
             }
     }
-    if (background)
+    if (background && !keep)
         for (size_t p = 0; p < (size_t)W * H; ++p)
             if (tri[p] < 0.0f)
                 for (int c = 0; c < 3; ++c) fb[4 * p + c] = (uint8_t)to8(bg[c]);
     return srt::ok(err);
+}
+
+}  // namespace
+
+extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_error* err) {
+    if (!e || !e->asset || !e->mesh || !e->scene || !e->rgba || !e->scratch)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: NULL asset, mesh, scene, output or scratch");
+    float view[16], proj[16];
+    const sepal_result r = sepal_scene_matrices(e->scene, e->width, e->height, view, proj, err);
+    if (r != SEPAL_OK) return r;
+    return emulate_object(e, view, proj, nullptr, err);
+}
+
+extern "C" sepal_result sepal_frame_emulate(const sepal_frame_desc* f, const sepal_object* o, int gles_version,
+                                           uint32_t mask, uint8_t* rgba, float* depth, float* scratch,
+                                           size_t scratch_floats, sepal_draw_stats* stats, sepal_error* err) {
+    if (!f || !o || !o->asset || !o->mesh || !rgba || !depth || !scratch)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: NULL frame, object, asset, mesh or buffer");
+    sepal_scene scene;
+    float modelview[16];
+    sepal_result r = srt::object_scene(f->view, o->model, o->lights, o->light_count, &scene, modelview, err);
+    if (r != SEPAL_OK) return r;
+    sepal_emulate_desc e = {};
+    e.asset = o->asset;
+    e.mesh = o->mesh;
+    e.scene = &scene;
+    e.width = f->viewport[2];
+    e.height = f->viewport[3];
+    e.gles_version = gles_version;
+    e.mask = mask;
+    e.rgba = rgba;
+    e.scratch = scratch;
+    e.scratch_floats = scratch_floats;
+    e.stats = stats;
+    return emulate_object(&e, modelview, f->projection, depth, err);
 }

@@ -10,14 +10,20 @@ namespace srt {
 // scissor test stays off, as GL starts; the masks stay on, as the passes need them. The other
 // state an application may leave that would change the passes (stencil test, polygon offset,
 // the front face the culling keys on) goes back to GL's initial values too.
-inline void clear_frame(float r, float g, float b, float a) {
+// prepare_state is that set-up without the clear (a frame that keeps what the engine drew).
+inline void prepare_state() {
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_STENCIL_TEST);
     glDisable(GL_POLYGON_OFFSET_FILL);
     glFrontFace(GL_CCW);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
+}
+
+inline void clear_frame(float r, float g, float b, float a) {
+    prepare_state();
     glClearColor(r, g, b, a);
+    glClearDepthf(1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }
 

@@ -11,6 +11,10 @@ sepal_result draw_gles1(const sepal_draw_desc*, const FramePrep&, sepal_draw_sta
     return fail(err, SEPAL_ERR_UNSUPPORTED, "draw: this build has no GL ES 1.1 paths (SEPAL_NO_GLES1); use GL ES 2");
 }
 
+void gles1_frame_begin(const sepal_frame_desc&, void*) {}
+void gles1_frame_end(const sepal_caps&, const void*) {}
+void gles1_background(const float*, sepal_draw_stats*) {}
+
 sepal_result preview_gles1(const sepal_caps&, const sepal_preview_desc&, const float*, sepal_error* err) {
     return fail(err, SEPAL_ERR_UNSUPPORTED, "preview: this build has no GL ES 1.1 paths (SEPAL_NO_GLES1)");
 }

@@ -11,6 +11,7 @@
 //   sepal_rt.h        errors, GL capability checks, meshes (sphere, torus, OBJ...), preview
 //   sepal_scene.h     camera and lights: what every backend draws
 //   sepal_material.h  baked assets on the GPU (GL ES 1.1 and GL ES 2) and the CPU backend
+//   sepal_frame.h     a frame of many objects in the engine's framebuffer, its GL state kept
 //   sepal_raster.h    the software rasterizer the CPU backend uses
 //   sepal_format.h    the .sepal file format (data only) and its reader
 //   sepal_sampler.h   factored importance sampling of a baked material (Lawrence 2004)
@@ -27,5 +28,6 @@
 #include "sepal/sepal_scene.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_material.h"
+#include "sepal/sepal_frame.h"
 #include "sepal/sepal_raster.h"
 #include "sepal/sepal_sampler.h"
