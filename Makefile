@@ -224,12 +224,13 @@ examples: ## build examples/ against an installed tree (PREFIX) through pkg-conf
 	@cd $(BUILD)/examples && export PKG_CONFIG_PATH=$(LIBDIR)/pkgconfig && set -e && \
 	  for c in *.c; do n=$${c%.c}; \
 	    echo "  CC    $$n (shared) and $$n-static: pkg-config --cflags --libs sepal"; \
-	    $(CC) -std=c99 -Wall -Wextra -pedantic -Werror $$c $$(pkg-config --cflags --libs sepal) -o $$n; \
+	    $(CC) -std=c99 -Wall -Wextra -pedantic -Werror $$c $$(pkg-config --cflags --libs sepal glesv1_cm) -lm -o $$n; \
 	    $(CC) -std=c99 -Wall -Wextra -pedantic -Werror $$c $$(pkg-config --cflags sepal) \
 	      $$(pkg-config --static --libs sepal | sed 's/-lsepal_headless -lsepal/-l:libsepal_headless.a -l:libsepal.a/') -o $$n-static; \
 	  done && \
 	  $(PREFIX)/bin/sepal bake '$(RUN_SPEC)' $(RUN_BAKE) -o ward.sepal > bake.txt && \
-	  LD_LIBRARY_PATH=$(LIBDIR) ./minimal ward.sepal 2 minimal.ppm && ./minimal-static ward.sepal 1
+	  LD_LIBRARY_PATH=$(LIBDIR) ./minimal ward.sepal 2 minimal.ppm && ./minimal-static ward.sepal 1 && \
+	  LD_LIBRARY_PATH=$(LIBDIR) ./two_objects ward.sepal two_objects.ppm && ./two_objects-static ward.sepal
 
 # libFuzzer harnesses (tests/fuzz/fuzz_<name>.cpp; tests/fuzz/fuzz.h says what each holds a
 # reader to), built with Debian's clang (installed here, by deps, for this target only) into

@@ -76,9 +76,14 @@ bool shade(const SpatialBrdf& brdf, const sepal_scene& scene, const glm::dvec3& 
 
 }  // namespace
 
-bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
-                          int width, int height, Image* out, ExactStats* stats, std::string* err, bool progress,
-                          int supersample) {
+namespace {
+
+// One mesh seen through clip_from_mesh, shaded with scene (the mesh's space). kept_depth
+// NULL: out starts as the background; else out and kept_depth hold a frame, and only
+// pixels where the mesh is in front (LESS, at the pixel centre) change.
+bool render_core(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
+                 const float clip_from_mesh[16], int width, int height, Image* out, std::vector<float>* kept_depth,
+                 ExactStats* stats, std::string* err, bool progress, int supersample) {
     if (supersample < 1 || supersample > kMaxExactSupersample) {
         *err = "exact render: supersample " + std::to_string(supersample) + " (1.." +
                std::to_string(kMaxExactSupersample) + ")";
@@ -89,9 +94,19 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
     // pixel that lie on the surface (one rasterization per offset, sub): the pixel's mean
     // radiance, not one point of it.
     SurfaceBuffer g, sub;
-    if (!rasterize_surface(scene, mesh, width, height, &g, err)) return false;
-    *out = Image(width, height, 3);
+    if (!rasterize_surface_clip(clip_from_mesh, mesh, width, height, &g, err)) return false;
     const size_t pixels = size_t(width) * height;
+    const bool keep = kept_depth != nullptr;
+    if (!keep) {
+        *out = Image(width, height, 3);
+    } else if (out->width != width || out->height != height || out->channels != 3 || kept_depth->size() != pixels) {
+        *err = "exact render: the frame's image or depth is not " + std::to_string(width) + "x" +
+               std::to_string(height);
+        return false;
+    }
+    // A pixel is this mesh's where it covers the centre in front of what the frame holds.
+    for (size_t p = 0; keep && p < pixels; ++p)
+        if (g.covered[p] && !(g.depth[p] < (*kept_depth)[p])) g.covered[p] = 0;
     std::vector<double> sum(S > 1 ? pixels * 3 : 0);
     std::vector<int> count(S > 1 ? pixels : 0), flags(pixels, 0);
     const glm::dvec3 eye(scene.camera.eye[0], scene.camera.eye[1], scene.camera.eye[2]);
@@ -110,7 +125,7 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
     Progress rows_done(progress, "sepal render: exact", size_t(height) * S * S);
     for (int k = 0; S > 1 && k < S * S; ++k) {
         const float dx = (float(k % S) + 0.5f) / float(S) - 0.5f, dy = (float(k / S) + 0.5f) / float(S) - 0.5f;
-        if (!rasterize_surface(scene, mesh, width, height, &sub, err, dx, dy)) return false;
+        if (!rasterize_surface_clip(clip_from_mesh, mesh, width, height, &sub, err, dx, dy)) return false;
         parallel_rows([&](int y) {
             for (int x = 0; x < width; ++x) {
                 const size_t p = size_t(y) * width + x;
@@ -127,8 +142,12 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
         for (int x = 0; x < width; ++x) {
             const size_t p = size_t(y) * width + x;
             float* rgb = &out->data[p * 3];
-            std::copy(scene.background, scene.background + 3, rgb);
+            if (!keep) std::copy(scene.background, scene.background + 3, rgb);
             if (!g.covered[p]) continue;
+            if (keep) {
+                (*kept_depth)[p] = g.depth[p];
+                std::fill(rgb, rgb + 3, 0.0f);
+            }
             glm::dvec3 v;
             if (S > 1 && count[p] > 0) {
                 for (int c = 0; c < 3; ++c) rgb[c] = float(sum[p * 3 + c] / count[p]);
@@ -152,6 +171,33 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
         stats->degenerate_frames = degenerate;
     }
     return true;
+}
+
+}  // namespace
+
+bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
+                          int width, int height, Image* out, ExactStats* stats, std::string* err, bool progress,
+                          int supersample) {
+    float view[16], proj[16];
+    sepal_error e = {};
+    if (sepal_scene_matrices(&scene, width, height, view, proj, &e) != SEPAL_OK) {
+        if (err) *err = e.message;
+        return false;
+    }
+    const glm::mat4 clip_from_world = glm::make_mat4(proj) * glm::make_mat4(view);
+    return render_core(brdf, scene, mesh, glm::value_ptr(clip_from_world), width, height, out, nullptr, stats, err,
+                       progress, supersample);
+}
+
+bool render_exact_object(const Brdf& brdf, const sepal_scene& object_scene, const sepal_mesh& mesh,
+                         const float clip_from_object[16], int width, int height, Image* frame,
+                         std::vector<float>* depth, ExactStats* stats, std::string* err, int supersample) {
+    if (!depth) {
+        *err = "exact render: a frame's object needs the frame's depth";
+        return false;
+    }
+    return render_core(Uniform(brdf), object_scene, mesh, clip_from_object, width, height, frame, depth, stats, err,
+                       false, supersample);
 }
 
 }  // namespace sepal

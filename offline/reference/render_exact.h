@@ -18,6 +18,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -58,5 +59,14 @@ bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, con
 bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh, int width,
                   int height, Image* out, ExactStats* stats, std::string* err, bool progress = false,
                   int supersample = 1);
+
+// One object of a frame of many (runtime/include/sepal/sepal_frame.h): object_scene and
+// clip_from_object from sepal_object_scene, so the exact image is the frame the runtime
+// draws. frame (width x height x 3) and depth (width x height, 1 = far) hold the frame so
+// far: pixels whose centre the object covers in front of depth get its radiance and depth,
+// the others keep theirs.
+bool render_exact_object(const Brdf& brdf, const sepal_scene& object_scene, const sepal_mesh& mesh,
+                         const float clip_from_object[16], int width, int height, Image* frame,
+                         std::vector<float>* depth, ExactStats* stats, std::string* err, int supersample = 1);
 
 }  // namespace sepal

@@ -11,11 +11,12 @@
 namespace sepal {
 namespace {
 
-void store_fragment(void* user, int x, int y, float, const float* v) {
+void store_fragment(void* user, int x, int y, float depth, const float* v) {
     auto* g = static_cast<SurfaceBuffer*>(user);
     const size_t p = size_t(y) * g->width + x;
     std::copy(v, v + SurfaceBuffer::kVaryings, g->varyings.begin() + p * SurfaceBuffer::kVaryings);
     g->covered[p] = 1;
+    g->depth[p] = depth;
 }
 
 }  // namespace
@@ -27,18 +28,25 @@ glm::dvec3 SurfacePoint::world(const glm::dvec3& w) const { return w.x * t + w.y
 
 bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
                        SurfaceBuffer* out, std::string* err, float dx, float dy) {
-    constexpr int kV = SurfaceBuffer::kVaryings;
     float view[16], proj[16];
     sepal_error e = {};
     if (sepal_scene_matrices(&scene, width, height, view, proj, &e) != SEPAL_OK) {
         if (err) *err = e.message;
         return false;
     }
+    const glm::mat4 clip_from_world = glm::make_mat4(proj) * glm::make_mat4(view);
+    return rasterize_surface_clip(glm::value_ptr(clip_from_world), mesh, width, height, out, err, dx, dy);
+}
+
+bool rasterize_surface_clip(const float clip_from_mesh[16], const sepal_mesh& mesh, int width, int height,
+                            SurfaceBuffer* out, std::string* err, float dx, float dy) {
+    constexpr int kV = SurfaceBuffer::kVaryings;
+    sepal_error e = {};
     if (!mesh.vertices || !mesh.indices || mesh.vertex_count < 1) {
         if (err) *err = "render exact: empty mesh";
         return false;
     }
-    const glm::mat4 clip_from_world = glm::make_mat4(proj) * glm::make_mat4(view);
+    const glm::mat4 clip_from_world = glm::make_mat4(clip_from_mesh);
     std::vector<float> clip(size_t(mesh.vertex_count) * 4), vary(size_t(mesh.vertex_count) * kV);
     for (int i = 0; i < mesh.vertex_count; ++i) {
         const sepal_vertex& v = mesh.vertices[i];
@@ -57,6 +65,7 @@ bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int wid
     out->height = height;
     out->varyings.assign(size_t(width) * height * kV, 0.0f);
     out->covered.assign(size_t(width) * height, 0);
+    out->depth.assign(size_t(width) * height, 1.0f);
     std::vector<float> depth(size_t(width) * height);
     sepal_raster_target target = {width, height, depth.data()};
     sepal_raster_clear_depth(&target);

@@ -27,12 +27,17 @@ struct SurfaceBuffer {
     int width = 0, height = 0;
     std::vector<float> varyings;  // kVaryings per pixel
     std::vector<uint8_t> covered;
+    std::vector<float> depth;     // window depth in [0, 1] where covered (1 elsewhere)
 };
 
 // dx, dy: where in each pixel to sample, in pixels from its centre (|d| < 0.5; a supersampled
 // exact render rasterizes once per offset: memory stays one buffer of the image's size).
 bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
                        SurfaceBuffer* out, std::string* err, float dx = 0.0f, float dy = 0.0f);
+// The same with the clip-from-mesh matrix given (column-major; a frame's object:
+// sepal_object_scene): positions, normals and tangents stay in the mesh's space.
+bool rasterize_surface_clip(const float clip_from_mesh[16], const sepal_mesh& mesh, int width, int height,
+                            SurfaceBuffer* out, std::string* err, float dx = 0.0f, float dy = 0.0f);
 
 struct SurfacePoint {
     glm::dvec3 position, t, s, n;  // world space; (t, s, n) orthonormal

@@ -10,6 +10,10 @@
 //   d.width = 512; d.height = 512; d.scratch = scratch.data(); d.scratch_floats = scratch.size();
 //   sepal_draw(&d, &stats, &err);                  // clears, draws all passes, scales up
 //   sepal_material_destroy(&mat);
+// sepal_draw is a frame of one object (sepal_frame.h): it clears the viewport (0, 0, width,
+// height), draws the world-space mesh with the scene's camera, fills the background where
+// the mesh is not, and leaves the GL state as it found it. For many objects, the engine's
+// matrices, framebuffer and model matrices: sepal_frame.h.
 //
 // GL ES 2 (shaders/): the same plan with tiny shaders (SEPAL_MODE_MULTIPASS), or fused
 // shaders summing every term in one pass per light, with per-vertex factor coordinates
@@ -20,22 +24,25 @@
 //
 // How a frame is drawn on GL ES 1.1 (Kautz-McCool section 5): per vertex, on the CPU, the
 // factors' texture coordinates from wi and wo in the vertex frame, and the light's
-// irradiance cos(theta_i) I / d^2 as the vertex colour. A depth-only pre-pass lays down
-// depth; every pass of the asset's plan is then drawn once per light with depth test
-// EQUAL: tex0 x tex1 x colour (two texture units, GL_MODULATE) added with blending, or
+// irradiance cos(theta_i) I / d^2 as the vertex colour. The first pass (or a pre-pass in
+// black) lays down depth; every pass of the asset's plan is then drawn once per light with
+// depth test EQUAL: tex0 x tex1 x colour (two texture units, GL_MODULATE) added with blending, or
 // subtracted. The framebuffer holds [0,1], so the colours carry an exposure 2^-m chosen per
 // frame from the lights so that no partial sum exceeds 1; the final doublings (blend
 // GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale. Plans that only add are drawn
 // in stages of falling exposure, each pass at the largest its colours allow, with the
 // doublings spread between the stages (a huge peak's pass no longer sinks the others
-// below one framebuffer level; same number of full-screen passes).
+// below one framebuffer level; same number of doublings). Doublings, inversions and the
+// one-unit path's running sum are drawn over the object's own mesh with depth EQUAL, not
+// as full-screen quads: only the object's visible pixels change.
 // Fallback paths, each forced by a capability mask so tests run them on any driver:
 //   - no GL_OES_blend_subtract: the framebuffer is inverted (1 - x, a blend with
 //     GL_ONE_MINUS_DST_COLOR), the subtracted passes are added, and it is inverted back:
-//     exact in 8 bits, and 2 full-screen passes in all instead of an extension.
+//     exact in 8 bits, and 2 passes over the object in all instead of an extension.
 //   - one texture unit: the paper's two passes per product (G x colour, then H with a
 //     multiplicative blend), the running sum kept in a texture (glCopyTexSubImage2D)
-//     and added back with a full-screen pass; the exposure also keeps colour x G below 1,
+//     and added back by a pass over the object that reads it at each pixel's own position
+//     (projective texture coordinates); the exposure also keeps colour x G below 1,
 //     where GL clamps it before the blend.
 // Reciprocal materials (format 2.1, homomorphic factors p(wi) q(h) p(wo)): a RECIPROCAL
 // pass is drawn as a product pass (tex0 x tex1 on two units, or the one-unit path) whose
@@ -173,7 +180,10 @@ void sepal_texture_destroy(uint32_t texture);
 // fallbacks as the CPU backend but cannot count them: its counts are the per-vertex ones.
 typedef struct sepal_draw_stats {
     int draw_calls;         // mesh passes, including the depth pre-pass
-    int fullscreen_passes;  // doublings, inversions, accumulations, background
+    // Framebuffer-wide operations: doublings, inversions, accumulations (each drawn over the
+    // object's mesh, its visible pixels only), and sepal_draw's background and float-target
+    // copy (full-screen).
+    int fullscreen_passes;
     int copies;             // framebuffer-to-texture copies
     int doublings;          // final framebuffer doublings
     float exposure;         // 2^-m applied to the vertex colours (the first stage's, if staged)
