@@ -48,7 +48,7 @@ struct Scene {
         std::memcpy(lights[0].position, p, sizeof p);
         lights[1].type = SEPAL_LIGHT_DIRECTIONAL;
         std::memcpy(lights[1].position, d, sizeof d);
-        for (int c = 0; c < 3; ++c) lights[0].intensity[c] = 14.0f + 2.0f * c, lights[1].intensity[c] = 0.7f;
+        for (int c = 0; c < 3; ++c) lights[0].intensity[c] = 40.0f + 4.0f * c, lights[1].intensity[c] = 1.5f;
         // Object 0 left and behind, object 1 right and nearer the camera (on -y), turned and
         // smaller: they overlap on screen, 1 in front.
         model_matrix(0.0f, 0.7f, -0.35f, 0.3f, 0.0f, model[0]);

@@ -509,7 +509,11 @@ void gles1_frame_begin(const sepal_frame_desc& d, void* out) {
     glGetFloatv(GL_CURRENT_COLOR, s.current_color);
     glGetFloatv(GL_PROJECTION_MATRIX, s.projection);
     glGetFloatv(GL_MODELVIEW_MATRIX, s.modelview);
-    s.units = d.caps->texture_units < kUnits ? d.caps->texture_units : kUnits;
+    // The context's units, not the caps' (a mask may hide some; the draws still switch
+    // units 0 and 1 off).
+    GLint units = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_UNITS, &units);
+    s.units = units < kUnits ? units : kUnits;
     for (int u = 0; u < s.units; ++u) {
         Gles1Saved::Unit& t = s.unit[u];
         glActiveTexture(GL_TEXTURE0 + u);

@@ -14,6 +14,8 @@ void tree_add_gles1(const sepal_tree* t, int width, int height) {
     const float pos[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
     const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
     with_identity_matrices([&] {
+        // sepal_draw leaves the caller's viewport; the composition is over the tree's.
+        glViewport(0, 0, width, height);
         glDisable(GL_DEPTH_TEST);
         glDisable(GL_CULL_FACE);
         glEnable(GL_BLEND);

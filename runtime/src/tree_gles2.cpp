@@ -163,6 +163,8 @@ void tree_add_gles2(const sepal_tree* t, int width, int height) {
     const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
     const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
     static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
+    // sepal_draw leaves the caller's viewport; the composition is over the tree's.
+    glViewport(0, 0, width, height);
     const GLuint p = t->program_fullscreen;
     glUseProgram(p);
     glDisable(GL_DEPTH_TEST);
