@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "gl_snapshot.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_frame.h"
 
@@ -112,5 +114,51 @@ struct Gl {
         return px;
     }
 };
+
+// The state contract: each change (what an application might leave) must show in the
+// snapshot; then a two-object frame and a sepal_draw on that state must leave the snapshot
+// as it was.
+using Change = std::pair<const char*, std::function<void()>>;
+inline void check_state_kept(Gl& gl, const Scene& sc, const sepal_material* m, sepal_draw_mode mode,
+                             const std::vector<Change>& changes,
+                             const std::function<gl_snapshot::Snapshot()>& snapshot) {
+    gl_snapshot::Snapshot last = snapshot();
+    for (const Change& c : changes) {
+        CAPTURE(std::string(c.first));
+        c.second();
+        const gl_snapshot::Snapshot now = snapshot();
+        CHECK(!gl_snapshot::differences(last, now).empty());  // the snapshot sees this change
+        last = now;
+    }
+    sepal_frame_desc fd = sc.frame;
+    fd.caps = &gl.caps;
+    fd.clear = 1;
+    sepal_frame f;
+    sepal_error e = {};
+    REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
+    for (int k = 0; k < 2; ++k) {
+        const sepal_object o = sc.object(k, m, nullptr, mode);
+        REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
+    }
+    REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
+    const std::string diff = gl_snapshot::differences(last, snapshot());
+    CHECK_MESSAGE(diff.empty(), "left behind: " << diff);
+    // sepal_draw, the one-object frame, keeps the contract too.
+    std::vector<float> scratch(sepal_draw_scratch_floats(sc.mesh.vertex_count, 1));
+    sepal_scene scene;
+    sepal_scene_default(&scene);
+    sepal_draw_desc d = {};
+    d.material = m;
+    d.mesh = &sc.mesh;
+    d.scene = &scene;
+    d.width = kWidth;
+    d.height = kHeight;
+    d.scratch = scratch.data();
+    d.scratch_floats = scratch.size();
+    d.mode = mode;
+    REQUIRE_MESSAGE(sepal_draw(&d, nullptr, &e) == SEPAL_OK, e.message);
+    const std::string diff_draw = gl_snapshot::differences(last, snapshot());
+    CHECK_MESSAGE(diff_draw.empty(), "sepal_draw left behind: " << diff_draw);
+}
 
 }  // namespace frame_fx

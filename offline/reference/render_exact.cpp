@@ -178,15 +178,10 @@ bool render_core(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_
 bool render_exact_spatial(const SpatialBrdf& brdf, const sepal_scene& scene, const sepal_mesh& mesh,
                           int width, int height, Image* out, ExactStats* stats, std::string* err, bool progress,
                           int supersample) {
-    float view[16], proj[16];
-    sepal_error e = {};
-    if (sepal_scene_matrices(&scene, width, height, view, proj, &e) != SEPAL_OK) {
-        if (err) *err = e.message;
-        return false;
-    }
-    const glm::mat4 clip_from_world = glm::make_mat4(proj) * glm::make_mat4(view);
-    return render_core(brdf, scene, mesh, glm::value_ptr(clip_from_world), width, height, out, nullptr, stats, err,
-                       progress, supersample);
+    float clip_from_world[16];
+    if (!clip_from_scene(scene, width, height, clip_from_world, err)) return false;
+    return render_core(brdf, scene, mesh, clip_from_world, width, height, out, nullptr, stats, err, progress,
+                       supersample);
 }
 
 bool render_exact_object(const Brdf& brdf, const sepal_scene& object_scene, const sepal_mesh& mesh,

@@ -28,14 +28,21 @@ glm::dvec3 SurfacePoint::world(const glm::dvec3& w) const { return w.x * t + w.y
 
 bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
                        SurfaceBuffer* out, std::string* err, float dx, float dy) {
+    float clip_from_world[16];
+    if (!clip_from_scene(scene, width, height, clip_from_world, err)) return false;
+    return rasterize_surface_clip(clip_from_world, mesh, width, height, out, err, dx, dy);
+}
+
+bool clip_from_scene(const sepal_scene& scene, int width, int height, float out[16], std::string* err) {
     float view[16], proj[16];
     sepal_error e = {};
     if (sepal_scene_matrices(&scene, width, height, view, proj, &e) != SEPAL_OK) {
         if (err) *err = e.message;
         return false;
     }
-    const glm::mat4 clip_from_world = glm::make_mat4(proj) * glm::make_mat4(view);
-    return rasterize_surface_clip(glm::value_ptr(clip_from_world), mesh, width, height, out, err, dx, dy);
+    const glm::mat4 clip = glm::make_mat4(proj) * glm::make_mat4(view);
+    std::copy(glm::value_ptr(clip), glm::value_ptr(clip) + 16, out);
+    return true;
 }
 
 bool rasterize_surface_clip(const float clip_from_mesh[16], const sepal_mesh& mesh, int width, int height,

@@ -34,6 +34,8 @@ struct SurfaceBuffer {
 // exact render rasterizes once per offset: memory stays one buffer of the image's size).
 bool rasterize_surface(const sepal_scene& scene, const sepal_mesh& mesh, int width, int height,
                        SurfaceBuffer* out, std::string* err, float dx = 0.0f, float dy = 0.0f);
+// The scene camera's clip-from-world matrix (projection x view) for width x height.
+bool clip_from_scene(const sepal_scene& scene, int width, int height, float out[16], std::string* err);
 // The same with the clip-from-mesh matrix given (column-major; a frame's object:
 // sepal_object_scene): positions, normals and tangents stay in the mesh's space.
 bool rasterize_surface_clip(const float clip_from_mesh[16], const sepal_mesh& mesh, int width, int height,

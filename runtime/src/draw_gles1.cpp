@@ -437,12 +437,10 @@ struct ArrayState {
 };
 
 struct Gles1Saved {
-    GLint viewport[4];
-    GLboolean enables[13];
-    GLint front_face, cull_mode, depth_func, blend_src, blend_dst, blend_eq, shade_model, matrix_mode;
-    GLint active_unit, client_unit, array_buffer, element_buffer, units;
-    GLboolean color_mask[4], depth_mask;
-    GLfloat clear_color[4], clear_depth, current_color[4];
+    srt::CoreGlState core;
+    GLboolean enables[6];
+    GLint blend_src, blend_dst, blend_eq, shade_model, matrix_mode, client_unit, units;
+    GLfloat current_color[4];
     GLfloat projection[16], modelview[16];
     struct Unit {
         GLboolean texture_2d;
@@ -455,10 +453,8 @@ struct Gles1Saved {
 };
 static_assert(sizeof(Gles1Saved) <= srt::kSavedStateBytes, "sepal_frame.saved is too small");
 
-const GLenum kEnables[13] = {GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_POLYGON_OFFSET_FILL, GL_CULL_FACE,
-                             GL_DEPTH_TEST,   GL_BLEND,        GL_DITHER,             GL_LIGHTING,
-                             GL_ALPHA_TEST,   GL_FOG,          GL_COLOR_LOGIC_OP,     GL_COLOR_MATERIAL,
-                             GL_NORMALIZE};
+// Beyond the enables both versions have (gl_clear.h).
+const GLenum kEnables[6] = {GL_LIGHTING, GL_ALPHA_TEST, GL_FOG, GL_COLOR_LOGIC_OP, GL_COLOR_MATERIAL, GL_NORMALIZE};
 const GLenum kEnvParams[11] = {GL_TEXTURE_ENV_MODE, GL_COMBINE_RGB,   GL_COMBINE_ALPHA, GL_SRC0_RGB,
                                GL_SRC1_RGB,         GL_SRC0_ALPHA,    GL_OPERAND0_RGB,  GL_OPERAND1_RGB,
                                GL_OPERAND0_ALPHA,   GL_RGB_SCALE,     GL_ALPHA_SCALE};
@@ -479,8 +475,6 @@ void restore_array(GLenum array, const ArrayState& a, SetPointer set) {
     a.enabled ? glEnableClientState(array) : glDisableClientState(array);
 }
 
-void set_enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
-
 }  // namespace
 
 namespace srt {
@@ -488,24 +482,14 @@ namespace srt {
 void gles1_frame_begin(const sepal_frame_desc& d, void* out) {
     Gles1Saved& s = *static_cast<Gles1Saved*>(out);
     memset(&s, 0, sizeof s);
-    glGetIntegerv(GL_VIEWPORT, s.viewport);
-    for (int i = 0; i < 13; ++i) s.enables[i] = glIsEnabled(kEnables[i]);
-    glGetIntegerv(GL_FRONT_FACE, &s.front_face);
-    glGetIntegerv(GL_CULL_FACE_MODE, &s.cull_mode);
-    glGetIntegerv(GL_DEPTH_FUNC, &s.depth_func);
+    save_core_state(&s.core);
+    for (int i = 0; i < 6; ++i) s.enables[i] = glIsEnabled(kEnables[i]);
     glGetIntegerv(GL_BLEND_SRC, &s.blend_src);
     glGetIntegerv(GL_BLEND_DST, &s.blend_dst);
     if (d.caps->blend_equation) glGetIntegerv(kBlendEquationQuery, &s.blend_eq);
     glGetIntegerv(GL_SHADE_MODEL, &s.shade_model);
     glGetIntegerv(GL_MATRIX_MODE, &s.matrix_mode);
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &s.active_unit);
     glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &s.client_unit);
-    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &s.array_buffer);
-    glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &s.element_buffer);
-    glGetBooleanv(GL_COLOR_WRITEMASK, s.color_mask);
-    glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depth_mask);
-    glGetFloatv(GL_COLOR_CLEAR_VALUE, s.clear_color);
-    glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s.clear_depth);
     glGetFloatv(GL_CURRENT_COLOR, s.current_color);
     glGetFloatv(GL_PROJECTION_MATRIX, s.projection);
     glGetFloatv(GL_MODELVIEW_MATRIX, s.modelview);
@@ -530,24 +514,10 @@ void gles1_frame_begin(const sepal_frame_desc& d, void* out) {
                GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY_POINTER, &s.vertex);
     save_array(GL_COLOR_ARRAY, GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY_STRIDE,
                GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY_POINTER, &s.color);
-    // What every object's passes assume. The arrays are client memory: no buffer bound.
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-    glViewport(d.viewport[0], d.viewport[1], d.viewport[2], d.viewport[3]);
-    if (d.clear) {
-        const float* c = d.clear_color;
-        clear_frame(c[0], c[1], c[2], c[3]);
-    } else {
-        prepare_state();
-    }
-    glDisable(GL_LIGHTING);
-    glDisable(GL_ALPHA_TEST);  // an application's alpha test would drop fragments
-    glDisable(GL_FOG);
-    glDisable(GL_COLOR_LOGIC_OP);
-    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
+    begin_core_frame(d);
+    // Fixed-function stages an application may leave on would change every pass.
+    for (int i = 0; i < 6; ++i) glDisable(kEnables[i]);
     glShadeModel(GL_SMOOTH);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
     for (int u = 0; u < s.units; ++u) {
         glActiveTexture(GL_TEXTURE0 + u);
         glMatrixMode(GL_TEXTURE);
@@ -558,18 +528,10 @@ void gles1_frame_begin(const sepal_frame_desc& d, void* out) {
 
 void gles1_frame_end(const sepal_caps& caps, const void* in) {
     const Gles1Saved& s = *static_cast<const Gles1Saved*>(in);
-    glViewport(s.viewport[0], s.viewport[1], s.viewport[2], s.viewport[3]);
-    for (int i = 0; i < 13; ++i) set_enable(kEnables[i], s.enables[i]);
-    glFrontFace((GLenum)s.front_face);
-    glCullFace((GLenum)s.cull_mode);
-    glDepthFunc((GLenum)s.depth_func);
+    for (int i = 0; i < 6; ++i) set_enable(kEnables[i], s.enables[i]);
     glBlendFunc((GLenum)s.blend_src, (GLenum)s.blend_dst);
     if (caps.blend_equation && s.blend_eq) caps.blend_equation((GLenum)s.blend_eq);
     glShadeModel((GLenum)s.shade_model);
-    glColorMask(s.color_mask[0], s.color_mask[1], s.color_mask[2], s.color_mask[3]);
-    glDepthMask(s.depth_mask);
-    glClearColor(s.clear_color[0], s.clear_color[1], s.clear_color[2], s.clear_color[3]);
-    glClearDepthf(s.clear_depth);
     glColor4f(s.current_color[0], s.current_color[1], s.current_color[2], s.current_color[3]);
     glMatrixMode(GL_PROJECTION);
     glLoadMatrixf(s.projection);
@@ -581,12 +543,7 @@ void gles1_frame_end(const sepal_caps& caps, const void* in) {
         glClientActiveTexture(GL_TEXTURE0 + u);
         set_enable(GL_TEXTURE_2D, t.texture_2d);
         glBindTexture(GL_TEXTURE_2D, (GLuint)t.binding);
-        for (int k = 0; k < 11; ++k) {
-            if (kEnvParams[k] == GL_RGB_SCALE || kEnvParams[k] == GL_ALPHA_SCALE)
-                glTexEnvf(GL_TEXTURE_ENV, kEnvParams[k], (GLfloat)t.env[k]);
-            else
-                glTexEnvi(GL_TEXTURE_ENV, kEnvParams[k], t.env[k]);
-        }
+        for (int k = 0; k < 11; ++k) glTexEnvi(GL_TEXTURE_ENV, kEnvParams[k], t.env[k]);
         glMatrixMode(GL_TEXTURE);
         glLoadMatrixf(t.texture_matrix);
         restore_array(GL_TEXTURE_COORD_ARRAY, t.coords,
@@ -597,10 +554,8 @@ void gles1_frame_end(const sepal_caps& caps, const void* in) {
                   [](const ArrayState& a) { glVertexPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
     restore_array(GL_COLOR_ARRAY, s.color,
                   [](const ArrayState& a) { glColorPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
-    glBindBuffer(GL_ARRAY_BUFFER, (GLuint)s.array_buffer);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, (GLuint)s.element_buffer);
-    glActiveTexture((GLenum)s.active_unit);
     glClientActiveTexture((GLenum)s.client_unit);
+    restore_core_state(s.core);
 }
 
 void gles1_background(const float bg[3], sepal_draw_stats* stats) {

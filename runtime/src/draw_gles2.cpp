@@ -471,21 +471,13 @@ struct AttribState {
 };
 
 struct Gles2Saved {
-    GLint viewport[4];
-    GLboolean enables[7];
-    GLint front_face, cull_mode, depth_func, blend_src_rgb, blend_dst_rgb, blend_src_alpha, blend_dst_alpha;
-    GLint blend_eq_rgb, blend_eq_alpha, program, active_unit, array_buffer, element_buffer, framebuffer, units;
-    GLboolean color_mask[4], depth_mask;
-    GLfloat clear_color[4], clear_depth;
+    srt::CoreGlState core;
+    GLint blend_src_rgb, blend_dst_rgb, blend_src_alpha, blend_dst_alpha, blend_eq_rgb, blend_eq_alpha;
+    GLint program, framebuffer, units;
     GLint bindings[kMaxUnits];
     AttribState attrib[kAttribs];
 };
 static_assert(sizeof(Gles2Saved) <= srt::kSavedStateBytes, "sepal_frame.saved is too small");
-
-const GLenum kEnables[7] = {GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_POLYGON_OFFSET_FILL, GL_CULL_FACE,
-                            GL_DEPTH_TEST,   GL_BLEND,        GL_DITHER};
-
-void set_enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
 
 // A quad over the viewport at NDC depth z in a constant colour, or textured (the float
 // target shown): sepal_draw's own frame only.
@@ -512,11 +504,7 @@ namespace srt {
 void gles2_frame_begin(const sepal_frame_desc& d, void* out, uint32_t material_fbo) {
     Gles2Saved& s = *static_cast<Gles2Saved*>(out);
     memset(&s, 0, sizeof s);
-    glGetIntegerv(GL_VIEWPORT, s.viewport);
-    for (int i = 0; i < 7; ++i) s.enables[i] = glIsEnabled(kEnables[i]);
-    glGetIntegerv(GL_FRONT_FACE, &s.front_face);
-    glGetIntegerv(GL_CULL_FACE_MODE, &s.cull_mode);
-    glGetIntegerv(GL_DEPTH_FUNC, &s.depth_func);
+    save_core_state(&s.core);
     glGetIntegerv(GL_BLEND_SRC_RGB, &s.blend_src_rgb);
     glGetIntegerv(GL_BLEND_DST_RGB, &s.blend_dst_rgb);
     glGetIntegerv(GL_BLEND_SRC_ALPHA, &s.blend_src_alpha);
@@ -524,14 +512,7 @@ void gles2_frame_begin(const sepal_frame_desc& d, void* out, uint32_t material_f
     glGetIntegerv(GL_BLEND_EQUATION_RGB, &s.blend_eq_rgb);
     glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &s.blend_eq_alpha);
     glGetIntegerv(GL_CURRENT_PROGRAM, &s.program);
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &s.active_unit);
-    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &s.array_buffer);
-    glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &s.element_buffer);
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &s.framebuffer);
-    glGetBooleanv(GL_COLOR_WRITEMASK, s.color_mask);
-    glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depth_mask);
-    glGetFloatv(GL_COLOR_CLEAR_VALUE, s.clear_color);
-    glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s.clear_depth);
     s.units = d.caps->texture_units < kMaxUnits ? d.caps->texture_units : kMaxUnits;
     for (int u = 0; u < s.units; ++u) {
         glActiveTexture(GL_TEXTURE0 + u);
@@ -548,39 +529,17 @@ void gles2_frame_begin(const sepal_frame_desc& d, void* out, uint32_t material_f
         glGetVertexAttribPointerv(a, GL_VERTEX_ATTRIB_ARRAY_POINTER, &t.pointer);
         glGetVertexAttribfv(a, GL_CURRENT_VERTEX_ATTRIB, t.current);
     }
-    // What every object's passes assume. The arrays are client memory: no buffer bound.
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
     if (material_fbo) glBindFramebuffer(GL_FRAMEBUFFER, material_fbo);
-    glViewport(d.viewport[0], d.viewport[1], d.viewport[2], d.viewport[3]);
-    if (d.clear) {
-        const float* c = d.clear_color;
-        clear_frame(c[0], c[1], c[2], c[3]);
-    } else {
-        prepare_state();
-    }
-    glDisable(GL_DITHER);  // dithering would make passes disagree by a level
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
+    begin_core_frame(d);
 }
 
 void gles2_frame_end(const sepal_caps&, const void* in) {
     const Gles2Saved& s = *static_cast<const Gles2Saved*>(in);
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)s.framebuffer);
-    glViewport(s.viewport[0], s.viewport[1], s.viewport[2], s.viewport[3]);
-    for (int i = 0; i < 7; ++i) set_enable(kEnables[i], s.enables[i]);
-    glFrontFace((GLenum)s.front_face);
-    glCullFace((GLenum)s.cull_mode);
-    glDepthFunc((GLenum)s.depth_func);
     glBlendFuncSeparate((GLenum)s.blend_src_rgb, (GLenum)s.blend_dst_rgb, (GLenum)s.blend_src_alpha,
                         (GLenum)s.blend_dst_alpha);
     glBlendEquationSeparate((GLenum)s.blend_eq_rgb, (GLenum)s.blend_eq_alpha);
-    glColorMask(s.color_mask[0], s.color_mask[1], s.color_mask[2], s.color_mask[3]);
-    glDepthMask(s.depth_mask);
-    glClearColor(s.clear_color[0], s.clear_color[1], s.clear_color[2], s.clear_color[3]);
-    glClearDepthf(s.clear_depth);
     for (int u = 0; u < s.units; ++u) bind_texture(GL_TEXTURE0 + u, (GLuint)s.bindings[u]);
-    glActiveTexture((GLenum)s.active_unit);
     for (GLuint a = 0; a < kAttribs; ++a) {
         const AttribState& t = s.attrib[a];
         glBindBuffer(GL_ARRAY_BUFFER, (GLuint)t.buffer);
@@ -588,9 +547,8 @@ void gles2_frame_end(const sepal_caps&, const void* in) {
         t.enabled ? glEnableVertexAttribArray(a) : glDisableVertexAttribArray(a);
         glVertexAttrib4fv(a, t.current);
     }
-    glBindBuffer(GL_ARRAY_BUFFER, (GLuint)s.array_buffer);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, (GLuint)s.element_buffer);
     glUseProgram((GLuint)s.program);
+    restore_core_state(s.core);
 }
 
 void gles2_background(const sepal_material* m, const float bg[3], sepal_draw_stats* stats) {

@@ -111,7 +111,7 @@ TEST_CASE("frame state, GL ES 1.1: a frame leaves every piece of GL state it tou
         const float mv[16] = {1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 1, 2, 3, 1};
         const float tm[16] = {0.5f, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0, 1, 0, 0.25f, 0.25f, 0, 1};
         // What an application might leave, one change at a time.
-        const std::vector<std::pair<const char*, std::function<void()>>> changes = {
+        std::vector<Change> changes = {
             {"viewport", [] { glViewport(3, 4, 50, 40); }},
             {"scissor", [] { glEnable(GL_SCISSOR_TEST), glScissor(1, 2, 30, 20); }},
             {"stencil", [] { glEnable(GL_STENCIL_TEST); }},
@@ -120,7 +120,6 @@ TEST_CASE("frame state, GL ES 1.1: a frame leaves every piece of GL state it tou
             {"cull face", [] { glCullFace(GL_FRONT); }},
             {"depth", [] { glEnable(GL_DEPTH_TEST), glDepthFunc(GL_LEQUAL); }},
             {"blend", [] { glEnable(GL_BLEND), glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA); }},
-            {"blend equation", [&] { if (gl.caps.blend_equation) gl.caps.blend_equation(0x800A); }},
             {"dither", [] { glDisable(GL_DITHER); }},
             {"lighting", [] { glEnable(GL_LIGHTING), glEnable(GL_COLOR_MATERIAL), glEnable(GL_NORMALIZE); }},
             {"alpha test and fog", [] { glEnable(GL_ALPHA_TEST), glEnable(GL_FOG), glEnable(GL_COLOR_LOGIC_OP); }},
@@ -158,45 +157,9 @@ TEST_CASE("frame state, GL ES 1.1: a frame leaves every piece of GL state it tou
                  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[1]);
              }},
         };
-        Snapshot last = snapshot(gl.caps);
-        for (const auto& c : changes) {
-            CAPTURE(std::string(c.first));
-            if (std::string(c.first) == "blend equation" && !gl.caps.blend_equation) continue;
-            c.second();
-            const Snapshot now = snapshot(gl.caps);
-            CHECK(!gl_snapshot::differences(last, now).empty());  // the snapshot sees this change
-            last = now;
-        }
-        // A frame of two objects on that state, then the same state must be back.
-        sepal_frame_desc fd = sc.frame;
-        fd.caps = &gl.caps;
-        fd.clear = 1;
-        sepal_frame f;
-        sepal_error e = {};
-        REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
-        for (int k = 0; k < 2; ++k) {
-            const sepal_object o = sc.object(k, m, nullptr, SEPAL_MODE_MULTIPASS);
-            REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
-        }
-        REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
-        const Snapshot after = snapshot(gl.caps);
-        const std::string diff = gl_snapshot::differences(last, after);
-        CHECK_MESSAGE(diff.empty(), "left behind: " << diff);
-        // sepal_draw, the one-object frame, keeps the contract too.
-        std::vector<float> scratch(sepal_draw_scratch_floats(sc.mesh.vertex_count, 1));
-        sepal_scene scene;
-        sepal_scene_default(&scene);
-        sepal_draw_desc d = {};
-        d.material = m;
-        d.mesh = &sc.mesh;
-        d.scene = &scene;
-        d.width = kWidth;
-        d.height = kHeight;
-        d.scratch = scratch.data();
-        d.scratch_floats = scratch.size();
-        REQUIRE_MESSAGE(sepal_draw(&d, nullptr, &e) == SEPAL_OK, e.message);
-        const std::string diff_draw = gl_snapshot::differences(last, snapshot(gl.caps));
-        CHECK_MESSAGE(diff_draw.empty(), "sepal_draw left behind: " << diff_draw);
+        if (gl.caps.blend_equation)  // GL_OES_blend_subtract: GL_FUNC_SUBTRACT
+            changes.push_back({"blend equation", [&] { gl.caps.blend_equation(0x800A); }});
+        check_state_kept(gl, sc, m, SEPAL_MODE_MULTIPASS, changes, [&] { return snapshot(gl.caps); });
         glBindBuffer(GL_ARRAY_BUFFER, 0);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
         glDeleteBuffers(3, buffers);

@@ -105,7 +105,7 @@ TEST_CASE("frame state, GL ES 2: a frame leaves every piece of GL state it touch
         glBindBuffer(GL_ARRAY_BUFFER, 0);
         glGenTextures(3, textures);
         const GLuint program = engine_program();
-        const std::vector<std::pair<const char*, std::function<void()>>> changes = {
+        std::vector<Change> changes = {
             {"viewport", [] { glViewport(3, 4, 50, 40); }},
             {"scissor", [] { glEnable(GL_SCISSOR_TEST), glScissor(1, 2, 30, 20); }},
             {"stencil", [] { glEnable(GL_STENCIL_TEST); }},
@@ -139,43 +139,7 @@ TEST_CASE("frame state, GL ES 2: a frame leaves every piece of GL state it touch
                  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[1]);
              }},
         };
-        Snapshot last = snapshot(gl.caps);
-        for (const auto& ch : changes) {
-            CAPTURE(std::string(ch.first));
-            ch.second();
-            const Snapshot now = snapshot(gl.caps);
-            CHECK(!gl_snapshot::differences(last, now).empty());  // the snapshot sees this change
-            last = now;
-        }
-        sepal_frame_desc fd = sc.frame;
-        fd.caps = &gl.caps;
-        fd.clear = 1;
-        sepal_frame f;
-        sepal_error e = {};
-        REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
-        for (int k = 0; k < 2; ++k) {
-            const sepal_object o = sc.object(k, m, nullptr, c.mode);
-            REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
-        }
-        REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
-        const std::string diff = gl_snapshot::differences(last, snapshot(gl.caps));
-        CHECK_MESSAGE(diff.empty(), "left behind: " << diff);
-        // sepal_draw, the one-object frame, keeps the contract too.
-        std::vector<float> scratch(sepal_draw_scratch_floats(sc.mesh.vertex_count, 1));
-        sepal_scene scene;
-        sepal_scene_default(&scene);
-        sepal_draw_desc d = {};
-        d.material = m;
-        d.mesh = &sc.mesh;
-        d.scene = &scene;
-        d.width = kWidth;
-        d.height = kHeight;
-        d.scratch = scratch.data();
-        d.scratch_floats = scratch.size();
-        d.mode = c.mode;
-        REQUIRE_MESSAGE(sepal_draw(&d, nullptr, &e) == SEPAL_OK, e.message);
-        const std::string diff_draw = gl_snapshot::differences(last, snapshot(gl.caps));
-        CHECK_MESSAGE(diff_draw.empty(), "sepal_draw left behind: " << diff_draw);
+        check_state_kept(gl, sc, m, c.mode, changes, [&] { return snapshot(gl.caps); });
         glUseProgram(0);
         glDeleteProgram(program);
         glBindBuffer(GL_ARRAY_BUFFER, 0);
