@@ -28,4 +28,30 @@ inline std::string differences(const Snapshot& a, const Snapshot& b) {
     return out;
 }
 
+#ifdef GL_VIEWPORT  // after <GLES/gl.h> or <GLES2/gl2.h>: the state both versions have
+inline void add_core(Snapshot& s) {
+    GLint i4[4], v = 0;
+    GLfloat f4[4];
+    GLboolean b4[4];
+    glGetIntegerv(GL_VIEWPORT, i4), s.add("viewport", i4, 4);
+    glGetIntegerv(GL_SCISSOR_BOX, i4), s.add("scissor box", i4, 4);
+    const std::pair<const char*, GLenum> enables[] = {
+        {"scissor", GL_SCISSOR_TEST}, {"stencil", GL_STENCIL_TEST}, {"polygon offset", GL_POLYGON_OFFSET_FILL},
+        {"cull", GL_CULL_FACE},       {"depth test", GL_DEPTH_TEST}, {"blend", GL_BLEND},
+        {"dither", GL_DITHER},        {"alpha to coverage", GL_SAMPLE_ALPHA_TO_COVERAGE}};
+    for (const auto& e : enables) s.add(e.first, glIsEnabled(e.second));
+    const std::pair<const char*, GLenum> ints[] = {
+        {"front face", GL_FRONT_FACE},       {"cull face", GL_CULL_FACE_MODE},
+        {"depth func", GL_DEPTH_FUNC},       {"active texture", GL_ACTIVE_TEXTURE},
+        {"array buffer", GL_ARRAY_BUFFER_BINDING}, {"element buffer", GL_ELEMENT_ARRAY_BUFFER_BINDING},
+        {"stencil func", GL_STENCIL_FUNC}};
+    for (const auto& e : ints) glGetIntegerv(e.second, &v), s.add(e.first, v);
+    glGetBooleanv(GL_COLOR_WRITEMASK, b4);
+    for (int k = 0; k < 4; ++k) s.add("color mask", b4[k]);
+    glGetBooleanv(GL_DEPTH_WRITEMASK, b4), s.add("depth mask", b4[0]);
+    glGetFloatv(GL_COLOR_CLEAR_VALUE, f4), s.add("clear color", f4, 4);
+    glGetFloatv(GL_DEPTH_CLEAR_VALUE, f4), s.add("clear depth", f4[0]);
+}
+#endif
+
 }  // namespace gl_snapshot

@@ -32,33 +32,19 @@ void add_array(Snapshot& s, const std::string& name, GLenum array, GLenum size, 
 
 Snapshot snapshot(const sepal_caps& caps) {
     Snapshot s;
-    GLint i4[4];
+    gl_snapshot::add_core(s);
     GLfloat f16[16];
-    GLboolean b4[4];
-    glGetIntegerv(GL_VIEWPORT, i4), s.add("viewport", i4, 4);
-    glGetIntegerv(GL_SCISSOR_BOX, i4), s.add("scissor box", i4, 4);
     const std::pair<const char*, GLenum> enables[] = {
-        {"scissor", GL_SCISSOR_TEST}, {"stencil", GL_STENCIL_TEST},      {"polygon offset", GL_POLYGON_OFFSET_FILL},
-        {"cull", GL_CULL_FACE},       {"depth test", GL_DEPTH_TEST},      {"blend", GL_BLEND},
-        {"dither", GL_DITHER},        {"lighting", GL_LIGHTING},          {"alpha test", GL_ALPHA_TEST},
-        {"fog", GL_FOG},              {"logic op", GL_COLOR_LOGIC_OP},    {"color material", GL_COLOR_MATERIAL},
-        {"normalize", GL_NORMALIZE},  {"normal array", GL_NORMAL_ARRAY}};
+        {"lighting", GL_LIGHTING},       {"alpha test", GL_ALPHA_TEST},        {"fog", GL_FOG},
+        {"logic op", GL_COLOR_LOGIC_OP}, {"color material", GL_COLOR_MATERIAL}, {"normalize", GL_NORMALIZE},
+        {"normal array", GL_NORMAL_ARRAY}};
     for (const auto& e : enables) s.add(e.first, glIsEnabled(e.second));
-    const std::pair<const char*, GLenum> ints[] = {
-        {"front face", GL_FRONT_FACE},       {"cull face", GL_CULL_FACE_MODE},
-        {"depth func", GL_DEPTH_FUNC},       {"blend src", GL_BLEND_SRC},
-        {"blend dst", GL_BLEND_DST},         {"shade model", GL_SHADE_MODEL},
-        {"matrix mode", GL_MATRIX_MODE},     {"active texture", GL_ACTIVE_TEXTURE},
-        {"client active", GL_CLIENT_ACTIVE_TEXTURE}, {"array buffer", GL_ARRAY_BUFFER_BINDING},
-        {"element buffer", GL_ELEMENT_ARRAY_BUFFER_BINDING}};
+    const std::pair<const char*, GLenum> ints[] = {{"blend src", GL_BLEND_SRC},   {"blend dst", GL_BLEND_DST},
+                                                   {"shade model", GL_SHADE_MODEL}, {"matrix mode", GL_MATRIX_MODE},
+                                                   {"client active", GL_CLIENT_ACTIVE_TEXTURE}};
     GLint v = 0;
     for (const auto& e : ints) glGetIntegerv(e.second, &v), s.add(e.first, v);
     if (caps.blend_equation) glGetIntegerv(0x8009, &v), s.add("blend equation", v);  // GL_BLEND_EQUATION_OES
-    glGetBooleanv(GL_COLOR_WRITEMASK, b4);
-    for (int k = 0; k < 4; ++k) s.add("color mask", b4[k]);
-    glGetBooleanv(GL_DEPTH_WRITEMASK, b4), s.add("depth mask", b4[0]);
-    glGetFloatv(GL_COLOR_CLEAR_VALUE, f16), s.add("clear color", f16, 4);
-    glGetFloatv(GL_DEPTH_CLEAR_VALUE, f16), s.add("clear depth", f16[0]);
     glGetFloatv(GL_CURRENT_COLOR, f16), s.add("current color", f16, 4);
     glGetFloatv(GL_PROJECTION_MATRIX, f16), s.add("projection", f16, 16);
     glGetFloatv(GL_MODELVIEW_MATRIX, f16), s.add("modelview", f16, 16);

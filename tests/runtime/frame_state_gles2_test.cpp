@@ -18,31 +18,16 @@ namespace {
 
 Snapshot snapshot(const sepal_caps& caps) {
     Snapshot s;
-    GLint i4[4], v = 0;
+    gl_snapshot::add_core(s);
+    GLint v = 0;
     GLfloat f4[4];
-    GLboolean b4[4];
-    glGetIntegerv(GL_VIEWPORT, i4), s.add("viewport", i4, 4);
-    glGetIntegerv(GL_SCISSOR_BOX, i4), s.add("scissor box", i4, 4);
-    const std::pair<const char*, GLenum> enables[] = {
-        {"scissor", GL_SCISSOR_TEST}, {"stencil", GL_STENCIL_TEST},   {"polygon offset", GL_POLYGON_OFFSET_FILL},
-        {"cull", GL_CULL_FACE},       {"depth test", GL_DEPTH_TEST},   {"blend", GL_BLEND},
-        {"dither", GL_DITHER},        {"alpha to coverage", GL_SAMPLE_ALPHA_TO_COVERAGE}};
-    for (const auto& e : enables) s.add(e.first, glIsEnabled(e.second));
     const std::pair<const char*, GLenum> ints[] = {
-        {"front face", GL_FRONT_FACE},           {"cull face", GL_CULL_FACE_MODE},
-        {"depth func", GL_DEPTH_FUNC},           {"blend src rgb", GL_BLEND_SRC_RGB},
-        {"blend dst rgb", GL_BLEND_DST_RGB},     {"blend src alpha", GL_BLEND_SRC_ALPHA},
-        {"blend dst alpha", GL_BLEND_DST_ALPHA}, {"blend eq rgb", GL_BLEND_EQUATION_RGB},
-        {"blend eq alpha", GL_BLEND_EQUATION_ALPHA}, {"program", GL_CURRENT_PROGRAM},
-        {"active texture", GL_ACTIVE_TEXTURE},   {"array buffer", GL_ARRAY_BUFFER_BINDING},
-        {"element buffer", GL_ELEMENT_ARRAY_BUFFER_BINDING}, {"framebuffer", GL_FRAMEBUFFER_BINDING},
-        {"renderbuffer", GL_RENDERBUFFER_BINDING}, {"stencil func", GL_STENCIL_FUNC}};
+        {"blend src rgb", GL_BLEND_SRC_RGB},     {"blend dst rgb", GL_BLEND_DST_RGB},
+        {"blend src alpha", GL_BLEND_SRC_ALPHA}, {"blend dst alpha", GL_BLEND_DST_ALPHA},
+        {"blend eq rgb", GL_BLEND_EQUATION_RGB}, {"blend eq alpha", GL_BLEND_EQUATION_ALPHA},
+        {"program", GL_CURRENT_PROGRAM},         {"framebuffer", GL_FRAMEBUFFER_BINDING},
+        {"renderbuffer", GL_RENDERBUFFER_BINDING}};
     for (const auto& e : ints) glGetIntegerv(e.second, &v), s.add(e.first, v);
-    glGetBooleanv(GL_COLOR_WRITEMASK, b4);
-    for (int k = 0; k < 4; ++k) s.add("color mask", b4[k]);
-    glGetBooleanv(GL_DEPTH_WRITEMASK, b4), s.add("depth mask", b4[0]);
-    glGetFloatv(GL_COLOR_CLEAR_VALUE, f4), s.add("clear color", f4, 4);
-    glGetFloatv(GL_DEPTH_CLEAR_VALUE, f4), s.add("clear depth", f4[0]);
     glGetFloatv(GL_BLEND_COLOR, f4), s.add("blend color", f4, 4);
     GLint active = 0;
     glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
