@@ -31,6 +31,7 @@
 #include "util/io.h"
 #include "util/json.h"
 #include "sepal/sepal_format.h"
+#include "spec/spec.h"
 
 namespace sepal {
 namespace {

@@ -21,6 +21,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "cli/scene_options.h"
+#include "spec/spec.h"
 
 namespace sepal {
 

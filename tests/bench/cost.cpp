@@ -27,6 +27,7 @@
 #include "bench/bench_cli.h"
 #include "bench/json_builder.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "util/io.h"

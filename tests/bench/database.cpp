@@ -41,6 +41,7 @@
 #include "bench/bench_cli.h"
 #include "bench/quiet.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/scene_flags.h"
 #include "database/database.h"
 #include "database/linear_model.h"

@@ -30,6 +30,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
+#include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
 

@@ -34,6 +34,7 @@
 #include "bench/bench_cli.h"
 #include "bench/json_builder.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "factor/factor.h"
 #include "factor/factor_error.h"
 #include "util/io.h"

@@ -41,6 +41,7 @@
 #include "util/image.h"
 #include "util/io.h"
 #include "json_builder.h"
+#include "spec/spec.h"
 #include "util/json.h"
 #include "util/parallel.h"
 

@@ -30,6 +30,7 @@
 #include "vertex_setup.h"
 #include "bench/bench_cli.h"
 #include "gl_counter.h"
+#include "spec/spec.h"
 
 
 namespace {

@@ -52,6 +52,7 @@
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "spec/spec.h"
 
 using namespace sepal;
 

@@ -13,6 +13,7 @@
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 namespace {

@@ -15,6 +15,7 @@
 #include "reference/render_exact.h"
 #include "sepal/sepal_tree.h"
 #include "offline/ist/ist_fixture.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 using namespace sepal;

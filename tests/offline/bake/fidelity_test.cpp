@@ -14,6 +14,7 @@
 #include "cli/cli.h"
 #include "util/parallel.h"
 #include "sepal/sepal_format.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 namespace {

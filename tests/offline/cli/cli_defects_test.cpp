@@ -6,6 +6,7 @@
 #include <string>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "cli/cli.h"
 #include "util/image.h"
 #include "util/io.h"

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "cli/cli.h"
 #include "factor/factor.h"
 #include "factor/factor_error.h"
