@@ -312,8 +312,8 @@ $(call obj,runtime/src/vertex_setup.cpp): RUNTIME_FLAGS += -fno-math-errno -fno-
 # Offline hot loops at -O3, where GCC then vectorizes element-wise loops (axpys, ratios) that
 # -O2 leaves scalar: the same floats (no reassociation without -ffast-math, no FMA without
 # -mfma), so the same outputs. KL-NMF's fused updates (sampling's fits: a quarter of its
-# bench) and the MERL network's layers (every nbrdf: evaluation); sepal-bench-sampling
-# table1 --only ni: 25.5 -> 22.6 user-s side by side, identical tables.
+# bench) and the MERL network's layers (every nbrdf: evaluation); check a change with
+# `sepal-bench-sampling table1 --only ni` (processor-seconds side by side, identical tables).
 OFFLINE_HOT := offline/sampling/nmf_kl.cpp offline/measured/nbrdf.cpp
 ifeq ($(SAN),)
 $(call obj,$(OFFLINE_HOT)): OFFLINE_FLAGS += -O3

@@ -1,5 +1,5 @@
 // The README as a newcomer reads it: short, its links resolve, and every measured figure it
-// quotes is quoted by reference from a document that a benchmark regenerates (issue 19).
+// quotes is quoted by reference from a document that a benchmark regenerates.
 #include <doctest/doctest.h>
 
 #include <cctype>

@@ -8,8 +8,8 @@
 //                      [--bake out.sepal] [--materials ..]
 // The database (the 100 merl-nbrdf materials on the MERL grid) is built on first use into the
 // cache (database.h: about a minute, 1.4 GB) and memory-mapped afterwards. --materials limits
-// it to a subset (a smaller, faster database; tests use it). A new subcommand (issue 17's
-// `capture`) is one more subcommand in setup_measure.
+// it to a subset (a smaller, faster database; tests use it). A new subcommand (as `capture`)
+// is one more subcommand in setup_measure.
 //   sepal measure capture -o photo.png [--samples s.csv] [--object sphere|torus|wave]
 //                      [--camera AZ,EL] [--light AZ,EL] [--seed S] [--no-noise]
 #include <chrono>

@@ -1,4 +1,4 @@
-// sepal-bench-cost: the cost curves users plan with (issue 20), each with its fitted
+// sepal-bench-cost: the cost curves users plan with, each with its fitted
 // log-log exponent.
 //
 //   build/bin/sepal-bench-cost [--out DIR] [--frames N] [--quick]

@@ -1,5 +1,5 @@
 // sepal-bench-homomorphic: homomorphic factorization (McCool, Ang and Ahmad 2001) against the
-// bake, on the raw Cornell measurements (issue 13's acceptance line; make bench).
+// bake, on the raw Cornell measurements (docs/homomorphic.md; make bench).
 //
 //   build/bin/sepal-bench-homomorphic [--out DIR] [--only NAME] [--threads N]
 //

@@ -1,4 +1,4 @@
-// Issue 13's pieces that need no GL context: format 2 (radiance materials, the diffuse part
+// Image-first baking's pieces that need no GL context (docs/fidelity.md): format 2 (radiance materials, the diffuse part
 // and its profile) written and refused, the radiance fit and the diffuse estimates, the image
 // judge, and the bake's command line for them. The GL comparisons are tests/ports/emulate_test.cpp.
 #include <doctest/doctest.h>

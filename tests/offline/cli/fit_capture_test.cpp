@@ -1,4 +1,4 @@
-// sepal measure capture and sepal fit lafortune (issue 17's command lines): a photograph of
+// sepal measure capture and sepal fit lafortune (docs/acquisition.md's command lines): a photograph of
 // the virtual setup and its samples, a fit that recovers a known model within its intervals,
 // and refusals that leave no output behind.
 #include <doctest/doctest.h>
