@@ -119,6 +119,8 @@ HEADLESS_PORT_OBJ := $(call obj,ports/headless/sepal_headless.cpp)
 PUBLIC_HEADERS := $(wildcard runtime/include/sepal/*.h) ports/headless/sepal_headless.h
 DIST_FILES := $(DIST)/libsepal.a $(DIST)/libsepal.so.$(SEPAL_VERSION) \
               $(DIST)/libsepal_headless.a $(DIST)/libsepal_headless.so.$(SEPAL_VERSION)
+# make's build tree as an installed one (below, before the web port).
+UNINSTALLED := $(addprefix $(BUILD)/include/sepal/,$(notdir $(PUBLIC_HEADERS))) $(BUILD)/sepal-uninstalled.pc
 
 # The web port (make web): the runtime's GL ES 2 paths and ports/web through Emscripten
 # (Debian's emcc works offline; it needs Debian's node modules on NODE_PATH). One tree
@@ -147,7 +149,7 @@ WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) check-runtime check-c99 check-layers ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) $(UNINSTALLED) check-runtime check-c99 check-layers ## build everything into build/ (-Wall -Wextra -Werror)
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -407,6 +409,20 @@ check-c99:
 	@printf '#include "sepal/sepal.h"\n#include "headless/sepal_headless.h"\nint main(void) { return SEPAL_VERSION_MAJOR; }\n' | \
 	  $(CC) -std=c99 -pedantic -Wall -Wextra -Werror -Iruntime/include -Iports -x c -fsyntax-only - || \
 	  { echo "runtime/include/sepal/*.h or the headless port's header is not C99 (above)"; exit 1; }
+
+# The build tree as an installed one, for programs built against it without make install:
+# the public headers in build/include/sepal/ and build/sepal-uninstalled.pc, which
+# pkg-config prefers to sepal.pc when build/ is on PKG_CONFIG_PATH:
+#   PKG_CONFIG_PATH=build cc -std=c99 examples/minimal.c $(pkg-config --cflags --libs sepal)
+$(BUILD)/include/sepal/%.h: runtime/include/sepal/%.h
+	@mkdir -p $(dir $@) && cp $< $@
+$(BUILD)/include/sepal/sepal_headless.h: ports/headless/sepal_headless.h
+	@mkdir -p $(dir $@) && cp $< $@
+$(BUILD)/sepal-uninstalled.pc: packaging/sepal.pc.in $(DIST_FILES)
+	@for lib in libsepal libsepal_headless; do \
+	  ln -sf $$lib.so.$(SEPAL_VERSION) $(DIST)/$$lib.so.$(SOVERSION) && ln -sf $$lib.so.$(SOVERSION) $(DIST)/$$lib.so; done
+	@sed -e 's|@PREFIX@|$(CURDIR)/$(BUILD)|' -e 's|@LIBDIR@|$(CURDIR)/$(DIST)|' -e 's|@INCLUDEDIR@|$(CURDIR)/$(BUILD)/include|' \
+	  -e 's|@VERSION@|$(SEPAL_VERSION)|' $< > $@
 
 # ---- the web port ----------------------------------------------------------------------
 $(WEB_OBJ): build/web-obj/%.o: %.cpp | $(SHADER_INCS)
