@@ -144,7 +144,7 @@ WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_
 
 .SECONDARY:
 .PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 check-layers FORCE \
-        check compdb \
+        check compdb format \
         install uninstall examples web fuzz fuzz-bins
 
 all: build ## the default: same as make build
@@ -188,6 +188,11 @@ TC ?= *
 check: ## build the test binary and run the suites matching TC (default all) without the ports' Xvfb and Chromium tests
 	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_TESTS)
 	@$(BIN_TESTS) -tc='$(TC)' -tce='*Xvfb*,*Chromium*'
+
+# .clang-format's house style over every C/C++ source of ours (third_party/ untouched).
+format: ## apply .clang-format to every C/C++ source (clang-format, Debian's clang-format)
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang-format
+	@find runtime offline ports tests examples -name '*.cpp' -o -name '*.h' -o -name '*.c' | xargs clang-format -i
 
 # compile_commands.json for clangd and clang-tidy, from the flags this Makefile compiles with
 # (written by make itself: no tool beyond make).
