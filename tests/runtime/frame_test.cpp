@@ -11,6 +11,7 @@
 #include "frame_fixtures.h"
 #include "material_fixtures.h"
 #include "reference/render_exact.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 using namespace frame_fx;
