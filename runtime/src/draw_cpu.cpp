@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "draw_internal.h"
 #include "sepal/sepal_material.h"
 #include "sepal/sepal_raster.h"
 #include "vertex_setup.h"
@@ -218,6 +219,7 @@ extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err
         out.draw_calls = 1;
         out.exposure = 1.0f;
         out.below_horizon = s.st.below_horizon;
+        out.dim_lights = srt::dim_lights(d->asset->material, *d->mesh, *d->scene);
         out.param_fallbacks = s.st.param_fallbacks;
         out.negative_clamped = s.st.negative_clamped;
         out.nonfinite_clamped = s.st.nonfinite_clamped;

@@ -32,6 +32,9 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
 // and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. stats is
 // cleared and filled with the frame's counters.
 sepal_result prepare_frame(const sepal_draw_desc* d, FramePrep* out, sepal_draw_stats* stats, sepal_error* err);
+// Lights of the scene whose irradiance at the centre of the mesh's bounds (dimmest lit
+// channel) is above 0 and below the material's declared irradiance_min (0 when it declares none).
+int dim_lights(const sepal_fmt_material& m, const sepal_mesh& mesh, const sepal_scene& scene);
 // The order passes are drawn in (the plan's; staged: by falling exposure shift, stable).
 void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order);
 
