@@ -149,7 +149,7 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
     std::printf("%-22s %5s %8s %6s %4s %7s %8s %8s %8s %8s\n", "material", "range", "bytes", "passes", "dbl", "bake s",
                 "own", "16:1", "worst", "in");
     for (const Material& m : materials()) {
-        if (!only.empty() && only != m.name) continue;
+        if (!only.empty() && ("," + only + ",").find("," + std::string(m.name) + ",") == std::string::npos) continue;
         std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(m.spec, &err);
         sepal::ImageJudge judge16;
         if (!f || !judge16.init(*f, wide_views, 128, threads, &err)) {
@@ -273,7 +273,7 @@ int main(int argc, char** argv) {
     BenchCli cli("sepal-bench-fidelity",
                  "The default bake of issue 13's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
                  "bytes, bake seconds; writes OUT/fidelity.json and OUT/fidelity.md");
-    cli.add_only_and_threads("one material label");
+    cli.add_only_and_threads("one material label (with --ranges: a comma-separated list)");
     bool ranges = false;
     cli.app.add_flag("--ranges", ranges, "the light range's trade instead (light-range.json, .md, .png)");
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
@@ -330,7 +330,7 @@ int main(int argc, char** argv) {
         sepal::BakeOptions o;  // the defaults: what `sepal bake SPEC` does
         o.threads = threads;
         sepal::BakeResult r;
-        double load = 0, seconds = 0, cpu = 0;
+        double load = 0, seconds = 0, cpu_s = 0;
         bool baked = false;
         {
             BenchQuiet quiet;  // the bake seconds are a README figure: the other lane waits
@@ -339,7 +339,7 @@ int main(int argc, char** argv) {
             const double c0 = cpu_seconds();
             baked = sepal::bake(*f, o, &r, &err);
             seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            cpu = cpu_seconds() - c0;
+            cpu_s = cpu_seconds() - c0;
         }
         std::vector<uint8_t> bytes;
         if (!baked || !sepal::encode_asset(r.asset, &bytes, &err)) {
@@ -438,7 +438,7 @@ int main(int argc, char** argv) {
             j.begin_object().key("name").value(r.views[i]).key("psnr_bake").value(w.psnr_views[i]).end_object();
         j.end_array();
         j.key("passes").value(w.passes).key("doublings").value(doublings).key("bytes").value(int64_t(bytes.size()));
-        j.key("bake_seconds").value(seconds).key("bake_cpu_seconds").value(cpu).key("load_average").value(load);
+        j.key("bake_seconds").value(seconds).key("bake_cpu_seconds").value(cpu_s).key("load_average").value(load);
         j.key("winner").value(w.label());
         j.key("white_level").value(r.white).key("diffuse_profile").value(r.diffuse.side > 0);
         j.key("colour").value(colour).key("colour_residual").value(r.colour_residual);
@@ -450,7 +450,7 @@ int main(int argc, char** argv) {
         std::snprintf(row, sizeof row,
                       "| %s | %.1f | %.1f | %.2f%% | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s | %s | %.1f (%.1f) | %s | %s | %s |\n",
                       m.name, ph, worst, 100.0 * worst_share, w.psnr, p1, p2, pc, pg, pe, w.passes, doublings,
-                      std::to_string(bytes.size()).c_str(), colour, seconds, cpu, w.label().c_str(), small_db, small_label.c_str());
+                      std::to_string(bytes.size()).c_str(), colour, seconds, cpu_s, w.label().c_str(), small_db, small_label.c_str());
         md += row;
     }
     j.end_array().key("load_average_end").value(load_average()).end_object();
