@@ -14,7 +14,7 @@ namespace {
 constexpr double kDefaultLight[3] = {2.0, -2.5, 3.0};
 constexpr double kDistance2 = 2.0 * 2.0 + 2.5 * 2.5 + 3.0 * 3.0;
 constexpr double kDefaultIntensity = 60.0;
-// The grazing view's light (the bake's judged view since issue 13): from the side and behind.
+// The grazing view's light: from the side and behind.
 constexpr double kGrazingLight[3] = {3.83, 1.91, 0.96};
 // The held-out stream: another seed, never the training one.
 constexpr uint64_t kHeldOutSalt = 0x9e1d07ull;

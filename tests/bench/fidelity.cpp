@@ -1,8 +1,8 @@
-// sepal-bench-fidelity: what a new user's default bake gives (issue 13), measured (make bench).
+// sepal-bench-fidelity: what a new user's default bake gives, measured (make bench).
 //
 //   build/bin/sepal-bench-fidelity [--out DIR] [--only NAME] [--threads N]
 //
-// For every material of issue 13's table and a few more chosen to be hard (sharp Phong and
+// For every material of the README's table and a few more chosen to be hard (sharp Phong and
 // Blinn lobes, a two-lobe Lafortune, Cook-Torrance at roughness 0.05, the bounded-albedo Ward,
 // Hapke-Lommel, Lambert): the default bake (sepal::bake with default options, exactly what
 // `sepal bake SPEC` does), its wall time, then the asset drawn by llvmpipe on GL ES 1.1 and
@@ -10,7 +10,7 @@
 // and on GL ES 1.1 in the grazing view the bake also judges by: PSNR against the exact
 // render (8-bit, as displayed), plan passes, the frame's doublings, asset bytes, the colour
 // mode --colour auto chose, the winner; and the same bake within 8 KB (--max-bytes 8192,
-// issue 20): its GL ES 1.1 PSNR and winner, or "none fits".
+// the size goal): its GL ES 1.1 PSNR and winner, or "none fits".
 // The headline is held out: each bake ranks its candidates on training conditions drawn from
 // its declared light range (light_range.h) and is judged here on the held-out ones (other
 // directions and intensities, the torus, two lights), each drawn by llvmpipe on GL ES 1.1 at
@@ -41,6 +41,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
+#include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "util/plot.h"
@@ -50,7 +51,7 @@ namespace {
 struct Material {
     const char* name;
     std::string spec;
-    bool issue_table;  // one of the twelve of issue 13's table
+    bool issue_table;  // one of the twelve of the README's table
 };
 
 std::vector<Material> materials() {
@@ -78,7 +79,7 @@ std::vector<Material> materials() {
     };
 }
 
-// Issue 20's size goal: each default material baked again with --max-bytes this.
+// The size goal (a material in 8 KB): each default material baked again with --max-bytes this.
 constexpr int64_t kSmallBytes = 8192;
 
 sepal::Image clamp8(sepal::Image img) {
@@ -271,7 +272,7 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
 
 int main(int argc, char** argv) {
     BenchCli cli("sepal-bench-fidelity",
-                 "The default bake of issue 13's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
+                 "The default bake of the README's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
                  "bytes, bake seconds; writes OUT/fidelity.json and OUT/fidelity.md");
     cli.add_only_and_threads("one material label (with --ranges: a comma-separated list)");
     bool ranges = false;
@@ -409,7 +410,7 @@ int main(int argc, char** argv) {
         const double ph = held_mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / held_mse) : 99.0;
         const double worst = held_psnr.empty() ? -1 : *std::min_element(held_psnr.begin(), held_psnr.end());
         const double worst_share = held_share.empty() ? 1 : *std::max_element(held_share.begin(), held_share.end());
-        // The same bake within 8 KB (issue 20's budget): the best image that fits, or none.
+        // The same bake within 8 KB (the size goal): the best image that fits, or none.
         sepal::BakeOptions small = o;
         small.max_bytes = kSmallBytes;
         sepal::BakeResult rs;

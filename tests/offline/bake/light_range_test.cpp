@@ -15,6 +15,7 @@
 #include "reference/render_exact.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_material.h"
+#include "spec/spec.h"
 #include "test_util.h"
 #include "util/image.h"
 #include "util/io.h"
