@@ -12,6 +12,8 @@
 #include "bake/asset_file.h"
 #include "bake/bake.h"
 #include "bake/light_range.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
 #include "reference/render_exact.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_material.h"
@@ -55,25 +57,15 @@ sepal::BakeView default_view_with(float intensity_r, float intensity_g, float in
     return sepal::sphere_view("v", s);
 }
 
-// The emulated GL ES 1.1 frame of an asset in a view, 8-bit, and its draw stats.
+// The emulated GL ES 1.1 frame of an asset in a view (the sphere), 8-bit, and its draw stats.
 sepal::Image draw_gles1(const std::vector<uint8_t>& bytes, const sepal::BakeView& v, int size, sepal_draw_stats* stats) {
-    auto asset = std::make_unique<sepal_asset>();
-    sepal_error e = {};
-    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SEPAL_OK);
-    const sepal_mesh mesh = v.mesh();
-    std::vector<uint8_t> rgba(size_t(size) * size * 4);
-    std::vector<float> scratch(sepal_emulate_scratch_floats(size, size, mesh.vertex_count, v.scene.light_count));
-    sepal_emulate_desc d = {};
-    d.asset = asset.get();
-    d.mesh = &mesh;
-    d.scene = &v.scene;
-    d.width = d.height = size;
-    d.gles_version = 1;
-    d.rgba = rgba.data();
-    d.scratch = scratch.data();
-    d.scratch_floats = scratch.size();
-    d.stats = stats;
-    REQUIRE_MESSAGE(sepal_emulate_draw(&d, &e) == SEPAL_OK, e.message);
+    sepal_ports::SceneSetup s;
+    s.scene = v.scene;
+    s.width = s.height = size;
+    std::string err;
+    std::vector<uint8_t> rgba;
+    REQUIRE_MESSAGE(sepal_ports::load_scene_mesh(&s, &err), err);
+    REQUIRE_MESSAGE(sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), s, 1, 0, &rgba, &err, stats), err);
     return sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), size, size));
 }
 
