@@ -114,6 +114,14 @@ sepal_ports::SceneSetup test_scene(const char* mesh, int lights) {
     return s;
 }
 
+void views_lighting(sepal::BakeOptions* o) {
+    o->views = sepal::default_bake_views();
+    o->light_range.ratio = 1;
+    o->light_range.max_lights = 1;
+    o->light_range.irradiance_max = 1e6;
+    o->held_out = false;
+}
+
 sepal::AssetData bake_small(const std::string& spec, sepal::Param param, sepal::Method method, int terms,
                             bool radiance, int res, int judge_size) {
     std::string err;
@@ -126,6 +134,7 @@ sepal::AssetData bake_small(const std::string& spec, sepal::Param param, sepal::
     o.terms = {terms};
     o.radiance = radiance;
     o.judge_size = judge_size;
+    views_lighting(&o);
     sepal::BakeResult r;
     REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
     return r.asset;

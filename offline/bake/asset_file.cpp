@@ -27,7 +27,9 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     std::vector<Payload> chunks;
     {
         Payload p{SEPAL_FMT_TAG_MATERIAL, {}};
-        append(&p.bytes, &asset.material, sizeof asset.material);
+        // 2.3's light range only when the asset has one: older assets stay byte-identical.
+        append(&p.bytes, &asset.material, asset_has_light_range(asset) ? sizeof asset.material
+                                                                       : size_t(SEPAL_FMT_MATERIAL_BYTES_V2));
         chunks.push_back(std::move(p));
     }
     for (const AssetTexture& t : asset.textures) {
@@ -86,6 +88,7 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     // 2.1 only for reciprocal materials, 2.2 only for axis ones: other version-2 assets stay
     // 2.0, byte for byte.
     h.version_minor = !v2                                             ? 0
+                      : asset_has_light_range(asset)                  ? SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE
                       : asset.material.param == SEPAL_PARAM_AXIS      ? SEPAL_FMT_VERSION_MINOR_AXIS
                       : asset.material.flags & SEPAL_MATERIAL_RECIPROCAL ? SEPAL_FMT_VERSION_MINOR_RECIPROCAL
                                                                          : 0;
@@ -113,7 +116,13 @@ bool asset_needs_version2(const AssetData& a) {
               !a.diffuse_profile.empty();
     for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE || p.op == SEPAL_OP_RECIPROCAL;
     v2 = v2 || m.param == SEPAL_PARAM_AXIS;  // 2.2
-    return v2;
+    return v2 || asset_has_light_range(a);   // 2.3
+}
+
+bool asset_has_light_range(const AssetData& a) {
+    const sepal_fmt_material& m = a.material;
+    return m.white_level != 0.0f || m.irradiance_min != 0.0f || m.irradiance_max != 0.0f || m.cone_degrees != 0.0f ||
+           m.max_lights != 0;
 }
 
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err) {

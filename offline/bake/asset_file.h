@@ -39,6 +39,9 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
 // profile, DIFFUSE or RECIPROCAL pass); encode_asset writes version 1.0 otherwise, and 2.1
 // only for reciprocal materials.
 bool asset_needs_version2(const AssetData& asset);
+// True when the material's light range (2.3) is set: encode_asset then writes 2.3 and the
+// 96-byte MATL chunk.
+bool asset_has_light_range(const AssetData& asset);
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
 
 }  // namespace sepal

@@ -8,13 +8,16 @@
 //   sepal::write_asset("ward.sepal", r.asset, &err);
 //
 // What is fitted (radiance.h): by default f cos(theta_i), capped at the white level of the
-// bake's views (f cos above 1 / the smallest irradiance they show is white in every one),
-// minus the diffuse part (a constant BRDF drawn by an untextured pass): format-2 radiance
-// assets. `radiance = false` factors f itself (format 1, the bake before issue 13).
+// declared light range (light_range.h: f cos above 1.25 / its dimmest irradiance is white
+// under every light of the range), minus the diffuse part (a constant BRDF drawn by an
+// untextured pass): format-2 radiance assets, with the range in the header (2.3).
+// `radiance = false` factors f itself (format 1, the bake before issue 13).
 // How candidates are judged (image_score.h): every candidate asset is drawn on its target
-// (the GL ES pipeline emulated on the CPU, or the CPU backend) in every view (by default
-// the default scene and a grazing-light view) and scored by PSNR against the exact
-// render, 8-bit, as a display shows it. The direction-space figures (relative cosine-
+// (the GL ES pipeline emulated on the CPU, or the CPU backend) in every training view (the
+// light range's training conditions) and scored by PSNR against the exact render, 8-bit, as
+// a display shows it. The winner is then judged on the range's held-out conditions (other
+// directions and intensities, the torus, two lights): BakeResult::held_out_psnr, the figure
+// the bake reports first; the training figure is in-sample. The direction-space figures (relative cosine-
 // weighted RMS over 8000 fixed pairs, factor_error.h) stay as diagnostics and budgets.
 // The search, coarse to fine: with more than one (parameterization, map, method) listed,
 // each is first factored at coarse_res and judged on small images; only the best (and
@@ -46,6 +49,7 @@
 #include "factor/factor.h"
 #include "factor/factored.h"
 #include "bake/image_score.h"
+#include "bake/light_range.h"
 #include "bake/quantize.h"
 #include "bake/radiance.h"
 
@@ -95,8 +99,15 @@ struct BakeOptions {
     bool mips = false;
     // The image that decides: the backend the asset ships on.
     Target target = Target::Gles1;
-    // Views to judge by (image_score.h); empty: default_bake_views().
+    // The lighting the asset must hold under (light_range.h): candidates are ranked on its
+    // training conditions, the result is reported on its held-out ones, and the white level
+    // follows from its dimmest light. The default: 8:1, any direction above the horizon, two
+    // lights at once (docs/fidelity.md says why).
+    LightRange light_range;
+    // Views to rank by instead of the range's training conditions (bake-scene's scene views);
+    // the white level then follows from the dimmer of their lights and the range's dimmest.
     std::vector<BakeView> views;
+    bool held_out = true;   // judge the winner on the held-out conditions (the report's headline)
     int judge_size = 128;   // pixels per side of the judged images
     // Coarse stage (only with more than one parameterization, map or method listed): every
     // pair factored at coarse_res (0: no coarse stage) with up to coarse_terms terms and
@@ -110,8 +121,8 @@ struct BakeOptions {
     int keep = 2;
     double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best PSNR
     // Radiance fit (radiance.h, format 2): the factors hold f cos(theta_i) capped at white,
-    // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the views (1.25 /
-    // their smallest lit irradiance); < 0: no cap. diffuse: estimated (estimate_diffuse)
+    // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the light range
+    // (1.25 / its dimmest irradiance at the object); < 0: no cap. diffuse: estimated (estimate_diffuse)
     // unless diffuse_given.
     bool radiance = true;
     double white = 0;
@@ -204,8 +215,15 @@ struct BakeCounts {
 struct BakeResult {
     std::vector<BakeCandidate> candidates;
     Target target = Target::Gles1;
-    std::vector<std::string> views;  // the judged views' names
+    std::vector<std::string> views;  // the judged (training) views' names
     double white = 0;                // the radiance fit's cap (0: none or not a radiance fit)
+    double irradiance_min = 0;       // the dimmest light the asset holds for (the header's; 0: any)
+    // The winner on the held-out conditions (BakeOptions::held_out): the headline figure.
+    // psnr pooled over them; per condition its PSNR and the share of pixels more than 16
+    // levels from the exact render; the flags that render each (`sepal render`).
+    double held_out_psnr = 0;
+    std::vector<std::string> held_out_views, held_out_flags;
+    std::vector<double> held_out_psnr_views, held_out_share16;
     DiffusePart diffuse;             // the radiance fit's diffuse part
     ColourMode colour = ColourMode::PerChannel;  // the factors' colour mode (chosen or given)
     double colour_residual = 0;      // colour_residual() of what the factors hold
@@ -254,6 +272,11 @@ struct ManifestFit {
     std::string target;    // "gles1", ...
     double psnr = 0;       // on the target, pooled over the views
     std::vector<std::string> views;
+    // The held-out figures (pooled and the worst condition), written at a fixed width so that
+    // a candidate's bytes (--max-bytes) do not change when the winner's are filled in; < 0:
+    // not measured.
+    double held_out_psnr = -1, held_out_worst = -1;
+    std::string light_range;  // describe_light_range()
 };
 // The asset's META: compact JSON provenance (spec, method, bake key, and the fit);
 // the rest is in the binary chunks.

@@ -166,8 +166,9 @@ bool ImageJudge::score(const std::vector<uint8_t>& bytes, Target target, ImageSc
     for (size_t i = 0; i < views_.size(); ++i) {
         Image img;
         if (!render(bytes, target, i, &img, err, i == 0 ? &out->doublings : nullptr)) return false;
-        const ImageDiff d = diff_images(refs_[i], img, 0);
+        const ImageDiff d = diff_images(refs_[i], img, 16);
         out->per_view.push_back(d.psnr);
+        out->share_over16.push_back(d.share_over);
         total += d.mse * double(img.data.size());
         values += int64_t(img.data.size());
     }

@@ -48,6 +48,7 @@ BakeView sphere_view(const std::string& name, const sepal_scene& scene);
 struct ImageScore {
     double psnr = 0;               // pooled over the views
     std::vector<double> per_view;  // PSNR of each view
+    std::vector<double> share_over16;  // per view: share of pixels more than 16 levels off
     int doublings = 0;             // the frame's doublings in the first view (GL targets)
 };
 

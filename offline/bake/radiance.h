@@ -16,9 +16,10 @@
 // vertex colour carries it (format 2): a constant rho_d / pi, or a profile over the two
 // cosines (Ashikhmin-Shirley's and Oren-Nayar's diffuse, measured paints), which no
 // half-angle factorization holds in few terms.
-// Limits: white and diffuse are per bake; an asset baked for a scene renders its clipped
-// highlights grey under a dimmer light than the one it was baked for (its META records
-// "white_level"; `sepal bake --cap none` keeps everything).
+// Limits: white and diffuse are per bake; an asset renders its clipped highlights grey under
+// a light dimmer than its declared light range's dimmest (light_range.h; the header records
+// both, format 2.3, and the runtime counts such lights: sepal_draw_stats.dim_lights;
+// `sepal bake --white none` keeps everything).
 #pragma once
 #include <atomic>
 #include <cstdint>

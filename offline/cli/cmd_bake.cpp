@@ -1,7 +1,9 @@
 // sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
+//   [--light-range R] [--light-max E] [--light-cone DEG] [--lights N] [--meshes LIST]
 //   [--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E]
 //   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -120,7 +122,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     if (!r.views.empty()) {
         std::string names;
         for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
-        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the views %s; (c): coarse stage\n",
+        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the training views %s; (c): coarse stage\n",
                      target_name(r.target), names.c_str());
     }
     if (!args.report.empty()) {
@@ -134,6 +136,23 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         j["diffuse"] = {r.diffuse.scale.x, r.diffuse.scale.y, r.diffuse.scale.z};
         j["diffuse_profile_side"] = r.diffuse.side;
         j["views"] = r.views;
+        j["light_range"] = {{"ratio", o.light_range.ratio},
+                            {"irradiance_min", range_irradiance_min(o.light_range)},
+                            {"irradiance_max", range_irradiance_max(o.light_range)},
+                            {"cone_degrees", o.light_range.cone_degrees},
+                            {"max_lights", o.light_range.max_lights},
+                            {"meshes", o.light_range.meshes}};
+        if (ok && r.winner >= 0) {
+            j["psnr_in_sample"] = r.candidates[size_t(r.winner)].psnr;
+            j["psnr_held_out"] = r.held_out_psnr;
+            Json held = Json::array();
+            for (size_t i = 0; i < r.held_out_views.size(); ++i)
+                held.push_back({{"name", r.held_out_views[i]},
+                                {"flags", r.held_out_flags[i]},
+                                {"psnr", r.held_out_psnr_views[i]},
+                                {"share_over_16", r.held_out_share16[i]}});
+            j["held_out"] = held;
+        }
         j["budgets"] = {{"max_error", o.max_error},
                         {"max_passes", o.max_passes},
                         {"max_bytes", o.max_bytes},
@@ -182,7 +201,18 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         std::fprintf(io.out, "cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", o.cap,
                      100.0 * r.capped_share);
     print_counts(r, io.out);
-    std::fprintf(io.out, "winner: %s\nwrote %s (%.1f s)\n", r.why.c_str(), args.out.c_str(), r.seconds);
+    std::fprintf(io.out, "winner: %s\n", r.why.c_str());
+    if (!r.held_out_views.empty()) {
+        // The headline: conditions the search never saw, drawn from the same light range.
+        const BakeCandidate& w = r.candidates[size_t(r.winner)];
+        const double worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
+        std::fprintf(io.out, "held-out: %.2f dB on %s (worst condition %.2f dB; in-sample %.2f dB) for lights %s\n",
+                     r.held_out_psnr, target_name(r.target), worst, w.psnr, describe_light_range(o.light_range).c_str());
+        for (size_t i = 0; i < r.held_out_views.size(); ++i)
+            std::fprintf(io.out, "  %-20s %6.2f dB, %.2f%% of pixels over 16 levels  (%s)\n", r.held_out_views[i].c_str(),
+                         r.held_out_psnr_views[i], 100.0 * r.held_out_share16[i], r.held_out_flags[i].c_str());
+    }
+    std::fprintf(io.out, "wrote %s (%.1f s)\n", args.out.c_str(), r.seconds);
     return kExitOk;
 }
 
@@ -213,8 +243,23 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--fit", a->fit, "radiance: factor f cos(theta_i) capped at the white level, diffuse apart "
                                     "(format 2); brdf: factor f (format 1)")
         ->check(CLI::IsMember({"radiance", "brdf"}))->capture_default_str();
-    app.add_option("--white", a->white, "the radiance fit's cap: auto (from the views), none, or f cos per steradian")
+    app.add_option("--white", a->white, "the radiance fit's cap: auto (from the light range's dimmest light), none, or "
+                                        "f cos per steradian")
         ->capture_default_str();
+    // The lighting the asset must hold under (light_range.h): ranked on training conditions
+    // drawn from it, reported on held-out ones; the white level follows from its dimmest light.
+    app.add_option("--light-range", o.light_range.ratio,
+                   "brightest : dimmest light the asset must hold under (1: only the brightest)")
+        ->check(finite_range(1, 1e6))->capture_default_str();
+    app.add_option("--light-max", o.light_range.irradiance_max,
+                   "the brightest light's irradiance at the object, I / d^2 (0: the default scene's, 3.12)")
+        ->check(finite_range(0, 1e6))->capture_default_str();
+    app.add_option("--light-cone", o.light_range.cone_degrees,
+                   "light directions within this many degrees of the scene's up (90: anywhere above the horizon)")
+        ->check(finite_range(1, 180))->capture_default_str();
+    app.add_option("--lights", o.light_range.max_lights, "lights at once")->check(CLI::Range(1, 8))->capture_default_str();
+    app.add_option("--meshes", o.light_range.meshes, "meshes the training conditions use (sphere, torus, wave)")
+        ->delimiter(',')->check(CLI::IsMember({"sphere", "torus", "wave"}))->capture_default_str();
     app.add_option("--diffuse-quantile", o.diffuse_quantile, "the quantile of f taken as the constant diffuse part")
         ->check(finite_range(0, 1))->capture_default_str();
     app.add_option("--judge-size", o.judge_size, "pixels per side of the judged images")

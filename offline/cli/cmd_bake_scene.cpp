@@ -13,6 +13,9 @@
 // white level from) instead of the default scene and its grazing twin, each a name and
 // scene flags as `sepal render` takes them:
 //   "views": [{"name": "hall", "flags": "--mesh torus --camera 0,-4,1.5 --light point:3,1,2:40"}]
+// "lights" (per material, or top-level for every material without one): the light range the
+// asset must hold under, as `sepal bake`'s --light-range etc.: {"ratio": 8, "irradiance_max":
+// 3.12, "cone": 90, "count": 2, "meshes": ["sphere", "torus"]}, each optional.
 // A relative measured-file spec is read relative to the scene file. Each material becomes
 // DIR/<name>.sepal; one whose asset already holds the same bake key (a checksum of the
 // canonical spec, the measured file's bytes, the options and the format version) is
@@ -93,13 +96,34 @@ std::string existing_key(const std::string& path) {
 
 }  // namespace
 
+bool scene_light_range(const JsonField& f, LightRange* out, std::string* err) {
+    if (!f.object.is_object()) return *err = f.where + ": expected an object {ratio, irradiance_max, cone, count, meshes}", false;
+    static const char* const kKnown[] = {"ratio", "irradiance_max", "cone", "count", "meshes"};
+    for (const auto& member : f.object.items()) {
+        bool known = false;
+        for (const char* k : kKnown) known = known || member.key() == k;
+        if (!known)
+            return *err = f.where + ": unknown key \"" + member.key() + "\" (known: ratio, irradiance_max, cone, count, meshes)",
+                   false;
+    }
+    LightRange& r = *out;
+    auto mesh_item = [](const Json& v, const std::string& where, std::string* m, std::string* e) {
+        if (!v.is_string()) return *e = where + ": expected a mesh name (sphere, torus, wave)", false;
+        *m = v.get<std::string>();
+        return true;
+    };
+    return json_number(f, "ratio", 1, 1e6, &r.ratio, err) && json_number(f, "irradiance_max", 0, 1e6, &r.irradiance_max, err) &&
+           json_number(f, "cone", 1, 180, &r.cone_degrees, err) && json_int(f, "count", 1, SEPAL_MAX_LIGHTS, &r.max_lights, err) &&
+           list<std::string>(f, "meshes", mesh_item, &r.meshes, err) && validate_light_range(r, err);
+}
+
 bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* err) {
     BakeOptions& o = *out;
     const Json& mat = f.object;
     std::string& perr = *err;
     static const char* const kKnown[] = {"name",       "spec",      "param", "map",  "method", "res",
                                          "terms",      "max_error", "max_passes", "max_bytes", "bits", "cap",
-                                         "target",     "white",     "min_psnr"};
+                                         "target",     "white",     "min_psnr", "lights"};
     bool ok = true;
     for (const auto& member : mat.items()) {
         bool known = false;
@@ -107,7 +131,7 @@ bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* e
         if (!known && ok) {
             ok = false;
             perr = f.where + ": unknown key \"" + member.key() + "\" (known: name, spec, param, map, method, "
-                   "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr)";
+                   "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr, lights)";
         }
     }
     int bits = 8;
@@ -132,6 +156,8 @@ bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* e
             ok = json_number(f, "white", 1e-12, 1e30, &o.white, &perr);
         }
     }
+    if (ok && mat.contains("lights") && !scene_light_range({mat["lights"], f.where + ".lights"}, &o.light_range, &perr))
+        ok = false;
     if (ok && bits != 8 && bits != 16) ok = false, perr = f.where + ".bits: " + std::to_string(bits) + " is not 8 or 16";
     o.bits = {bits};
     return ok;
@@ -244,6 +270,10 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         BakeOptions o;
         o.threads = int(threads);
         o.views = views;
+        if (scene.contains("lights") && !scene_light_range({scene["lights"], scene_path + ": lights"}, &o.light_range, &perr)) {
+            material_fail(perr);
+            continue;
+        }
         const bool ok = scene_material_options(f, &o, &perr);
         if (!ok) {
             material_fail(perr);
@@ -266,7 +296,11 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|mips %d|", o.max_error, o.max_passes,
                       (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr,
                       int(o.mips));
-        desc += tail + views_key;
+        char range[160];
+        std::snprintf(range, sizeof range, "|lights %.9g %.9g %.9g %d|", o.light_range.ratio, o.light_range.irradiance_max,
+                      o.light_range.cone_degrees, o.light_range.max_lights);
+        desc += tail + views_key + range;
+        for (const std::string& m : o.light_range.meshes) desc += m + ",";
         uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
         crc = sepal_crc32(crc, measured.data(), measured.size());
         char key[16];

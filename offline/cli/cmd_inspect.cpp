@@ -1,10 +1,12 @@
 // sepal inspect FILE.sepal: validate an asset with the runtime's own reader and print it.
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "util/io.h"
+#include "util/json.h"
 #include "sepal/sepal_format.h"
 
 namespace sepal {
@@ -43,6 +45,46 @@ int run_inspect(const std::string& path, const CommandIO& io) {
     if (m.flags & SEPAL_MATERIAL_RECIPROCAL)
         std::fprintf(io.out, "reciprocal  each term is G(x) H(y) G(x~), x~ from the swapped pair (homomorphic: "
                              "p(wo) q(h) p(wi))\n");
+    // The lighting it holds under (2.3's light range; an older asset's white level from its META).
+    const bool ranged = a->header.version_major > 2 ||
+                        (a->header.version_major == 2 && a->header.version_minor >= SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE);
+    if (m.white_level > 0 || m.irradiance_min > 0 || m.max_lights > 0) {
+        char white[64] = "no white level (nothing capped)";
+        if (m.white_level > 0) std::snprintf(white, sizeof white, "white level %.4g/sr", double(m.white_level));
+        if (ranged)
+            std::fprintf(io.out, "lights      holds for irradiance %.4g..%.4g at the object (%.3g:1), cone %g deg, up to %u "
+                                 "light%s; %s\n",
+                         double(m.irradiance_min), double(m.irradiance_max),
+                         m.irradiance_min > 0 ? double(m.irradiance_max / m.irradiance_min) : 0.0, double(m.cone_degrees),
+                         m.max_lights, m.max_lights == 1 ? "" : "s", white);
+        else
+            std::fprintf(io.out, "lights      %s (from META, format %u.%u: no light range); dimmer than irradiance %.4g "
+                                 "at the object shows the cap grey\n",
+                         white, a->header.version_major, a->header.version_minor, double(m.irradiance_min));
+    } else if (m.flags & SEPAL_MATERIAL_RADIANCE)
+        std::fprintf(io.out, "lights      no light range or white level recorded\n");
+    // The image figures the bake measured: held out first (conditions the search never saw).
+    if (a->meta) {
+        Json meta;
+        std::string jerr;
+        if (parse_json(std::string(a->meta, a->meta_bytes), "META", &meta, &jerr) && meta.is_object() &&
+            meta.contains("fit") && meta["fit"].is_object()) {
+            const Json& fit = meta["fit"];
+            const double in = fit.contains("psnr") && fit["psnr"].is_number() ? fit["psnr"].get<double>() : -1;
+            const std::string target = fit.contains("target") && fit["target"].is_string() ? fit["target"].get<std::string>() : "?";
+            double held = -1, worst = -1;
+            if (fit.contains("held_out_psnr") && fit["held_out_psnr"].is_string())
+                held = std::strtod(fit["held_out_psnr"].get<std::string>().c_str(), nullptr);
+            if (fit.contains("held_out_worst") && fit["held_out_worst"].is_string())
+                worst = std::strtod(fit["held_out_worst"].get<std::string>().c_str(), nullptr);
+            if (held >= 0)
+                std::fprintf(io.out, "image       held-out %.2f dB on %s (worst condition %.2f dB), in-sample %.2f dB\n",
+                             held, target.c_str(), worst, in);
+            else if (in >= 0)
+                std::fprintf(io.out, "image       in-sample %.2f dB on %s (the views the bake chose on; no held-out figure)\n",
+                             in, target.c_str());
+        }
+    }
     // Direction-space figures (RMS over direction pairs) are diagnostics: what a viewer sees is the
     // image error, which `sepal render` + `sepal diff` (or the bake's candidate table) measure.
     std::fprintf(io.out,
@@ -73,7 +115,7 @@ int run_inspect(const std::string& path, const CommandIO& io) {
         std::fprintf(io.out, "  colour %.5g %.5g %.5g\n", double(p.color[0]), double(p.color[1]), double(p.color[2]));
     }
     // The bake writes a few hundred bytes of provenance; another writer's long META is only counted.
-    if (a->meta && a->meta_bytes <= 512) {
+    if (a->meta && a->meta_bytes <= 1024) {
         std::string text(a->meta, a->meta_bytes);
         for (char& ch : text)
             if (ch < 0x20 || ch > 0x7e) ch = '?';  // a corrupt asset's bytes never reach the terminal raw

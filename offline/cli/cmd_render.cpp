@@ -188,6 +188,8 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         }
         std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
                      backend.c_str(), setup.width, setup.height, stats.doublings);
+        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
+        if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
         std::fprintf(io.out, "png        %s\n", out_path.c_str());
         return kExitOk;
     }
@@ -215,10 +217,14 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         if (backend == "cpu") {
             std::vector<float> rgb;
             double ms = 0;
-            if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, opt.diffuse, &rgb, &ms, &err)) {
+            sepal_draw_stats stats = {};
+            if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, opt.diffuse, &rgb, &ms, &err,
+                                               &stats)) {
                 std::fprintf(io.err, "sepal render: %s\n", err.c_str());
                 return kExitBadInput;
             }
+            const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
+            if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
             Image img(setup.width, setup.height, 3);
             img.data = rgb;
             int64_t clipped = 0;
@@ -257,6 +263,8 @@ int run_render(RenderArgs& args, const CommandIO& io) {
                      info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
                      info.stats.copies, info.stats.doublings);
         std::fprintf(io.out, "png        %s\n", out_path.c_str());
+        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, args.input);
+        if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
         return kExitOk;
     }
     if (backend != "exact") {

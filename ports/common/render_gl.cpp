@@ -23,6 +23,7 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
 
 std::vector<DrawCounter> draw_counters(const sepal_draw_stats& s) {
     return {{"below_horizon", s.below_horizon},
+            {"dim_lights", s.dim_lights},
             {"fallback_tangents", s.fallback_tangents},
             {"bad_vertices", s.bad_vertices},
             {"skipped_triangles", s.skipped_triangles},
@@ -46,6 +47,21 @@ std::string describe_counters(const sepal_draw_stats& s) {
         out += "; " + std::to_string(s.below_horizon) +
                " vertex-light pairs below the horizon (shaded 0, as a lit sphere's dark side is)";
     return out;
+}
+
+std::string light_range_warning(const void* bytes, size_t size, const sepal_draw_stats& s, const std::string& name) {
+    if (s.dim_lights <= 0) return "";
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) return "";
+    const sepal_fmt_material& m = asset->material;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "warning: %d light%s dimmer than %s was baked for (irradiance at the object %.3g..%.3g, white "
+                  "level %.3g/sr): highlights may show a flat grey plateau; bake with a wider --light-range",
+                  s.dim_lights, s.dim_lights == 1 ? " is" : "s are", name.c_str(), (double)m.irradiance_min,
+                  (double)m.irradiance_max, (double)m.white_level);
+    return buf;
 }
 
 namespace {

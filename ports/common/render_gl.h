@@ -95,6 +95,9 @@ bool read_asset_file(const std::string& path, std::vector<uint8_t>* bytes, std::
 // (shaded 0, as a lit sphere's dark side is)"): what sepal-view prints so that nothing the
 // runtime did is silent, without a correct frame reading like a failed one.
 std::string describe_counters(const sepal_draw_stats& s);
+// One line naming the asset's light range when the frame drew lights dimmer than it was
+// baked for (stats.dim_lights > 0), else "": what `sepal render` and sepal-view print.
+std::string light_range_warning(const void* bytes, size_t size, const sepal_draw_stats& s, const std::string& name);
 // Those counters by name, every one (zero or not), in one order: for messages and reports.
 struct DrawCounter {
     const char* name;

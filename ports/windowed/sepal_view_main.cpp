@@ -161,6 +161,8 @@ int main(int argc, char** argv) {
             sepal_ports::rgb_to_rgba8(rgb.data(), size_t(width) * height, rgba.data());
             fprintf(stderr, "sepal-view: cpu backend, %.1f ms; counters: %s\n", ms,
                     sepal_ports::describe_counters(stats).c_str());
+            const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, asset_path);
+            if (!dim.empty()) fprintf(stderr, "sepal-view: %s\n", dim.c_str());
             if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
                 fprintf(stderr, "sepal-view: could not write %s\n", out);
                 return 1;
@@ -181,6 +183,8 @@ int main(int argc, char** argv) {
                 info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
                 info.stats.fullscreen_passes, info.stats.copies, info.ms,
                 sepal_ports::describe_counters(info.stats).c_str());
+        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, asset_path);
+        if (!dim.empty()) fprintf(stderr, "sepal-view: %s\n", dim.c_str());
         if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
             fprintf(stderr, "sepal-view: could not write %s\n", out);
             return 1;

@@ -1,13 +1,15 @@
 // .sepal asset parsing and validation (see sepal_format.h). Zero-copy, no allocation.
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
 #include "sepal/sepal_format.h"
+#include "sepal/sepal_scene.h"
 
 static_assert(sizeof(sepal_fmt_header) == 64, "header layout");
 static_assert(sizeof(sepal_fmt_chunk) == 24, "chunk layout");
-static_assert(sizeof(sepal_fmt_material) == 64, "material layout");
+static_assert(sizeof(sepal_fmt_material) == 96, "material layout");
 static_assert(sizeof(sepal_fmt_texture) == 72, "texture layout");
 static_assert(sizeof(sepal_fmt_plan) == 32, "plan layout");
 static_assert(sizeof(sepal_fmt_pass) == 24, "pass layout");
@@ -143,6 +145,30 @@ extern "C" uint32_t sepal_crc32(uint32_t crc, const void* data, size_t size) {
     return ~crc;
 }
 
+namespace {
+// An asset written before the light range (2.3) says its white level only in its META
+// ("white_level": W, the bake's cap): read it, and take 1/W as the dimmest light it holds for
+// (below it the cap no longer shows white). No allocation: a bounded copy for strtod.
+void meta_white_level(const char* meta, uint32_t bytes, sepal_fmt_material* m) {
+    static const char key[] = "\"white_level\":";
+    const size_t k = sizeof key - 1;
+    for (uint32_t i = 0; meta && i + k < bytes; ++i) {
+        if (memcmp(meta + i, key, k) != 0) continue;
+        char num[40] = {0};
+        size_t n = 0;
+        for (uint32_t j = i + (uint32_t)k; j < bytes && n + 1 < sizeof num && meta[j] != ',' && meta[j] != '}'; ++j)
+            num[n++] = meta[j];
+        char* end = nullptr;
+        const double w = strtod(num, &end);
+        if (end != num && w > 0.0 && w <= SEPAL_FMT_MAX_FACTOR && 1.0 / w <= SEPAL_FMT_MAX_FACTOR) {
+            m->white_level = (float)w;
+            m->irradiance_min = m->irradiance_max = (float)(1.0 / w);
+        }
+        return;
+    }
+}
+}  // namespace
+
 extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
                                       sepal_error* err) {
     const uint16_t probe = 1;
@@ -205,11 +231,15 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: chunk %u ('%s') checksum mismatch",
                              i, tag_name(c.tag, name));
         if (c.tag == SEPAL_FMT_TAG_MATERIAL) {
-            if (have_material || c.size != sizeof(sepal_fmt_material))
+            // 96 bytes from 2.3 (the light range), 64 before.
+            const bool ranged = h.version_major > 2 ||
+                                (h.version_major == 2 && h.version_minor >= SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE);
+            const size_t expected = ranged ? sizeof(sepal_fmt_material) : SEPAL_FMT_MATERIAL_BYTES_V2;
+            if (have_material || c.size != expected)
                 return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: MATL chunk duplicated or of size %llu (expected %zu)",
-                                 (unsigned long long)c.size, sizeof(sepal_fmt_material));
-            memcpy(&out->material, p, sizeof out->material);
+                                 "asset: MATL chunk duplicated or of size %llu (expected %zu in version %u.%u)",
+                                 (unsigned long long)c.size, expected, h.version_major, h.version_minor);
+            memcpy(&out->material, p, expected);
             have_material = true;
         } else if (c.tag == SEPAL_FMT_TAG_TEXTURE) {
             if (out->texture_count >= SEPAL_FMT_MAX_TEXTURES)
@@ -257,7 +287,23 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (!have_material || !have_plan || out->texture_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: missing %s chunk",
                          !have_material ? "MATL" : !have_plan ? "PLAN" : "TEXR");
-    const sepal_fmt_material& m = out->material;
+    sepal_fmt_material& m = out->material;
+    {
+        const float range[4] = {m.white_level, m.irradiance_min, m.irradiance_max, m.cone_degrees};
+        for (float v : range)
+            if (!(v >= 0.0f && v <= SEPAL_FMT_MAX_FACTOR))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: light range value %g (white level, irradiances, cone) outside 0..%g",
+                                 (double)v, (double)SEPAL_FMT_MAX_FACTOR);
+        if (m.irradiance_min > m.irradiance_max || m.cone_degrees > 180.0f || m.max_lights > SEPAL_MAX_LIGHTS ||
+            !all_zero(m.reserved1, sizeof m.reserved1))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: light range irradiance %g..%g, cone %g degrees (0..180), %u lights (0..%d) "
+                             "or reserved words not 0",
+                             (double)m.irradiance_min, (double)m.irradiance_max, (double)m.cone_degrees,
+                             m.max_lights, SEPAL_MAX_LIGHTS);
+        if (m.white_level == 0.0f && m.irradiance_min == 0.0f) meta_white_level(out->meta, out->meta_bytes, &m);
+    }
     if (m.param >= SEPAL_PARAM_COUNT || m.map >= SEPAL_MAP_COUNT || m.color_mode >= SEPAL_COLOR_COUNT)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: unknown parameterization %u, map %u or colour mode %u", m.param,

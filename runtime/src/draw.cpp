@@ -35,6 +35,7 @@ sepal_result prepare_frame(const sepal_draw_desc* d, const float modelview[16], 
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: index %d is %u; the mesh has %d vertices",
                          tri.bad_index, d->mesh->indices[tri.bad_index], d->mesh->vertex_count);
     stats->below_horizon = prep.vertices.below_horizon;
+    stats->dim_lights = dim_lights(m->info, *d->mesh, *d->scene);
     stats->fallback_tangents = prep.vertices.fallback_tangents;
     stats->bad_vertices = prep.vertices.bad_vertices;
     stats->skipped_triangles = tri.skipped;

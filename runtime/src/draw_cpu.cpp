@@ -220,6 +220,7 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float*
         out.draw_calls = 1;
         out.exposure = 1.0f;
         out.below_horizon = s.st.below_horizon;
+        out.dim_lights = srt::dim_lights(d->asset->material, *d->mesh, *d->scene);
         out.param_fallbacks = s.st.param_fallbacks;
         out.negative_clamped = s.st.negative_clamped;
         out.nonfinite_clamped = s.st.nonfinite_clamped;

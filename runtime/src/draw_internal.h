@@ -60,6 +60,9 @@ void gles2_background(const sepal_material* m, const float rgb[3], sepal_draw_st
 // sepal_draw of a float-target material: the float frame shown in the framebuffer bound at
 // begin (saved), width x height.
 void gles2_show_float(const sepal_material* m, const void* saved, int width, int height, sepal_draw_stats* stats);
+// Lights of the scene whose irradiance at the centre of the mesh's bounds (dimmest lit
+// channel) is above 0 and below the material's declared irradiance_min (0 when it declares none).
+int dim_lights(const sepal_fmt_material& m, const sepal_mesh& mesh, const sepal_scene& scene);
 // The order passes are drawn in (the plan's; staged: by falling exposure shift, stable).
 void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order);
 

@@ -11,9 +11,20 @@
 // render (8-bit, as displayed), plan passes, the frame's doublings, asset bytes, the colour
 // mode --colour auto chose, the winner; and the same bake within 8 KB (--max-bytes 8192,
 // the size goal): its GL ES 1.1 PSNR and winner, or "none fits".
+// The headline is held out: each bake ranks its candidates on training conditions drawn from
+// its declared light range (light_range.h) and is judged here on the held-out ones (other
+// directions and intensities, the torus, two lights), each drawn by llvmpipe on GL ES 1.1 at
+// 512x512 against the exact render: PSNR and the share of pixels more than 16 levels off per
+// condition; the in-sample figure (the training views, the bake's own) beside it.
 // Writes DIR/fidelity.json and DIR/fidelity.md (the README's table, generated). The machine's
 // load average is recorded next to the times: they are wall-clock seconds of one bake with
 // all cores, comparable only on a quiet machine.
+// With --ranges, the light range's trade instead: every material baked for 1:1, 2:1, 4:1, 8:1,
+// 16:1 and --white none (8:1 conditions): bytes, passes, doublings, bake seconds, the held-out
+// PSNR on its own range's conditions and on the 16:1 range's (GL ES 1.1 emulated at the bake's
+// judge size, 128x128): DIR/light-range.json, .md and .png.
+#include <algorithm>
+#include <sys/resource.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +44,7 @@
 #include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
+#include "util/plot.h"
 
 namespace {
 
@@ -96,14 +108,177 @@ bool scene_of(const std::vector<std::string>& flags, sepal_ports::SceneSetup* s,
     return sepal_ports::load_scene_mesh(s, err);
 }
 
+// Processor seconds of this process so far (user + system): a bake's cost that a loaded
+// machine does not inflate the way it does wall-clock seconds.
+double cpu_seconds() {
+    rusage u = {};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The light range's trade (--ranges): see the top.
+int ranges_main(const std::string& only, int threads, const std::string& out) {
+    struct Range {
+        const char* name;
+        double ratio;
+        bool white_none;
+    };
+    const Range ranges[] = {{"1:1", 1, false}, {"2:1", 2, false}, {"4:1", 4, false},
+                            {"8:1", 8, false}, {"16:1", 16, false}, {"none", 8, true}};
+    const int kRanges = int(sizeof ranges / sizeof ranges[0]);
+    sepal::LightRange widest;
+    widest.ratio = 16;
+    std::vector<sepal::BakeView> wide_views;
+    std::string err;
+    if (!sepal::condition_views(sepal::held_out_conditions(widest), &wide_views, &err)) {
+        std::fprintf(stderr, "bench: %s\n", err.c_str());
+        return 1;
+    }
+    JsonBuilder j;
+    j.begin_object().key("held_out_16").value("the 16:1 range's held-out conditions, gles1 emulated, 128x128");
+    j.key("load_average_start").value(load_average()).key("rows").begin_array();
+    std::string md = "| material | range | bytes | passes | doublings | bake s (cpu s) | held-out dB (own range) | held-out dB (16:1) | "
+                     "worst 16:1 condition dB | in-sample dB |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    // Per range: every material's held-out (16:1) PSNR and bytes, for the summary and plot.
+    std::vector<std::vector<double>> held16(kRanges), worst16(kRanges), bytes_of(kRanges), secs(kRanges), cpus(kRanges),
+        passes(kRanges), dbl(kRanges), own(kRanges);
+    int failures = 0;
+    std::printf("%-22s %5s %8s %6s %4s %7s %8s %8s %8s %8s\n", "material", "range", "bytes", "passes", "dbl", "bake s",
+                "own", "16:1", "worst", "in");
+    for (const Material& m : materials()) {
+        if (!only.empty() && ("," + only + ",").find("," + std::string(m.name) + ",") == std::string::npos) continue;
+        std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(m.spec, &err);
+        sepal::ImageJudge judge16;
+        if (!f || !judge16.init(*f, wide_views, 128, threads, &err)) {
+            std::fprintf(stderr, "bench: %s: %s\n", m.name, err.c_str());
+            ++failures;
+            continue;
+        }
+        for (int ri = 0; ri < kRanges; ++ri) {
+            const Range& rg = ranges[ri];
+            sepal::BakeOptions o;
+            o.threads = threads;
+            o.light_range.ratio = rg.ratio;
+            if (rg.white_none) o.white = -1;
+            sepal::BakeResult r;
+            std::vector<uint8_t> bytes;
+            double seconds = 0, cpu = 0;
+            bool baked = false;
+            {
+                BenchQuiet quiet;
+                const auto t0 = std::chrono::steady_clock::now();
+                const double c0 = cpu_seconds();
+                baked = sepal::bake(*f, o, &r, &err);
+                seconds = seconds_since(t0);
+                cpu = cpu_seconds() - c0;
+            }
+            sepal::ImageScore s16;
+            if (!baked || !sepal::encode_asset(r.asset, &bytes, &err) || !judge16.score(bytes, o.target, &s16, &err)) {
+                std::fprintf(stderr, "bench: %s %s: %s\n", m.name, rg.name, err.c_str());
+                ++failures;
+                continue;
+            }
+            const sepal::BakeCandidate& w = r.candidates[size_t(r.winner)];
+            const double worst = *std::min_element(s16.per_view.begin(), s16.per_view.end());
+            std::printf("%-22s %5s %8zu %6d %4d %7.1f %8.2f %8.2f %8.2f %8.2f\n", m.name, rg.name, bytes.size(), w.passes,
+                        w.doublings, seconds, r.held_out_psnr, s16.psnr, worst, w.psnr);
+            std::fflush(stdout);
+            held16[size_t(ri)].push_back(s16.psnr);
+            worst16[size_t(ri)].push_back(worst);
+            bytes_of[size_t(ri)].push_back(double(bytes.size()));
+            secs[size_t(ri)].push_back(seconds);
+            cpus[size_t(ri)].push_back(cpu);
+            passes[size_t(ri)].push_back(w.passes);
+            dbl[size_t(ri)].push_back(w.doublings);
+            own[size_t(ri)].push_back(r.held_out_psnr);
+            j.begin_object().key("material").value(m.name).key("range").value(rg.name).key("ratio").value(rg.ratio);
+            j.key("white_level").value(r.white).key("bytes").value(int64_t(bytes.size())).key("passes").value(w.passes);
+            j.key("doublings").value(w.doublings).key("bake_seconds").value(seconds).key("bake_cpu_seconds").value(cpu);
+            j.key("winner").value(w.label());
+            j.key("psnr_held_out").value(r.held_out_psnr).key("psnr_held_out_16").value(s16.psnr);
+            j.key("psnr_held_out_16_worst").value(worst).key("psnr_in_sample").value(w.psnr).end_object();
+            char row[400];
+            std::snprintf(row, sizeof row, "| %s | %s | %zu | %d | %d | %.1f (%.1f) | %.1f | %.1f | %.1f | %.1f |\n", m.name,
+                          rg.name, bytes.size(), w.passes, w.doublings, seconds, cpu, r.held_out_psnr, s16.psnr, worst, w.psnr);
+            md += row;
+        }
+    }
+    j.end_array();
+    // The summary over materials: medians, and the worst material where it decides.
+    auto median = [](std::vector<double> v) {
+        if (v.empty()) return -1.0;
+        std::sort(v.begin(), v.end());
+        return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    };
+    auto lowest = [](const std::vector<double>& v) { return v.empty() ? -1.0 : *std::min_element(v.begin(), v.end()); };
+    auto highest = [](const std::vector<double>& v) { return v.empty() ? -1.0 : *std::max_element(v.begin(), v.end()); };
+    std::string summary = "| range | median bytes | median passes | median doublings | median / max bake s | max bake cpu s | "
+                          "held-out dB, own range (median / lowest) | held-out dB on 16:1 conditions (median / lowest) |\n"
+                          "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    j.key("summary").begin_array();
+    sepal::PlotPanel held_panel, bytes_panel;
+    held_panel.title = "held-out PSNR, 16:1 conditions";
+    held_panel.x_label = "declared range (log2 of brightest:dimmest; 'none' drawn at 5)";
+    held_panel.y_label = "dB, gles1";
+    held_panel.log_y = false;
+    bytes_panel.title = "asset bytes";
+    bytes_panel.x_label = held_panel.x_label;
+    bytes_panel.y_label = "bytes";
+    sepal::PlotSeries med{"median", {}, {}, sepal::plot_colour(0)}, low{"lowest material", {}, {}, sepal::plot_colour(1)},
+        own_med{"median, own range", {}, {}, sepal::plot_colour(2)}, by{"median", {}, {}, sepal::plot_colour(0)},
+        bmax{"largest", {}, {}, sepal::plot_colour(1)};
+    for (int ri = 0; ri < kRanges; ++ri) {
+        const size_t i = size_t(ri);
+        char row[400];
+        std::snprintf(row, sizeof row, "| %s | %.0f | %.0f | %.0f | %.1f / %.1f | %.1f | %.1f / %.1f | %.1f / %.1f |\n",
+                      ranges[ri].name, median(bytes_of[i]), median(passes[i]), median(dbl[i]), median(secs[i]),
+                      highest(secs[i]), highest(cpus[i]), median(own[i]), lowest(own[i]), median(held16[i]), lowest(held16[i]));
+        summary += row;
+        j.begin_object().key("range").value(ranges[ri].name).key("median_bytes").value(median(bytes_of[i]));
+        j.key("median_passes").value(median(passes[i])).key("median_doublings").value(median(dbl[i]));
+        j.key("median_bake_seconds").value(median(secs[i])).key("max_bake_seconds").value(highest(secs[i]));
+        j.key("max_bake_cpu_seconds").value(highest(cpus[i]));
+        j.key("median_held_out").value(median(own[i])).key("lowest_held_out").value(lowest(own[i]));
+        j.key("median_held_out_16").value(median(held16[i])).key("lowest_held_out_16").value(lowest(held16[i])).end_object();
+        const double x = ranges[ri].white_none ? 5.0 : std::log2(ranges[ri].ratio);
+        if (held16[i].empty()) continue;
+        med.x.push_back(x), med.y.push_back(median(held16[i]));
+        low.x.push_back(x), low.y.push_back(lowest(held16[i]));
+        own_med.x.push_back(x), own_med.y.push_back(median(own[i]));
+        by.x.push_back(x), by.y.push_back(median(bytes_of[i]));
+        bmax.x.push_back(x), bmax.y.push_back(highest(bytes_of[i]));
+    }
+    j.end_array().key("load_average_end").value(load_average()).end_object();
+    held_panel.series = {med, low, own_med};
+    bytes_panel.series = {by, bmax};
+    const std::string json = j.str();
+    md = summary + "\n" + md;
+    if (!sepal::write_file_atomic(out + "/light-range.json", json.data(), json.size(), &err) ||
+        !sepal::write_file_atomic(out + "/light-range.md", md.data(), md.size(), &err) ||
+        !sepal::write_plot(out + "/light-range.png", {held_panel, bytes_panel}, 2, 480, 360, &err)) {
+        std::fprintf(stderr, "bench: %s\n", err.c_str());
+        return 1;
+    }
+    std::printf("%s", summary.c_str());
+    std::printf("wrote %s/light-range.json, .md and .png\n", out.c_str());
+    return failures ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     BenchCli cli("sepal-bench-fidelity",
                  "The default bake of the README's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
                  "bytes, bake seconds; writes OUT/fidelity.json and OUT/fidelity.md");
-    cli.add_only_and_threads("one material label");
+    cli.add_only_and_threads("one material label (with --ranges: a comma-separated list)");
+    bool ranges = false;
+    cli.app.add_flag("--ranges", ranges, "the light range's trade instead (light-range.json, .md, .png)");
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
+    if (ranges) return ranges_main(cli.only, cli.threads, cli.out);
     const std::string& only = cli.only;
     const int threads = cli.threads;
     const std::string& out = cli.out;
@@ -118,13 +293,32 @@ int main(int argc, char** argv) {
     j.key("grazing").value("the same sphere and camera, --light point:3.83,1.91,0.96:60");
     j.key("reference").value("exact render, 4x4 samples per pixel (coverage at the pixel centre)");
     j.key("load_average_start").value(load_average());
+    // The held-out conditions of the default range, as scenes (the same for every material).
+    const std::vector<sepal::LightCondition> held = sepal::held_out_conditions(sepal::LightRange{});
+    std::vector<sepal_ports::SceneSetup> held_scenes(held.size());
+    j.key("held_out").begin_array();
+    for (size_t i = 0; i < held.size(); ++i) {
+        j.begin_object().key("name").value(held[i].name).key("flags").value(held[i].flags()).end_object();
+        sepal_ports::SceneSetup& s = held_scenes[i];
+        s.mesh_name = held[i].mesh;
+        s.scene.light_count = int(held[i].lights.size());
+        for (size_t l = 0; l < held[i].lights.size(); ++l) s.scene.lights[l] = held[i].lights[l];
+        if (!sepal_ports::load_scene_mesh(&s, &err)) {
+            std::fprintf(stderr, "bench: %s\n", err.c_str());
+            return 1;
+        }
+    }
+    j.end_array();
     j.key("rows").begin_array();
     std::string md =
-        "| material | gles1 dB | gles2 dB | cpu dB | gles1 grazing dB | exact 1x1 dB | passes | doublings | bytes | colour | bake s "
+        "| material | held-out gles1 dB | worst held-out dB | max share > 16 levels | in-sample dB | gles1 dB | gles2 dB | "
+        "cpu dB | gles1 grazing dB | exact 1x1 dB | passes | doublings | bytes | colour | bake s (cpu s) "
         "| winner | 8 KB gles1 dB | 8 KB winner |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---|\n";
-    std::printf("%-22s %8s %8s %8s %8s %8s %6s %4s %8s %7s %8s %9s  %s\n", "material", "gles1", "gles2", "cpu", "grazing",
-                "exact1", "passes", "dbl", "bytes", "bake s", "8KB", "colour", "winner | 8 KB winner");
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---|\n";
+    std::printf("%-22s %8s %8s %7s %8s %8s %8s %8s %8s %8s %6s %4s %8s %7s %8s %9s  %s\n", "material", "held", "worst",
+                "%>16", "in", "gles1", "gles2", "cpu", "grazing", "exact1", "passes", "dbl", "bytes", "bake s", "8KB", "colour",
+                "winner | 8 KB winner");
+
     int failures = 0;
     for (const Material& m : materials()) {
         if (!only.empty() && only != m.name) continue;
@@ -137,14 +331,16 @@ int main(int argc, char** argv) {
         sepal::BakeOptions o;  // the defaults: what `sepal bake SPEC` does
         o.threads = threads;
         sepal::BakeResult r;
-        double load = 0, seconds = 0;
+        double load = 0, seconds = 0, cpu_s = 0;
         bool baked = false;
         {
             BenchQuiet quiet;  // the bake seconds are a README figure: the other lane waits
             load = load_average();
             const auto t0 = std::chrono::steady_clock::now();
+            const double c0 = cpu_seconds();
             baked = sepal::bake(*f, o, &r, &err);
             seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            cpu_s = cpu_seconds() - c0;
         }
         std::vector<uint8_t> bytes;
         if (!baked || !sepal::encode_asset(r.asset, &bytes, &err)) {
@@ -186,6 +382,34 @@ int main(int argc, char** argv) {
         if (sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), def, nullptr, &cpu.data, nullptr, &err))
             pc = sepal::diff_images(exact, clamp8(cpu), 0).psnr;
         const sepal::BakeCandidate& w = r.candidates[size_t(r.winner)];
+        // Held out: each condition on gles1 (llvmpipe) against the exact render.
+        std::vector<double> held_psnr, held_share;
+        double held_mse = 0;
+        for (size_t i = 0; i < held.size(); ++i) {
+            const sepal_ports::SceneSetup& s = held_scenes[i];
+            sepal::Image ex;
+            double p = -1, share = 1;
+            if (sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &ex, nullptr, &err, false, S)) {
+                ex = clamp8(ex);
+                sepal_ports::GlRenderOptions opt;
+                sepal_ports::parse_gl_backend("gles1", &opt);
+                std::vector<uint8_t> rgba;
+                sepal_ports::GlRenderInfo info;
+                if (sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, &err)) {
+                    const sepal::ImageDiff d = sepal::diff_images(
+                        ex, sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height)), 16);
+                    p = d.psnr, share = d.share_over;
+                    held_mse += d.mse;
+                }
+            }
+            if (p < 0) ++failures;
+            held_psnr.push_back(p);
+            held_share.push_back(share);
+        }
+        held_mse /= double(std::max<size_t>(1, held.size()));
+        const double ph = held_mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / held_mse) : 99.0;
+        const double worst = held_psnr.empty() ? -1 : *std::min_element(held_psnr.begin(), held_psnr.end());
+        const double worst_share = held_share.empty() ? 1 : *std::max_element(held_share.begin(), held_share.end());
         // The same bake within 8 KB (the size goal): the best image that fits, or none.
         sepal::BakeOptions small = o;
         small.max_bytes = kSmallBytes;
@@ -198,14 +422,25 @@ int main(int argc, char** argv) {
             small_label = rs.candidates[size_t(rs.winner)].label();
         }
         const char* colour = sepal::colour_name(r.colour);
-        std::printf("%-22s %8.2f %8.2f %8.2f %8.2f %8.2f %6d %4d %8zu %7.1f %8.2f %9s  %s | %s\n", m.name, p1, p2, pc, pg,
-                    pe, w.passes, doublings, bytes.size(), seconds, p8, colour, w.label().c_str(), small_label.c_str());
+        std::printf("%-22s %8.2f %8.2f %6.2f%% %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %6d %4d %8zu %7.1f %8.2f %9s  %s | %s\n",
+                    m.name, ph, worst, 100.0 * worst_share, w.psnr, p1, p2, pc, pg, pe, w.passes, doublings, bytes.size(),
+                    seconds, p8, colour, w.label().c_str(), small_label.c_str());
         std::fflush(stdout);
         j.begin_object().key("material").value(m.name).key("spec").value(f->spec()).key("issue_table").value(m.issue_table);
         j.key("psnr_gles1").value(p1).key("psnr_gles2").value(p2).key("psnr_cpu").value(pc);
         j.key("psnr_gles1_grazing").value(pg).key("psnr_exact_point").value(pe).key("psnr_judged").value(w.psnr);
+        j.key("psnr_in_sample").value(w.psnr).key("psnr_held_out").value(ph).key("psnr_held_out_worst").value(worst);
+        j.key("psnr_held_out_bake").value(r.held_out_psnr).key("held_out").begin_array();
+        for (size_t i = 0; i < held.size(); ++i)
+            j.begin_object().key("name").value(held[i].name).key("psnr_gles1").value(held_psnr[i])
+                .key("share_over_16").value(held_share[i]).key("psnr_bake").value(r.held_out_psnr_views[i]).end_object();
+        j.end_array().key("in_sample").begin_array();
+        for (size_t i = 0; i < r.views.size(); ++i)
+            j.begin_object().key("name").value(r.views[i]).key("psnr_bake").value(w.psnr_views[i]).end_object();
+        j.end_array();
         j.key("passes").value(w.passes).key("doublings").value(doublings).key("bytes").value(int64_t(bytes.size()));
-        j.key("bake_seconds").value(seconds).key("load_average").value(load).key("winner").value(w.label());
+        j.key("bake_seconds").value(seconds).key("bake_cpu_seconds").value(cpu_s).key("load_average").value(load);
+        j.key("winner").value(w.label());
         j.key("white_level").value(r.white).key("diffuse_profile").value(r.diffuse.side > 0);
         j.key("colour").value(colour).key("colour_residual").value(r.colour_residual);
         j.key("small_max_bytes").value(int64_t(kSmallBytes)).key("small_psnr_gles1").value(p8);
@@ -213,9 +448,10 @@ int main(int argc, char** argv) {
         char small_db[32] = "-";
         if (p8 >= 0) std::snprintf(small_db, sizeof small_db, "%.1f", p8);
         char row[640];
-        std::snprintf(row, sizeof row, "| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s | %s | %.1f | %s | %s | %s |\n",
-                      m.name, p1, p2, pc, pg, pe, w.passes, doublings, std::to_string(bytes.size()).c_str(), colour,
-                      seconds, w.label().c_str(), small_db, small_label.c_str());
+        std::snprintf(row, sizeof row,
+                      "| %s | %.1f | %.1f | %.2f%% | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s | %s | %.1f (%.1f) | %s | %s | %s |\n",
+                      m.name, ph, worst, 100.0 * worst_share, w.psnr, p1, p2, pc, pg, pe, w.passes, doublings,
+                      std::to_string(bytes.size()).c_str(), colour, seconds, cpu_s, w.label().c_str(), small_db, small_label.c_str());
         md += row;
     }
     j.end_array().key("load_average_end").value(load_average()).end_object();

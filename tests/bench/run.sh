@@ -62,6 +62,7 @@ lane_b() {
     bench ist         "$bin/sepal-bench-ist" --out "$out"
     bench sampling    "$bin/sepal-bench-sampling" all --out "$out"
     bench database    "$bin/sepal-bench-database" --out "$out"
+    bench light-range "$bin/sepal-bench-fidelity" --ranges --out "$out"
 }
 # A finished lane leaves the list (in place, under the lock: a reused process-group id must
 # never be stopped), and resumes the others.

@@ -166,6 +166,10 @@ TEST_CASE("bake: every candidate the default search can pick renders on gles1 wi
         REQUIRE_MESSAGE(f, err);
         sepal::BakeOptions o;
         o.keep_assets = true;
+        // The views' lighting (the default light): under the default 8:1 range the white
+        // level is 8 times higher and ashikhmin-shirley's candidates take 3 doublings, gles1
+        // 1.2-1.3 dB below cpu (the rounding check below still holds there).
+        material_fx::views_lighting(&o);
         sepal::BakeResult r;
         REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
         const sepal_ports::SceneSetup s = scene({}, "256x256");

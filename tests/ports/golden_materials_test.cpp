@@ -14,6 +14,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "spec/spec.h"
+#include "material_fixtures.h"
 #include "test_util.h"
 
 namespace {
@@ -45,6 +46,7 @@ Baked bake_scene(const std::string& spec_in, sepal::Method method, int terms, do
     o.methods = {method};
     o.terms = {terms};
     o.cap = cap;
+    material_fx::views_lighting(&o);  // as the goldens were made
     sepal::BakeResult r;
     REQUIRE_MESSAGE(sepal::bake(*b.brdf, o, &r, &err), err);
     b.asset = r.asset;

@@ -44,6 +44,14 @@
 // Version 2.2 adds the axis parameterization (SEPAL_PARAM_AXIS: angles about the tangent,
 // per vertex like iv, gs-half and vh). Writers write 2.2 only for axis assets; older readers
 // refuse them at the unknown parameterization.
+// Version 2.3 adds the light range to the material (a 96-byte MATL chunk; 64 bytes before,
+// the new words read as 0): the white level the factors were capped at and the lighting the
+// bake judged them under (the dimmest and brightest light's irradiance at the object, the
+// cone of light directions, the lights at once). A light dimmer than irradiance_min shows
+// the capped highlight as a flat grey plateau; the runtime counts such lights per frame
+// (sepal_draw_stats.dim_lights). An older asset whose META holds "white_level" W reads with
+// white_level W and irradiance_min 1/W (below it the cap no longer shows white). Writers
+// write 2.3 only for assets with a light range; older readers refuse its MATL size.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -57,11 +65,14 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 2
-// The minor version that introduced reciprocal materials (2.1) and the axis
-// parameterization (2.2); other version-2 assets are 2.0.
+#define SEPAL_FMT_VERSION_MINOR 3
+// The minor version that introduced reciprocal materials (2.1), the axis parameterization
+// (2.2) and the light range (2.3); other version-2 assets are 2.0.
 #define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
 #define SEPAL_FMT_VERSION_MINOR_AXIS 2
+#define SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE 3
+// The MATL chunk's size before 2.3 (the material up to and including diffuse).
+#define SEPAL_FMT_MATERIAL_BYTES_V2 64u
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
 
 #define SEPAL_FMT_MAX_FILE_BYTES (64u << 20)
@@ -179,6 +190,13 @@ typedef struct sepal_fmt_material {
     // Version 1 files hold 0 in these words (reserved there).
     uint32_t flags;
     float diffuse[3];
+    // Version 2.3 (0 when the chunk is the older 64 bytes): the light range. All finite, >= 0.
+    float white_level;     // cap on f cos(theta_i) per steradian the factors hold; 0: none or unknown
+    float irradiance_min;  // the dimmest light (I / d^2 at the object, largest channel) it holds for; 0: undeclared
+    float irradiance_max;  // the brightest light the bake judged it under; >= irradiance_min
+    float cone_degrees;    // light directions within this of the scene's up (90: any above the horizon), 0..180
+    uint32_t max_lights;   // lights at once it was judged under, 0..SEPAL_MAX_LIGHTS (0: undeclared)
+    uint32_t reserved1[3]; // 0
 } sepal_fmt_material;
 
 // sepal_fmt_material.flags

@@ -194,6 +194,11 @@ typedef struct sepal_draw_stats {
     // Vertex-light pairs (CPU: pixel-light pairs) with the light or the eye below the
     // horizon of the shading frame (a back-facing frame included): that light adds 0 there.
     int below_horizon;
+    // Lights dimmer at the mesh than the asset was baked for (irradiance I / d^2 at the
+    // centre of the mesh's bounds, in the dimmest lit channel, below the material's
+    // irradiance_min: sepal_format.h's light range): their highlights may show the white
+    // level's flat grey plateau, or shift hue. Lights of zero intensity are not counted.
+    int dim_lights;
     // Vertices whose tangent was zero, parallel to the normal or not finite (xyz or the
     // handedness w): any unit vector perpendicular to the normal is used, handedness +1.
     int fallback_tangents;

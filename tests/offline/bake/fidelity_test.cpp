@@ -215,8 +215,8 @@ TEST_CASE("image judge: a Lambert material is its diffuse pass, exact on every t
         // judge's 64 x 32 sphere at 64 x 64 pixels: measured 42.7 dB).
         CHECK(w.psnr >= (t == sepal::Target::Cpu ? 50.0 : 41.0));
         CHECK(r.asset.material.flags == SEPAL_MATERIAL_RADIANCE);
-        REQUIRE(r.views.size() == 2);
-        CHECK(w.psnr_views.size() == 2);
+        REQUIRE(r.views.size() == 4);  // the default light range's training conditions
+        CHECK(w.psnr_views.size() == 4);
     }
 }
 
@@ -239,7 +239,9 @@ TEST_CASE("sepal bake: --target, --white, --fit, --min-psnr; the candidate table
     REQUIRE(sepal_test::run_cmd("inspect", {dir + "/c.sepal"}, &out) == 0);
     CHECK(out.find("format 1.0") != std::string::npos);
     REQUIRE(sepal_test::run_cmd("inspect", {dir + "/a.sepal"}, &out) == 0);
-    CHECK(out.find("format 2.0") != std::string::npos);
+    CHECK(out.find("format 2.3") != std::string::npos);  // the light range
+    CHECK(out.find("lights      holds for irradiance") != std::string::npos);
+    CHECK(out.find("image       held-out") != std::string::npos);
     CHECK(out.find("diffuse") != std::string::npos);
     // A PSNR no candidate reaches is refused, naming the best image.
     CHECK(sepal_test::run_cmd("bake", args({"-o", dir + "/d.sepal", "--min-psnr", "90"}), &out) == 2);
