@@ -18,7 +18,8 @@
 //   sample,cell,channel,theta_i,phi_i,theta_o,phi_o,value
 // and one line per plan sample in plan order (angles in degrees, as plan.json; value in 1/sr,
 // 9 significant digits). The reader checks that the lines match the plan (count, cell and
-// channel of each), that every value is a finite number, and that the file is under 64 MiB.
+// channel of each), that every value is a finite number within +-kMaxSampleValue (1/sr),
+// and that the file is under 64 MiB.
 // The reconstruction: fit_combination's coefficients, P c over every valid cell; values below
 // 0 (least squares can produce them) are set to 0 and counted: the BRDF is never negative, and
 // the clamp only moves a value towards any non-negative truth.
@@ -31,6 +32,8 @@
 #include "database/measure_plan.h"
 
 namespace sepal {
+
+constexpr double kMaxSampleValue = 1e6;
 
 bool simulate_samples(const BrdfDatabase& db, const MeasurementPlan& plan, const Brdf& f,
                       double noise, uint64_t seed, std::vector<double>* values, std::string* err);
