@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -41,9 +42,14 @@ extern "C" int sepal_fuzz_tree(const uint8_t* data, size_t size) {
         const size_t sep = text.find("\n@@ ", pos);
         const size_t end = sep == std::string::npos ? text.size() : sep;
         if (safe_name(name)) {
+            // A name whose folder is already a file (or the reverse) is skipped, as a packer
+            // could not have made it.
             const size_t slash = name.find('/');
             if (slash != std::string::npos) mkdir((dir + "/" + name.substr(0, slash)).c_str(), 0700);
-            sepal_fuzz::write_scratch("tree/" + name, data + pos, end - pos);
+            if (FILE* f = std::fopen((dir + "/" + name).c_str(), "wb")) {
+                if (end > pos) std::fwrite(data + pos, 1, end - pos, f);
+                std::fclose(f);
+            }
         }
         if (sep == std::string::npos) break;
         const size_t eol = text.find('\n', sep + 4);
