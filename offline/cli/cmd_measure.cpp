@@ -201,7 +201,7 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     std::vector<std::string> excluded = a.exclude;
     for (const std::string& n : plan.excluded) excluded.push_back(n);
     std::vector<uint8_t> use;
-    Reconstruction r;
+    DatabaseReconstruction r;
     if (!exclude_mask(*db, excluded, &use, &err) || !reconstruct(*db, plan, v, use, fo, &r, &err)) {
         std::fprintf(io.err, "%s: %s\n", who.c_str(), err.c_str());
         return kExitBadInput;

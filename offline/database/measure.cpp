@@ -145,8 +145,8 @@ bool read_samples_csv(const std::string& path, const BrdfDatabase& db, const Mea
 
 bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
                  const std::vector<double>& values, const std::vector<uint8_t>& use,
-                 const FitOptions& opt, Reconstruction* r, std::string* err) {
-    *r = Reconstruction();
+                 const FitOptions& opt, DatabaseReconstruction* r, std::string* err) {
+    *r = DatabaseReconstruction();
     if (!fit_combination(db, plan.rows, values, use, opt, &r->fit, err)) return false;
     r->values = combination_values(db, r->fit.coeffs, &r->clamped);
     for (float& v : r->values) {
@@ -160,7 +160,7 @@ bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
 }
 
 bool write_reconstruction_merl(const std::string& path, const BrdfDatabase& db,
-                               const Reconstruction& r, std::string* err) {
+                               const DatabaseReconstruction& r, std::string* err) {
     if (!db.grid().is_merl()) {
         if (err) *err = path + ": a MERL file needs the database on MERL's 90 x 90 x 180 grid";
         return false;

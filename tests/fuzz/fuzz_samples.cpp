@@ -23,7 +23,7 @@ extern "C" int sepal_fuzz_samples(const uint8_t* data, size_t size) {
     }
     sepal_fuzz::check(v.size() == plan.rows.size(), h, "not one value per plan sample");
     for (double x : v) sepal_fuzz::check(std::isfinite(x) && std::fabs(x) <= sepal::kMaxSampleValue, h, "a value out of range");
-    sepal::Reconstruction r;
+    sepal::DatabaseReconstruction r;
     if (!sepal::reconstruct(db, plan, v, {}, sepal::FitOptions{}, &r, &err)) {
         sepal_fuzz::check(!err.empty(), h, "a reconstruction refused without a message");
         return 0;

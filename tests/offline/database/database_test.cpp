@@ -386,7 +386,7 @@ TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cp
     auto f = sepal::make_brdf("nbrdf:gold-paint", &err);
     std::vector<double> v;
     REQUIRE(sepal::simulate_samples(*db, p, *f, 0.0, 1, &v, &err));
-    sepal::Reconstruction r;
+    sepal::DatabaseReconstruction r;
     REQUIRE_MESSAGE(sepal::reconstruct(*db, p, v, use, sepal::FitOptions{}, &r, &err), err);
     CHECK(r.fit.coeffs[0] == 0.0);  // gold-paint itself is left out
     const std::string path = sepal_test::temp_dir() + "/gold.binary";
@@ -544,7 +544,7 @@ TEST_CASE("measure: sample values beyond a BRDF's range are refused, and a recon
     CHECK(err.find("beyond +-1e+06") != std::string::npos);
     // In range, the reconstruction's values stay finite.
     v[7] = 1e6;
-    sepal::Reconstruction r;
+    sepal::DatabaseReconstruction r;
     REQUIRE_MESSAGE(sepal::reconstruct(db, p, v, {}, sepal::FitOptions{}, &r, &err), err);
     for (float x : r.values) REQUIRE(std::isfinite(x));
 }
