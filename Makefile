@@ -68,8 +68,8 @@ OFFLINE_SRC  := $(filter-out $(SEPAL_MAIN),$(call rwildcard,offline,*.cpp))
 HEADLESS_SRC := $(wildcard ports/headless/*.cpp ports/common/*.cpp)
 # stb_image + stb_image_write, compiled once for offline/ and ports/ (third_party/stb/stb.cpp).
 STB_SRC      := third_party/stb/stb.cpp
-WINDOWED_SRC := $(wildcard ports/windowed/*.cpp)
-VIEW_MAIN    := ports/view/sepal_view.cpp
+VIEW_MAIN    := ports/windowed/sepal_view_main.cpp
+WINDOWED_SRC := $(filter-out $(VIEW_MAIN),$(wildcard ports/windowed/*.cpp))
 TEST_SRC     := $(filter-out tests/bench/% tests/fuzz/entry/%,$(call rwildcard,tests,*.cpp))
 # Each tests/bench/<name>.cpp is one program, build/bin/sepal-bench-<name>, linked with the
 # doctest-free support objects below; tests/bench/run.sh is what `make bench` runs.
@@ -119,6 +119,8 @@ HEADLESS_PORT_OBJ := $(call obj,ports/headless/sepal_headless.cpp)
 PUBLIC_HEADERS := $(wildcard runtime/include/sepal/*.h) ports/headless/sepal_headless.h
 DIST_FILES := $(DIST)/libsepal.a $(DIST)/libsepal.so.$(SEPAL_VERSION) \
               $(DIST)/libsepal_headless.a $(DIST)/libsepal_headless.so.$(SEPAL_VERSION)
+# make's build tree as an installed one (below, before the web port).
+UNINSTALLED := $(addprefix $(BUILD)/include/sepal/,$(notdir $(PUBLIC_HEADERS))) $(BUILD)/sepal-uninstalled.pc
 
 # The web port (make web): the runtime's GL ES 2 paths and ports/web through Emscripten
 # (Debian's emcc works offline; it needs Debian's node modules on NODE_PATH). One tree
@@ -141,12 +143,13 @@ WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s GL_MAX_TEMP_BUFFER_SIZE=33554432 -s ENVIRONM
 WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_DIR)/default.sepal
 
 .SECONDARY:
-.PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 FORCE \
+.PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 check-layers FORCE \
+        check compdb format \
         install uninstall examples web fuzz fuzz-bins
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) check-runtime check-c99 ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) $(UNINSTALLED) check-runtime check-c99 check-layers ## build everything into build/ (-Wall -Wextra -Werror)
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -179,6 +182,35 @@ test: deps ## build and run every doctest suite (the web port's test needs `make
 	@$(MAKE) --no-print-directory -j$(NPROC) build web
 	@sh tests/run.sh $(BIN_TESTS)
 
+# The inner loop: the test binary only (no web port, no benches, no sepal-view), filtered
+# with doctest's -tc (TC='*bake*'); the suites that drive Xvfb or Chromium are left out.
+TC ?= *
+check: ## build the test binary and run the suites matching TC (default all) without the ports' Xvfb and Chromium tests
+	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_TESTS)
+	@$(BIN_TESTS) -tc='$(TC)' -tce='*Xvfb*,*Chromium*'
+
+# .clang-format's house style over every C/C++ source of ours (third_party/ untouched).
+format: ## apply .clang-format to every C/C++ source (clang-format, Debian's clang-format)
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang-format
+	@find runtime offline ports tests examples -name '*.cpp' -o -name '*.h' -o -name '*.c' | xargs clang-format -i
+
+# compile_commands.json for clangd and clang-tidy, from the flags this Makefile compiles with
+# (written by make itself: no tool beyond make).
+compdb_json = $(subst ",\",$(1))
+compdb_entry = {"directory": "$(CURDIR)", "file": "$(1)", "command": "$(call compdb_json,$(2) -c $(1) -o $(call obj,$(1)))"}
+compdb_list = $(foreach f,$(1),$(call compdb_entry,$(f),$(2)))
+COMPDB := $(call compdb_list,$(RUNTIME_SRC),$(CXX) $(CPPFLAGS) $(CXXFLAGS_ALL) $(RUNTIME_FLAGS)) \
+          $(call compdb_list,$(OFFLINE_SRC) $(SEPAL_MAIN) $(HEADLESS_SRC) $(WINDOWED_SRC) $(VIEW_MAIN) $(STB_SRC),$(CXX) $(CPPFLAGS) $(CXXFLAGS_ALL)) \
+          $(call compdb_list,$(TEST_SRC) $(BENCH_SRC),$(CXX) $(CPPFLAGS) $(TEST_CPPFLAGS) $(CXXFLAGS_ALL))
+compdb: ## write compile_commands.json (clangd, clang-tidy) from this Makefile's flags
+	$(file >compile_commands.json,[$(subst } {,}$(comma)$(newline) {,$(strip $(COMPDB)))]$(newline))
+	@echo "compile_commands.json: $(words $(RUNTIME_SRC) $(OFFLINE_SRC) $(SEPAL_MAIN) $(HEADLESS_SRC) $(WINDOWED_SRC) $(VIEW_MAIN) $(STB_SRC) $(TEST_SRC) $(BENCH_SRC)) files"
+comma := ,
+define newline
+
+
+endef
+
 test-asan: deps ## run the test suites under AddressSanitizer + UndefinedBehaviorSanitizer
 	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build web
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
@@ -200,6 +232,8 @@ install: $(BIN_SEPAL) $(BIN_VIEW) $(DIST_FILES) ## install libsepal (static + sh
 	@echo "sepal: installing $(SEPAL_VERSION) into $(DESTDIR)$(PREFIX)"
 	@install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCLUDEDIR)/sepal
 	@install -m 755 $(BIN_SEPAL) $(BIN_VIEW) $(DESTDIR)$(PREFIX)/bin/
+	@install -d $(DESTDIR)$(PREFIX)/share/sepal/merl-nbrdf
+	@install -m 644 data/merl-nbrdf/* $(DESTDIR)$(PREFIX)/share/sepal/merl-nbrdf/
 	@install -m 644 $(PUBLIC_HEADERS) $(DESTDIR)$(INCLUDEDIR)/sepal/
 	@install -m 644 $(DIST)/libsepal.a $(DIST)/libsepal_headless.a $(DESTDIR)$(LIBDIR)/
 	@for lib in libsepal libsepal_headless; do \
@@ -211,6 +245,7 @@ install: $(BIN_SEPAL) $(BIN_VIEW) $(DIST_FILES) ## install libsepal (static + sh
 
 uninstall: ## remove what `make install PREFIX=...` installed
 	rm -f $(DESTDIR)$(PREFIX)/bin/sepal $(DESTDIR)$(PREFIX)/bin/sepal-view $(DESTDIR)$(LIBDIR)/pkgconfig/sepal.pc
+	rm -rf $(DESTDIR)$(PREFIX)/share/sepal
 	rm -f $(addprefix $(DESTDIR)$(INCLUDEDIR)/sepal/,$(notdir $(PUBLIC_HEADERS)))
 	rm -f $(foreach l,libsepal libsepal_headless,$(addprefix $(DESTDIR)$(LIBDIR)/$(l),.a .so .so.$(SOVERSION) .so.$(SEPAL_VERSION)))
 	-rmdir $(DESTDIR)$(INCLUDEDIR)/sepal 2>/dev/null
@@ -229,6 +264,8 @@ examples: ## build examples/ against an installed tree (PREFIX) through pkg-conf
 	      $$(pkg-config --static --libs sepal | sed 's/-lsepal_headless -lsepal/-l:libsepal_headless.a -l:libsepal.a/') -o $$n-static; \
 	  done && \
 	  $(PREFIX)/bin/sepal bake '$(RUN_SPEC)' $(RUN_BAKE) -o ward.sepal > bake.txt && \
+	  echo "  RUN   $(PREFIX)/bin/sepal eval nbrdf:gold-paint (the installed data, from /)" && \
+	  (cd / && env -u SEPAL_DATA_DIR $(abspath $(PREFIX))/bin/sepal eval nbrdf:gold-paint 30 0 30 180) && \
 	  LD_LIBRARY_PATH=$(LIBDIR) ./minimal ward.sepal 2 minimal.ppm && ./minimal-static ward.sepal 1
 
 # libFuzzer harnesses (tests/fuzz/fuzz_<name>.cpp; tests/fuzz/fuzz.h says what each holds a
@@ -282,8 +319,8 @@ $(call obj,runtime/src/vertex_setup.cpp): RUNTIME_FLAGS += -fno-math-errno -fno-
 # Offline hot loops at -O3, where GCC then vectorizes element-wise loops (axpys, ratios) that
 # -O2 leaves scalar: the same floats (no reassociation without -ffast-math, no FMA without
 # -mfma), so the same outputs. KL-NMF's fused updates (sampling's fits: a quarter of its
-# bench) and the MERL network's layers (every nbrdf: evaluation); sepal-bench-sampling
-# table1 --only ni: 25.5 -> 22.6 user-s side by side, identical tables.
+# bench) and the MERL network's layers (every nbrdf: evaluation); check a change with
+# `sepal-bench-sampling table1 --only ni` (processor-seconds side by side, identical tables).
 OFFLINE_HOT := offline/sampling/nmf_kl.cpp offline/measured/nbrdf.cpp
 ifeq ($(SAN),)
 $(call obj,$(OFFLINE_HOT)): OFFLINE_FLAGS += -O3
@@ -378,6 +415,20 @@ check-c99:
 	  $(CC) -std=c99 -pedantic -Wall -Wextra -Werror -Iruntime/include -Iports -x c -fsyntax-only - || \
 	  { echo "runtime/include/sepal/*.h or the headless port's header is not C99 (above)"; exit 1; }
 
+# The build tree as an installed one, for programs built against it without make install:
+# the public headers in build/include/sepal/ and build/sepal-uninstalled.pc, which
+# pkg-config prefers to sepal.pc when build/ is on PKG_CONFIG_PATH:
+#   PKG_CONFIG_PATH=build cc -std=c99 examples/minimal.c $(pkg-config --cflags --libs sepal)
+$(BUILD)/include/sepal/%.h: runtime/include/sepal/%.h
+	@mkdir -p $(dir $@) && cp $< $@
+$(BUILD)/include/sepal/sepal_headless.h: ports/headless/sepal_headless.h
+	@mkdir -p $(dir $@) && cp $< $@
+$(BUILD)/sepal-uninstalled.pc: packaging/sepal.pc.in $(DIST_FILES)
+	@for lib in libsepal libsepal_headless; do \
+	  ln -sf $$lib.so.$(SEPAL_VERSION) $(DIST)/$$lib.so.$(SOVERSION) && ln -sf $$lib.so.$(SOVERSION) $(DIST)/$$lib.so; done
+	@sed -e 's|@PREFIX@|$(CURDIR)/$(BUILD)|' -e 's|@LIBDIR@|$(CURDIR)/$(DIST)|' -e 's|@INCLUDEDIR@|$(CURDIR)/$(BUILD)/include|' \
+	  -e 's|@VERSION@|$(SEPAL_VERSION)|' $< > $@
+
 # ---- the web port ----------------------------------------------------------------------
 $(WEB_OBJ): build/web-obj/%.o: %.cpp | $(SHADER_INCS)
 	@mkdir -p $(dir $@)
@@ -391,6 +442,11 @@ $(WEB_DIR)/%: ports/web/%
 	@mkdir -p $(dir $@) && cp $< $@
 $(WEB_DIR)/default.sepal: $(RUN_ASSET)
 	@mkdir -p $(dir $@) && cp $< $@
+
+# Include directions between folders (tests/check_layers.sh): no loop, and
+# tools -> offline -> runtime, ports -> runtime. Checked on every build.
+check-layers:
+	@sh tests/check_layers.sh
 
 # The runtime's rules, checked on every build: no iostream, no exceptions, no RTTI use,
 # no std::string in its headers (it is also compiled with -fno-exceptions -fno-rtti).

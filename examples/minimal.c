@@ -1,5 +1,6 @@
 /* minimal.c - the sepal runtime from C99: a headless GL ES context, one asset, one frame.
  *   cc -std=c99 minimal.c $(pkg-config --cflags --libs sepal) -o minimal
+ *   (against a build tree without make install: PKG_CONFIG_PATH=build, docs/ports.md)
  *   ./minimal ASSET.sepal [gles 1|2] [out.ppm]    (prints the lit share; exit 1 on errors) */
 #include <stdio.h>
 #include <stdlib.h>

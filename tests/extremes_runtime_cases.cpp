@@ -9,6 +9,7 @@
 #include "bake/bake.h"
 #include "bake/plan.h"
 #include "common/render_gl.h"
+#include "spec/spec.h"
 
 namespace extremes {
 namespace {

@@ -22,6 +22,7 @@
 #include "bake/asset_file.h"
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "measured/cornell.h"
 #include "factor/factor.h"
 #include "factor/factor_error.h"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bake/plan.h"
+#include "spec/spec.h"
 
 namespace material_fx {
 

@@ -1,4 +1,5 @@
 #include "acquire/reconstruct.h"
+#include "spec/spec.h"
 
 #include <algorithm>
 #include <cmath>
@@ -71,27 +72,10 @@ void nnls_small(const std::vector<double>& A, const std::vector<double>& b, int 
         }
 }
 
-}  // namespace
-
-bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const ReconstructOptions& o,
-                 Reconstruction* out, std::string* err) {
-    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4) {
-        if (err) *err = "reconstruct: clusters must be 1..8 and lobes 1..4";
-        return false;
-    }
-    const SurfaceAtlas& a = obj.atlas;
-    const size_t n = a.valid.size();
-    const TexelIndex ix = index_samples(n, caps);
-    std::vector<int> measured;
-    for (int t : a.texels)
-        if (ix.count(t) > 0) measured.push_back(t);
-    if (measured.empty()) {
-        if (err) *err = "reconstruct: no texel has a sample";
-        return false;
-    }
-
-    // (1) Median colour per texel, k-means with a farthest-point start.
-    std::vector<glm::dvec3> colour(n, glm::dvec3(0));
+// (1) Median colour per measured texel (times pi: the albedo of a Lambertian with that
+// value), then k-means on it with a farthest-point start: the initial clusters.
+void colour_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+                     int clusters, std::vector<glm::dvec3>* colour, std::vector<int>* cluster) {
     for (int t : measured) {
         std::vector<double> ch[3];
         for (int k = ix.start[size_t(t)]; k < ix.start[size_t(t) + 1]; ++k) {
@@ -100,95 +84,112 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
         }
         for (int c = 0; c < 3; ++c) {
             std::nth_element(ch[c].begin(), ch[c].begin() + long(ch[c].size() / 2), ch[c].end());
-            colour[size_t(t)][c] = ch[c][ch[c].size() / 2];
+            (*colour)[size_t(t)][c] = ch[c][ch[c].size() / 2];
         }
     }
-    const int K0 = std::min<int>(o.clusters, int(measured.size()));
-    std::vector<glm::dvec3> centre{colour[size_t(measured[0])]};
+    const int K0 = std::min<int>(clusters, int(measured.size()));
+    std::vector<glm::dvec3> centre{(*colour)[size_t(measured[0])]};
     while (int(centre.size()) < K0) {
         double far = -1;
         int pick = measured[0];
         for (int t : measured) {
             double d = 1e300;
-            for (const glm::dvec3& c : centre) d = std::min(d, glm::dot(colour[size_t(t)] - c, colour[size_t(t)] - c));
+            for (const glm::dvec3& c : centre)
+                d = std::min(d, glm::dot((*colour)[size_t(t)] - c, (*colour)[size_t(t)] - c));
             if (d > far) {
                 far = d;
                 pick = t;
             }
         }
-        centre.push_back(colour[size_t(pick)]);
+        centre.push_back((*colour)[size_t(pick)]);
     }
-    std::vector<int> cluster(n, -1);
     for (int it = 0; it < 10; ++it) {
         for (int t : measured) {
             double best = 1e300;
             for (size_t k = 0; k < centre.size(); ++k) {
-                const double d = glm::dot(colour[size_t(t)] - centre[k], colour[size_t(t)] - centre[k]);
+                const double d = glm::dot((*colour)[size_t(t)] - centre[k], (*colour)[size_t(t)] - centre[k]);
                 if (d < best) {
                     best = d;
-                    cluster[size_t(t)] = int(k);
+                    (*cluster)[size_t(t)] = int(k);
                 }
             }
         }
         std::vector<glm::dvec3> sum(centre.size(), glm::dvec3(0));
         std::vector<int> cnt(centre.size(), 0);
         for (int t : measured) {
-            sum[size_t(cluster[size_t(t)])] += colour[size_t(t)];
-            ++cnt[size_t(cluster[size_t(t)])];
+            sum[size_t((*cluster)[size_t(t)])] += (*colour)[size_t(t)];
+            ++cnt[size_t((*cluster)[size_t(t)])];
         }
         for (size_t k = 0; k < centre.size(); ++k)
             if (cnt[k]) centre[k] = sum[k] / double(cnt[k]);
     }
+}
 
-    // (2) Fit per cluster; reassign texels by residual; repeat. A cluster with too few
-    // samples for a fit, or whose fit fails, is dissolved into the nearest (by colour).
-    constexpr int kMinClusterSamples = 16;
-    auto dissolve = [&](int gone) {
-        std::map<int, std::pair<glm::dvec3, int>> centres;
-        for (int t : measured)
-            if (cluster[size_t(t)] != gone) {
-                auto& c = centres[cluster[size_t(t)]];
-                c.first += colour[size_t(t)];
-                ++c.second;
-            }
-        if (centres.empty()) return false;
-        for (int t : measured)
-            if (cluster[size_t(t)] == gone) {
-                double best = 1e300;
-                for (const auto& c : centres) {
-                    const glm::dvec3 d = colour[size_t(t)] - c.second.first / double(c.second.second);
-                    if (glm::dot(d, d) < best) {
-                        best = glm::dot(d, d);
-                        cluster[size_t(t)] = c.first;
-                    }
+// Moves the texels of cluster `gone` to the nearest other cluster by colour. False when no
+// other cluster is left.
+bool dissolve_cluster(int gone, const std::vector<int>& measured, const std::vector<glm::dvec3>& colour,
+                      std::vector<int>* cluster) {
+    std::map<int, std::pair<glm::dvec3, int>> centres;
+    for (int t : measured)
+        if ((*cluster)[size_t(t)] != gone) {
+            auto& c = centres[(*cluster)[size_t(t)]];
+            c.first += colour[size_t(t)];
+            ++c.second;
+        }
+    if (centres.empty()) return false;
+    for (int t : measured)
+        if ((*cluster)[size_t(t)] == gone) {
+            double best = 1e300;
+            for (const auto& c : centres) {
+                const glm::dvec3 d = colour[size_t(t)] - c.second.first / double(c.second.second);
+                if (glm::dot(d, d) < best) {
+                    best = glm::dot(d, d);
+                    (*cluster)[size_t(t)] = c.first;
                 }
             }
-        return true;
-    };
+        }
+    return true;
+}
+
+// Renumbers the clusters in order without the empty ones; the fits of the kept clusters
+// (those fits has) in *kept_fits. Returns the number kept.
+int drop_empty_clusters(const std::vector<int>& measured, const std::vector<LafortuneFit>& fits,
+                        std::vector<int>* cluster, std::vector<LafortuneFit>* kept_fits) {
+    int K = 0;
+    for (int t : measured) K = std::max(K, (*cluster)[size_t(t)] + 1);
+    std::vector<int> cnt(size_t(K), 0), remap(size_t(K), -1);
+    for (int t : measured) ++cnt[size_t((*cluster)[size_t(t)])];
+    int kept = 0;
+    for (int k = 0; k < K; ++k)
+        if (cnt[size_t(k)] > 0) {
+            remap[size_t(k)] = kept++;
+            if (size_t(k) < fits.size()) kept_fits->push_back(fits[size_t(k)]);
+        }
+    for (int t : measured) (*cluster)[size_t(t)] = remap[size_t((*cluster)[size_t(t)])];
+    return kept;
+}
+
+// (2) A Lafortune fit per cluster; texels reassigned to the fit that explains their samples
+// best; repeated o.iterations times. A cluster with too few samples for a fit, or whose fit
+// fails, is dissolved into the nearest (by colour) and the iteration runs again.
+bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+                  const std::vector<glm::dvec3>& colour, const ReconstructOptions& o, size_t n,
+                  std::vector<int>* cluster, std::vector<LafortuneFit>* fits_out, std::string* err) {
+    constexpr int kMinClusterSamples = 16;
     std::vector<LafortuneFit> fits;
     for (int it = 0; it <= o.iterations; ++it) {
         {
             std::map<int, int> samples_of;
-            for (int t : measured) samples_of[cluster[size_t(t)]] += ix.count(t);
+            for (int t : measured) samples_of[(*cluster)[size_t(t)]] += ix.count(t);
             for (const auto& c : samples_of)
-                if (c.second < kMinClusterSamples && samples_of.size() > 1 && dissolve(c.first)) {
+                if (c.second < kMinClusterSamples && samples_of.size() > 1 &&
+                    dissolve_cluster(c.first, measured, colour, cluster)) {
                     fits.clear();
                     break;  // one at a time: the next iteration looks again
                 }
         }
-        // Drop empty clusters, renumbering in order.
-        int K = 0;
-        for (int t : measured) K = std::max(K, cluster[size_t(t)] + 1);
-        std::vector<int> cnt(size_t(K), 0), remap(size_t(K), -1);
-        for (int t : measured) ++cnt[size_t(cluster[size_t(t)])];
-        int kept = 0;
         std::vector<LafortuneFit> kept_fits;
-        for (int k = 0; k < K; ++k)
-            if (cnt[size_t(k)] > 0) {
-                remap[size_t(k)] = kept++;
-                if (size_t(k) < fits.size()) kept_fits.push_back(fits[size_t(k)]);
-            }
-        for (int t : measured) cluster[size_t(t)] = remap[size_t(cluster[size_t(t)])];
+        const int kept = drop_empty_clusters(measured, fits, cluster, &kept_fits);
         const bool warm = kept_fits.size() == size_t(kept);
         std::vector<LafortuneFit> next(static_cast<size_t>(kept));
         std::vector<std::string> errors(static_cast<size_t>(kept));
@@ -196,7 +197,7 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
         parallel_for(size_t(kept), o.threads, [&](size_t k) {
             std::vector<std::pair<int, int>> refs;
             for (int t : measured)
-                if (cluster[size_t(t)] == int(k))
+                if ((*cluster)[size_t(t)] == int(k))
                     for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) refs.push_back(ix.refs[size_t(j)]);
             const size_t stride = std::max<size_t>(1, (refs.size() + size_t(o.max_cluster_samples) - 1) /
                                                           size_t(std::max(1, o.max_cluster_samples)));
@@ -211,7 +212,7 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
         bool redo = false;
         for (int k = 0; k < kept && !redo; ++k)
             if (!ok[size_t(k)]) {
-                if (kept == 1 || !dissolve(k)) {
+                if (kept == 1 || !dissolve_cluster(k, measured, colour, cluster)) {
                     if (err) *err = "reconstruct: cluster " + std::to_string(k) + ": " + errors[size_t(k)];
                     return false;
                 }
@@ -238,27 +239,19 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
                 }
             }
         });
-        for (int t : measured) cluster[size_t(t)] = reassigned[size_t(t)];
+        for (int t : measured) (*cluster)[size_t(t)] = reassigned[size_t(t)];
     }
-    const int K = int(fits.size());
+    *fits_out = std::move(fits);
+    return true;
+}
 
-    // (3) Per-texel non-negative weights over the basis.
-    Reconstruction r;
-    r.basis = fits;
-    r.samples.assign(n, 0);
-    for (int t : a.texels) r.samples[size_t(t)] = ix.count(t);
-    r.svbrdf.res = a.res;
-    for (const LafortuneFit& f : fits) {
-        std::string e;
-        std::unique_ptr<Brdf> b = make_brdf(f.model.spec(), &e);
-        if (!b) {
-            if (err) *err = "reconstruct: " + e;
-            return false;
-        }
-        r.svbrdf.basis.emplace_back(std::move(b));
-    }
-    if (o.project) r.svbrdf.weights.assign(n * size_t(K), 0.0f);
-    if (o.project) parallel_for(64, o.threads, [&](size_t chunk) {
+// (3) Per measured texel, non-negative weights over the basis: weighted least squares on
+// its samples, ridge-pulled towards its own cluster's model.
+void project_weights(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+                     const std::vector<int>& cluster, const std::vector<LafortuneFit>& fits,
+                     const ReconstructOptions& o, std::vector<float>* weights) {
+    const int K = int(fits.size());
+    parallel_for(64, o.threads, [&](size_t chunk) {
         std::vector<double> A(static_cast<size_t>(K * K)), b(static_cast<size_t>(K)), x(static_cast<size_t>(K));
         std::vector<glm::dvec3> fk(static_cast<size_t>(K));
         for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
@@ -284,11 +277,16 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
             }
             b[size_t(c)] += ridge;
             nnls_small(A, b, K, &x);
-            for (int k = 0; k < K; ++k) r.svbrdf.weights[size_t(t) * size_t(K) + size_t(k)] = float(x[size_t(k)]);
+            for (int k = 0; k < K; ++k) (*weights)[size_t(t) * size_t(K) + size_t(k)] = float(x[size_t(k)]);
         }
     });
-    // Texels without samples: the nearest measured texel's cluster and weights (breadth
-    // first over the atlas grid, wrapping at its borders like the meshes' UVs).
+}
+
+// (4) Texels without samples: the nearest measured texel's cluster and weights (breadth
+// first over the atlas grid, wrapping at its borders like the meshes' UVs).
+void fill_unmeasured(const SurfaceAtlas& a, const std::vector<int>& measured, int K, bool weights_too,
+                     std::vector<int>* cluster, std::vector<float>* weights) {
+    const size_t n = a.valid.size();
     std::deque<int> queue(measured.begin(), measured.end());
     std::vector<uint8_t> done(n, 0);
     for (int t : measured) done[size_t(t)] = 1;
@@ -302,13 +300,59 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
         for (int q : nb) {
             if (done[size_t(q)] || !a.valid[size_t(q)]) continue;
             done[size_t(q)] = 1;
-            cluster[size_t(q)] = cluster[size_t(t)];
-            if (o.project)
+            (*cluster)[size_t(q)] = (*cluster)[size_t(t)];
+            if (weights_too)
                 for (int k = 0; k < K; ++k)
-                r.svbrdf.weights[size_t(q) * size_t(K) + size_t(k)] = r.svbrdf.weights[size_t(t) * size_t(K) + size_t(k)];
+                    (*weights)[size_t(q) * size_t(K) + size_t(k)] = (*weights)[size_t(t) * size_t(K) + size_t(k)];
             queue.push_back(q);
         }
     }
+}
+
+}  // namespace
+
+bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const ReconstructOptions& o,
+                 Reconstruction* out, std::string* err) {
+    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4) {
+        if (err) *err = "reconstruct: clusters must be 1..8 and lobes 1..4";
+        return false;
+    }
+    const SurfaceAtlas& a = obj.atlas;
+    const size_t n = a.valid.size();
+    const TexelIndex ix = index_samples(n, caps);
+    std::vector<int> measured;
+    for (int t : a.texels)
+        if (ix.count(t) > 0) measured.push_back(t);
+    if (measured.empty()) {
+        if (err) *err = "reconstruct: no texel has a sample";
+        return false;
+    }
+    std::vector<glm::dvec3> colour(n, glm::dvec3(0));
+    std::vector<int> cluster(n, -1);
+    colour_clusters(caps, ix, measured, o.clusters, &colour, &cluster);
+    std::vector<LafortuneFit> fits;
+    if (!fit_clusters(caps, ix, measured, colour, o, n, &cluster, &fits, err)) return false;
+    const int K = int(fits.size());
+
+    Reconstruction r;
+    r.basis = fits;
+    r.samples.assign(n, 0);
+    for (int t : a.texels) r.samples[size_t(t)] = ix.count(t);
+    r.svbrdf.res = a.res;
+    for (const LafortuneFit& f : fits) {
+        std::string e;
+        std::unique_ptr<Brdf> b = make_brdf(f.model.spec(), &e);
+        if (!b) {
+            if (err) *err = "reconstruct: " + e;
+            return false;
+        }
+        r.svbrdf.basis.emplace_back(std::move(b));
+    }
+    if (o.project) {
+        r.svbrdf.weights.assign(n * size_t(K), 0.0f);
+        project_weights(caps, ix, measured, cluster, fits, o, &r.svbrdf.weights);
+    }
+    fill_unmeasured(a, measured, K, o.project, &cluster, &r.svbrdf.weights);
     r.cluster = cluster;
     r.texel_model.assign(n, LafortuneModel());
     for (int t : a.texels)

@@ -1,4 +1,5 @@
 #include "acquire/svbrdf.h"
+#include "spec/spec.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,8 +8,8 @@
 //   if (!sepal::make_svbrdf(128, sepal::SvbrdfGenOptions(), &truth, &err)) ...
 //   glm::dvec3 f = truth.eval(texel, wi, wo);      // local frame of the texel
 //
-// The generator (kept small on purpose; issue 15's inverse-shade-tree generator is the
-// richer one): a few seed points per material scattered over the atlas, periodic in both
+// The generator (kept small on purpose; the inverse-shade-tree generator, ist/generate.h,
+// is the richer one): a few seed points per material scattered over the atlas, periodic in both
 // UV directions (no seam on the sphere or torus), and soft-min weights
 // w_k(x) ~ sum over material k's seeds of exp(-(d^2 - d_min^2) / softness^2), normalized,
 // weights below 1e-3 dropped: regions of pure material with blended borders.

@@ -71,8 +71,9 @@ const char* cost_model_backends() { return "gles1, gles2-fused, cpu"; }
 bool default_cost_model(const std::string& backend, CostModel* out, std::string* err) {
     // From `make bench` (build/bench/tradeoff.json, "cost_models"; 280 frames per backend):
     // Mesa 22.3.6 llvmpipe on 2 cores, 512x512 frames of the default scene (sphere, one point
-    // light), default bakes (radiance fit: a depth pre-pass and a diffuse pass in every frame),
-    // 2026-11-25. Re-measure on the target and pass the file to `sepal bake --timings`.
+    // light), default bakes (radiance fit: a depth pre-pass and a diffuse pass in every frame);
+    // docs/reference.md (the speed-accuracy trade) dates them and says why they are kept.
+    // Re-measure on the target and pass the file to `sepal bake --timings`.
     struct Row {
         const char* backend;
         double base, pass, term, kib, fit;

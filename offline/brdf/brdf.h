@@ -2,7 +2,7 @@
 //
 // Usage:
 //   std::string err;
-//   std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("ward:rho_d=0.1,rho_s=1.2,ax=0.2,ay=0.02", &err);
+//   std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("ward:rho_d=0.1,rho_s=1.2,ax=0.2,ay=0.02", &err);  // spec/spec.h
 //   if (!f) { fprintf(stderr, "%s\n", err.c_str()); return 2; }
 //   glm::dvec3 rgb = f->eval(wi, wo);
 //
@@ -11,9 +11,8 @@
 // RGB reflectance per steradian (the cosine factor is NOT included), and exactly 0 when
 // either direction is at or below the horizon (z <= 0). Implementations never return NaN
 // or inf and are safe to call from several threads at once.
-// SPEC is an analytic model ("model:param=value,...", see brdf_models.h) or a path to
-// measured data (.binary MERL, .brdf Cornell; see measured.h) or "nbrdf:NAME", one of the 100
-// MERL materials as a neural fit (nbrdf.h; `sepal info nbrdf:` lists them).
+// Implementations: the analytic models (brdf_models.h) and measured data (measured/); the
+// factory that builds any of them from a spec string is spec/spec.h's make_brdf.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -34,6 +33,8 @@ struct InputCounts {
     int64_t negative = 0;
     int64_t huge = 0;       // values beyond float range: treated as missing
     int64_t missing = 0;    // cells (MERL) or samples (Cornell) left without data by the above
+    // MERL: cells below the horizon marked -1 (no data by geometry): in none of the above.
+    int64_t horizon = 0;
     int64_t filled = 0;     // table cells given a push-pull value, for lookups only
     int64_t clamped = 0;    // values clamped into range (Cornell: negative RGB set to 0, and
                             // angles within rounding slack of [0, pi/2])
@@ -73,9 +74,5 @@ class Brdf {
         return false;
     }
 };
-
-// Builds an analytic model from a spec string or loads a measured file. Returns null with
-// the reason in *err (unknown model, bad parameter, unreadable or corrupt file).
-std::unique_ptr<Brdf> make_brdf(const std::string& spec, std::string* err);
 
 }  // namespace sepal

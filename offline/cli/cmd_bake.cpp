@@ -14,6 +14,7 @@
 #include "util/io.h"
 #include "util/json.h"
 #include "bake/quantize.h"
+#include "spec/spec.h"
 
 namespace sepal {
 namespace {
@@ -36,6 +37,7 @@ void add_counts_json(const BakeResult& r, Json* j) {
                         {"negative", c.input.negative},
                         {"huge", c.input.huge},
                         {"missing", c.input.missing},
+                        {"horizon", c.input.horizon},
                         {"filled", c.input.filled},
                         {"clamped", c.input.clamped}}}};
     (*j)["notes"] = r.notes;
@@ -52,10 +54,10 @@ void print_counts(const BakeResult& r, std::FILE* out) {
     if (c.input.values)
         std::fprintf(out,
                      "input: %lld values; %lld NaN or inf, %lld negative, %lld beyond float range (missing: %lld); "
-                     "%lld filled, %lld clamped\n",
+                     "%lld cells below the horizon (no data by geometry); %lld filled, %lld clamped\n",
                      (long long)c.input.values, (long long)c.input.nonfinite, (long long)c.input.negative,
-                     (long long)c.input.huge, (long long)c.input.missing, (long long)c.input.filled,
-                     (long long)c.input.clamped);
+                     (long long)c.input.huge, (long long)c.input.missing, (long long)c.input.horizon,
+                     (long long)c.input.filled, (long long)c.input.clamped);
     for (const std::string& n : r.notes) std::fprintf(out, "note: %s\n", n.c_str());
 }
 

@@ -31,6 +31,7 @@
 #include "util/io.h"
 #include "util/json.h"
 #include "sepal/sepal_format.h"
+#include "spec/spec.h"
 
 namespace sepal {
 namespace {
@@ -219,7 +220,7 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         std::string label = "material " + std::to_string(m);
         const JsonField f{mat, scene_path + ": materials[" + std::to_string(m) + "]"};
         auto material_fail = [&](const std::string& why) {
-            // The table line on stdout, the error itself on stderr (issue 21, class 10).
+            // The table line on stdout, the error itself on stderr (bad_input_test.cpp, class 10).
             std::fprintf(io.out, "%-20s FAILED (see stderr)\n", label.c_str());
             std::fprintf(io.err, "sepal bake-scene: %s: %s\n", label.c_str(), why.c_str());
             ++failed;
@@ -285,7 +286,7 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
             ++skipped;
             continue;
         }
-        // Issue 21, class 9: a material's search can take a minute; said before it starts,
+        // A material's search can take a minute (bad_input_test.cpp, class 9): said before it starts,
         // with the bake's own progress line on a terminal.
         std::fprintf(io.err, "sepal bake-scene: baking %s (%zu of %zu)\n", label.c_str(), m + 1, mats.size());
         std::fflush(io.err);

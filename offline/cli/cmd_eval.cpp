@@ -1,5 +1,6 @@
 // sepal eval SPEC theta_i phi_i theta_o phi_o: one BRDF value, "R G B" (degrees in).
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_spec.h"
 #include "brdf/brdf_util.h"
 #include "cli/cli.h"

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_capped.h"
 #include "bake/export.h"
 #include "cli/cli.h"

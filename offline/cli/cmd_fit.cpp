@@ -4,7 +4,9 @@
 // is offline/fit/): SAMPLES is a samples.csv (what `sepal measure capture` writes; format in
 // fit/samples.h) or a Cornell .brdf file. Prints each parameter with its 95% interval (from
 // the covariance at the minimum; "unmeasured" when the samples do not determine it), the
-// rank, the residual and the model as a spec that `sepal bake` and `sepal render` take.
+// rank, the residual and the model as a spec that `sepal bake` and `sepal render` take; a
+// warning when weighted samples' residual is over twice their stated noise (the model does
+// not fit them, and the intervals would be too narrow).
 // fit.json holds the same with the full covariance matrix (null where unmeasured).
 #include <cmath>
 #include <cstdio>
@@ -25,6 +27,9 @@ struct FitArgs {
     LafortuneFitOptions o;
     bool anisotropic = false, grey = false;
 };
+
+// Residuals this many times the stated noise: the model, not the noise, explains them.
+constexpr double kMisfitNoiseScale = 2.0;
 
 int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
     const char* who = "sepal fit lafortune";
@@ -59,6 +64,18 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
     std::fprintf(io.out, "residual   rms %.6g /sr, noise scale %.6g (%s), %d evaluations\n", r.rms, r.sigma,
                  a.o.sigma > 0 ? "given" : "estimated", r.evaluations);
     std::fprintf(io.out, "spec       %s%s\n", spec.c_str(), clamped ? "  (clamped into the spec's ranges)" : "");
+    // Samples that carry weights (`measure capture` writes 1/std) say how large their noise
+    // is: an estimated noise scale well above 1 means the residual is not noise but a model
+    // that does not describe the samples, and intervals computed as if it did are too narrow.
+    bool weighted = false;
+    for (const BrdfSample& s : samples) weighted = weighted || s.weight != 1.0;
+    const bool misfit = weighted && a.o.sigma <= 0 && r.sigma > kMisfitNoiseScale;
+    if (misfit)
+        std::fprintf(io.out,
+                     "warning    the residual is %.3g x the noise the samples' weights state (1/std): %d lobe%s "
+                     "do%s not describe these samples (several materials, or a shape the model lacks), and the "
+                     "95%% intervals above assume it does; fit each material's samples apart or try --lobes %d\n",
+                     r.sigma, a.o.lobes, a.o.lobes == 1 ? "" : "s", a.o.lobes == 1 ? "es" : "", std::min(4, a.o.lobes + 1));
     if (!a.out.empty()) {
         Json cov = Json::array();
         for (int i = 0; i < int(r.cov.rows()); ++i) {
@@ -79,6 +96,7 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
                   {"rms", r.rms},
                   {"sigma", r.sigma},
                   {"sigma_given", a.o.sigma > 0},
+                  {"model_fits_noise", !misfit},
                   {"evaluations", r.evaluations},
                   {"parameters", std::move(params)},
                   {"covariance", std::move(cov)}};

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_util.h"
 #include "util/io.h"
 #include "cli/cli.h"

@@ -1,5 +1,6 @@
 // sepal info SPEC [--samples N] | sepal info --models: describe a BRDF or list the models.
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_models.h"
 #include "brdf/brdf_spec.h"
 #include "brdf/brdf_util.h"

@@ -8,8 +8,8 @@
 //                      [--bake out.sepal] [--materials ..]
 // The database (the 100 merl-nbrdf materials on the MERL grid) is built on first use into the
 // cache (database.h: about a minute, 1.4 GB) and memory-mapped afterwards. --materials limits
-// it to a subset (a smaller, faster database; tests use it). A new subcommand (issue 17's
-// `capture`) is one more subcommand in setup_measure.
+// it to a subset (a smaller, faster database; tests use it). A new subcommand (as `capture`)
+// is one more subcommand in setup_measure.
 //   sepal measure capture -o photo.png [--samples s.csv] [--object sphere|torus|wave]
 //                      [--camera AZ,EL] [--light AZ,EL] [--seed S] [--no-noise]
 #include <chrono>
@@ -23,6 +23,7 @@
 #include "bake/asset_file.h"
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "database/database.h"
@@ -406,6 +407,10 @@ CommandRun setup_capture(CLI::App& c) {
 }  // namespace
 
 CommandRun setup_measure(CLI::App& app) {
+    app.footer(
+        "The database cache (about 1.4 GB, built on first use): $SEPAL_CACHE_DIR/database if set; for an\n"
+        "installed sepal $XDG_CACHE_HOME/sepal/database (default ~/.cache/sepal/database); in a build\n"
+        "tree build/cache/database.");
     return setup_subcommands(app, {
         {"plan", "choose the sample directions that condition the database best", setup_plan},
         {"simulate", "measure a known BRDF at a plan's directions (virtual gonioreflectometer)", setup_simulate},

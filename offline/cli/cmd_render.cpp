@@ -21,6 +21,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "cli/scene_options.h"
+#include "spec/spec.h"
 
 namespace sepal {
 
@@ -146,7 +147,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     const std::string& diffuse_path = args.diffuse_path;
     const bool float_target = args.float_target;
     std::string err;
-    // Issue 21, class 9: a frame over 2 Mpixels takes seconds (the exact backend shades about
+    // A frame over 2 Mpixels takes seconds (the exact backend shades about
     // 1.3 Mpixels a second on 2 cores: 8192x8192 is close to a minute) and memory in
     // proportion: said on stderr before it starts, with progress on a terminal, and refused
     // when its buffers cannot fit in this machine's memory.

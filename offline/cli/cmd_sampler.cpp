@@ -13,6 +13,7 @@
 #include <string>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "sampling/alternatives.h"

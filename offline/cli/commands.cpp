@@ -69,6 +69,11 @@ std::unique_ptr<CLI::App> make_sepal_app(std::vector<CommandRun>* runs) {
         CLI::App* sub = app->add_subcommand(c.name, c.summary);
         runs->push_back(c.setup(*sub));
     }
+    // After the subcommands: CLI11 copies a parent's footer into subcommands added later.
+    app->footer(
+        "Data: nbrdf:NAME specs read merl-nbrdf/merl-nbrdf.json from $SEPAL_DATA_DIR if set, else from a\n"
+        "checkout's data/ or an installed PREFIX/share/sepal/ (found from the executable's folder).\n"
+        "'sepal measure --help' says where the measurement database is cached.");
     return app;
 }
 

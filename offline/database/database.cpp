@@ -84,10 +84,19 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 std::string default_database_cache_dir() {
     if (const char* env = std::getenv("SEPAL_CACHE_DIR"))
         if (*env) return std::string(env) + "/database";
-    const std::string exe = executable_dir();  // .../build/bin -> .../build/cache/database
+    const std::string exe = executable_dir();
     const size_t slash = exe.rfind('/');
-    return (slash == std::string::npos ? std::string("build") : exe.substr(0, slash)) +
-           "/cache/database";
+    const std::string parent = slash == std::string::npos ? std::string("build") : exe.substr(0, slash);
+    // An installed tool (PREFIX/bin next to PREFIX/share/sepal) may not write under PREFIX:
+    // its cache is the user's (XDG). A build tree's stays in it (make clean removes it).
+    struct stat installed;
+    if (stat((parent + "/share/sepal/merl-nbrdf/merl-nbrdf.json").c_str(), &installed) == 0) {
+        if (const char* xdg = std::getenv("XDG_CACHE_HOME"))
+            if (*xdg == '/') return std::string(xdg) + "/sepal/database";
+        if (const char* home = std::getenv("HOME"))
+            if (*home) return std::string(home) + "/.cache/sepal/database";
+    }
+    return parent + "/cache/database";
 }
 
 HalfDiff database_cell_center(const DatabaseGrid& g, size_t cell) {

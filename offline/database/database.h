@@ -16,8 +16,9 @@
 // writes), in 1/sr, stored as float32.
 //
 // The cache: one file per (set contents, material list, grid) in cache_dir, default
-// $SEPAL_CACHE_DIR, else <executable dir>/../cache/database (build/cache/database for
-// build/bin/sepal). Layout: a header (magic, version, dims, counts, hashes of the JSON and
+// default_database_cache_dir(): $SEPAL_CACHE_DIR/database; for an installed tool,
+// $XDG_CACHE_HOME/sepal/database (~/.cache/sepal/database); in a build tree
+// build/cache/database. Layout: a header (magic, version, dims, counts, hashes of the JSON and
 // the names, checksum of everything but the table), names, valid cells, the two Gram
 // matrices, the planning pool, then the table (material-major, 4096-aligned). Building it
 // (MERL grid, 100 materials: ~1.3 GB, about a minute on 2 cores) prints progress; the bytes
@@ -117,8 +118,9 @@ class BrdfDatabase {
     bool built_now_ = false;
 };
 
-// $SEPAL_CACHE_DIR/database when SEPAL_CACHE_DIR is set, else
-// <executable dir>/../cache/database.
+// $SEPAL_CACHE_DIR/database when SEPAL_CACHE_DIR is set; else, for an installed tool (the
+// executable's ../share/sepal holds the data), $XDG_CACHE_HOME/sepal/database or
+// $HOME/.cache/sepal/database; else <executable dir>/../cache/database (a build tree).
 std::string default_database_cache_dir();
 
 // Bin centre of a grid cell (Tabulated's layout and index formulas, theta_h sqrt-spaced).

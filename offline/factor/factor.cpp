@@ -579,175 +579,201 @@ LowRank with_columns(const LowRank& f, int k, size_t rows, size_t cols) {
 }  // namespace
 
 // ---- the engine ---------------------------------------------------------------------------
-bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, std::string* err) {
-    if (!validate_factor_options(o, err)) return false;
-    if (o.method == Method::Homomorphic) return detail::factor_brdf_homomorphic(brdf, o, out, err);
-    FactorResult r;
-    matrix_shape(o, &r.rows, &r.cols);
-    if (o.terms > std::min(r.rows, r.cols)) {
+namespace {
+
+// The matrix an option set asks for, against the rank it can have, --max-memory and the
+// machine's memory: refused before any work, with the flags that would fit.
+bool check_factor_budget(const FactorOptions& o, FactorResult* r, std::string* err) {
+    matrix_shape(o, &r->rows, &r->cols);
+    if (o.terms > std::min(r->rows, r->cols)) {
         if (err)
-            *err = "--terms " + std::to_string(o.terms) + " exceeds the rank the " +
-                   std::to_string(r.rows) + " x " + std::to_string(r.cols) +
-                   " sample matrix can have at --res " + std::to_string(o.res) + " (at most " +
-                   std::to_string(std::min(r.rows, r.cols)) + ")";
+            *err = "--terms " + std::to_string(o.terms) + " exceeds the rank the " + std::to_string(r->rows) + " x " +
+                   std::to_string(r->cols) + " sample matrix can have at --res " + std::to_string(o.res) +
+                   " (at most " + std::to_string(std::min(r->rows, r->cols)) + ")";
         return false;
     }
-    r.memory_mb = estimate_memory_mb(o);
-    if (r.memory_mb > o.max_memory_mb) {
+    r->memory_mb = estimate_memory_mb(o);
+    if (r->memory_mb > o.max_memory_mb) {
         char buf[512];
         if (o.method == Method::ND)
             std::snprintf(buf, sizeof buf,
                           "--method nd at --res %d needs about %.0f MB, over the --max-memory "
                           "limit of %.0f MB; use a lower --res or raise --max-memory",
-                          o.res, r.memory_mb, o.max_memory_mb);
+                          o.res, r->memory_mb, o.max_memory_mb);
         else
             std::snprintf(buf, sizeof buf,
                           "--method %s holds the %d x %d x %d sample matrix: about %.0f MB at "
                           "--res %d, over the --max-memory limit of %.0f MB; use --method nd "
                           "(it streams: memory = output), --colour luminance, a lower --res, "
                           "or raise --max-memory",
-                          method_name(o.method), r.rows, r.cols, channels_of(o), r.memory_mb,
-                          o.res, o.max_memory_mb);
+                          method_name(o.method), r->rows, r->cols, channels_of(o), r->memory_mb, o.res,
+                          o.max_memory_mb);
         if (err) *err = buf;
         return false;
     }
     // Whatever --max-memory allows, not more than the machine has: past it the allocation
     // fails (or the kernel kills the process) after minutes of work.
     const double physical_mb = physical_memory_mb();
-    if (physical_mb > 0 && r.memory_mb > physical_mb) {
+    if (physical_mb > 0 && r->memory_mb > physical_mb) {
         char buf[256];
         std::snprintf(buf, sizeof buf,
                       "--method %s at --res %d needs about %.0f MB; this machine has %.0f MB of memory "
                       "(use --method nd, --colour luminance or a lower --res)",
-                      method_name(o.method), o.res, r.memory_mb, physical_mb);
+                      method_name(o.method), o.res, r->memory_mb, physical_mb);
         if (err) *err = buf;
         return false;
     }
+    return true;
+}
+
+// nmf, acls and the SVD weighted over valid entries: term counts one after another, each
+// warm-started from the previous solution plus the next SVD term. (A K-term weighted fit is
+// not nested: its first term need not be the best single term, so each k gets its own
+// solution, kept in stages[k - 1].)
+void als_ladder(const Matrix& m, const PairSampler& sampler, const FactorOptions& o, bool weighted_svd,
+                std::atomic<int64_t>* solver_fallbacks, std::vector<LowRank>* lr,
+                std::vector<std::vector<LowRank>>* stages, FactorResult* r) {
+    const int ch = channels_of(o), k = o.terms;
+    const bool acls = o.method == Method::ACLS, nmf = o.method == Method::NMF;
+    const int hside = half_angle_factor(o.param);
+    std::vector<int> parent, order;
+    if (acls && o.acls_monotonic)
+        monotone_forest(hside == 0 ? sampler.row_texels() : sampler.col_texels(), factor_res(o, hside), &parent,
+                        &order);
+    detail::AlsSettings s;
+    s.rule = acls ? detail::AlsRule::Constrained : nmf ? detail::AlsRule::Multiplicative : detail::AlsRule::LeastSquares;
+    // Defaults per term count, chosen on ward/velvet at 64x64 (README): beyond them
+    // the matrix error still falls slowly but the cosine-weighted RMS no longer moves.
+    s.max_iters = o.iterations ? o.iterations : (acls ? 50 : nmf ? 100 : 50);
+    s.tolerance = o.tolerance > 0 ? o.tolerance : (acls ? 1e-5 : nmf ? 1e-4 : 1e-6);
+    // Extra per-row updates are cheap next to a pass over the matrix: 16 multiplicative
+    // updates per pass cut the passes about 4x at equal error (measured, ward 32x32).
+    s.inner = acls ? 8 : 16;
+    s.threads = o.threads;
+    s.constant_side = acls && o.acls_constant ? hside : -1;
+    s.monotone_side = acls && o.acls_monotonic ? hside : -1;
+    s.parent = &parent;
+    s.order = &order;
+    s.horizon_weight = o.horizon_weight;
+    s.fallbacks = solver_fallbacks;
+    stages->assign(size_t(k), std::vector<LowRank>(size_t(ch)));
+    if (weighted_svd)
+        r->notes.push_back("weighted: entries partly or wholly below the horizon "
+                           "count by their share of valid pairs");
+    for (int c = 0; c < ch; ++c) {
+        LowRank init;
+        detail::truncated_svd(m, c, k, o.seed, o.threads, &init, nullptr);
+        LowRank cur;
+        for (int kk = 1; kk <= k; ++kk) {
+            LowRank next = with_columns(cur, kk, size_t(m.rows), size_t(m.cols));
+            const int a = kk - 1;
+            if (s.constant_side >= 0 && a == 0) {
+                // The held term: 1 on the half-angle side, the SVD's leading
+                // profile (made positive) on the other.
+                detail::nndsvd_column(init, 0, &next, 0, false);
+                std::vector<double>& held = hside == 0 ? next.g : next.h;
+                for (size_t i = 0; i < held.size(); i += size_t(kk)) held[i] = 1.0;
+            } else if (weighted_svd) {
+                copy_column(init, a, &next, a);
+            } else {
+                const int j = s.constant_side >= 0 ? a - 1 : a;
+                detail::nndsvd_column(init, j, &next, a, nmf);
+                if (kk > 1) {
+                    // The new term starts small: the start is then as good as the
+                    // previous term count's solution, and both update rules only
+                    // lower the error from there (a full-size SVD-shaped term can
+                    // start far worse than the solution it extends).
+                    for (size_t i = 0; i < size_t(m.rows); ++i) next.g[i * kk + a] *= 0.03;
+                    for (size_t i = 0; i < size_t(m.cols); ++i) next.h[i * kk + a] *= 0.03;
+                }
+            }
+            int it = 0;
+            s.anchor = kk > 1 ? &cur : nullptr;
+            detail::als_solve(m, c, s, &next, &it);
+            r->iterations += it;
+            if (weighted_svd)
+                detail::orthogonalize(&next);
+            else
+                order_terms(&next, s.constant_side >= 0, size_t(m.rows), size_t(m.cols));
+            (*stages)[size_t(kk - 1)][size_t(c)] = next;
+            cur = next;
+        }
+        (*lr)[size_t(c)] = cur;
+    }
+}
+
+// Every method but nd: the sample matrix held in memory, the rows and columns that hold
+// data marked, negative entries clamped for the non-negative fits, then the plain SVD or
+// the ladder above.
+bool factor_held(const PairSampler& sampler, const FactorOptions& o, double t0, Matrix* m, glm::dvec3* ratio,
+                 std::vector<uint8_t>* row_has, std::vector<uint8_t>* col_has, std::vector<LowRank>* lr,
+                 std::vector<std::vector<LowRank>>* stages, FactorResult* r, std::string* err) {
+    if (!sample_matrix(sampler, o, m, ratio, &r->evaluations, err)) return false;
+    const double t1 = now_seconds();
+    r->sample_seconds = t1 - t0;
+    row_has->assign(size_t(m->rows), 0);
+    col_has->assign(size_t(m->cols), 0);
+    bool partial = false;
+    for (int i = 0; i < m->rows; ++i)
+        for (int c = 0; c < m->cols; ++c) {
+            const float w = m->w[size_t(i) * m->cols + c];
+            if (w > 0) (*row_has)[size_t(i)] = (*col_has)[size_t(c)] = 1;
+            if (w != 1.0f) partial = true;
+        }
+    if (o.method == Method::NMF || o.method == Method::ACLS)
+        for (std::vector<float>& plane : m->wv)
+            for (float& x : plane)
+                if (x < 0) x = 0, ++r->clamped_negative;
+    if (r->clamped_negative)
+        r->notes.push_back(std::to_string(r->clamped_negative) +
+                           " negative matrix entries clamped to 0 for a non-negative fit");
+    const int ch = channels_of(o);
+    lr->resize(size_t(ch));
+    const bool svd = o.method == Method::SVD || o.method == Method::WSVD;
+    const bool weighted_svd = svd && (o.method == Method::WSVD || o.svd_weighted) && partial;
+    std::atomic<int64_t> solver_fallbacks{0};
+    if (svd && !weighted_svd) {
+        for (int c = 0; c < ch; ++c) detail::truncated_svd(*m, c, o.terms, o.seed, o.threads, &(*lr)[size_t(c)], nullptr);
+    } else {
+        als_ladder(*m, sampler, o, weighted_svd, &solver_fallbacks, lr, stages, r);
+    }
+    r->factor_seconds = now_seconds() - t1;
+    r->solver_fallbacks = solver_fallbacks.load();
+    if (r->solver_fallbacks)
+        r->notes.push_back(std::to_string(r->solver_fallbacks) +
+                           " solver updates fell back to 0 (a non-finite solution or no data)");
+    return true;
+}
+
+}  // namespace
+
+bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, std::string* err) {
+    if (!validate_factor_options(o, err)) return false;
+    if (o.method == Method::Homomorphic) return detail::factor_brdf_homomorphic(brdf, o, out, err);
+    FactorResult r;
+    if (!check_factor_budget(o, &r, err)) return false;
     const int ch = channels_of(o), k = o.terms;
     PairSampler sampler(brdf, o);
     r.frame_fallbacks = sampler.frame_fallback_pairs();
     if (r.frame_fallbacks)
         r.notes.push_back(std::to_string(r.frame_fallbacks) +
                           " sample pairs use the degenerate-frame fallback of param.h");
-    std::atomic<int64_t> solver_fallbacks{0};
     const double t0 = now_seconds();
     std::vector<LowRank> lr;
     glm::dvec3 ratio(1);
     std::vector<uint8_t> row_has, col_has;
     std::vector<std::vector<LowRank>> stages;  // nmf/acls: [k-1][channel]
     Matrix m;
-
     if (o.method == Method::ND) {
-        if (!detail::nd_factor(sampler, o, ch, &lr, &ratio, &row_has, &col_has,
-                               &r.sample_seconds, &r.evaluations, err))
+        if (!detail::nd_factor(sampler, o, ch, &lr, &ratio, &row_has, &col_has, &r.sample_seconds, &r.evaluations,
+                               err))
             return false;
         r.factor_seconds = now_seconds() - t0 - r.sample_seconds;
-    } else {
-        if (!sample_matrix(sampler, o, &m, &ratio, &r.evaluations, err)) return false;
-        const double t1 = now_seconds();
-        r.sample_seconds = t1 - t0;
-        row_has.assign(size_t(m.rows), 0);
-        col_has.assign(size_t(m.cols), 0);
-        bool partial = false;
-        for (int i = 0; i < m.rows; ++i)
-            for (int c = 0; c < m.cols; ++c) {
-                const float w = m.w[size_t(i) * m.cols + c];
-                if (w > 0) row_has[size_t(i)] = col_has[size_t(c)] = 1;
-                if (w != 1.0f) partial = true;
-            }
-        if (o.method == Method::NMF || o.method == Method::ACLS)
-            for (std::vector<float>& plane : m.wv)
-                for (float& x : plane)
-                    if (x < 0) x = 0, ++r.clamped_negative;
-        if (r.clamped_negative)
-            r.notes.push_back(std::to_string(r.clamped_negative) +
-                              " negative matrix entries clamped to 0 for a non-negative fit");
-        lr.resize(size_t(ch));
-        const bool svd = o.method == Method::SVD || o.method == Method::WSVD;
-        const bool weighted_svd = svd && (o.method == Method::WSVD || o.svd_weighted) && partial;
-        if (svd && !weighted_svd) {
-            for (int c = 0; c < ch; ++c)
-                detail::truncated_svd(m, c, k, o.seed, o.threads, &lr[size_t(c)], nullptr);
-        } else {
-            // Term counts one after another, each warm-started from the previous solution
-            // plus the next SVD term: nmf, acls, and the SVD weighted over valid entries.
-            // (A K-term weighted fit is not nested: its first term need not be the best
-            // single term, so each k gets its own solution.)
-            const bool acls = o.method == Method::ACLS, nmf = o.method == Method::NMF;
-            const int hside = half_angle_factor(o.param);
-            std::vector<int> parent, order;
-            if (acls && o.acls_monotonic)
-                monotone_forest(hside == 0 ? sampler.row_texels() : sampler.col_texels(), factor_res(o, hside),
-                                &parent, &order);
-            detail::AlsSettings s;
-            s.rule = acls ? detail::AlsRule::Constrained
-                          : nmf ? detail::AlsRule::Multiplicative : detail::AlsRule::LeastSquares;
-            // Defaults per term count, chosen on ward/velvet at 64x64 (README): beyond them
-            // the matrix error still falls slowly but the cosine-weighted RMS no longer moves.
-            s.max_iters = o.iterations ? o.iterations : (acls ? 50 : nmf ? 100 : 50);
-            s.tolerance = o.tolerance > 0 ? o.tolerance : (acls ? 1e-5 : nmf ? 1e-4 : 1e-6);
-            // Extra per-row updates are cheap next to a pass over the matrix: 16 multiplicative
-            // updates per pass cut the passes about 4x at equal error (measured, ward 32x32).
-            s.inner = acls ? 8 : 16;
-            s.threads = o.threads;
-            s.constant_side = acls && o.acls_constant ? hside : -1;
-            s.monotone_side = acls && o.acls_monotonic ? hside : -1;
-            s.parent = &parent;
-            s.order = &order;
-            s.horizon_weight = o.horizon_weight;
-            s.fallbacks = &solver_fallbacks;
-            stages.assign(size_t(k), std::vector<LowRank>(size_t(ch)));
-            if (weighted_svd)
-                r.notes.push_back("weighted: entries partly or wholly below the horizon "
-                                  "count by their share of valid pairs");
-            for (int c = 0; c < ch; ++c) {
-                LowRank init;
-                detail::truncated_svd(m, c, k, o.seed, o.threads, &init, nullptr);
-                LowRank cur;
-                for (int kk = 1; kk <= k; ++kk) {
-                    LowRank next = with_columns(cur, kk, size_t(m.rows), size_t(m.cols));
-                    const int a = kk - 1;
-                    if (s.constant_side >= 0 && a == 0) {
-                        // The held term: 1 on the half-angle side, the SVD's leading
-                        // profile (made positive) on the other.
-                        detail::nndsvd_column(init, 0, &next, 0, false);
-                        std::vector<double>& held = hside == 0 ? next.g : next.h;
-                        for (size_t i = 0; i < held.size(); i += size_t(kk)) held[i] = 1.0;
-                    } else if (weighted_svd) {
-                        copy_column(init, a, &next, a);
-                    } else {
-                        const int j = s.constant_side >= 0 ? a - 1 : a;
-                        detail::nndsvd_column(init, j, &next, a, nmf);
-                        if (kk > 1) {
-                            // The new term starts small: the start is then as good as the
-                            // previous term count's solution, and both update rules only
-                            // lower the error from there (a full-size SVD-shaped term can
-                            // start far worse than the solution it extends).
-                            for (size_t i = 0; i < size_t(m.rows); ++i) next.g[i * kk + a] *= 0.03;
-                            for (size_t i = 0; i < size_t(m.cols); ++i) next.h[i * kk + a] *= 0.03;
-                        }
-                    }
-                    int it = 0;
-                    s.anchor = kk > 1 ? &cur : nullptr;
-                    detail::als_solve(m, c, s, &next, &it);
-                    r.iterations += it;
-                    if (weighted_svd)
-                        detail::orthogonalize(&next);
-                    else
-                        order_terms(&next, s.constant_side >= 0, size_t(m.rows), size_t(m.cols));
-                    stages[size_t(kk - 1)][size_t(c)] = next;
-                    cur = next;
-                }
-                lr[size_t(c)] = cur;
-            }
-        }
-        r.factor_seconds = now_seconds() - t1;
-        r.solver_fallbacks = solver_fallbacks.load();
-        if (r.solver_fallbacks)
-            r.notes.push_back(std::to_string(r.solver_fallbacks) +
-                              " solver updates fell back to 0 (a non-finite solution or no data)");
+    } else if (!factor_held(sampler, o, t0, &m, &ratio, &row_has, &col_has, &lr, &stages, &r, err)) {
+        return false;
     }
 
+    // Every term count's prefix, and its error over the matrix when asked for.
     const Layout layout = make_layout(sampler, factor_res(o, 0), factor_res(o, 1), row_has, col_has);
     r.factored = build_factored(o, brdf.spec(), ratio, lr, layout);
     if (stages.empty()) {
@@ -755,8 +781,7 @@ bool factor_brdf(const Brdf& brdf, const FactorOptions& o, FactorResult* out, st
         if (!o.matrix_error) {
             // left empty
         } else if (o.method == Method::ND) {
-            if (!matrix_rms_streamed(sampler, o, r.factored, layout, &r.matrix_rms, err))
-                return false;
+            if (!matrix_rms_streamed(sampler, o, r.factored, layout, &r.matrix_rms, err)) return false;
         } else {
             r.matrix_rms = matrix_rms_held(m, r.factored, layout, o.threads);
         }

@@ -249,35 +249,37 @@ bool validate_homomorphic_options(const HomomorphicOptions& o, std::string* err)
     return true;
 }
 
-bool factor_homomorphic(const std::vector<BrdfSample>& samples, const HomomorphicOptions& o, Factored* out,
-                        HomomorphicStats* stats, std::string* err) {
-    const auto start = std::chrono::steady_clock::now();
-    if (!validate_homomorphic_options(o, err)) return false;
-    auto fail = [&](const std::string& why) {
-        if (err) *err = "homomorphic: " + why;
-        return false;
-    };
-    if (samples.empty()) return fail("no samples to fit (an empty measurement?)");
+namespace {
+
+// Every sample finite, non-negative, with unit directions, and not too many of them.
+bool check_samples(const std::vector<BrdfSample>& samples, std::string* why) {
+    if (samples.empty()) return *why = "no samples to fit (an empty measurement?)", false;
     if (samples.size() > kMaxHomomorphicSamples)
-        return fail(std::to_string(samples.size()) + " samples; at most " + std::to_string(kMaxHomomorphicSamples));
-    HomomorphicStats st;
-    st.samples = int64_t(samples.size());
+        return *why = std::to_string(samples.size()) + " samples; at most " + std::to_string(kMaxHomomorphicSamples),
+               false;
     for (size_t i = 0; i < samples.size(); ++i) {
         const BrdfSample& s = samples[i];
         if (!finite3(s.wi) || !finite3(s.wo) || !finite3(s.value))
-            return fail("sample " + std::to_string(i) + " has a non-finite direction or value");
+            return *why = "sample " + std::to_string(i) + " has a non-finite direction or value", false;
         if (s.value.x < 0 || s.value.y < 0 || s.value.z < 0)
-            return fail("sample " + std::to_string(i) + " has a negative value");
+            return *why = "sample " + std::to_string(i) + " has a negative value", false;
         if (std::fabs(glm::length(s.wi) - 1) > 1e-6 || std::fabs(glm::length(s.wo) - 1) > 1e-6)
-            return fail("sample " + std::to_string(i) + " has a direction that is not a unit vector");
+            return *why = "sample " + std::to_string(i) + " has a direction that is not a unit vector", false;
     }
-    const int n = o.res, nn = n * n;
+    return true;
+}
+
+// The fit's rows: each sample above the horizon (isotropic fits: also rotated about the
+// normal), its three parabolic-map lookups, its value capped at the cap and white level,
+// and its weight f cos theta_i.
+std::vector<Row> make_rows(const std::vector<BrdfSample>& samples, const HomomorphicOptions& o, HomomorphicStats* st) {
+    const int n = o.res;
     const int rotations = o.isotropic ? o.rotations : 1;
     std::vector<Row> rows;
     rows.reserve(samples.size() * size_t(rotations));
     for (const BrdfSample& s : samples) {
         if (s.wi.z <= 0 || s.wo.z <= 0) {
-            ++st.below_horizon;
+            ++st->below_horizon;
             continue;
         }
         for (int r = 0; r < rotations; ++r) {
@@ -293,12 +295,139 @@ bool factor_homomorphic(const std::vector<BrdfSample>& samples, const Homomorphi
             if (o.white > 0) cap = std::min(cap, o.white);
             if (s.value.x > cap || s.value.y > cap || s.value.z > cap) {
                 row.value = glm::min(s.value, glm::dvec3(cap));
-                if (r == 0) ++st.capped;
+                if (r == 0) ++st->capped;
             }
             row.weight = luminance(row.value) * wi.z;
             rows.push_back(row);
         }
     }
+    return rows;
+}
+
+// Row weights (f cos)^gamma, floored at a small share of the mean so zero values still
+// count a little, clipped at a quantile so a handful of mirror-peak samples cannot
+// outweigh everything else, normalized to mean 1 so lambda means the same for any
+// sample count. Returned as their square roots (what scales a least-squares row).
+std::vector<double> row_scales(const std::vector<Row>& rows, const HomomorphicOptions& o) {
+    std::vector<double> row_scale(rows.size());
+    double wmean = 0;
+    std::vector<double> sorted;
+    sorted.reserve(rows.size());
+    for (const Row& r : rows) wmean += r.weight, sorted.push_back(r.weight);
+    wmean = wmean > 0 ? wmean / double(rows.size()) : 1.0;
+    const size_t qi = std::min(sorted.size() - 1, size_t(o.weight_quantile * double(sorted.size())));
+    std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(qi), sorted.end());
+    const double clip = std::max(sorted[qi], o.floor * wmean);
+    double total = 0;
+    for (size_t k = 0; k < rows.size(); ++k) {
+        row_scale[k] = std::pow(std::min(clip, std::max(rows[k].weight, o.floor * wmean)), o.weight_exponent);
+        total += row_scale[k];
+    }
+    for (double& v : row_scale) v = std::sqrt(v * double(rows.size()) / total);
+    return row_scale;
+}
+
+// What one channel's fit needs besides its values: the rows, their scales, the design
+// matrix and which texels of p and q some sample reaches.
+struct ChannelProblem {
+    const std::vector<Row>& rows;
+    const std::vector<double>& row_scale;
+    const SparseMat& a;
+    const std::vector<uint8_t>& hit_p;
+    const std::vector<uint8_t>& hit_q;
+    const HomomorphicOptions& o;
+};
+
+// One channel's factors: K terms p_t(wi) q_t(h) p_t(wo) by backfitting (K = 1: one solve),
+// each the solve of its target's logs, floored at o.floor x the channel's mean.
+struct ChannelFit {
+    std::vector<std::vector<double>> p, q;  // [term] -> texels
+    int iterations = 0;
+    int64_t floored = 0;
+    double log_sq = 0;  // single term: the weighted mean squared log residual
+};
+
+ChannelFit fit_channel(const ChannelProblem& pr, const std::vector<double>& value, double cmean) {
+    const std::vector<Row>& rows = pr.rows;
+    const HomomorphicOptions& o = pr.o;
+    const int n = o.res, nn = n * n, terms = o.terms;
+    ChannelFit out;
+    out.p.assign(size_t(terms), {});
+    out.q.assign(size_t(terms), {});
+    if (!(cmean > 0)) {  // a channel that is 0 everywhere: zero factors, exactly
+        for (int t = 0; t < terms; ++t) out.p[size_t(t)].assign(size_t(nn), 0.0), out.q[size_t(t)].assign(size_t(nn), 0.0);
+        return out;
+    }
+    const double fl = o.floor * cmean;
+    std::vector<std::vector<double>> model(size_t(terms), std::vector<double>(rows.size(), 0.0));
+    std::vector<double> target(rows.size());
+    const int sweeps = terms == 1 ? 1 : o.backfit_sweeps;
+    for (int sweep = 0; sweep < sweeps; ++sweep)
+        for (int t = 0; t < terms; ++t) {
+            int64_t low = 0;
+            for (size_t k = 0; k < rows.size(); ++k) {
+                double others = 0;
+                for (int u = 0; u < terms; ++u)
+                    if (u != t) others += model[size_t(u)][k];
+                const double v = value[k] - others;
+                if (v < fl) ++low;
+                target[k] = std::max(v, fl);
+            }
+            if (sweep == 0 && t == 0) out.floored = low;
+            Solve s = solve(pr.a, rows, pr.row_scale, target, n, o);
+            // Texels no sample reaches stay within the range of those some sample
+            // does: the smoothness term extends the logs along their slope, and exp
+            // of a long extrapolation is a peak no measurement showed.
+            for (int f = 0; f < 2; ++f) {
+                std::vector<double>& x = f ? s.log_q : s.log_p;
+                const std::vector<uint8_t>& hit = f ? pr.hit_q : pr.hit_p;
+                double lo = 1e300, hi = -1e300;
+                for (int i = 0; i < nn; ++i)
+                    if (hit[size_t(i)]) lo = std::min(lo, x[size_t(i)]), hi = std::max(hi, x[size_t(i)]);
+                for (int i = 0; i < nn && lo <= hi; ++i)
+                    if (!hit[size_t(i)]) x[size_t(i)] = std::min(hi, std::max(lo, x[size_t(i)]));
+            }
+            out.iterations += s.iterations;
+            std::vector<double>& pt = out.p[size_t(t)];
+            std::vector<double>& qt = out.q[size_t(t)];
+            pt.resize(size_t(nn));
+            qt.resize(size_t(nn));
+            for (int i = 0; i < nn; ++i) pt[size_t(i)] = std::exp(s.log_p[size_t(i)]), qt[size_t(i)] = std::exp(s.log_q[size_t(i)]);
+            for (size_t k = 0; k < rows.size(); ++k) model[size_t(t)][k] = row_model(rows[k], pt, qt);
+            // Single term: the log residual of the fit itself (what the solve minimized).
+            if (terms == 1) {
+                double sum = 0, wsum = 0;
+                for (size_t k = 0; k < rows.size(); ++k) {
+                    double m = 0;
+                    for (int j = 0; j < 4; ++j)
+                        m += rows[k].pi.weight[j] * s.log_p[size_t(rows[k].pi.texel[j])] +
+                             rows[k].q.weight[j] * s.log_q[size_t(rows[k].q.texel[j])] +
+                             rows[k].po.weight[j] * s.log_p[size_t(rows[k].po.texel[j])];
+                    const double d = m - std::log(target[k]), w = pr.row_scale[k] * pr.row_scale[k];
+                    sum += w * d * d, wsum += w;
+                }
+                out.log_sq = sum / wsum;
+            }
+        }
+    return out;
+}
+
+}  // namespace
+
+bool factor_homomorphic(const std::vector<BrdfSample>& samples, const HomomorphicOptions& o, Factored* out,
+                        HomomorphicStats* stats, std::string* err) {
+    const auto start = std::chrono::steady_clock::now();
+    if (!validate_homomorphic_options(o, err)) return false;
+    auto fail = [&](const std::string& why) {
+        if (err) *err = "homomorphic: " + why;
+        return false;
+    };
+    std::string why;
+    if (!check_samples(samples, &why)) return fail(why);
+    HomomorphicStats st;
+    st.samples = int64_t(samples.size());
+    const int n = o.res, nn = n * n;
+    const std::vector<Row> rows = make_rows(samples, o, &st);
     if (rows.empty()) return fail("every sample has a direction at or below the horizon");
     st.rows = int64_t(rows.size());
 
@@ -319,110 +448,26 @@ bool factor_homomorphic(const std::vector<BrdfSample>& samples, const Homomorphi
         }
         ratio = den > 0 ? num / den : glm::dvec3(1);
     }
-    // Row weights (f cos)^gamma, floored at a small share of the mean so zero values still
-    // count a little, clipped at a quantile so a handful of mirror-peak samples cannot
-    // outweigh everything else, normalized to mean 1 so lambda means the same for any
-    // sample count.
-    std::vector<double> row_scale(rows.size());
-    {
-        double wmean = 0;
-        std::vector<double> sorted;
-        sorted.reserve(rows.size());
-        for (const Row& r : rows) wmean += r.weight, sorted.push_back(r.weight);
-        wmean = wmean > 0 ? wmean / double(rows.size()) : 1.0;
-        const size_t qi = std::min(sorted.size() - 1, size_t(o.weight_quantile * double(sorted.size())));
-        std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(qi), sorted.end());
-        const double clip = std::max(sorted[qi], o.floor * wmean);
-        double total = 0;
-        for (size_t k = 0; k < rows.size(); ++k) {
-            row_scale[k] = std::pow(std::min(clip, std::max(rows[k].weight, o.floor * wmean)), o.weight_exponent);
-            total += row_scale[k];
-        }
-        for (double& s : row_scale) s = std::sqrt(s * double(rows.size()) / total);
-    }
+    const std::vector<double> row_scale = row_scales(rows, o);
     // Smoothness rows weigh like the data: lambda * sqrt(data rows / texels).
     const double lambda = o.smoothness * std::sqrt(double(rows.size()) / double(2 * nn));
     const SparseMat a = design_matrix(rows, row_scale, n, lambda, o.smoothness_order);
     std::vector<uint8_t> hit_p(size_t(nn), 0), hit_q(size_t(nn), 0);
-    {
-        for (const Row& r : rows)
-            for (int k = 0; k < 4; ++k) {
-                if (r.pi.weight[k] > 0) hit_p[size_t(r.pi.texel[k])] = 1;
-                if (r.po.weight[k] > 0) hit_p[size_t(r.po.texel[k])] = 1;
-                if (r.q.weight[k] > 0) hit_q[size_t(r.q.texel[k])] = 1;
-            }
-        st.unreached_p = int(std::count(hit_p.begin(), hit_p.end(), uint8_t(0)));
-        st.unreached_q = int(std::count(hit_q.begin(), hit_q.end(), uint8_t(0)));
-    }
+    for (const Row& r : rows)
+        for (int k = 0; k < 4; ++k) {
+            if (r.pi.weight[k] > 0) hit_p[size_t(r.pi.texel[k])] = 1;
+            if (r.po.weight[k] > 0) hit_p[size_t(r.po.texel[k])] = 1;
+            if (r.q.weight[k] > 0) hit_q[size_t(r.q.texel[k])] = 1;
+        }
+    st.unreached_p = int(std::count(hit_p.begin(), hit_p.end(), uint8_t(0)));
+    st.unreached_q = int(std::count(hit_q.begin(), hit_q.end(), uint8_t(0)));
 
-    // Per channel: the target values, then K terms by backfitting (K = 1: one solve).
-    const int terms = o.terms;
-    // linear factors [term][channel] -> texels
-    using Grid = std::vector<std::vector<std::vector<double>>>;
-    Grid p(static_cast<size_t>(terms), std::vector<std::vector<double>>(static_cast<size_t>(ch)));
-    Grid q = p;
-    std::vector<int> iterations(size_t(ch), 0);
-    std::vector<int64_t> floored(size_t(ch), 0);
-    std::vector<double> log_sq(size_t(ch), 0);
+    const ChannelProblem problem{rows, row_scale, a, hit_p, hit_q, o};
+    std::vector<ChannelFit> fits(static_cast<size_t>(ch));
     parallel_for(size_t(ch), o.threads, [&](size_t c) {
-        const double cmean = ch == 1 ? lum_mean : mean[int(c)];
         std::vector<double> value(rows.size());
         for (size_t k = 0; k < rows.size(); ++k) value[k] = ch == 1 ? luminance(rows[k].value) : rows[k].value[int(c)];
-        if (!(cmean > 0)) {  // a channel that is 0 everywhere: zero factors, exactly
-            for (int t = 0; t < terms; ++t) p[size_t(t)][c].assign(size_t(nn), 0.0), q[size_t(t)][c].assign(size_t(nn), 0.0);
-            return;
-        }
-        const double fl = o.floor * cmean;
-        std::vector<std::vector<double>> model(size_t(terms), std::vector<double>(rows.size(), 0.0));
-        std::vector<double> target(rows.size());
-        const int sweeps = terms == 1 ? 1 : o.backfit_sweeps;
-        for (int sweep = 0; sweep < sweeps; ++sweep)
-            for (int t = 0; t < terms; ++t) {
-                int64_t low = 0;
-                for (size_t k = 0; k < rows.size(); ++k) {
-                    double others = 0;
-                    for (int u = 0; u < terms; ++u)
-                        if (u != t) others += model[size_t(u)][k];
-                    const double v = value[k] - others;
-                    if (v < fl) ++low;
-                    target[k] = std::max(v, fl);
-                }
-                if (sweep == 0 && t == 0) floored[c] = low;
-                Solve s = solve(a, rows, row_scale, target, n, o);
-                // Texels no sample reaches stay within the range of those some sample
-                // does: the smoothness term extends the logs along their slope, and exp
-                // of a long extrapolation is a peak no measurement showed.
-                for (int f = 0; f < 2; ++f) {
-                    std::vector<double>& x = f ? s.log_q : s.log_p;
-                    const std::vector<uint8_t>& hit = f ? hit_q : hit_p;
-                    double lo = 1e300, hi = -1e300;
-                    for (int i = 0; i < nn; ++i)
-                        if (hit[size_t(i)]) lo = std::min(lo, x[size_t(i)]), hi = std::max(hi, x[size_t(i)]);
-                    for (int i = 0; i < nn && lo <= hi; ++i)
-                        if (!hit[size_t(i)]) x[size_t(i)] = std::min(hi, std::max(lo, x[size_t(i)]));
-                }
-                iterations[c] += s.iterations;
-                std::vector<double>& pt = p[size_t(t)][c];
-                std::vector<double>& qt = q[size_t(t)][c];
-                pt.resize(size_t(nn));
-                qt.resize(size_t(nn));
-                for (int i = 0; i < nn; ++i) pt[size_t(i)] = std::exp(s.log_p[size_t(i)]), qt[size_t(i)] = std::exp(s.log_q[size_t(i)]);
-                for (size_t k = 0; k < rows.size(); ++k) model[size_t(t)][k] = row_model(rows[k], pt, qt);
-                // Single term: the log residual of the fit itself (what the solve minimized).
-                if (terms == 1) {
-                    double sum = 0, wsum = 0;
-                    for (size_t k = 0; k < rows.size(); ++k) {
-                        double m = 0;
-                        for (int j = 0; j < 4; ++j)
-                            m += rows[k].pi.weight[j] * s.log_p[size_t(rows[k].pi.texel[j])] +
-                                 rows[k].q.weight[j] * s.log_q[size_t(rows[k].q.texel[j])] +
-                                 rows[k].po.weight[j] * s.log_p[size_t(rows[k].po.texel[j])];
-                        const double d = m - std::log(target[k]), w = row_scale[k] * row_scale[k];
-                        sum += w * d * d, wsum += w;
-                    }
-                    log_sq[c] = sum / wsum;
-                }
-            }
+        fits[c] = fit_channel(problem, value, ch == 1 ? lum_mean : mean[int(c)]);
     });
     Factored f;
     f.form = Form::Reciprocal;
@@ -433,12 +478,12 @@ bool factor_homomorphic(const std::vector<BrdfSample>& samples, const Homomorphi
     f.channels = ch;
     f.ratio = ratio;
     f.method = "homomorphic";
-    for (int t = 0; t < terms; ++t) {
+    for (int t = 0; t < o.terms; ++t) {
         FactorTerm term{FactorTexture(n, ch), FactorTexture(n, ch)};
         for (int c = 0; c < ch; ++c)
             for (int i = 0; i < nn; ++i) {
-                term.g.data[size_t(i) * size_t(ch) + size_t(c)] = float(p[size_t(t)][size_t(c)][size_t(i)]);
-                term.h.data[size_t(i) * size_t(ch) + size_t(c)] = float(q[size_t(t)][size_t(c)][size_t(i)]);
+                term.g.data[size_t(i) * size_t(ch) + size_t(c)] = float(fits[size_t(c)].p[size_t(t)][size_t(i)]);
+                term.h.data[size_t(i) * size_t(ch) + size_t(c)] = float(fits[size_t(c)].q[size_t(t)][size_t(i)]);
             }
         f.terms.push_back(std::move(term));
     }
@@ -446,9 +491,9 @@ bool factor_homomorphic(const std::vector<BrdfSample>& samples, const Homomorphi
     if (!validate_factored(f, &verr))  // exp overflow: a fit gone wild, never silently
         return fail("the fit produced unusable factors (" + verr + "); raise --smoothness");
     for (int c = 0; c < ch; ++c) {
-        st.iterations += iterations[size_t(c)];
-        st.floored += floored[size_t(c)];
-        st.log_rms += log_sq[size_t(c)] / ch;
+        st.iterations += fits[size_t(c)].iterations;
+        st.floored += fits[size_t(c)].floored;
+        st.log_rms += fits[size_t(c)].log_sq / ch;
     }
     st.log_rms = std::sqrt(st.log_rms);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -102,7 +102,7 @@ void jacobian(const Problem& pb, const Eigen::VectorXd& x, Eigen::MatrixXd* J) {
 // the diagonal of J^T J, so parameters of any unit, exponents in the hundreds beside albedos
 // below 1, are damped alike) and Nielsen's update of mu (Madsen, Nielsen and Tingleff 2004,
 // "Methods for non-linear least squares problems", algorithm 3.16). Written here rather than
-// Eigen's MINPACK port (unsupported/NonLinearOptimization), which this file used before: at
+// taken from Eigen's MINPACK port (unsupported/NonLinearOptimization): at
 // these sizes (3 residuals per sample, 4-19 parameters, thousands of per-texel fits in an
 // acquisition session) its QR with column pivoting, blueNorm column norms and per-iteration
 // allocations took about 30% of sepal-bench-acquire (perf) against 17% for the model itself,

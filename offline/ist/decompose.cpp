@@ -13,6 +13,7 @@
 #include "factor/als.h"
 #include "ist/ist_util.h"
 #include "util/parallel.h"
+#include "util/progress.h"
 
 namespace sepal {
 
@@ -326,9 +327,12 @@ bool fit_rows(const Matrix& m, int k, const DecomposeOptions& o, const AlsSettin
             r.objective = detail::als_solve(m, 0, s, &f, &r.iterations);
         }
         result->iterations += r.iterations;
-        if (o.progress)
-            std::fprintf(stderr, "sepal ist: %s K=%d run %d/%d: objective %.6g after %d iterations\n",
-                         ist_method_name(o.method), k, run + 1, runs, r.objective, r.iterations);
+        if (o.progress) {
+            char line[160];
+            std::snprintf(line, sizeof line, "sepal ist: %s K=%d run %d/%d: objective %.6g after %d iterations",
+                          ist_method_name(o.method), k, run + 1, runs, r.objective, r.iterations);
+            progress_note(line);
+        }
         if (r.objective < result->objective) {
             result->objective = r.objective;
             *best = f;
@@ -480,7 +484,11 @@ bool decompose_svbrdf(const Svbrdf& s, const DecomposeOptions& o, Decomposition*
     for (int k = 1; k <= o.max_terms; ++k) {
         Decomposition d;
         if (!decompose_fixed(s, o, k, &d, err)) return false;
-        if (o.progress) std::fprintf(stderr, "sepal ist: K=%d RMS %.5g\n", k, d.rms);
+        if (o.progress) {
+            char line[80];
+            std::snprintf(line, sizeof line, "sepal ist: K=%d RMS %.5g", k, d.rms);
+            progress_note(line);
+        }
         all.push_back(std::move(d));
     }
     std::vector<double> by;

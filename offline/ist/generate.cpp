@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "ist/ist_util.h"
+#include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"

@@ -12,6 +12,7 @@
 #include "factor/scattered.h"
 #include "ist/ist_util.h"
 #include "measured/cornell.h"
+#include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"

@@ -74,9 +74,10 @@ class MerlBrdf : public Brdf {
         InputCounts c;
         c.values = int64_t(3 * stats_.cells);
         c.nonfinite = int64_t(stats_.nan + stats_.inf);
-        c.negative = int64_t(stats_.negative);
+        c.negative = int64_t(stats_.negative - 3 * stats_.horizon_cells);
         c.huge = int64_t(stats_.huge);
-        c.missing = int64_t(stats_.missing_cells);
+        c.missing = int64_t(stats_.missing_cells - stats_.horizon_cells);
+        c.horizon = int64_t(stats_.horizon_cells);
         c.filled = int64_t(filled_);
         return c;
     }
@@ -91,13 +92,15 @@ class MerlBrdf : public Brdf {
                       path_.c_str(), kMerlThetaH, kMerlThetaD, kMerlPhiD);
         s += buf;
         const size_t valid = stats_.cells - stats_.missing_cells;
-        std::snprintf(buf, sizeof buf, "samples    %zu cells, %zu valid\n", stats_.cells, valid);
+        const size_t missing = stats_.missing_cells - stats_.horizon_cells;
+        std::snprintf(buf, sizeof buf, "samples    %zu cells, %zu valid, %zu below the horizon (marked -1: no data by geometry)\n",
+                      stats_.cells, valid, stats_.horizon_cells);
         s += buf;
         std::snprintf(buf, sizeof buf,
-                      "missing    %zu cells (%.2f%%): %zu negative, %zu NaN, %zu inf, %zu "
+                      "missing    %zu cells above the horizon (%.2f%%): %zu negative, %zu NaN, %zu inf, %zu "
                       "beyond float range (values over the 3 channels)\n",
-                      stats_.missing_cells, 100.0 * stats_.missing_cells / stats_.cells,
-                      stats_.negative, stats_.nan, stats_.inf, stats_.huge);
+                      missing, 100.0 * missing / stats_.cells, stats_.negative - 3 * stats_.horizon_cells,
+                      stats_.nan, stats_.inf, stats_.huge);
         s += buf;
         std::snprintf(buf, sizeof buf,
                       "coverage   %.2f%% of cells hold valid data; %zu missing cells get "
@@ -173,6 +176,19 @@ bool parse_merl(const std::vector<uint8_t>& bytes, const std::string& name, Tabu
             },
             stats, &why))
         return fail(why);
+    if (stats) {
+        // Cells whose bin centre lies below the horizon hold no measurement by geometry; MERL
+        // (and write_merl) mark them -1 in every channel. Told apart from missing data.
+        for (size_t i = 0; i < kMerlCells; ++i) {
+            if (table->state(i) != Tabulated::State::kMissing) continue;
+            glm::dvec3 wi, wo;
+            merl_bin_center_dirs(i, &wi, &wo);
+            if (wi.z > 0.0 && wo.z > 0.0) continue;
+            bool marker = true;
+            for (int c = 0; c < 3; ++c) marker = marker && load_f64(&bytes[12 + 8 * (c * kMerlCells + i)], false) < 0.0;
+            stats->horizon_cells += marker;
+        }
+    }
     return true;
 }
 

@@ -39,6 +39,10 @@ struct MerlStats {
     size_t cells = 0;          // table cells (1,458,000)
     size_t missing_cells = 0;  // cells with at least one missing channel
     size_t negative = 0, nan = 0, inf = 0, huge = 0;  // missing values, per kind
+    // Of the missing cells, those whose bin centre is below the horizon and whose three
+    // channels hold MERL's -1 marker: no data by geometry, not a gap in the measurement
+    // (parse_merl only; decode_merl_planes does not know the grid).
+    size_t horizon_cells = 0;
 };
 
 // Decodes a whole file's bytes into a MERL-layout table (BRDF units, scales applied).

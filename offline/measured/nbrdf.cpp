@@ -272,18 +272,22 @@ std::string nbrdf_data_path(std::string* err) {
             return "";
         }
     }
+    // A checkout's data/ (build/bin/sepal), or an installed tree's share/sepal/
+    // (PREFIX/bin/sepal with make install's PREFIX/share/sepal/merl-nbrdf).
     std::string dir = executable_dir(), tried;
     for (int up = 0; up < 8 && !dir.empty(); ++up) {
-        const std::string p = dir + "/data/" + rel;
-        if (file_exists(p)) return p;
-        tried += (tried.empty() ? "" : ", ") + dir + "/data";
+        for (const char* sub : {"/data/", "/share/sepal/"}) {
+            const std::string p = dir + sub + rel;
+            if (file_exists(p)) return p;
+            tried += (tried.empty() ? "" : ", ") + dir + sub;
+        }
         const size_t slash = dir.rfind('/');
         if (slash == std::string::npos) break;
         dir = dir.substr(0, slash);
     }
     if (err)
         *err = "cannot find " + rel + ": set SEPAL_DATA_DIR to the folder holding merl-nbrdf/ "
-               "(a sepal checkout's data/); looked in " + (tried.empty() ? "(no executable path)" : tried);
+               "(a sepal checkout's data/, or an installed PREFIX/share/sepal/); looked in " + (tried.empty() ? "(no executable path)" : tried);
     return "";
 }
 

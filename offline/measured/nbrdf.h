@@ -8,9 +8,10 @@
 //   for (const sepal::NbrdfMaterial& m : db->materials()) m.eval(wi, wo);
 //
 // Where the data is (one rule): $SEPAL_DATA_DIR/merl-nbrdf/merl-nbrdf.json when SEPAL_DATA_DIR
-// is set, else the first data/merl-nbrdf/merl-nbrdf.json found walking up from the directory
-// of the running executable (build/bin/sepal and build/asan/bin/sepal-tests both find the
-// checkout's data/). data/merl-nbrdf/LICENSE is the fits' licence (MIT).
+// is set, else the first data/merl-nbrdf/merl-nbrdf.json or share/sepal/merl-nbrdf/merl-nbrdf.json
+// found walking up from the directory of the running executable (build/bin/sepal and
+// build/asan/bin/sepal-tests find the checkout's data/; PREFIX/bin/sepal finds what
+// make install put in PREFIX/share/sepal/). data/merl-nbrdf/LICENSE is the fits' licence (MIT).
 //
 // Each material is an MLP 6 -> H1 -> H2 -> 3 (21, 21 in the file): input the Rusinkiewicz
 // half/difference vectors with phi_h = 0, x = [sin theta_h, 0, cos theta_h, d.x, d.y, d.z];

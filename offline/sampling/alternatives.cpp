@@ -17,6 +17,7 @@
 #include "brdf/brdf_spec.h"
 #include "brdf/brdf_util.h"
 #include "sampling/metrics.h"
+#include "spec/spec.h"
 #include "util/parallel.h"
 #include "util/progress.h"
 

@@ -5,6 +5,37 @@
 #include <mutex>
 
 namespace sepal {
+namespace {
+
+void stderr_sink(const std::string& label, int percent) {
+    if (percent == -2)
+        std::fprintf(stderr, "%s\n", label.c_str());
+    else if (percent < 0)
+        std::fprintf(stderr, "\r%-70s\r", "");
+    else
+        std::fprintf(stderr, "\r%s %3d%%", label.c_str(), percent);
+    std::fflush(stderr);
+}
+
+std::mutex& sink_mutex() {
+    static std::mutex m;
+    return m;
+}
+ProgressSink g_sink = stderr_sink;  // guarded by sink_mutex()
+
+void report(const std::string& label, int percent) {
+    std::lock_guard<std::mutex> lock(sink_mutex());
+    g_sink(label, percent);
+}
+
+}  // namespace
+
+void set_progress_sink(ProgressSink sink) {
+    std::lock_guard<std::mutex> lock(sink_mutex());
+    g_sink = sink ? sink : stderr_sink;
+}
+
+void progress_note(const std::string& line) { report(line, -2); }
 
 struct Progress::State {
     std::string label;
@@ -23,7 +54,7 @@ Progress::Progress(bool enabled, const std::string& label, size_t total) : state
 
 Progress::~Progress() {
     if (!state_) return;
-    std::fprintf(stderr, "\r%-70s\r", "");
+    report(state_->label, -1);
     delete state_;
 }
 
@@ -34,8 +65,7 @@ void Progress::advance() {
     std::lock_guard<std::mutex> lock(state_->mutex);
     if (pct != state_->shown) {
         state_->shown = pct;
-        std::fprintf(stderr, "\r%s %3d%%", state_->label.c_str(), pct);
-        std::fflush(stderr);
+        report(state_->label, pct);
     }
 }
 

@@ -17,8 +17,12 @@ void append(void* ctx, void* data, int size) {
 }  // namespace
 
 bool write_png_atomic(const std::string& path, int width, int height, const uint8_t* rgba) {
-    std::vector<unsigned char> png;
-    if (!stbi_write_png_to_func(append, &png, width, height, 4, rgba, width * 4)) return false;
+    // Opaque RGB, as `sepal render` writes: a GL read-back's alpha is whatever the clear and
+    // the blends left (0 where the background was cleared), not coverage a viewer should see.
+    std::vector<unsigned char> rgb(size_t(width) * size_t(height) * 3), png;
+    for (size_t p = 0; p < size_t(width) * size_t(height); ++p)
+        for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = rgba[p * 4 + c];
+    if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3)) return false;
     const std::string tmp = path + ".tmp." + std::to_string((int)getpid());
     FILE* f = fopen(tmp.c_str(), "wb");
     if (!f) return false;

@@ -7,7 +7,8 @@
 
 namespace sepal_ports {
 
-// rgba: width x height RGBA8, top row first. False when encoding, writing or renaming fails.
+// rgba: width x height RGBA8, top row first, written as an opaque RGB PNG (alpha dropped).
+// False when encoding, writing or renaming fails.
 bool write_png_atomic(const std::string& path, int width, int height, const uint8_t* rgba);
 
 }  // namespace sepal_ports

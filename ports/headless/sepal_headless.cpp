@@ -1,7 +1,7 @@
 // Headless EGL port: see sepal_headless.h.
 #include "headless/sepal_headless.h"
 
-#include "common/port_util.h"
+#include "egl/port_util.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

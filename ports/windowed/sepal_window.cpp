@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/port_util.h"
+#include "egl/port_util.h"
 
 using sepal_ports::egl_error_name;
 using sepal_ports::set_error;

@@ -489,8 +489,17 @@ void Viewer::measure_psnr() {
 void Viewer::screenshot() {
     draw(true, true);
     char name[64];
-    snprintf(name, sizeof name, "shot-%03d", ++shots_);
-    const std::string base = opt_.shot_dir + "/" + name;
+    // The next number whose files are all absent: a second session in the same folder
+    // continues after the first one's shots instead of overwriting them.
+    std::string base;
+    for (;;) {
+        snprintf(name, sizeof name, "shot-%03d", ++shots_);
+        base = opt_.shot_dir + "/" + name;
+        bool taken = false;
+        for (const char* ext : {".png", "-window.png", ".txt", ".sepal", ".headless.png"})
+            taken = taken || access((base + ext).c_str(), F_OK) == 0;
+        if (!taken) break;
+    }
     std::vector<std::string> cmd;
     if (backend_ == 5) {
         const std::string spec = !opt_.spec.empty() ? opt_.spec : !baked_spec_.empty() ? baked_spec_ : meta_spec(*full_);

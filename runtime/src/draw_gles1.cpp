@@ -350,9 +350,9 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     // Diffuse map (Fig. 13; a tree's blend maps): one more mesh pass multiplying the
     // framebuffer by the texture at the mesh's UVs, before the final doublings: there the
     // image is at the plan's exposure, so a highlight above 1 is still held (v 2^-k <= 1)
-    // and comes out as v x w. After them it was clipped at 1 first (a tree's shiny basis
-    // under a blend weight < 1: 28.5 -> 31.3 dB, docs/ist.md), at the price of the multiply's
-    // rounding doubled k times.
+    // and comes out as v x w. After them it would be clipped at 1 first (a tree's shiny basis
+    // under a blend weight < 1: docs/ist.md), at the price of the multiply's rounding doubled
+    // k times.
     const int final_doubling =
         step_count > 0 && steps[step_count - 1].kind == srt::Gles1Step::kDouble ? step_count - 1 : step_count;
     for (int i = 0; i < step_count; ++i) {

@@ -1,4 +1,4 @@
-// sepal-bench-cost: the cost curves users plan with (issue 20), each with its fitted
+// sepal-bench-cost: the cost curves users plan with, each with its fitted
 // log-log exponent.
 //
 //   build/bin/sepal-bench-cost [--out DIR] [--frames N] [--quick]
@@ -27,6 +27,7 @@
 #include "bench/bench_cli.h"
 #include "bench/json_builder.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "util/io.h"

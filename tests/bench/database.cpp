@@ -41,6 +41,7 @@
 #include "bench/bench_cli.h"
 #include "bench/quiet.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/scene_flags.h"
 #include "database/database.h"
 #include "database/linear_model.h"
@@ -411,7 +412,7 @@ int main(int argc, char** argv) {
     // ---- 3. Error vs samples -------------------------------------------------------------
     {
         // To 1600: 3200 and 5000 took 390 of the bench's 548 s (greedy planning grows with N),
-        // past the make bench budget (issue 20); their last figures are in docs/measure.md.
+        // past make bench's 15-minute budget; their figures are in docs/measure.md.
         const std::vector<int> ns = quick ? std::vector<int>{100, 800} : std::vector<int>{100, 200, 400, 800, 1600};
         Json js;
         js["samples"] = ns;

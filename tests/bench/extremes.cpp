@@ -30,6 +30,7 @@
 #include "bench/bench_cli.h"
 #include "common/render_gl.h"
 #include "reference/render_exact.h"
+#include "spec/spec.h"
 
 using namespace extremes;
 

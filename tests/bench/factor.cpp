@@ -33,6 +33,7 @@
 #include <Eigen/Dense>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "factor/factor.h"
 #include "factor/factor_error.h"
 #include "factor/factor_internal.h"

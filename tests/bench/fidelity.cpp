@@ -1,8 +1,8 @@
-// sepal-bench-fidelity: what a new user's default bake gives (issue 13), measured (make bench).
+// sepal-bench-fidelity: what a new user's default bake gives, measured (make bench).
 //
 //   build/bin/sepal-bench-fidelity [--out DIR] [--only NAME] [--threads N]
 //
-// For every material of issue 13's table and a few more chosen to be hard (sharp Phong and
+// For every material of the README's table and a few more chosen to be hard (sharp Phong and
 // Blinn lobes, a two-lobe Lafortune, Cook-Torrance at roughness 0.05, the bounded-albedo Ward,
 // Hapke-Lommel, Lambert): the default bake (sepal::bake with default options, exactly what
 // `sepal bake SPEC` does), its wall time, then the asset drawn by llvmpipe on GL ES 1.1 and
@@ -10,7 +10,7 @@
 // and on GL ES 1.1 in the grazing view the bake also judges by: PSNR against the exact
 // render (8-bit, as displayed), plan passes, the frame's doublings, asset bytes, the colour
 // mode --colour auto chose, the winner; and the same bake within 8 KB (--max-bytes 8192,
-// issue 20): its GL ES 1.1 PSNR and winner, or "none fits".
+// the size goal): its GL ES 1.1 PSNR and winner, or "none fits".
 // Writes DIR/fidelity.json and DIR/fidelity.md (the README's table, generated). The machine's
 // load average is recorded next to the times: they are wall-clock seconds of one bake with
 // all cores, comparable only on a quiet machine.
@@ -30,6 +30,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
+#include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
 
@@ -38,7 +39,7 @@ namespace {
 struct Material {
     const char* name;
     std::string spec;
-    bool issue_table;  // one of the twelve of issue 13's table
+    bool issue_table;  // one of the twelve of the README's table
 };
 
 std::vector<Material> materials() {
@@ -66,7 +67,7 @@ std::vector<Material> materials() {
     };
 }
 
-// Issue 20's size goal: each default material baked again with --max-bytes this.
+// The size goal (a material in 8 KB): each default material baked again with --max-bytes this.
 constexpr int64_t kSmallBytes = 8192;
 
 sepal::Image clamp8(sepal::Image img) {
@@ -99,7 +100,7 @@ bool scene_of(const std::vector<std::string>& flags, sepal_ports::SceneSetup* s,
 
 int main(int argc, char** argv) {
     BenchCli cli("sepal-bench-fidelity",
-                 "The default bake of issue 13's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
+                 "The default bake of the README's materials and more: PSNR on gles1/gles2/cpu, passes, doublings, "
                  "bytes, bake seconds; writes OUT/fidelity.json and OUT/fidelity.md");
     cli.add_only_and_threads("one material label");
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
@@ -185,7 +186,7 @@ int main(int argc, char** argv) {
         if (sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), def, nullptr, &cpu.data, nullptr, &err))
             pc = sepal::diff_images(exact, clamp8(cpu), 0).psnr;
         const sepal::BakeCandidate& w = r.candidates[size_t(r.winner)];
-        // The same bake within 8 KB (issue 20's budget): the best image that fits, or none.
+        // The same bake within 8 KB (the size goal): the best image that fits, or none.
         sepal::BakeOptions small = o;
         small.max_bytes = kSmallBytes;
         sepal::BakeResult rs;

@@ -1,5 +1,5 @@
 // sepal-bench-homomorphic: homomorphic factorization (McCool, Ang and Ahmad 2001) against the
-// bake, on the raw Cornell measurements (issue 13's acceptance line; make bench).
+// bake, on the raw Cornell measurements (docs/homomorphic.md; make bench).
 //
 //   build/bin/sepal-bench-homomorphic [--out DIR] [--only NAME] [--threads N]
 //
@@ -34,6 +34,7 @@
 #include "bench/bench_cli.h"
 #include "bench/json_builder.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "factor/factor.h"
 #include "factor/factor_error.h"
 #include "util/io.h"

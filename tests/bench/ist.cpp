@@ -41,6 +41,7 @@
 #include "util/image.h"
 #include "util/io.h"
 #include "json_builder.h"
+#include "spec/spec.h"
 #include "util/json.h"
 #include "util/parallel.h"
 
@@ -197,7 +198,7 @@ int main(int argc, char** argv) {
         const bool is_mixed = card6.preset == "mixed";
         const Svbrdf& sv = is_mixed ? mixed : opaque;
         const SvbrdfTruth& tr = is_mixed ? mixed_truth : opaque_truth;
-        // The mixed card's ends only (its middle rows: docs/ist.md's history).
+        // The mixed card's ends only (its l = 5 and 20 rows, measured once, are in docs/ist.md).
         const std::vector<double> ls = is_mixed ? std::vector<double>{0.0, 1.0, 1000.0}
                                                 : std::vector<double>{0.0, 1.0, 5.0, 20.0, 1000.0};
         for (double l : ls) {

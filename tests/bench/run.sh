@@ -2,7 +2,7 @@
 # What `make bench` runs: one line per benchmark program (build/bin/sepal-bench-<name>,
 # from tests/bench/<name>.cpp). Usage: sh tests/bench/run.sh BUILD_DIR OUT_DIR
 # Each line prints its wall time and its processor-seconds; OUT_DIR/bench-times.txt keeps them
-# (the budget is 15 minutes on 2 cores, issue 20), so a bench that grows shows up in the next run.
+# (the budget is 15 minutes on 2 cores), so a bench that grows shows up in the next run.
 #
 # Two phases. First the programs that are mostly timing (frames, set-up, binary sizes) run one
 # at a time, and homomorphic, which fills both cores by itself. Then two lanes of programs
@@ -86,8 +86,9 @@ start=$(date +%s)
 bench runtime     "$bin/sepal-bench-runtime" --out "$out" --build "$build"
 bench cost        "$bin/sepal-bench-cost" --out "$out"
 bench ports       "$bin/sepal-bench-ports" --out "$out" --build "$(cd "$build" && pwd)"
-# homomorphic fills both cores alone (77 processor-seconds in 52 s); in lane a it made that
-# lane 78 s longer than b (2026-11-27, with axis in the bake's search: 902 s in all).
+# homomorphic fills both cores alone (77 processor-seconds in 52 s), so it runs by itself: in
+# a lane it made that lane 78 s longer than the other (each program's seconds:
+# docs/performance.md).
 bench homomorphic "$bin/sepal-bench-homomorphic" --out "$out"
 # Phase 2: two lanes at once.
 if [ -n "$SEPAL_BENCH_PARSE_ONLY" ]; then

@@ -30,6 +30,7 @@
 #include "vertex_setup.h"
 #include "bench/bench_cli.h"
 #include "gl_counter.h"
+#include "spec/spec.h"
 
 
 namespace {
@@ -144,8 +145,8 @@ std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc&
 // - the pass limit (draws given): the frame's passes as the GPU draws them, each with its two
 //   factor textures at the set-up's coordinates, modulated with the frame's vertex colours,
 //   depth-tested against a cleared depth buffer: the frame's floor, without its set-up,
-//   colours and state changes. (Until 2026-11-27 it sampled one texture twice at the mesh's
-//   UVs: the same texel on both units, less texture traffic than the frame's.)
+//   colours and state changes. (Not one texture sampled twice at the mesh's UVs: the same
+//   texel on both units is less texture traffic than the frame's.)
 double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint texture, const sepal_ports::SceneSetup& s,
                       int frames, int warmup = 2) {
     const bool as_plan = draws != nullptr && !draws->empty();
@@ -327,10 +328,10 @@ int main(int argc, char** argv) {
                 "ms/frame", "fill-limit", "ratio", "mesh-limit", "ratio", "pass-limit", "ratio", "set-up ms", "GL calls");
     std::string gl_breakdown;
     bool first = true;
-    // Two sweeps over every configuration, the first untimed (printed to stderr only): measured
-    // first in the run, the 1-term 1-light row read 1.15-1.23x its pass limit in four `make
-    // bench` runs; behind a warm-up sweep the largest row of six runs read 1.06-1.12x (the
-    // build before, in the same sitting: 1.11 and 1.18). A row still moves by ~0.05 between runs.
+    // Two sweeps over every configuration, the first untimed (printed to stderr only): the row
+    // measured first in a run reads high against its pass limit, one measured behind a warm-up
+    // sweep does not (figures: docs/reference.md, Runtime figures). A row still moves by ~0.05
+    // between runs.
     for (int sweep = 0; sweep < 2; ++sweep)
     for (int terms : {1, 2, 4}) {
         const sepal::AssetData a = synthetic_asset(terms);

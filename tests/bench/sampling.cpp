@@ -42,6 +42,7 @@
 #include "bench/quiet.h"
 #include "bench/json_builder.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_util.h"
 #include "sampling/alternatives.h"
 #include "sampling/environment.h"

@@ -13,7 +13,7 @@
 // the bake's relative cosine-weighted RMS, encoded bytes, plan passes per light, and
 // ms/frame (GL: median of --frames frames after 2 warm-up frames, each ended by glFinish;
 // cpu: median of 3). The CPU frame is rounded to 8 bits like the GL ones before comparison.
-// The sweep is sampled to keep `make bench` short (issue 20): 8 bits only (GL uploads 8;
+// The sweep is sampled to keep `make bench` short (its 15-minute budget): 8 bits only (GL uploads 8;
 // 16 bits bought the cpu backend at most 0.4 dB, and --bits 16 stays in the bake), the
 // smooth factor at the ladder's size instead of the half-angle one's (same images, a
 // fraction of the matrix: the full square sweep took 58 minutes), and each frame cost timed
@@ -52,6 +52,7 @@
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "spec/spec.h"
 
 using namespace sepal;
 

@@ -1,4 +1,4 @@
-// Fuzz harnesses (issue 21): one plain function per reader, int sepal_fuzz_<name>(data, size),
+// Fuzz harnesses: one plain function per reader, int sepal_fuzz_<name>(data, size),
 // in tests/fuzz/fuzz_<name>.cpp. Two callers share them:
 //   - `make fuzz` links each with tests/fuzz/entry/libfuzzer.cpp (clang, -fsanitize=fuzzer,
 //     address, undefined, float-cast-overflow) into build/fuzz/bin/fuzz-<name> and runs it

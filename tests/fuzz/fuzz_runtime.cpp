@@ -2,7 +2,7 @@
 // up, fuzz.h) is planned for GL ES 1.1 (two units and the one-unit path, with and without
 // blend subtract) and GL ES 2 (srt::material_plan: everything sepal_material_create does
 // but the GL calls), drawn by the CPU backend and by the GL ES 1.1 / ES 2 emulator on a
-// small sphere. One validity definition (issue 21, class 7): what the reader accepts, every
+// small sphere. One validity definition: what the reader accepts, every
 // backend draws, and the CPU backend's radiance is finite and >= 0.
 #include <cmath>
 #include <cstring>

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "fuzz/fuzz.h"
 #include "util/io.h"
 

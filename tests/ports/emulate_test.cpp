@@ -19,6 +19,7 @@
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
 #include "material_fixtures.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 namespace {

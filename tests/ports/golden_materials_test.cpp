@@ -1,4 +1,4 @@
-// Baked materials on GL ES 1.1 against the exact backend (issue 6's pixel-comparison
+// Baked materials on GL ES 1.1 against the exact backend (the pixel-comparison
 // tests): each bakes one asset, renders it headless, checks a PSNR floor against the
 // exact per-pixel render and compares with its golden image. Floors and tolerances come
 // from the measured error budget (llvmpipe, Mesa 22.3.6, default scene: irradiance ~pi):
@@ -13,6 +13,7 @@
 #include "reference/render_exact.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 namespace {
@@ -160,8 +161,7 @@ TEST_CASE("every backend against exact, and against each other (2-term NMF ward)
         CAPTURE(to_exact.psnr);
         CAPTURE(to_cpu.psnr);
         CAPTURE(to_cpu.share_over);
-        // Against exact: no backend may lose more than 1 dB to the float CPU render (issue 13;
-        // measured: gles1 0.9, gles2 0.9, fused 0.8, fused-pixel 0.2 dB).
+        // Against exact: no backend may lose more than 1 dB to the float CPU render (measured: gles1 0.9, gles2 0.9, fused 0.8, fused-pixel 0.2 dB).
         CHECK(to_exact.psnr > cpu_psnr - 1.0);
         // Against the CPU (same factors): 8-bit output and per-vertex coordinates only.
         CHECK(to_cpu.psnr > 53.0);          // measured 55.4 to 62.4 dB

@@ -110,7 +110,7 @@ TEST_CASE("the chain test can fail: a changed scene is caught") {
 }
 
 TEST_CASE("headless: context loss: the material forgets its GL objects and is restored from the loaded asset") {
-    // Issue 21, faults: EGL_CONTEXT_LOST on a phone. The context is destroyed and a new one
+    // A fault a phone has: EGL_CONTEXT_LOST. The context is destroyed and a new one
     // created; the same parsed asset is uploaded again and draws the same pixels.
     const sepal::AssetData a = material_fx::signed_asset();  // every kind of pass, subtractions included
     std::vector<uint8_t> bytes;

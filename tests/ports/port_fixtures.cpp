@@ -8,6 +8,7 @@
 #include "bake/asset_file.h"
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/render_gl.h"
 #include "test_util.h"
 

@@ -8,6 +8,7 @@
 #include "bake/asset_file.h"
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/render_gl.h"
 #include "common/scene_draw.h"
 #include "common/term_prefix.h"

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "common/orbit.h"
 #include "common/render_gl.h"
 #include "port_fixtures.h"

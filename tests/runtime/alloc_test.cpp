@@ -1,4 +1,4 @@
-// No allocation per frame (issue 20): a counting allocator around the runtime's frame
+// No allocation per frame (the runtime's rule): a counting allocator around the runtime's frame
 // entry points that run without a GL driver: the CPU backend and the GL ES 1.1 / GL ES 2
 // emulator (which shares the GL paths' vertex set-up, exposure, staging and pass schedule
 // with sepal_draw). A GL frame is not counted: the driver (Mesa) allocates on its own.

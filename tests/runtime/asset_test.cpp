@@ -125,7 +125,8 @@ TEST_CASE("asset: the writer refuses what the reader would refuse") {
 }
 
 TEST_CASE("asset: one validity for every backend: a plan that adds after subtracting, infinite errors") {
-    // Issue 21, class 7: these parsed before and only the GL backends refused them at load.
+    // Class 7 (one validity for every backend): the reader refuses these, so no backend meets
+    // them at load.
     sepal::AssetData a = small_asset();
     sepal_fmt_pass sub = a.passes[0];
     sub.blend = SEPAL_BLEND_SUBTRACT;
@@ -150,7 +151,7 @@ TEST_CASE("asset: one validity for every backend: a plan that adds after subtrac
 }
 
 TEST_CASE("asset: one validity for every backend: reserved words, products, factor magnitudes (class 7)") {
-    // Issue 21, class 7: each of these parsed before; the reader refuses them now.
+    // Class 7: the reader refuses each of these.
     const std::vector<uint8_t> good = encode(small_asset());
     const size_t mat = chunk_offset(good, 0), tex = chunk_offset(good, 1), plan = chunk_offset(good, 3);
     struct Case {

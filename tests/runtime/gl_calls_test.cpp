@@ -1,4 +1,4 @@
-// GL calls per frame on GL ES 1.1 (issue 20: no redundant state changes), counted by
+// GL calls per frame on GL ES 1.1 (no redundant state changes), counted by
 // tests/gl_counter.h around one sepal_draw: the passes of a plan share their combiner set-up,
 // so only the first sets the texture environment, and each further pass costs a bounded
 // number of calls.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_util.h"
 #include "sampling/alternatives.h"
 #include "sampling/factored_fit.h"

@@ -1,6 +1,6 @@
 // stb_image and stb_image_write (Debian libstb-dev, public domain / MIT), compiled once for
 // the whole project: offline/util/image.cpp (PNG in and out), ports/common/render_gl.cpp
-// (diffuse maps) and ports/view (sepal-view's PNG) include the headers and link this
+// (diffuse maps) and ports/windowed (sepal-view's PNG) include the headers and link this
 // (build/lib/libsepal_stb.a). It lives outside offline/ and ports/ because both use it and
 // neither may depend on the other. PNG only, from memory only: callers read files with their
 // own bounded readers (no unbounded allocation from a file's claims).

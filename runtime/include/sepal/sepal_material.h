@@ -27,7 +27,7 @@
 // frame from the lights so that no partial sum exceeds 1; the final doublings (blend
 // GL_DST_COLOR, GL_ONE) undo 2^-m and the plan's own scale. Plans that only add are drawn
 // in stages of falling exposure, each pass at the largest its colours allow, with the
-// doublings spread between the stages (a huge peak's pass no longer sinks the others
+// doublings spread between the stages (so a huge peak's pass does not sink the others
 // below one framebuffer level; same number of full-screen passes).
 // Fallback paths, each forced by a capability mask so tests run them on any driver:
 //   - no GL_OES_blend_subtract: the framebuffer is inverted (1 - x, a blend with

@@ -10,6 +10,7 @@
 #include "acquire/object.h"
 #include "acquire/svbrdf.h"
 #include "reference/render_exact.h"
+#include "spec/spec.h"
 
 namespace {
 

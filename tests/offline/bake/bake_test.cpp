@@ -11,6 +11,7 @@
 
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 namespace {

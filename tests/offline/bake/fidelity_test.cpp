@@ -1,4 +1,4 @@
-// Issue 13's pieces that need no GL context: format 2 (radiance materials, the diffuse part
+// Image-first baking's pieces that need no GL context (docs/fidelity.md): format 2 (radiance materials, the diffuse part
 // and its profile) written and refused, the radiance fit and the diffuse estimates, the image
 // judge, and the bake's command line for them. The GL comparisons are tests/ports/emulate_test.cpp.
 #include <doctest/doctest.h>
@@ -14,6 +14,7 @@
 #include "cli/cli.h"
 #include "util/parallel.h"
 #include "sepal/sepal_format.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 namespace {

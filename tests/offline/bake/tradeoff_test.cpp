@@ -10,6 +10,7 @@
 
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "bake/cost_model.h"
 #include "util/io.h"
 #include "util/json.h"

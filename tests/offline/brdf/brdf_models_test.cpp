@@ -16,6 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_models.h"
 #include "brdf/brdf_models_impl.h"
 #include "brdf/brdf_spec.h"

@@ -1,4 +1,4 @@
-// Issue 21's command-line classes of bad input, one regression test each: numbers are range
+// The command-line classes of bad input, one regression test each: numbers are range
 // checked before conversion (no wraparound), JSON numbers that overflow are refused, a failed
 // command leaves none of its outputs, and the messages name what would be accepted.
 #include <doctest/doctest.h>

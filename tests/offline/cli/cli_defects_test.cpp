@@ -1,11 +1,12 @@
-// Regression tests for the eleven command-line defects of issue 19, one TEST_CASE each
-// (named "cli defect N: ..."); each failed on main before the fix.
+// Regression tests for eleven command-line defects, one TEST_CASE each (named "cli defect
+// N: ..."); each failed before its fix.
 #include <doctest/doctest.h>
 
 #include <fstream>
 #include <string>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "cli/cli.h"
 #include "util/image.h"
 #include "util/io.h"

@@ -1,4 +1,4 @@
-// sepal measure capture and sepal fit lafortune (issue 17's command lines): a photograph of
+// sepal measure capture and sepal fit lafortune (docs/acquisition.md's command lines): a photograph of
 // the virtual setup and its samples, a fit that recovers a known model within its intervals,
 // and refusals that leave no output behind.
 #include <doctest/doctest.h>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "cli/cli.h"
 #include "fit/samples.h"
 #include "util/image.h"
@@ -91,6 +92,29 @@ TEST_CASE("sepal fit lafortune: a known model is recovered within its 95% interv
     CHECK(j["covariance"].size() == 6u);
     // The printed spec is a spec: it builds.
     CHECK(sepal::make_brdf(j["spec"].get<std::string>(), &err) != nullptr);
+    CHECK(out.find("warning") == std::string::npos);  // unweighted samples state no noise
+    CHECK(j["model_fits_noise"].get<bool>());
+    // Weighted samples (1/std, as a capture writes them): noise of the stated size fits
+    // quietly; the same samples mixed with a second material's cannot be one lobe.
+    auto g = sepal::make_brdf("lafortune:rho_d=0.05/0.3/0.6,lobe=-0.5/-0.5/0.9/3", &err);
+    REQUIRE_MESSAGE(g, err);
+    std::vector<sepal::BrdfSample> noisy = s, mixed = s;
+    for (size_t i = 0; i < s.size(); ++i) {
+        const double std_dev = 0.01;
+        noisy[i].weight = mixed[i].weight = 1.0 / std_dev;
+        const double e = std_dev * (double((i * 7919) % 1000) / 1000.0 - 0.5) * std::sqrt(12.0);
+        noisy[i].value += glm::dvec3(e);
+        if (i % 2) mixed[i].value = g->eval(s[i].wi, s[i].wo);
+    }
+    REQUIRE_MESSAGE(sepal::write_brdf_samples(dir + "/noisy.csv", noisy, "test", &err), err);
+    REQUIRE_MESSAGE(sepal::write_brdf_samples(dir + "/mixed.csv", mixed, "test", &err), err);
+    REQUIRE(run("fit", {"lafortune", dir + "/noisy.csv"}, &out) == 0);
+    CHECK_MESSAGE(out.find("warning") == std::string::npos, out);
+    REQUIRE(run("fit", {"lafortune", dir + "/mixed.csv", "-o", dir + "/mixed.json"}, &out) == 0);
+    CHECK_MESSAGE(out.find("warning    the residual is") != std::string::npos, out);
+    CHECK(out.find("1 lobe does not describe these samples") != std::string::npos);
+    REQUIRE_MESSAGE(sepal::read_json_file(dir + "/mixed.json", &j, &err), err);
+    CHECK_FALSE(j["model_fits_noise"].get<bool>());
     // Refusals: a missing file, a bad lobe count; a failed fit writes no JSON.
     CHECK(run("fit", {"lafortune", dir + "/none.csv", "-o", dir + "/x.json"}, &out) == 2);
     CHECK(run("fit", {"lafortune", dir + "/s.csv", "--lobes", "5"}, &out) == 2);

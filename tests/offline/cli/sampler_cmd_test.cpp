@@ -1,4 +1,4 @@
-// sepal sampler and sepal render --env (issue 14's command lines): a sampler file the runtime
+// sepal sampler and sepal render --env (docs/sampling.md's command lines): a sampler file the runtime
 // reads, its variance against cosine sampling, and a Monte Carlo render that converges to the
 // same picture whichever sampler draws it.
 #include <doctest/doctest.h>
@@ -23,7 +23,7 @@ TEST_CASE("sepal sampler: a factored sampler for cook-torrance beats cosine samp
     REQUIRE(run("sampler", {"cook-torrance", "-o", dir + "/ct.smp", "--report", dir + "/r.json"}, &out) == 0);
     sepal::Json r;
     REQUIRE_MESSAGE(sepal::read_json_file(dir + "/r.json", &r, &err), err);
-    CHECK(r["bytes"].get<int>() < 64 * 1024);  // issue 14: a sampler < 64 KB
+    CHECK(r["bytes"].get<int>() < 64 * 1024);  // the format's promise: a sampler < 64 KB
     // The paper's Table 2 material: at least 10x less variance than cosine sampling.
     CHECK(r["cosine_relative_variance"].get<double>() > 10 * r["relative_variance"].get<double>());
     CHECK(run("sampler", {"lambert", "--kind", "cosine", "-o", dir + "/c.smp"}, &out) == 0);

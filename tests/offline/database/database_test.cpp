@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "database/database.h"
 #include "database/linear_model.h"
 #include "database/measure.h"

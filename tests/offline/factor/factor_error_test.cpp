@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "factor/factor.h"
 #include "factor/factor_error.h"
 

@@ -14,6 +14,7 @@
 #include "factor/homomorphic.h"
 #include "factor/param.h"
 #include "measured/measured.h"
+#include "spec/spec.h"
 #include "util/parallel.h"
 #include "test_util.h"
 

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "fit/lafortune_fit.h"
 #include "util/parallel.h"
 

@@ -7,6 +7,7 @@
 
 #include "ist/generate.h"
 #include "ist/svbrdf.h"
+#include "spec/spec.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "test_util.h"

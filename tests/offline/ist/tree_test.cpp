@@ -14,6 +14,7 @@
 #include "util/io.h"
 #include "util/parallel.h"
 #include "ist_fixture.h"
+#include "spec/spec.h"
 #include "test_util.h"
 
 using namespace sepal;

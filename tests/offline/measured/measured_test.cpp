@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/cie.h"
 #include "cli/cli.h"
 #include "measured/cornell.h"
@@ -376,6 +377,15 @@ TEST_CASE("measured: a generated MERL file reads back within float precision") {
     // The writer marks those with -1: counted as negative, the cells as missing.
     CHECK(st.missing_cells == below);
     CHECK(st.negative == 3 * below);
+    CHECK(st.horizon_cells == below);  // all of them told apart as no data by geometry
+    // What a bake and `sepal info` report: none of it as missing or negative input.
+    std::string why;
+    std::unique_ptr<sepal::Brdf> loaded = sepal::load_measured_brdf(generated_merl(), &why);
+    REQUIRE_MESSAGE(loaded, why);
+    CHECK(loaded->input_counts().missing == 0);
+    CHECK(loaded->input_counts().negative == 0);
+    CHECK(loaded->input_counts().horizon == int64_t(below));
+    CHECK(loaded->info().find("missing    0 cells") != std::string::npos);
     CHECK(st.nan + st.inf + st.huge == 0u);
     // The stored doubles are exactly f / scale (little-endian float64, red plane first).
     const std::vector<uint8_t>& b = generated_bytes();

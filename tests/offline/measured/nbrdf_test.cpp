@@ -12,6 +12,7 @@
 #include <cstdlib>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "measured/nbrdf.h"
 #include "util/parallel.h"
 #include "test_util.h"

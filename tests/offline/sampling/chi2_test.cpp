@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_util.h"
 #include "offline/sampling/chi2.h"
 #include "sampling/alternatives.h"

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "brdf/brdf.h"
+#include "spec/spec.h"
 #include "brdf/brdf_util.h"
 #include "sampling/alternatives.h"
 #include "sampling/environment.h"

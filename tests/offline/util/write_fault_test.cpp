@@ -1,4 +1,4 @@
-// Issue 21, faults: a write that fails part-way (a full disk) leaves no partial output: not
+// A fault: a write that fails part-way (a full disk) leaves no partial output: not
 // the file, not its temporary, not the command's other outputs; an existing file keeps its
 // old bytes. Through the fault hook (util/io.h, inject_write_failure) everywhere, and on a
 // real 64 KiB tmpfs where this process may mount one (root).

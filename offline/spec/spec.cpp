@@ -1,14 +1,13 @@
-#include "brdf/brdf.h"
+#include "spec/spec.h"
 
 #include "brdf/brdf_models.h"
-#include "util/io.h"
 #include "measured/measured.h"
 #include "measured/nbrdf.h"
+#include "util/io.h"
 
 namespace sepal {
 
 std::unique_ptr<Brdf> make_brdf(const std::string& spec, std::string* err) {
-    // "nbrdf:NAME": a MERL material's neural fit (measured/nbrdf.h).
     if (spec.compare(0, 6, "nbrdf:") == 0) return make_nbrdf_brdf(spec, err);
     // A spec with a file extension of measured data is a path; anything else is a model.
     const std::string ext = file_extension(spec);
