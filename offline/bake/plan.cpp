@@ -176,7 +176,7 @@ bool build_plan(AssetData* a, std::string* err, bool allow_all_zero) {
     if (doublings > SEPAL_FMT_MAX_DOUBLINGS) {
         if (err) *err = "plan: coefficients up to " + std::to_string(peak) + " need more than " +
                         std::to_string(SEPAL_FMT_MAX_DOUBLINGS) + " doublings (f beyond about " +
-                        std::to_string(1 << SEPAL_FMT_MAX_DOUBLINGS) + "/sr): clamp the peaks with --cap";
+                        std::to_string(1 << SEPAL_FMT_MAX_DOUBLINGS) + "/sr): clamp the peaks (sepal bake --cap)";
         return false;
     }
     a->passes.clear();

@@ -99,6 +99,10 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     o.progress = true;  // shown only when stderr is a terminal
     std::unique_ptr<Brdf> brdf = make_brdf(args.spec, &err);
     if (!brdf) return bad(err);
+    // Every output is checked before the search, which can take minutes.
+    if (!check_output("-o", args.out, &err) || !check_output("--report", args.report, &err) ||
+        !check_output_dir("--export", args.export_dir, &err))
+        return bad(err);
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
     // The candidates, for people, whether or not one won: the image first, the direction-
@@ -193,10 +197,9 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     // The asset and its export succeed or fail together (the report above is written either
     // way: it says why a bake failed).
     OutputGuard written;
-    if (!write_asset(args.out, r.asset, &err)) return bad(err);
-    written.add(args.out);
-    if (!args.export_dir.empty() && !export_asset(r.asset, args.export_dir, &err)) return bad(err);
-    written.commit();
+    if (!write_asset(args.out, r.asset, &err) ||
+        (!args.export_dir.empty() && !export_asset(r.asset, args.export_dir, &err)) || !written.commit(&err))
+        return bad(err);
     if (o.cap > 0)
         std::fprintf(io.out, "cap: f clamped at %g in %.3f%% of the samples the factors were fitted to\n", o.cap,
                      100.0 * r.capped_share);

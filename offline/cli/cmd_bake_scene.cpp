@@ -185,6 +185,10 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
     if (!scene.is_object() || !scene.contains("materials") || !scene["materials"].is_array() ||
         scene["materials"].empty())
         return bad(scene_path + ": expected {\"materials\": [ ... ]} with at least one material");
+    // A misspelt key ("view") would otherwise drop what it holds without a word.
+    for (auto member = scene.begin(); member != scene.end(); ++member)
+        if (member.key() != "materials" && member.key() != "views")
+            return bad(scene_path + ": unknown top-level key \"" + member.key() + "\" (known: materials, views)");
     const Json& mats = scene["materials"];
     if (mats.size() > 256) return bad(scene_path + ": more than 256 materials");
     // The scene's own views, shared by every material (and part of each bake key).
@@ -197,6 +201,10 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
         for (size_t i = 0; i < vs.size(); ++i) {
             const JsonField vf{vs[i], scene_path + ": views[" + std::to_string(i) + "]"};
             std::string vname, flags;
+            if (vs[i].is_object())
+                for (auto member = vs[i].begin(); member != vs[i].end(); ++member)
+                    if (member.key() != "name" && member.key() != "flags")
+                        return bad(vf.where + ": unknown key \"" + member.key() + "\" (known: name, flags)");
             if (!vs[i].is_object() || !json_string(vf, "name", &vname, &err, true) ||
                 !json_string(vf, "flags", &flags, &err, true) || !valid_name(vname))
                 return bad(vf.where + ": needs a \"name\" (1-64 letters, digits, '_' or '-') and a \"flags\" string");

@@ -13,6 +13,7 @@ namespace {
 
 struct DiffArgs {
     std::string a, b, heatmap, sheet;
+    int64_t max_pixels = kDefaultImagePixels;
     double sheet_scale = 32;
     Tolerance tol;
 };
@@ -21,7 +22,14 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
     const Tolerance& tol = args.tol;
     Image a, b;
     std::string err;
-    if (!read_image(args.a, &a, &err) || !read_image(args.b, &b, &err)) {
+    // The budget holds for this command only (commands also run in-process, one at a time).
+    struct Budget {
+        int64_t saved = image_pixel_budget();
+        ~Budget() { set_image_pixel_budget(saved); }
+    } restore;
+    set_image_pixel_budget(args.max_pixels);
+    if (!check_output("--heatmap", args.heatmap, &err) || !check_output("--sheet", args.sheet, &err) ||
+        !read_image(args.a, &a, &err) || !read_image(args.b, &b, &err)) {
         std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
         return kExitBadInput;
     }
@@ -55,7 +63,6 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
             std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
             return kExitBadInput;
         }
-        written.add(args.heatmap);
         std::fprintf(io.out, "heatmap    %s (black 0, white %.2f)\n", args.heatmap.c_str(), scale);
     }
     if (!args.sheet.empty()) {
@@ -69,7 +76,10 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
         }
         std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels)\n", args.sheet.c_str(), args.sheet_scale);
     }
-    written.commit();
+    if (!written.commit(&err)) {
+        std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
+        return kExitBadInput;
+    }
     if (stated.empty()) {
         std::fprintf(io.out, "tolerance  none given: no PASS or FAIL (state one with --max-diff, --max-share, "
                              "--min-psnr)\n");
@@ -96,6 +106,10 @@ CommandRun setup_diff(CLI::App& app) {
     app.add_option("--max-share", a->tol.max_share, "share of pixels (0..1) allowed over --max-diff")
         ->check(finite_range(0, 1));
     app.add_option("--min-psnr", a->tol.min_psnr, "lowest PSNR allowed, dB")->check(finite_range(0, 1e6));
+    app.add_option("--max-pixels", a->max_pixels,
+                   "pixel budget per image: a larger image is refused before it is decoded")
+        ->check(CLI::Range(int64_t(1), int64_t(kMaxImageSide) * kMaxImageSide))
+        ->capture_default_str();
     app.add_option("--heatmap", a->heatmap, "write the per-pixel difference as a PNG");
     app.add_option("--sheet", a->sheet, "write A | B | their difference side by side as a PNG");
     app.add_option("--sheet-scale", a->sheet_scale, "the sheet's difference scale: 8-bit levels shown as white")

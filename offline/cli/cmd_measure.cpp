@@ -179,6 +179,11 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     }
     fo.max_condition = a.max_condition;
     std::string err;
+    if (!check_output("-o", a.out, &err) || !check_output("--report", a.report, &err) ||
+        !check_output("--bake", a.bake, &err)) {
+        std::fprintf(io.err, "%s: %s\n", who.c_str(), err.c_str());
+        return kExitBadInput;
+    }
     std::unique_ptr<Brdf> truth;
     if (!a.truth.empty() && !(truth = make_brdf(a.truth, &err))) {
         std::fprintf(io.err, "%s: --truth: %s\n", who.c_str(), err.c_str());
@@ -197,7 +202,7 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     std::vector<std::string> excluded = a.exclude;
     for (const std::string& n : plan.excluded) excluded.push_back(n);
     std::vector<uint8_t> use;
-    Reconstruction r;
+    DatabaseReconstruction r;
     if (!exclude_mask(*db, excluded, &use, &err) || !reconstruct(*db, plan, v, use, fo, &r, &err)) {
         std::fprintf(io.err, "%s: %s\n", who.c_str(), err.c_str());
         return kExitBadInput;
@@ -283,6 +288,7 @@ int run_capture(const CaptureArgs& a, const CommandIO& io) {
         return kExitBadInput;
     };
     std::string err;
+    if (!check_output("-o", a.out, &err) || !check_output("--samples", a.samples, &err)) return fail(err);
     AcqObject obj;
     BlendSvbrdf truth;
     const RigOptions rig;
@@ -320,10 +326,8 @@ int run_capture(const CaptureArgs& a, const CommandIO& io) {
     OutputGuard written;  // both files or neither
     if (!a.samples.empty()) {
         if (!write_brdf_samples(a.samples, s_out, comment, &err, {"x", "y", "texel"}, extra)) return fail(err);
-        written.add(a.samples);
     }
-    if (!write_png(a.out, img, &err)) return fail(err);
-    written.commit();
+    if (!write_png(a.out, img, &err) || !written.commit(&err)) return fail(err);
     std::fprintf(io.out, "object     %s, atlas %dx%d, the default SVBRDF (%zu materials)\n", a.object.c_str(), a.atlas,
                  a.atlas, default_svbrdf_materials().size());
     std::fprintf(io.out, "view       camera %g,%g light %g,%g (azimuth, elevation; %.1f degrees apart)\n", a.camera[0],

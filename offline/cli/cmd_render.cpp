@@ -70,10 +70,9 @@ int run_render_mc(RenderArgs& args, const Brdf& brdf, const CommandIO& io) {
         return fail(err);
     int64_t clipped = 0;
     OutputGuard written;
-    if ((!args.out_path.empty() && !(write_png(args.out_path, r.image, &err, &clipped) && written.add(args.out_path))) ||
-        (!args.float_path.empty() && !write_pfm(args.float_path, r.image, &err)))
+    if ((!args.out_path.empty() && !write_png(args.out_path, r.image, &err, &clipped)) ||
+        (!args.float_path.empty() && !write_pfm(args.float_path, r.image, &err)) || !written.commit(&err))
         return fail(err);
-    written.commit();
     std::fprintf(io.out, "backend    exact, Monte Carlo: %s under %s, %d spp, sampler %s (%zu bytes)%s, seed %llu, %.1f s\n",
                  brdf.spec().c_str(), env->describe().c_str(), args.spp, args.sampler.c_str(), s.bytes(),
                  r.mis ? " + light samples (MIS, balance heuristic)" : "", (unsigned long long)args.seed, r.seconds);
@@ -169,6 +168,10 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal render: give -o out.png or --float out.pfm\n");
         return kExitBadInput;
     }
+    if (!check_output("-o", out_path, &err) || !check_output("--float", float_path, &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
     sepal_ports::GlRenderOptions opt;
     const bool model = backend == "gles1-model" || backend == "gles2-model";
     if (model) {
@@ -229,12 +232,11 @@ int run_render(RenderArgs& args, const CommandIO& io) {
             img.data = rgb;
             int64_t clipped = 0;
             OutputGuard written;
-            if ((!out_path.empty() && !(write_png(out_path, img, &err, &clipped) && written.add(out_path))) ||
-                (!float_path.empty() && !write_pfm(float_path, img, &err))) {
+            if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+                (!float_path.empty() && !write_pfm(float_path, img, &err)) || !written.commit(&err)) {
                 std::fprintf(io.err, "sepal render: %s\n", err.c_str());
                 return kExitBadInput;
             }
-            written.commit();
             std::fprintf(io.out, "backend    cpu, %dx%d, %.1f ms\n", setup.width, setup.height, ms);
             if (!out_path.empty())
                 std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
@@ -251,12 +253,11 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         Image fimg(setup.width, setup.height, 3);
         fimg.data = info.float_rgb;
         OutputGuard written;
-        if (!write_png(out_path, img, &err) || !written.add(out_path) ||
-            (!float_path.empty() && !write_pfm(float_path, fimg, &err))) {
+        if (!write_png(out_path, img, &err) || (!float_path.empty() && !write_pfm(float_path, fimg, &err)) ||
+            !written.commit(&err)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
-        written.commit();
         std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
                      info.device.c_str());
         std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
@@ -299,12 +300,11 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     int64_t clipped = 0;
     OutputGuard written;
-    if ((!out_path.empty() && !(write_png(out_path, img, &err, &clipped) && written.add(out_path))) ||
-        (!float_path.empty() && !write_pfm(float_path, img, &err))) {
+    if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+        (!float_path.empty() && !write_pfm(float_path, img, &err)) || !written.commit(&err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
-    written.commit();
     std::fprintf(io.out, "backend    exact (%s), %dx%d, %dx%d samples per pixel, %.1f ms\n", brdf->spec().c_str(),
                  setup.width, setup.height, args.supersample, args.supersample, ms);
     std::fprintf(io.out, "pixels     %lld covered, %lld back-facing, %lld degenerate frames\n",

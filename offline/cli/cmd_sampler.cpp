@@ -38,6 +38,7 @@ int run_sampler(const SamplerArgs& a, const CommandIO& io) {
         std::fprintf(io.err, "%s: %s\n", who, m.c_str());
         return kExitBadInput;
     };
+    if (!check_output("-o", a.out, &err) || !check_output("--report", a.report, &err)) return fail(err);
     std::unique_ptr<Brdf> brdf = make_brdf(a.spec, &err);
     if (!brdf) return fail(err);
     SamplerData d;
@@ -79,14 +80,13 @@ int run_sampler(const SamplerArgs& a, const CommandIO& io) {
                  views.size(), var, var_cos, var > 0 ? var_cos / var : 0.0);
     OutputGuard written;
     if (!write_sampler(a.out, d, &err)) return fail(err);
-    written.add(a.out);
     if (!a.report.empty()) {
         const Json j = {{"spec", brdf->spec()}, {"kind", a.kind},       {"bytes", s.bytes()},
                         {"views", views.size()}, {"relative_variance", var}, {"cosine_relative_variance", var_cos},
                         {"fit", fit}};
         if (!write_json_file(a.report, j, &err)) return fail(err);
     }
-    written.commit();
+    if (!written.commit(&err)) return fail(err);
     std::fprintf(io.out, "wrote      %s\n", a.out.c_str());
     return kExitOk;
 }

@@ -1,5 +1,7 @@
 // The table of `sepal` subcommands and the dispatcher (CLI11).
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <new>
 #include <sstream>
 
@@ -124,11 +126,24 @@ int run_sepal_args(const std::vector<std::string>& args, const CommandIO& io) {
             // The tool boundary: an allocation that fails past every estimate is a message and
             // exit 2, not an abort (outputs are written atomically, so none is half done).
             try {
-                return runs[i](io);
+                const int code = runs[i](io);
+                // What a command printed must have arrived (sepal info > /dev/full): a write
+                // error is an error, whatever the command decided.
+                const bool flushed = std::fflush(io.out) == 0;
+                const int why = errno;
+                if (flushed && !std::ferror(io.out)) return code;
+                std::fprintf(io.err, "%s: cannot write its output: %s\n", who.c_str(),
+                             flushed ? "write error" : std::strerror(why));
+                return kExitBadInput;
             } catch (const std::bad_alloc&) {
-                std::fprintf(io.err, "%s: out of memory (a larger input or setting than this machine can hold; "
-                                     "lower --res, --size or the term count)\n",
-                             who.c_str());
+                // The hint names only the flags the command that ran has.
+                CLI::App* ran = app->get_subcommand(commands()[i].name);
+                while (ran && !ran->get_subcommands().empty()) ran = ran->get_subcommands()[0];
+                std::string flags;
+                for (const char* f : {"--res", "--terms", "--size", "--max-pixels"})
+                    if (ran && ran->get_option_no_throw(f)) flags += std::string(flags.empty() ? "" : ", ") + f;
+                std::fprintf(io.err, "%s: out of memory (a larger input or setting than this machine can hold%s%s)\n",
+                             who.c_str(), flags.empty() ? "" : "; lower ", flags.c_str());
                 return kExitBadInput;
             }
         }

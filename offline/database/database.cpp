@@ -231,7 +231,9 @@ std::unique_ptr<BrdfDatabase> BrdfDatabase::open(const NbrdfSet& set, const Data
         struct stat st;
         std::string why;
         if (stat(path.c_str(), &st) == 0) {
-            if (db->map_file(path, &why) && db->names_.size() == idx.size()) return db;
+            // The table is checked too: a cache overwritten in place would otherwise give
+            // reconstructions and plans of garbage.
+            if (db->map_file(path, &why) && db->names_.size() == idx.size() && db->verify_table(&why)) return db;
             if (o.progress) std::fprintf(o.progress, "database: rebuilding %s (%s)\n", path.c_str(), why.c_str());
             db.reset(new BrdfDatabase());
         }
@@ -258,21 +260,32 @@ std::unique_ptr<BrdfDatabase> BrdfDatabase::open(const NbrdfSet& set, const Data
     }
     const Layout l = layout(K, V, P);
     if (!make_dirs(dir, err)) return nullptr;
+    // The space is said and reserved before the work: the table is written through a mapping,
+    // where a full disk is SIGBUS rather than an error.
+    char need[200];
+    const int64_t avail = free_bytes(dir);
+    std::snprintf(need, sizeof need, "the cache needs %.0f MB in %s (%.0f MB free there; SEPAL_CACHE_DIR moves it)",
+                  double(l.total) / 1e6, dir.c_str(), double(avail) / 1e6);
+    if (o.progress) std::fprintf(o.progress, "database: %s\n", need);
+    if (avail >= 0 && uint64_t(avail) < l.total) return fail(path + ": " + need);
     const std::string tmp = path + ".tmp." + std::to_string(getpid());
-    const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0) return fail(tmp + ": " + std::strerror(errno));
-    if (ftruncate(fd, off_t(l.total)) != 0) {
-        const std::string why = std::strerror(errno);
-        ::close(fd);
+    register_temporary(tmp);  // removed on SIGINT/SIGTERM too
+    auto fail_tmp = [&](const std::string& why) {
         std::remove(tmp.c_str());
-        return fail(tmp + ": cannot size to " + std::to_string(l.total) + " bytes: " + why);
+        unregister_temporary(tmp);
+        return fail(why);
+    };
+    const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return fail_tmp(tmp + ": " + std::strerror(errno));
+    const int rc = reserve_file(fd, l.total);
+    if (rc != 0) {
+        ::close(fd);
+        return fail_tmp(tmp + ": cannot reserve " + std::to_string(l.total) + " bytes: " + std::strerror(rc) + "; " +
+                        need);
     }
     void* m = mmap(nullptr, l.total, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     ::close(fd);
-    if (m == MAP_FAILED) {
-        std::remove(tmp.c_str());
-        return fail(tmp + ": mmap: " + std::strerror(errno));
-    }
+    if (m == MAP_FAILED) return fail_tmp(tmp + ": mmap: " + std::strerror(errno));
     uint8_t* base = static_cast<uint8_t*>(m);
     float* table = reinterpret_cast<float*>(base + l.table);
     const size_t R = 3 * V;
@@ -376,12 +389,13 @@ std::unique_ptr<BrdfDatabase> BrdfDatabase::open(const NbrdfSet& set, const Data
     h.meta_checksum = hash_bytes(base + sizeof(Header), l.table - sizeof(Header),
                                  hash_bytes(&h, sizeof h));
     std::memcpy(base, &h, sizeof h);
+    const bool synced = msync(m, l.total, MS_SYNC) == 0;
+    const std::string sync_why = synced ? "" : std::strerror(errno);
     munmap(m, l.total);
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const std::string why = std::strerror(errno);
-        std::remove(tmp.c_str());
-        return fail(path + ": cannot rename the finished cache: " + why);
-    }
+    if (!synced) return fail_tmp(tmp + ": cannot write the cache: " + sync_why);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+        return fail_tmp(path + ": cannot rename the finished cache: " + std::strerror(errno));
+    unregister_temporary(tmp);
     if (!db->map_file(path, err)) return nullptr;
     db->built_now_ = true;
     if (o.progress)

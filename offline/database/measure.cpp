@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "brdf/brdf_spec.h"
 #include "measured/merl.h"
 #include "util/io.h"
 #include "util/parallel.h"
@@ -125,6 +126,9 @@ bool read_samples_csv(const std::string& path, const BrdfDatabase& db, const Mea
                         std::to_string(db.grid_cell(row / 3)) + ", channel " +
                         std::to_string(row % 3) + "): samples and plan do not belong together");
         if (!std::isfinite(f[7])) return fail("value is not a finite number");
+        if (std::fabs(f[7]) > kMaxSampleValue)
+            return fail("value " + format_number(f[7]) + " is beyond +-" + format_number(kMaxSampleValue) +
+                        " (1/sr): not a BRDF measurement");
         values->push_back(f[7]);
     }
     if (!header) {
@@ -141,16 +145,22 @@ bool read_samples_csv(const std::string& path, const BrdfDatabase& db, const Mea
 
 bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
                  const std::vector<double>& values, const std::vector<uint8_t>& use,
-                 const FitOptions& opt, Reconstruction* r, std::string* err) {
-    *r = Reconstruction();
+                 const FitOptions& opt, DatabaseReconstruction* r, std::string* err) {
+    *r = DatabaseReconstruction();
     if (!fit_combination(db, plan.rows, values, use, opt, &r->fit, err)) return false;
     r->values = combination_values(db, r->fit.coeffs, &r->clamped);
-    for (float& v : r->values) v = std::max(v, 0.0f);
+    for (float& v : r->values) {
+        if (!std::isfinite(v)) {
+            if (err) *err = "reconstruct: the fitted combination is not finite (samples beyond the database's range)";
+            return false;
+        }
+        v = std::max(v, 0.0f);
+    }
     return true;
 }
 
 bool write_reconstruction_merl(const std::string& path, const BrdfDatabase& db,
-                               const Reconstruction& r, std::string* err) {
+                               const DatabaseReconstruction& r, std::string* err) {
     if (!db.grid().is_merl()) {
         if (err) *err = path + ": a MERL file needs the database on MERL's 90 x 90 x 180 grid";
         return false;

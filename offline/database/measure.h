@@ -7,7 +7,7 @@
 //   sepal::simulate_samples(*db, plan, *brdf, 0.01, 1, &v, &err);     // 1% noise, seed 1
 //   sepal::write_samples_csv("samples.csv", *db, plan, v, "nbrdf:gold-paint, noise 0.01", &err);
 //   sepal::read_samples_csv("samples.csv", *db, plan, &v, &err);
-//   sepal::Reconstruction r;
+//   sepal::DatabaseReconstruction r;
 //   sepal::reconstruct(*db, plan, v, use, sepal::FitOptions{}, &r, &err);
 //   sepal::write_reconstruction_merl("new.binary", *db, r, &err);
 //
@@ -18,7 +18,8 @@
 //   sample,cell,channel,theta_i,phi_i,theta_o,phi_o,value
 // and one line per plan sample in plan order (angles in degrees, as plan.json; value in 1/sr,
 // 9 significant digits). The reader checks that the lines match the plan (count, cell and
-// channel of each), that every value is a finite number, and that the file is under 64 MiB.
+// channel of each), that every value is a finite number within +-kMaxSampleValue (1/sr),
+// and that the file is under 64 MiB.
 // The reconstruction: fit_combination's coefficients, P c over every valid cell; values below
 // 0 (least squares can produce them) are set to 0 and counted: the BRDF is never negative, and
 // the clamp only moves a value towards any non-negative truth.
@@ -31,6 +32,8 @@
 #include "database/measure_plan.h"
 
 namespace sepal {
+
+constexpr double kMaxSampleValue = 1e6;
 
 bool simulate_samples(const BrdfDatabase& db, const MeasurementPlan& plan, const Brdf& f,
                       double noise, uint64_t seed, std::vector<double>* values, std::string* err);
@@ -45,7 +48,7 @@ bool write_samples_csv(const std::string& path, const BrdfDatabase& db, const Me
 bool read_samples_csv(const std::string& path, const BrdfDatabase& db, const MeasurementPlan& plan,
                       std::vector<double>* values, std::string* err);
 
-struct Reconstruction {
+struct DatabaseReconstruction {
     CombinationFit fit;
     std::vector<float> values;  // 3 per valid cell of the database grid, >= 0
     size_t clamped = 0;         // values of P c below 0, set to 0
@@ -53,12 +56,12 @@ struct Reconstruction {
 
 bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
                  const std::vector<double>& values, const std::vector<uint8_t>& use,
-                 const FitOptions& opt, Reconstruction* r, std::string* err);
+                 const FitOptions& opt, DatabaseReconstruction* r, std::string* err);
 
 // Writes the reconstruction as a MERL .binary (cells below the horizon as -1). The database
 // grid must be MERL's.
 bool write_reconstruction_merl(const std::string& path, const BrdfDatabase& db,
-                               const Reconstruction& r, std::string* err);
+                               const DatabaseReconstruction& r, std::string* err);
 
 // A BRDF's values at the database rows (bin centres; 3 per valid cell), for errors against
 // materials outside the database. Fails on a negative or non-finite value.

@@ -227,6 +227,14 @@ bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementP
                         std::to_string(std::min<size_t>(kMaxSamples, db.rows()));
         return false;
     }
+    // Fewer samples than fitted materials leave X^T X singular: no weights to fit.
+    if (size_t(o.samples) < cols.size()) {
+        if (err)
+            *err = "plan: " + std::to_string(o.samples) + " samples cannot fit the weights of " +
+                   std::to_string(cols.size()) + " materials: at least " + std::to_string(cols.size()) +
+                   " samples (more for a well-conditioned plan), or fewer materials";
+        return false;
+    }
     const size_t R = db.rows(), V = db.valid_cells(), N = size_t(o.samples);
     if (o.method == PlanMethod::kGreedy) {
         if (!plan_greedy(db, o, cols, plan, err)) return false;
@@ -247,6 +255,12 @@ bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementP
         }
     }
     plan->condition = plan_condition(db, plan->rows, o.use, o.weighted);
+    if (!(std::isfinite(plan->condition) && plan->condition > 0)) {
+        if (err)
+            *err = "plan: the " + std::to_string(o.samples) + " samples chosen (" + plan_method_name(o.method) +
+                   ") leave X^T X singular: they cannot tell the materials apart; more samples or another --method";
+        return false;
+    }
     return true;
 }
 
@@ -351,6 +365,10 @@ bool read_plan_json(const std::string& path, const BrdfDatabase& db, Measurement
             if (v < 0) return fail(at + ": cell " + std::to_string(cell) + " is below the horizon");
             p->rows.push_back(3 * size_t(v) + size_t(ch));
         }
+        const size_t fitted = size_t(db.size()) - p->excluded.size();
+        if (p->excluded.size() >= size_t(db.size()) || p->rows.size() < fitted)
+            return fail(std::to_string(p->rows.size()) + " samples cannot fit the weights of " +
+                        std::to_string(fitted) + " materials (at least as many samples as materials)");
     } catch (const nlohmann::json::exception& ex) {
         std::string what = ex.what();
         const size_t b = what.find("] ");

@@ -408,8 +408,16 @@ bool validate_tree(const ShadeTree& t, std::string* err) {
         t.blend.width > Svbrdf::kMaxSide || t.blend.height > Svbrdf::kMaxSide ||
         t.blend.w.size() != size_t(t.blend.width) * t.blend.height * t.blend.count)
         return fail(err, "tree: one blend map per basis, 1.." + std::to_string(Svbrdf::kMaxSide) + " texels a side");
-    for (float w : t.blend.w)
-        if (!std::isfinite(w)) return fail(err, "tree: a blend weight is not finite");
+    // Weights mix basis BRDFs: a negative one would subtract a material (set_blend refuses
+    // them too).
+    for (size_t i = 0; i < t.blend.w.size(); ++i)
+        if (!(t.blend.w[i] >= 0.0f) || !std::isfinite(t.blend.w[i])) {
+            const size_t texel = i / size_t(t.blend.count);
+            return fail(err, "tree: blend map " + std::to_string(i % size_t(t.blend.count)) + " at texel (" +
+                                 std::to_string(texel % size_t(t.blend.width)) + ", " +
+                                 std::to_string(texel / size_t(t.blend.width)) + ") has weight " +
+                                 std::to_string(t.blend.w[i]) + ": weights are finite and >= 0");
+        }
     for (size_t j = 0; j < t.bases.size(); ++j) {
         const TreeBasis& b = t.bases[j];
         if (b.terms.empty() || b.terms.size() > 4) return fail(err, "tree: basis " + std::to_string(j) + ": 1..4 terms");

@@ -331,7 +331,10 @@ std::unique_ptr<Brdf> make_merl_brdf(const std::vector<uint8_t>& bytes, const st
     MerlStats stats;
     if (!parse_merl(bytes, path, &table, &stats, err)) return nullptr;
     if (stats.missing_cells == stats.cells) {
-        if (err) *err = path + ": every sample is missing (negative, NaN or inf)";
+        if (err)
+            *err = path + ": every cell has a missing value (" + std::to_string(stats.negative) + " negative, " +
+                   std::to_string(stats.nan) + " NaN, " + std::to_string(stats.inf) + " inf, " +
+                   std::to_string(stats.huge) + " over 1e30 after MERL's scale)";
         return nullptr;
     }
     return std::make_unique<MerlBrdf>(path, std::move(table), stats);

@@ -439,7 +439,10 @@ bool make_tabulated_sampler(const Brdf& brdf, const TabulatedOptions& opt, Sampl
     uint64_t offsets[SEPAL_SMP_ARRAY_COUNT];
     const uint64_t bytes = sepal_sampler_layout(d.kind, &d.desc, offsets, nullptr);
     if (bytes == 0 || bytes > SEPAL_SMP_MAX_FILE_BYTES) {
-        if (err) *err = "tabulated sampler: " + std::to_string(bytes) + " bytes is over the format's limit; lower the resolution";
+        if (err)
+            *err = "tabulated sampler: " + std::to_string(bytes) + " bytes is over the format's limit of " +
+                   std::to_string(SEPAL_SMP_MAX_FILE_BYTES) + " (an anisotropic BRDF needs a table per view azimuth); " +
+                   "use --kind factored";
         return false;
     }
     d.tables.assign(per_view * To * Po, 0.0f);

@@ -83,7 +83,7 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
     const double entries = double(o.n_theta_o) * o.n_phi_o * o.n_theta_p * std::max(o.n_phi_p, 64);
     if (entries * (8.0 * 3 + 4.0 * 3) > 8e9)
         return bad("the data matrix (" + std::to_string(int64_t(entries)) +
-                   " entries) needs over 8 GB; lower the resolution");
+                   " entries) needs over 8 GB; fewer view or direction bins (FactoredOptions n_theta_o, n_phi_o, n_theta_p, n_phi_p)");
     return true;
 }
 
@@ -350,6 +350,22 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     r.sampler_bytes = bytes.size();
     bool any = false;
     for (float f : d.F) any = any || f > 0;
+    if (!any) {
+        // No bin saw anything above the Lambert part: true for a Lambert BRDF, but also for a
+        // lobe narrower than a bin (a near-mirror), which cosine samples would never find.
+        const dvec3 albedo = directional_albedo(brdf, kPi / 6, 64);
+        for (int c = 0; c < 3; ++c)
+            if (albedo[c] > 1.01 * kPi * diffuse[c] + 1e-3) {
+                char m[320];
+                std::snprintf(m, sizeof m,
+                              "factored sampler: %s has albedo %.3g at 30 degrees (channel %d) but its Lambert part "
+                              "only %.3g: the rest is a lobe narrower than the sampler's bins, which it would never "
+                              "sample; use --kind analytic (the model's own lobe) or lafortune",
+                              brdf.spec().c_str(), albedo[c], c, kPi * diffuse[c]);
+                if (err) *err = m;
+                return false;
+            }
+    }
     if (!any)
         r.notes.push_back(diffuse != dvec3(0.0) ? "the BRDF is its Lambert part: cosine sampling, exact for it"
                                                 : "the BRDF is 0 everywhere sampled: the sampler falls back to cosine sampling");

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <atomic>
 #include <limits>
 
 #include "util/io.h"
@@ -29,6 +30,21 @@ constexpr uint64_t kMaxImageFileBytes = uint64_t(1) << 32;
 bool fail(std::string* err, const std::string& msg) {
     if (err) *err = msg;
     return false;
+}
+
+std::atomic<int64_t> g_pixel_budget{kDefaultImagePixels};
+
+// The side limit and the pixel budget, from the header's size (before decoding).
+bool check_image_size(const std::string& path, const char* format, int64_t w, int64_t h, std::string* err) {
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return fail(err, path + ": " + format + " size " + std::to_string(w) + "x" + std::to_string(h) +
+                             " out of range 1.." + std::to_string(kMaxImageSide));
+    const int64_t budget = g_pixel_budget;
+    if (w * h > budget)
+        return fail(err, path + ": " + format + " of " + std::to_string(w) + "x" + std::to_string(h) + " = " +
+                             std::to_string(w * h) + " pixels is over the pixel budget of " + std::to_string(budget) +
+                             " (sepal diff --max-pixels raises it)");
+    return true;
 }
 
 bool is_png(const std::vector<uint8_t>& b) {
@@ -76,9 +92,7 @@ bool check_png_chunks(const std::string& path, const std::vector<uint8_t>& b, st
             if (std::string(type) != "IHDR" || length != 13)
                 return fail(err, path + ": corrupt PNG: the first chunk must be a 13-byte IHDR, not " + where);
             const uint32_t w = load_u32be(&b[pos + 8]), h = load_u32be(&b[pos + 12]);
-            if (w < 1 || h < 1 || w > uint32_t(kMaxImageSide) || h > uint32_t(kMaxImageSide))
-                return fail(err, path + ": PNG size " + std::to_string(w) + "x" + std::to_string(h) +
-                                     " out of range 1.." + std::to_string(kMaxImageSide));
+            if (!check_image_size(path, "PNG", w, h, err)) return false;
         }
         pos += size_t(length) + 12;
         if (std::string(type) == "IEND") return true;
@@ -94,9 +108,7 @@ bool decode_png(const std::string& path, const std::vector<uint8_t>& bytes, Imag
     int w = 0, h = 0, c = 0;
     if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
         return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
-    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
-        return fail(err, path + ": PNG size " + std::to_string(w) + "x" + std::to_string(h) +
-                             " out of range 1.." + std::to_string(kMaxImageSide));
+    if (!check_image_size(path, "PNG", w, h, err)) return false;
     const int want = (c == 2) ? 4 : c;  // grey+alpha becomes RGBA
     uint8_t* px = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, want);
     if (!px) {
@@ -117,9 +129,7 @@ bool decode_hdr(const std::string& path, const std::vector<uint8_t>& bytes, Imag
     int w = 0, h = 0, c = 0;
     if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
         return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
-    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
-        return fail(err, path + ": HDR size " + std::to_string(w) + "x" + std::to_string(h) +
-                             " out of range 1.." + std::to_string(kMaxImageSide));
+    if (!check_image_size(path, "HDR", w, h, err)) return false;
     float* px = stbi_loadf_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 3);
     if (!px) return fail(err, path + ": corrupt HDR: " + stbi_failure_reason());
     *out = Image(w, h, 3);
@@ -156,9 +166,7 @@ bool decode_pfm(const std::string& path, const std::vector<uint8_t>& b, Image* o
     const double scale = std::strtod(ts.c_str(), &end);
     if (*end || !std::isfinite(scale) || scale == 0)
         return fail(err, path + ": PFM scale '" + ts + "' is not a non-zero number");
-    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
-        return fail(err, path + ": PFM size " + tw + "x" + th + " out of range 1.." +
-                             std::to_string(kMaxImageSide));
+    if (!check_image_size(path, "PFM", w, h, err)) return false;
     ++pos;  // exactly one whitespace character ends the header
     const size_t need = size_t(w) * size_t(h) * channels * 4;
     if (b.size() - pos != need)
@@ -193,6 +201,9 @@ void append_to_vector(void* context, void* data, int size) {
 }
 
 }  // namespace
+
+int64_t image_pixel_budget() { return g_pixel_budget; }
+void set_image_pixel_budget(int64_t pixels) { g_pixel_budget = pixels; }
 
 bool decode_image(const std::vector<uint8_t>& bytes, const std::string& name, Image* out, std::string* err) {
     if (is_png(bytes)) return decode_png(name, bytes, out, err);
@@ -290,9 +301,9 @@ bool read_png16(const std::string& path, int* width, int* height, int* channels,
     if (bytes.size() > size_t(std::numeric_limits<int>::max())) return fail(err, path + ": PNG file too large");
     if (!check_png_chunks(path, bytes, err)) return false;
     int w = 0, h = 0, c = 0;
-    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c) || w < 1 || h < 1 ||
-        w > kMaxImageSide || h > kMaxImageSide)
-        return fail(err, path + ": corrupt PNG or size out of range 1.." + std::to_string(kMaxImageSide));
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c))
+        return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
+    if (!check_image_size(path, "PNG", w, h, err)) return false;
     uint16_t* px = stbi_load_16_from_memory(bytes.data(), int(bytes.size()), &w, &h, &c, 0);
     if (!px) return fail(err, path + ": corrupt PNG: " + stbi_failure_reason());
     samples->assign(px, px + size_t(w) * h * c);

@@ -9,7 +9,10 @@
 // PNG values are stored as byte/255, so 1.0 is white; PFM values are kept as they are.
 // Comparisons work on RGB (grey is expanded, alpha is ignored) in 8-bit units: a
 // difference of 1.0 in value is 255 units, for PNG and PFM alike.
-// Limits: images up to 16384 x 16384; PFM files with NaN or inf values are refused.
+// Limits: images up to 16384 x 16384 and a pixel budget per image (image_pixel_budget, by
+// default 4096 x 4096 = 16,777,216 pixels, what a float RGBA image of 256 MiB holds), checked
+// against the header before any pixel is decoded: a small compressed PNG can claim a huge
+// image. PFM files with NaN or inf values are refused.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -29,6 +32,11 @@ struct Image {
 };
 
 constexpr int kMaxImageSide = 16384;
+constexpr int64_t kDefaultImagePixels = int64_t(4096) * 4096;
+// The readers' pixel budget (process-wide; `sepal diff --max-pixels` raises it): an image of
+// more pixels is refused before decoding, naming its size and the budget.
+int64_t image_pixel_budget();
+void set_image_pixel_budget(int64_t pixels);
 
 // Decides the format by content (PNG signature or "PF"/"Pf" header).
 bool read_image(const std::string& path, Image* out, std::string* err);

@@ -171,9 +171,11 @@ bool read_bounded_file(const std::string& path, size_t max_bytes, std::vector<ui
 
 namespace {
 // See load_scene_mesh in the header. Built-in meshes keep the default scene (the goldens).
-void frame_by_bounds(SceneSetup* s) {
+// False (with the reason) when the frame it computes does not fit in floats: a mesh of huge
+// coordinates, or a small one far from the origin, whose eye would round onto its target.
+bool frame_by_bounds(SceneSetup* s, std::string* err) {
     const sepal_mesh& m = s->mesh;
-    if (m.vertex_count < 1) return;
+    if (m.vertex_count < 1) return true;
     double lo[3], hi[3];
     for (int k = 0; k < 3; ++k) lo[k] = hi[k] = m.vertices[0].position[k];
     for (int i = 0; i < m.vertex_count; ++i)
@@ -207,6 +209,30 @@ void frame_by_bounds(SceneSetup* s) {
     cam.z_far = float((d + r) * 1.01);
     cam.z_near = float(std::fmax((d - r) * 0.99, cam.z_far * 1e-3));
     s->framed = true;
+    if (s->camera_given && s->lights_given) return true;
+    bool fits = std::isfinite(cam.z_far) && std::isfinite(cam.z_near) && cam.z_near > 0.0f;
+    for (int k = 0; k < 3; ++k)
+        fits = fits && std::isfinite(cam.eye[k]) && std::isfinite(s->scene.lights[0].position[k]) &&
+               std::isfinite(s->scene.lights[0].intensity[k]);
+    if (fits && !s->camera_given) {
+        // The view direction as the floats have it (rounding can take it off the framing
+        // direction, or to 0), against the up vector, as sepal_scene_validate will judge it.
+        const double d[3] = {double(cam.target[0]) - cam.eye[0], double(cam.target[1]) - cam.eye[1],
+                             double(cam.target[2]) - cam.eye[2]};
+        const double x[3] = {d[1] * cam.up[2] - d[2] * cam.up[1], d[2] * cam.up[0] - d[0] * cam.up[2],
+                             d[0] * cam.up[1] - d[1] * cam.up[0]};
+        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        fits = len > 1e-3 * r && std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) > 0.1 * len;
+    }
+    if (fits) return true;
+    char m_text[320];
+    std::snprintf(m_text, sizeof m_text,
+                  "%s: the mesh's bounding sphere (radius %g about %g, %g, %g) is too large or too far from the "
+                  "origin to frame %s in floats; scale or centre the model%s",
+                  s->mesh_name.c_str(), r, c[0], c[1], c[2], s->camera_given ? "the light" : "a camera",
+                  s->camera_given ? ", or give --light" : ", or give --camera and --light");
+    *err = m_text;
+    return false;
 }
 }  // namespace
 
@@ -244,7 +270,7 @@ bool load_scene_mesh(SceneSetup* s, std::string* err) {
             *err = name + ": " + e.message;
             return false;
         }
-        frame_by_bounds(s);
+        if (!frame_by_bounds(s, err)) return false;
     }
     if (r != SEPAL_OK || sepal_scene_validate(&s->scene, &e) != SEPAL_OK) {
         *err = e.message;

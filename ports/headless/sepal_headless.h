@@ -17,6 +17,11 @@
 // Platform order: EGL_MESA_platform_surfaceless, then EGL_EXT_platform_device, then
 // the default display. SEPAL_EGL_PLATFORM=surfaceless|device|default forces one.
 // This is the only place in sepal that talks to EGL for offscreen work.
+//
+// Thread safety: a context is current on one thread at a time (EGL's rule): create,
+// make_current, read_rgba and destroy for one context from the thread it is current on;
+// distinct contexts may live on distinct threads. sepal_headless_get_proc_address, _width,
+// _height and _gles_version only read.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

@@ -1,6 +1,7 @@
 // .sepal asset parsing and validation (see sepal_format.h). Zero-copy, no allocation.
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "internal.h"
@@ -126,6 +127,68 @@ sepal_result parse_texture(const uint8_t* p, uint64_t size, uint32_t index, sepa
                          (unsigned long long)(size - sizeof(sepal_fmt_texture)),
                          (unsigned long long)(offset - sizeof(sepal_fmt_texture)));
     return SEPAL_OK;
+}
+
+// The plan must draw the factors' sum, the one f the CPU backend and the fused shaders read
+// from the textures: per term and channel, the PRODUCT (or RECIPROCAL) pass weight
+// ratio sG sH (times sG for reciprocal), the TEXTURE passes ratio sG bH and ratio bG sH, the
+// CONSTANT passes sum_k ratio bG bH and the DIFFUSE pass the material's diffuse, each as
+// sign x colour x rgb_scale x 2^doublings. Only float rounding may differ (the writer's
+// colours are float(ldexp(value, -doublings))).
+bool plan_matches_factors(const sepal_asset& a, char* what, size_t what_size) {
+    const sepal_fmt_material& m = a.material;
+    const bool reciprocal = (m.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
+    // want/got per channel: [0, T) products, [T, 2T) G-textures, [2T, 3T) H-textures, 3T the
+    // constant, 3T+1 the diffuse part.
+    enum { kMaxSlots = 3 * SEPAL_FMT_MAX_TERMS + 2 };
+    const uint32_t T = m.terms, kConst = 3 * T, kDiffuse = 3 * T + 1;
+    double want[kMaxSlots][3] = {}, got[kMaxSlots][3] = {};
+    int textures_of[SEPAL_FMT_MAX_TERMS][SEPAL_ROLE_COUNT];
+    for (uint32_t i = 0; i < a.texture_count; ++i)
+        textures_of[a.textures[i].desc.term][a.textures[i].desc.role] = (int)i;
+    for (uint32_t k = 0; k < T; ++k) {
+        const sepal_fmt_texture& G = a.textures[textures_of[k][SEPAL_ROLE_G]].desc;
+        const sepal_fmt_texture& H = a.textures[textures_of[k][SEPAL_ROLE_H]].desc;
+        for (int c = 0; c < 3; ++c) {
+            const int t = m.channels == 1 ? 0 : c;
+            const double r = m.ratio[c], sg = G.scale[t], sh = H.scale[t], bg = G.bias[t], bh = H.bias[t];
+            want[k][c] = r * sg * sh * (reciprocal ? sg : 1.0);
+            want[T + k][c] = r * sg * bh;
+            want[2 * T + k][c] = r * bg * sh;
+            want[kConst][c] += r * bg * bh;
+        }
+    }
+    for (int c = 0; c < 3; ++c) want[kDiffuse][c] = m.diffuse[c];
+    const double unit = ldexp(1.0, (int)a.plan.doublings);
+    for (uint32_t i = 0; i < a.plan.pass_count; ++i) {
+        const sepal_fmt_pass& p = a.passes[i];
+        uint32_t slot = kConst;
+        if (p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL) slot = a.textures[p.tex0].desc.term;
+        else if (p.op == SEPAL_OP_TEXTURE) {
+            const sepal_fmt_texture& d = a.textures[p.tex0].desc;
+            slot = (d.role == SEPAL_ROLE_G ? T : 2 * T) + d.term;
+        } else if (p.op == SEPAL_OP_DIFFUSE) slot = kDiffuse;
+        const double sign = p.blend == SEPAL_BLEND_SUBTRACT ? -1.0 : 1.0;
+        for (int c = 0; c < 3; ++c) got[slot][c] += sign * (double)p.color[c] * (double)p.rgb_scale * unit;
+    }
+    double biggest = 0.0;
+    for (uint32_t s = 0; s <= kDiffuse; ++s)
+        for (int c = 0; c < 3; ++c) biggest = fmax(biggest, fabs(want[s][c]));
+    for (uint32_t s = 0; s <= kDiffuse; ++s)
+        for (int c = 0; c < 3; ++c) {
+            const double w = want[s][c], g = got[s][c];
+            if (fabs(g - w) <= 1e-4 * fabs(w) + 1e-6 * biggest) continue;
+            const char* part = s < T ? (reciprocal ? "G H G" : "G H") : s < 2 * T ? "G's texture" : s < 3 * T ? "H's texture"
+                             : s == kConst ? "constant" : "diffuse";
+            const uint32_t term = s < 3 * T ? s % T : 0;
+            if (s < 3 * T)
+                snprintf(what, what_size, "term %u's %s part weighs %g in channel %d, its factors say %g", term, part,
+                         g, c, w);
+            else
+                snprintf(what, what_size, "the %s part weighs %g in channel %d, the material says %g", part, g, c, w);
+            return false;
+        }
+    return true;
 }
 
 }  // namespace
@@ -460,5 +523,9 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: %u DIFFUSE passes for a material %s a diffuse part (one iff it has one)",
                          diffuse_passes, has_diffuse ? "with" : "without");
+    char what[200];
+    if (!plan_matches_factors(*out, what, sizeof what))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: the pass plan does not draw the factors: %s (every backend must draw one f)", what);
     return srt::ok(err);
 }

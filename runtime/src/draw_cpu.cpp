@@ -132,6 +132,9 @@ void shade(void* user, int x, int y, float, const float* v) {
 
 }  // namespace
 
+// The rasterizer's target limit (sepal_raster.h).
+constexpr int kMaxCpuSide = 8192;
+
 extern "C" size_t sepal_cpu_scratch_floats(int vertex_count) {
     return (size_t)(vertex_count > 0 ? vertex_count : 0) * (4 + kVaryings);
 }
@@ -144,6 +147,12 @@ namespace {
 sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float* proj, bool keep, sepal_error* err) {
     if (!d || !d->asset || !d->mesh || !d->scene || !d->color || !d->depth || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
+    // Before any pixel is written: the buffers are sized by the caller from these.
+    if (d->width < 1 || d->height < 1 || d->width > kMaxCpuSide || d->height > kMaxCpuSide)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: target %dx%d out of range 1..%d", d->width, d->height,
+                         kMaxCpuSide);
+    if (!srt::asset_parsed(*d->asset))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: the asset was not filled by sepal_asset_parse");
     if (d->scratch_floats < sepal_cpu_scratch_floats(d->mesh->vertex_count))
         return srt::fail(err, SEPAL_ERR_CAPACITY, "cpu: scratch holds %zu floats, needs %zu", d->scratch_floats,
                          sepal_cpu_scratch_floats(d->mesh->vertex_count));

@@ -1,6 +1,7 @@
 // Runtime internals shared by its translation units (not part of the API).
 #pragma once
 #include <math.h>
+#include <string.h>
 #include "sepal/sepal_rt.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_scene.h"
@@ -143,5 +144,12 @@ inline float pass_color_boost(const sepal_fmt_pass& p, uint32_t material_texture
 // Returns SEPAL_OK, or drains GL's error flags and fills err naming `what`. Works on
 // either GL ES version (glGetError is common to both).
 sepal_result gl_check(const char* what, sepal_error* err);
+
+// True for an asset sepal_asset_parse filled (a zeroed or never-parsed one has no magic, no
+// terms and no passes): what the draw entry points take.
+inline bool asset_parsed(const sepal_asset& a) {
+    return memcmp(a.header.magic, SEPAL_FMT_MAGIC, 8) == 0 && a.material.terms >= 1 && a.plan.pass_count >= 1 &&
+           a.plan.pass_count <= SEPAL_FMT_MAX_PASSES && a.texture_count >= 1 && a.texture_count <= SEPAL_FMT_MAX_TEXTURES;
+}
 
 }  // namespace srt

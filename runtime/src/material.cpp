@@ -84,6 +84,8 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
     if (!caps || !asset || !out)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: NULL argument");
     memset(out, 0, sizeof *out);
+    if (!srt::asset_parsed(*asset))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: the asset was not filled by sepal_asset_parse");
     if (max_width < 1 || max_height < 1 || max_width > caps->max_texture_size ||
         max_height > caps->max_texture_size)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: viewport %dx%d out of 1..%d",
@@ -180,6 +182,11 @@ extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepa
                                           sepal_error* err) {
     sepal_result r0 = srt::material_plan(caps, asset, max_width, max_height, out, err);
     if (r0 != SEPAL_OK) return r0;
+    // Without a current context every GL call is a silent no-op: the material would hold no
+    // textures and draw nothing.
+    if (!glGetString(GL_VERSION))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "material: no current GL context (make one current before sepal_material_create)");
     const sepal_fmt_material& info = asset->material;
     glGenTextures((GLsizei)asset->texture_count, out->gl_textures);
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
@@ -274,5 +281,6 @@ extern "C" void sepal_material_destroy(sepal_material* m) {
 }
 
 extern "C" size_t sepal_draw_scratch_floats(int vertex_count, int light_count) {
+    if (vertex_count < 1 || light_count < 1 || light_count > SEPAL_MAX_LIGHTS) return 0;  // as the CPU's and emulator's
     return srt::scratch_floats(vertex_count, light_count);
 }

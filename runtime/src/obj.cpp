@@ -20,10 +20,19 @@ void skip_spaces(Cursor& c) {
     while (c.p < c.end && (*c.p == ' ' || *c.p == '\t')) ++c.p;
 }
 
+// A line ends at LF, CRLF or a lone CR (classic Mac OS files).
 void next_line(Cursor& c) {
-    while (c.p < c.end && *c.p != '\n') ++c.p;
-    if (c.p < c.end) ++c.p;
+    while (c.p < c.end && *c.p != '\n' && *c.p != '\r') ++c.p;
+    if (c.p < c.end && *c.p == '\r') ++c.p;
+    if (c.p < c.end && *c.p == '\n') ++c.p;
     ++c.line;
+}
+
+// The first line, past a UTF-8 byte order mark (editors on Windows write one).
+Cursor first_line(const char* text, size_t length) {
+    Cursor c = {text, text + length, 1};
+    if (length >= 3 && (uint8_t)text[0] == 0xEF && (uint8_t)text[1] == 0xBB && (uint8_t)text[2] == 0xBF) c.p += 3;
+    return c;
 }
 
 // Locale-independent decimal float: [sign] digits [. digits] [(e|E) [sign] digits].
@@ -225,7 +234,7 @@ extern "C" sepal_result sepal_obj_measure(const char* text, size_t length, sepal
     if (length == 0) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "obj: the file is empty (no faces)");
     memset(info, 0, sizeof *info);
     long corners = 0, triangles = 0;
-    for (Cursor c = {text, text + length, 1}; c.p < c.end; next_line(c)) {
+    for (Cursor c = first_line(text, length); c.p < c.end; next_line(c)) {
         switch (keyword(c)) {
             case kV: ++info->positions; break;
             case kVt: ++info->texcoords; break;
@@ -270,7 +279,7 @@ extern "C" sepal_result sepal_obj_load(const char* text, size_t length, sepal_me
     sepal_obj_stats st = {};
     int np = 0, nt = 0, nn = 0, nv = 0, ni = 0;
     const int vertex_capacity = mesh->vertex_count < 65535 ? mesh->vertex_count : 65535;
-    for (Cursor c = {text, text + length, 1}; c.p < c.end; next_line(c)) {
+    for (Cursor c = first_line(text, length); c.p < c.end; next_line(c)) {
         const Keyword k = keyword(c);
         if (k == kV || k == kVt || k == kVn) {
             float* dst = k == kV ? s.positions + 3 * np++ : k == kVt ? s.texcoords + 2 * nt++ : s.normals + 3 * nn++;

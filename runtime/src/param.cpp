@@ -135,10 +135,12 @@ int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const fl
 
 extern "C" int sepal_param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3], float g[2],
                                    float h[2]) {
+    if ((unsigned)p >= SEPAL_PARAM_COUNT || (unsigned)m >= SEPAL_MAP_COUNT || !wi || !wo || !g || !h) return -1;
     return srt::param_texcoords(p, m, wi, wo, g, h, false, nullptr);
 }
 
 extern "C" int sepal_param_texcoords_pixel(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3],
                                          float g[2], float h[2]) {
+    if ((unsigned)p >= SEPAL_PARAM_COUNT || (unsigned)m >= SEPAL_MAP_COUNT || !wi || !wo || !g || !h) return -1;
     return srt::param_texcoords(p, m, wi, wo, g, h, true, nullptr);
 }

@@ -136,7 +136,7 @@ void draw_triangle(sepal_raster_target* t, const sepal_raster_desc* d, WindowVer
 }  // namespace
 
 extern "C" void sepal_raster_clear_depth(sepal_raster_target* t) {
-    if (!t || !t->depth) return;
+    if (!t || !t->depth || t->width < 1 || t->height < 1 || t->width > 8192 || t->height > 8192) return;
     const size_t n = (size_t)t->width * (size_t)t->height;
     for (size_t i = 0; i < n; ++i) t->depth[i] = 1.0f;
 }

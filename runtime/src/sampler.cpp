@@ -463,6 +463,10 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
     auto arr = [&](Array a) { return off[a] ? (const float*)(base + off[a]) : nullptr; };
     const uint32_t To = d.n_theta_o, Po = d.n_phi_o, Tp = d.n_theta_p, Pp = d.n_phi_p;
     const bool views = h.kind == SEPAL_SAMPLER_FACTORED || h.kind == SEPAL_SAMPLER_TABULATED;
+    // Every kind mixes in cosine samples by this share (a LOBES file too).
+    if (!(d.defensive >= 0.0f && d.defensive <= 1.0f))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: %s: defensive share %g outside [0, 1]",
+                         kind_name(h.kind), (double)d.defensive);
     if (views) {
         if (d.param >= SEPAL_SMP_PARAM_COUNT || d.phi_frame >= SEPAL_SMP_PHI_COUNT)
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: unknown parameterization %u or phi frame %u",
@@ -470,9 +474,8 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
         if (d.phi_frame == SEPAL_SMP_PHI_VIEW && Po != 1)
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: view-relative phi needs 1 phi_o bin, not %u",
                              Po);
-        if (!(d.defensive >= 0.0f && d.defensive <= 1.0f) || d.jacobian > 1)
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: defensive share %g outside [0, 1] or jacobian flag %u",
-                             (double)d.defensive, d.jacobian);
+        if (d.jacobian > 1)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "sampler: jacobian flag %u (0 or 1)", d.jacobian);
         for (int c = 0; c < 3; ++c)
             if (!(d.diffuse[c] >= 0.0f && d.diffuse[c] <= SEPAL_SMP_MAX_DIFFUSE) ||
                 (d.diffuse[c] != 0.0f && (h.kind != SEPAL_SAMPLER_FACTORED || h.version_minor < 1)))
@@ -533,8 +536,18 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
 }
 
 extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3], sepal_sampler_view* v) {
+    if (!v) return;
     memset(v, 0, sizeof *v);
     v->sampler = s;
+    if (!s || !wo) {  // cosine sampling only, as for a view below the horizon
+        v->wo[2] = 1.0f;
+        v->defensive = 1.0f;
+        v->count = 1;
+        v->weight[0] = 1.0f;
+        v->cdf[1] = 1.0f;
+        v->fallback = 1;
+        return;
+    }
     float w[3] = {wo[0], wo[1], wo[2]};
     if (!srt::normalize3(w)) w[0] = 0, w[1] = 0, w[2] = 0;
     v->wo[0] = w[0], v->wo[1] = w[1], v->wo[2] = w[2];
@@ -619,10 +632,11 @@ extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3]
 }
 
 extern "C" float sepal_sampler_pdf(const sepal_sampler_view* v, const float wi[3]) {
-    const sepal_sampler& s = *v->sampler;
-    const float e = v->defensive;
+    if (!v || !wi) return 0.0f;
+    const float e = v->sampler ? v->defensive : 1.0f;
     float p = e > 0.0f ? e * cosine_pdf(wi) : 0.0f;
     if (e >= 1.0f) return p;
+    const sepal_sampler& s = *v->sampler;
     float rest = 0.0f;
     switch (s.kind) {
         case SEPAL_SAMPLER_FACTORED: rest = factored_pdf(v, wi); break;
@@ -638,14 +652,18 @@ extern "C" float sepal_sampler_pdf(const sepal_sampler_view* v, const float wi[3
 }
 
 extern "C" int sepal_sampler_sample(const sepal_sampler_view* v, const float u_in[2], float wi[3], float* pdf) {
-    const sepal_sampler& s = *v->sampler;
+    if (!v || !u_in || !wi || !pdf) {
+        if (pdf) *pdf = 0.0f;
+        return -1;
+    }
     float u[2] = {unit_u(u_in[0]), unit_u(u_in[1])};
-    const float e = v->defensive;
+    const float e = v->sampler ? v->defensive : 1.0f;
     wi[0] = wi[1] = 0.0f, wi[2] = 1.0f;
     if (u[0] < e || e >= 1.0f) {
         u[0] = clampf(u[0] / e, 0.0f, kOneMinus);
         cosine_sample(u, wi);
     } else {
+        const sepal_sampler& s = *v->sampler;
         float x = clampf((u[0] - e) / (1.0f - e), 0.0f, kOneMinus);
         const uint32_t k = pick(v->cdf, v->count, x, &x);
         switch (s.kind) {
@@ -692,7 +710,9 @@ extern "C" int sepal_sampler_sample(const sepal_sampler_view* v, const float u_i
 }
 
 extern "C" int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3], float rgb[3]) {
+    if (!rgb) return 0;
     rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    if (!v || !v->sampler || !wi) return 0;
     const sepal_sampler& s = *v->sampler;
     if (s.kind != SEPAL_SAMPLER_FACTORED || !(wi[2] > 0.0f) || !(v->wo[2] > 0.0f)) return 0;
     // The reconstruction: total(wo) x the factored density over wi (without the defensive

@@ -502,7 +502,7 @@ int main(int argc, char** argv) {
     struct RenderCase {
         std::string label;
         std::unique_ptr<Brdf> original;
-        Reconstruction rec;
+        DatabaseReconstruction rec;
         double err = 0;
     };
     std::vector<RenderCase> renders;
@@ -514,12 +514,12 @@ int main(int argc, char** argv) {
             std::vector<float> truth;
             if (!tabulate_rows(db, *f, &truth, &err)) die(err);
             double e[2];
-            Reconstruction keep;
+            DatabaseReconstruction keep;
             for (int m = 0; m < 2; ++m) {
                 const MeasurementPlan& p = m == 0 ? p_all : p_rand;
                 std::vector<double> v;
                 if (!simulate_samples(db, p, *f, 0.0, 1, &v, &err)) die(err);
-                Reconstruction r;
+                DatabaseReconstruction r;
                 if (!reconstruct(db, p, v, {}, FitOptions{}, &r, &err)) die(err);
                 e[m] = relative_rms(r.values, truth);
                 if (m == 0) keep = std::move(r);
@@ -553,7 +553,7 @@ int main(int argc, char** argv) {
             auto f = make_brdf("nbrdf:gold-paint", &err);
             std::vector<double> v;
             if (!simulate_samples(db, p, *f, 0.0, 1, &v, &err)) die(err);
-            Reconstruction r;
+            DatabaseReconstruction r;
             if (!reconstruct(db, p, v, use, FitOptions{}, &r, &err)) die(err);
             Tabulated t = Tabulated::merl();
             for (size_t c = 0; c < db.valid_cells(); ++c)

@@ -13,7 +13,13 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
+
+namespace sepal {
+class BrdfDatabase;
+struct MeasurementPlan;
+}  // namespace sepal
 
 // X(name): every harness, in the order the replay suite runs them.
 #define SEPAL_FUZZ_HARNESSES(X) \
@@ -27,7 +33,11 @@
     X(png)                      \
     X(pfm)                      \
     X(spec)                     \
-    X(cli_flags)
+    X(cli_flags)                \
+    X(smp)                      \
+    X(tree)                     \
+    X(plan)                     \
+    X(samples)
 
 #define SEPAL_FUZZ_DECLARE(name) extern "C" int sepal_fuzz_##name(const uint8_t* data, size_t size);
 SEPAL_FUZZ_HARNESSES(SEPAL_FUZZ_DECLARE)
@@ -41,5 +51,14 @@ void check(bool ok, const char* harness, const char* what);
 // every chunk's CRC-32 whose range lies inside the buffer, then the header CRC, so mutated
 // bytes reach the field checks behind the checksums.
 void fix_asset_checksums(std::vector<uint8_t>* bytes);
+// Readers that take a path get the input as a file: a folder of this process (created once,
+// under /dev/shm where it exists), and `name` written there with the input's bytes.
+const std::string& scratch_dir();
+std::string write_scratch(const std::string& name, const uint8_t* data, size_t size);
+// The measurement harnesses' database: 6 MERL-fitted materials on a coarse 16 x 16 x 32 grid,
+// built once per process into scratch_dir() (about 0.1 s), and a uniform 40-sample plan on it
+// (what the samples harness reads its CSVs against). Seeds: fixtures/fuzz-seeds/{plan,samples}.
+const sepal::BrdfDatabase& database();
+const sepal::MeasurementPlan& samples_plan();
 
 }  // namespace sepal_fuzz

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "bake/asset_file.h"
+#include "bake/plan.h"
 #include "fuzz/fuzz.h"
 #include "sepal/sepal_format.h"
 
@@ -45,7 +46,7 @@ sepal::AssetData small_asset() {
     p.blend = SEPAL_BLEND_ADD;
     p.tex0 = 0;
     p.tex1 = 1;
-    p.color[0] = p.color[1] = p.color[2] = 0.5f;
+    p.color[0] = p.color[1] = p.color[2] = 1.0f;  // times 2^2 doublings: the factors' 2 x 2
     p.rgb_scale = 1;
     a.passes.push_back(p);
     a.meta = "{\"spec\": \"test\"}";
@@ -101,7 +102,7 @@ TEST_CASE("asset: round trip keeps every field and pixel; encoding is determinis
     CHECK(asset->textures[1].level_data[2][2] == a.textures[1].data[62]);
     CHECK(asset->plan.pass_count == 1);
     CHECK(asset->plan.doublings == 2);
-    CHECK(asset->passes[0].color[1] == 0.5f);
+    CHECK(asset->passes[0].color[1] == 1.0f);
     CHECK(std::string(asset->meta, asset->meta_bytes) == a.meta);
 }
 
@@ -136,7 +137,10 @@ TEST_CASE("asset: one validity for every backend: a plan that adds after subtrac
     CHECK(err.find("pass 1 adds after pass 0 subtracts") != std::string::npos);
     a = small_asset();
     a.passes.push_back(a.passes[0]);
-    a.passes[1].blend = SEPAL_BLEND_SUBTRACT;  // add, then subtract: valid
+    a.passes.push_back(a.passes[0]);
+    a.passes[1].color[0] = a.passes[1].color[1] = a.passes[1].color[2] = 0.5f;
+    a.passes[2] = a.passes[1];
+    a.passes[2].blend = SEPAL_BLEND_SUBTRACT;  // add, add, then subtract (net the factors): valid
     CHECK_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
     a = small_asset();
     a.material.error_relative = INFINITY;
@@ -259,4 +263,70 @@ TEST_CASE("asset: corrupt, truncated and oversized files are refused with a clea
     // Sanity: the untouched file parses.
     std::string msg;
     CHECK(parse(good, &msg) == SEPAL_OK);
+}
+
+namespace {
+
+// The passes of an encoded asset, found through its PLAN chunk (for edits behind the writer).
+sepal_fmt_pass* plan_passes(std::vector<uint8_t>* b) {
+    sepal_fmt_header h;
+    std::memcpy(&h, b->data(), sizeof h);
+    for (uint32_t i = 0; i < h.chunk_count; ++i) {
+        sepal_fmt_chunk c;
+        std::memcpy(&c, b->data() + sizeof h + i * sizeof c, sizeof c);
+        if (std::memcmp(&c.tag, "PLAN", 4) == 0)
+            return reinterpret_cast<sepal_fmt_pass*>(b->data() + c.offset + sizeof(sepal_fmt_plan));
+    }
+    FAIL("no PLAN chunk");
+    return nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("asset: the pass plan must draw the factors, for every backend alike") {
+    // Two terms with signed factors: every kind of pass, the way the writer plans them.
+    sepal::AssetData a = small_asset();
+    a.material.terms = 2;
+    for (uint32_t role = 0; role < 2; ++role) {
+        sepal::AssetTexture t = a.textures[role];
+        t.desc.term = 1;
+        for (int c = 0; c < 4; ++c) t.desc.scale[c] = 0.5f, t.desc.bias[c] = role ? -0.1f : 0.2f;
+        a.textures.push_back(t);
+    }
+    std::string err, msg;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
+    const std::vector<uint8_t> good = encode(a);
+    REQUIRE(parse(good, &msg) == SEPAL_OK);
+    const uint32_t passes = uint32_t(a.passes.size());
+    // Every colour 0 (the GL backends drew black, the CPU the factors).
+    std::vector<uint8_t> b = good;
+    sepal_fmt_pass* p = plan_passes(&b);
+    for (uint32_t i = 0; i < passes; ++i)
+        for (float& c : p[i].color) c = 0.0f;
+    reseal(&b);
+    CHECK(parse(b, &msg) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK_MESSAGE(msg.find("the pass plan does not draw the factors: term 0's G H part weighs 0") != std::string::npos,
+                  msg);
+    // Term 0 drawn twice, term 1 never: the product pass of term 1 reads term 0's textures.
+    b = good;
+    p = plan_passes(&b);
+    uint32_t changed = 0;
+    for (uint32_t i = 0; i < passes; ++i)
+        if (p[i].op == SEPAL_OP_PRODUCT && p[i].tex0 == 2) p[i].tex0 = 0, p[i].tex1 = 1, ++changed;
+    REQUIRE(changed >= 1);
+    reseal(&b);
+    CHECK(parse(b, &msg) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK_MESSAGE(msg.find("term 0's G H part") != std::string::npos, msg);
+    // One colour a little off (a tenth of a percent): refused too; float rounding is not.
+    b = good;
+    p = plan_passes(&b);
+    p[0].color[1] *= 1.001f;
+    reseal(&b);
+    CHECK(parse(b, &msg) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK(msg.find("channel 1") != std::string::npos);
+    b = good;
+    p = plan_passes(&b);
+    p[0].color[1] = std::nextafter(p[0].color[1], 0.0f);
+    reseal(&b);
+    CHECK_MESSAGE(parse(b, &msg) == SEPAL_OK, msg);
 }

@@ -153,10 +153,9 @@ TEST_CASE("gles1 material: refusals") {
     sepal::AssetData a = base_asset(SEPAL_PARAM_RUSINKIEWICZ, 1);
     a.textures.push_back(make_texture(4, SEPAL_ROLE_G, 0, 1, [](float, float, int) { return 1.0f; }));
     a.textures.push_back(make_texture(4, SEPAL_ROLE_H, 0, 1, [](float, float, int) { return 1.0f; }));
-    a.passes.push_back(pass(SEPAL_OP_PRODUCT, SEPAL_BLEND_ADD, 0, 1, 0.5f));
-    a.plan.peak_partial_sum = 0.5f;
     std::vector<uint8_t> bytes;
     std::string err;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
     REQUIRE(sepal::encode_asset(a, &bytes, &err));
     auto asset = std::make_unique<sepal_asset>();
     sepal_error e{};
@@ -194,10 +193,9 @@ TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the s
     sepal::AssetData a = base_asset(SEPAL_PARAM_VH, 1);
     a.textures.push_back(make_texture(8, SEPAL_ROLE_G, 0, 1, [](float u, float, int) { return 0.2f + 0.8f * u; }));
     a.textures.push_back(make_texture(8, SEPAL_ROLE_H, 0, 1, [](float, float v, int c) { return 0.3f + 0.2f * c + 0.4f * v; }));
-    a.passes.push_back(pass(SEPAL_OP_PRODUCT, SEPAL_BLEND_ADD, 0, 1, 0.4f));
-    a.plan.peak_partial_sum = 0.4f;
     const std::string dir = sepal_test::temp_dir();
     std::string err, out;
+    REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
     REQUIRE_MESSAGE(sepal::write_asset(dir + "/m.sepal", a, &err), err);
     const std::string flags = " --size 80x60 --mesh torus --light point:1,-2,2:15 ";
     REQUIRE(sepal_test::run(sepal_test::bin("sepal") + " render " + dir + "/m.sepal --backend gles1" + flags +

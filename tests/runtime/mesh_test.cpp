@@ -151,3 +151,26 @@ TEST_CASE("obj: bad input is refused with the line named") {
     m.vertex_count = 3;
     CHECK(sepal_obj_load(tri.data(), tri.size(), &m, scratch.data(), 8, nullptr, &err) == SEPAL_ERR_CAPACITY);
 }
+
+TEST_CASE("obj: a UTF-8 byte order mark and CR-only line endings read like plain LF") {
+    const std::string lf = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n";
+    ObjMesh plain;
+    REQUIRE(plain.load(lf) == SEPAL_OK);
+    std::string cr = lf, crlf;
+    for (char& c : cr)
+        if (c == '\n') c = '\r';
+    for (char c : lf) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    for (const std::string& text : {"\xEF\xBB\xBF" + lf, cr, "\xEF\xBB\xBF" + cr, crlf}) {
+        ObjMesh m;
+        REQUIRE_MESSAGE(m.load(text) == SEPAL_OK, m.err.message);
+        REQUIRE(m.mesh.vertex_count == plain.mesh.vertex_count);
+        REQUIRE(m.mesh.index_count == plain.mesh.index_count);
+        for (int i = 0; i < m.mesh.vertex_count; ++i)
+            for (int k = 0; k < 3; ++k) CHECK(m.v[size_t(i)].position[k] == plain.v[size_t(i)].position[k]);
+        for (int i = 0; i < m.mesh.index_count; ++i) CHECK(m.idx[size_t(i)] == plain.idx[size_t(i)]);
+    }
+    // Line numbers in messages count CR-only lines too.
+    ObjMesh bad;
+    CHECK(bad.load("v 0 0 0\rv 1 0 0\rf 1 2 7\r") != SEPAL_OK);
+    CHECK_MESSAGE(std::string(bad.err.message).find("obj line 3") != std::string::npos, bad.err.message);
+}

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <vector>
 
@@ -250,4 +251,43 @@ TEST_CASE("sampler API: eval reconstructs f cos; degenerate views fall back to c
     REQUIRE(c.build(make_cosine_sampler(), &err));
     sepal_sampler_set_view(&c.get(), w, &v);
     CHECK(sepal_sampler_eval(&v, i, rgb) == 0);
+}
+
+TEST_CASE("sampler: a LOBES file whose cosine share is NaN or inf is refused (CRC valid)") {
+    std::string err;
+    auto b = make_brdf("ward:rho_d=0.2,rho_s=0.3,ax=0.2,ay=0.2", &err);
+    REQUIRE(b);
+    SamplerData d;
+    LobeFitReport rep;
+    REQUIRE_MESSAGE(fit_as_sampler(*b, &d, &rep, &err), err);
+    REQUIRE(d.kind == SEPAL_SAMPLER_LOBES);
+    const std::vector<uint8_t> good = encode(d);
+    CHECK(parse_error(good).empty());
+    for (float bad : {NAN, INFINITY, -0.5f, 1.5f}) {
+        std::vector<uint8_t> bytes = good;
+        std::memcpy(bytes.data() + sizeof(sepal_smp_header) + offsetof(sepal_smp_desc, defensive), &bad, sizeof bad);
+        reseal(&bytes);
+        const std::string why = parse_error(bytes);
+        CHECK_MESSAGE(why.find("defensive share") != std::string::npos, why);
+    }
+}
+
+TEST_CASE("sampler API: NULL arguments are answered, not dereferenced") {
+    sepal_sampler_view v;
+    const float wo[3] = {0, 0, 1};
+    sepal_sampler_set_view(nullptr, wo, &v);  // a cosine-only view
+    CHECK(v.fallback == 1);
+    CHECK(v.defensive == 1.0f);
+    sepal_sampler_set_view(nullptr, wo, nullptr);
+    const float u[2] = {0.3f, 0.6f};
+    float wi[3], pdf = -1;
+    CHECK(sepal_sampler_sample(&v, u, wi, &pdf) == 1);
+    CHECK(pdf == doctest::Approx(wi[2] / 3.14159265f).epsilon(1e-4));
+    CHECK(sepal_sampler_pdf(&v, wi) == doctest::Approx(pdf));
+    float rgb[3] = {1, 1, 1};
+    CHECK(sepal_sampler_eval(&v, wi, rgb) == 0);
+    CHECK(rgb[0] == 0.0f);
+    CHECK(sepal_sampler_sample(nullptr, u, wi, &pdf) == -1);
+    CHECK(pdf == 0.0f);
+    CHECK(sepal_sampler_pdf(nullptr, wi) == 0.0f);
 }

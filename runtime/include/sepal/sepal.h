@@ -20,6 +20,12 @@
 // read files (the caller passes bytes), allocate after loading (callers hand in memory),
 // raise C++ exceptions, or keep global state. Link: -lsepal and the platform's GL ES libraries
 // (libGLESv1_CM, libGLESv2); the headless port adds -lsepal_headless and EGL.
+//
+// Thread safety (each header states its own): functions that touch no GL (parsing, texture
+// coordinates, scene matrices, meshes, the rasterizer, the CPU backend, the emulator, the
+// sampler) keep no global state, so any threads may call them at once on distinct outputs;
+// functions that call GL run on the thread whose context is current, one at a time per
+// context. Parsed assets, samplers and trees are read-only after parsing and may be shared.
 #pragma once
 
 #include "sepal/sepal_version.h"  /* SEPAL_VERSION_*: defined there only */

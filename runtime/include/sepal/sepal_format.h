@@ -52,6 +52,11 @@
 // (sepal_draw_stats.dim_lights). An older asset whose META holds "white_level" W reads with
 // white_level W and irradiance_min 1/W (below it the cap no longer shows white). Writers
 // write 2.3 only for assets with a light range; older readers refuse its MATL size.
+//
+// Thread safety: sepal_asset_parse, sepal_diffuse_profile, sepal_param_texcoords(_pixel) and
+// sepal_crc32 keep no state: any threads may call them at once (sepal_asset_parse on distinct
+// outputs). A parsed sepal_asset is only read afterwards and may be shared between threads
+// (and materials) while its bytes stay alive.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -286,7 +291,8 @@ sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
 // (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh, axis); the same
 // maths as offline/factor/param.h. Returns 1 when both directions are above the horizon, 0
 // otherwise (coordinates are still filled and continuous, for interpolation).
-// Returns -1 for the per-pixel-only parameterizations.
+// Returns -1 for the per-pixel-only parameterizations, and for an unknown parameterization or
+// map or a NULL pointer (nothing is written then).
 int sepal_param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const float wo[3],
                         float g_uv[2], float h_uv[2]);
 // The same for every parameterization, including the per-pixel-only ones: rusinkiewicz

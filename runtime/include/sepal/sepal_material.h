@@ -54,6 +54,14 @@
 // Framebuffer objects are not needed by any GL ES 1.1 path.
 // Limits: viewport up to the size given at creation (copy textures are sized then);
 // 16-bit assets are rounded to 8 bits at upload (GL ES 1.1 has no 16-bit textures).
+//
+// Thread safety: sepal_material_create, _destroy, _restore, sepal_draw and the
+// sepal_texture_* functions call GL: only on the thread whose context is current, one call
+// at a time per context (GL contexts are per thread), and a material only with the context
+// it was created in; sepal_material_context_lost calls no GL but writes the material (not
+// while another call uses it). sepal_draw_cpu and sepal_emulate_draw call no GL: any threads at once,
+// each with its own buffers and scratch (the asset, mesh and scene may be shared: only read).
+// The *_scratch_floats functions and sepal_read_float are pure.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

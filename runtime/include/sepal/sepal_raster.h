@@ -21,6 +21,9 @@
 // only; x/y are limited by the target (scissored, no clipping needed).
 // Limits: targets up to 8192 x 8192, up to 32 varyings per vertex, 65535 vertices.
 // No allocation; callers provide all memory. Not thread-safe per target.
+//
+// Thread safety: no global state; calls on distinct targets may run at once, calls on one
+// target may not (the depth buffer is written).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

@@ -15,6 +15,10 @@
 // return codes with a message in sepal_error. The runtime never creates a window or a
 // context; ports/ do that and hand the current context in.
 // Limits: meshes use 16-bit indices (at most 65535 vertices).
+//
+// Thread safety: sepal_query_caps and sepal_preview_draw call GL (the thread whose context
+// is current, one call at a time per context); the mesh generators, sepal_obj_measure,
+// sepal_obj_load and the matrix helpers keep no state (any threads at once, distinct outputs).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

@@ -47,6 +47,10 @@
 // sampler of the paper's resolutions is 5..40 KB.
 // Limits: see SEPAL_SMP_MAX_*; a view whose wo is at or below the horizon, or whose terms
 // are all 0, draws cosine samples only (FACTORED, TABULATED) and reports it in `fallback`.
+//
+// Thread safety: sepal_sampler_parse keeps no state (distinct outputs); a parsed sampler is
+// only read afterwards, so any threads may share it, each with its own sepal_sampler_view
+// (set_view writes the view; sample, pdf and eval only read it).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -196,6 +200,8 @@ typedef struct sepal_sampler_view {
     int fallback;            // 1: wo at or below the horizon or no mass: cosine only
 } sepal_sampler_view;
 
+// A NULL sampler or wo gives a cosine-only view (fallback 1); a NULL view is ignored. The
+// functions below return -1 (sample), 0 (pdf, eval) for NULL arguments.
 void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3], sepal_sampler_view* v);
 // Draws wi from u in [0,1)^2 (u[0] selects the component and is rescaled within it, so
 // stratified and low-discrepancy points keep their structure). Returns 1 with wi above the

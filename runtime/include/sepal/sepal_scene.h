@@ -14,6 +14,9 @@
 // with wi towards the light and wo towards the eye. Every backend (exact, GL ES 1.1,
 // GL ES 2, CPU) computes this same quantity, so their images can be pixel-compared.
 // Limits: at most SEPAL_MAX_LIGHTS lights; intensities finite and >= 0.
+//
+// Thread safety: sepal_scene_default, _validate and _matrices keep no state: any threads at
+// once (a scene is only read by them and by the draw functions).
 #pragma once
 #include "sepal/sepal_rt.h"
 

@@ -42,6 +42,11 @@
 // SEPAL_TREE_MAX_TILES terms, 2 + bases texture units); the multipass paths take any
 // .sepal asset. The fused shader draws the mesh as given: no per-vertex repairs (the
 // multipass paths count and repair, sepal_material.h).
+//
+// Thread safety: sepal_tree_parse keeps no state (distinct outputs; a parsed tree is only read
+// afterwards and may be shared). sepal_tree_create, _destroy and _draw call GL: the thread
+// whose context is current, one call at a time per context. sepal_tree_draw_cpu calls no
+// GL: any threads at once with their own buffers.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

@@ -1,7 +1,8 @@
 /* sepal's version: the one place it is defined (sepal --version, sepal-view --version,
  * the benchmarks' --version and their JSON). Semantic versioning: the major number changes
  * when the runtime's C API or the asset format breaks compatibility (the asset format has
- * its own version, SEPAL_FMT_VERSION_* in sepal_format.h, checked on load). */
+ * its own version, SEPAL_FMT_VERSION_* in sepal_format.h, checked on load).
+ * Thread safety: constants only. */
 #ifndef SEPAL_VERSION_H
 #define SEPAL_VERSION_H
 

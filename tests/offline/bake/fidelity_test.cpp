@@ -102,6 +102,7 @@ TEST_CASE("format 2: radiance materials, the diffuse part and its profile round-
     v1.material.flags = 0;
     v1.material.diffuse[0] = v1.material.diffuse[1] = v1.material.diffuse[2] = 0.0f;
     v1.passes[0].op = SEPAL_OP_CONSTANT;
+    for (float& c : v1.passes[0].color) c = 0.0f;  // what the factors (all 0) and no diffuse part say
     CHECK_FALSE(sepal::asset_needs_version2(v1));
     std::vector<uint8_t> bytes;
     std::string err;

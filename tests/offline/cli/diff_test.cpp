@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "cli/cli.h"
+#include "sepal/sepal_format.h"
+#include "util/io.h"
 #include "util/image.h"
 #include "test_util.h"
 
@@ -105,4 +107,47 @@ TEST_CASE("golden harness: passes, fails with files named, updates") {
         sepal::Image tmp;
         CHECK(sepal::read_image(path, &tmp, nullptr));
     }
+}
+
+namespace {
+
+// A PNG whose header claims side x side (8-bit grey) with one tiny IDAT: what a
+// decompression bomb looks like before decoding. Only the chunk CRCs are right.
+std::string claimed_png(uint32_t side) {
+    std::string png = "\x89PNG\r\n\x1a\n";
+    auto chunk = [&](const char* type, const std::string& data) {
+        std::string c(type, 4);
+        c += data;
+        auto be = [](uint32_t v) {
+            return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+        };
+        png += be(uint32_t(data.size())) + c + be(sepal_crc32(0, c.data(), c.size()));
+    };
+    std::string ihdr;
+    for (int k = 0; k < 2; ++k) ihdr += std::string{char(side >> 24), char(side >> 16), char(side >> 8), char(side)};
+    ihdr += std::string("\x08\x00\x00\x00\x00", 5);
+    chunk("IHDR", ihdr);
+    chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8));
+    chunk("IEND", "");
+    return png;
+}
+
+}  // namespace
+
+TEST_CASE_FIXTURE(Fixture, "sepal diff: a pixel budget per image, stated in --help, refused before decoding") {
+    const std::string bomb = dir + "/bomb.png";
+    const std::string bytes = claimed_png(8192);
+    std::string err, out;
+    REQUIRE(sepal::write_file_atomic(bomb, bytes.data(), bytes.size(), &err));
+    CHECK(diff({bomb, bomb}, &out) == 2);
+    CHECK_MESSAGE(out.find("8192x8192 = 67108864 pixels is over the pixel budget of 16777216") != std::string::npos,
+                  out);
+    CHECK(out.find("--max-pixels") != std::string::npos);
+    // Raised, the budget lets the header through: the (corrupt) data is what fails then.
+    CHECK(diff({bomb, bomb, "--max-pixels", "67108864"}, &out) == 2);
+    CHECK(out.find("pixel budget") == std::string::npos);
+    CHECK(sepal::image_pixel_budget() == sepal::kDefaultImagePixels);  // for this command only
+    CHECK(sepal_test::run_cmd("diff", {"--help"}, &out) == 0);
+    CHECK(out.find("--max-pixels") != std::string::npos);
+    CHECK(out.find("16777216") != std::string::npos);
 }

@@ -50,3 +50,25 @@ TEST_CASE("sepal render --env: Monte Carlo with any sampler converges to the sam
     CHECK(run("render", {"blinn:n=20", "--spp", "4", "-o", dir + "/x.png"}, &out) == 2);  // --spp needs --env
     CHECK(run("render", {"blinn:n=20", "--env", "nowhere", "-o", dir + "/x.png"}, &out) == 2);
 }
+
+TEST_CASE("sepal sampler: a near-mirror lobe narrower than the bins is refused, not called Lambert") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    for (const char* spec : {"ward:ax=1e-4,ay=1e-4", "cook-torrance:m=1e-4"}) {
+        CHECK(sepal_test::run_cmd("sampler", {spec, "-o", dir + "/m.smp"}, &out) == 2);
+        CHECK_MESSAGE(out.find("narrower than the sampler's bins") != std::string::npos, out);
+        CHECK(out.find("its Lambert part: cosine sampling") == std::string::npos);
+        CHECK(out.find("--kind analytic") != std::string::npos);
+    }
+    // A Lambert BRDF is its Lambert part: still said, still written.
+    CHECK(sepal_test::run_cmd("sampler", {"lambert", "-o", dir + "/l.smp"}, &out) == 0);
+}
+
+TEST_CASE("sepal sampler: a tabulated sampler over the format's limit names a flag sepal has") {
+    const std::string dir = sepal_test::temp_dir();
+    std::string out;
+    const int code = sepal_test::run_cmd("sampler", {"ward:ax=0.3,ay=0.1", "--kind", "tabulated", "-o", dir + "/t.smp"}, &out);
+    if (code == 0) return;  // fits: nothing to say
+    CHECK(out.find("lower the resolution") == std::string::npos);
+    CHECK(out.find("--kind factored") != std::string::npos);
+}

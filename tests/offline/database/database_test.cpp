@@ -11,6 +11,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include <signal.h>
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <Eigen/Core>
 
@@ -380,7 +387,7 @@ TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cp
     auto f = sepal::make_brdf("nbrdf:gold-paint", &err);
     std::vector<double> v;
     REQUIRE(sepal::simulate_samples(*db, p, *f, 0.0, 1, &v, &err));
-    sepal::Reconstruction r;
+    sepal::DatabaseReconstruction r;
     REQUIRE_MESSAGE(sepal::reconstruct(*db, p, v, use, sepal::FitOptions{}, &r, &err), err);
     CHECK(r.fit.coeffs[0] == 0.0);  // gold-paint itself is left out
     const std::string path = sepal_test::temp_dir() + "/gold.binary";
@@ -404,4 +411,141 @@ TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cp
     CHECK(direct > 0.05);  // two unrelated materials do not make gold paint
     // A coarse grid cannot be written as MERL.
     CHECK(!sepal::write_reconstruction_merl(path, coarse(), r, &err));
+}
+
+namespace {
+
+std::vector<std::string> cache_listing(const std::string& dir) {
+    std::vector<std::string> out;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir, ec))
+        out.push_back(e.path().filename().string());
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("database: a full disk is a message before the work, never a Bus error, and leaves no temporary") {
+    std::string err;
+    {
+        // The fault hook: the space cannot be reserved.
+        const std::string dir = sepal_test::temp_dir();
+        sepal::inject_write_failure(1000);
+        auto db = sepal::BrdfDatabase::open(*nbrdf(), coarse_options(dir), &err);
+        sepal::inject_write_failure(-1);
+        CHECK_FALSE(db);
+        CHECK(err.find("No space left on device") != std::string::npos);
+        CHECK(err.find("the cache needs") != std::string::npos);
+        CHECK(cache_listing(dir).empty());
+    }
+    // A real 64 KiB tmpfs (root only): the table was written through a mapping, where a full
+    // disk was SIGBUS; now the free space is checked first and the blocks reserved.
+    const std::string dir = sepal_test::temp_dir();
+    if (geteuid() != 0 || mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64k") != 0) {
+        MESSAGE("not root or tmpfs not mountable here: the fault hook above covers this");
+        return;
+    }
+    auto db = sepal::BrdfDatabase::open(*nbrdf(), coarse_options(dir), &err);
+    const std::vector<std::string> left = cache_listing(dir);
+    umount(dir.c_str());
+    CHECK_FALSE(db);
+    CHECK_MESSAGE(err.find("MB free there") != std::string::npos, err);
+    CHECK(left.empty());
+}
+
+TEST_CASE("database: SIGTERM during a build removes its temporary") {
+    const std::string dir = sepal_test::temp_dir();
+    const pid_t pid = fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        // The default actions, as a tool's process has them (the test runner handles these).
+        signal(SIGTERM, SIG_DFL);
+        signal(SIGINT, SIG_DFL);
+        sepal::DatabaseOptions o = coarse_options(dir);
+        o.grid = sepal::DatabaseGrid();  // MERL's: seconds of tabulation, time to interrupt
+        o.materials.resize(3);
+        std::string err;
+        sepal::BrdfDatabase::open(*nbrdf(), o, &err);
+        _exit(0);
+    }
+    bool seen = false;
+    for (int i = 0; i < 4000 && !seen; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        for (const std::string& f : cache_listing(dir)) seen = seen || f.find(".db.tmp.") != std::string::npos;
+    }
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    CHECK(seen);
+    CHECK(WIFSIGNALED(status));
+    for (const std::string& f : cache_listing(dir)) CHECK_MESSAGE(f.find(".tmp.") == std::string::npos, f);
+}
+
+TEST_CASE("database: a table overwritten in place is caught by its checksum and rebuilt") {
+    const std::string dir = sepal_test::temp_dir();
+    sepal::DatabaseOptions o = coarse_options(dir);
+    o.materials.resize(4);
+    std::string err, path;
+    size_t table_bytes = 0;
+    {
+        auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
+        REQUIRE_MESSAGE(bool(db), err);
+        path = db->cache_path();
+        table_bytes = db->rows() * size_t(db->size()) * sizeof(float);
+    }
+    // 30% of the table (the end of the file) set to 1e30: the header and its checksum still
+    // match, only the table's checksum can tell.
+    std::vector<uint8_t> bytes;
+    REQUIRE(sepal::read_file(path, &bytes, &err));
+    const float huge = 1e30f;
+    const size_t n = table_bytes * 3 / 10 / sizeof(float);
+    for (size_t i = 0; i < n; ++i) std::memcpy(&bytes[bytes.size() - (i + 1) * sizeof(float)], &huge, sizeof huge);
+    REQUIRE(sepal::write_file_atomic(path, bytes.data(), bytes.size(), &err));
+    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
+    REQUIRE_MESSAGE(bool(db), err);
+    CHECK(db->built_now());
+    CHECK_MESSAGE(db->verify_table(&err), err);
+}
+
+TEST_CASE("measure: a plan with fewer samples than materials is refused, written or read") {
+    const sepal::BrdfDatabase& db = coarse();
+    std::string err;
+    for (sepal::PlanMethod m : {sepal::PlanMethod::kGreedy, sepal::PlanMethod::kRandom, sepal::PlanMethod::kUniform}) {
+        sepal::PlanOptions o;
+        o.samples = db.size() - 1;
+        o.method = m;
+        sepal::MeasurementPlan p;
+        CHECK_FALSE(sepal::plan_measurement(db, o, &p, &err));
+        CHECK_MESSAGE(err.find("cannot fit the weights of " + std::to_string(db.size()) + " materials") !=
+                          std::string::npos,
+                      err);
+    }
+    // A plan file of too few samples (written by hand or by an older sepal) is refused on reading.
+    const sepal::MeasurementPlan ok = make_plan(db, sepal::PlanMethod::kUniform, 40, {});
+    sepal::MeasurementPlan few = ok;
+    few.rows.resize(3);
+    const std::string dir = sepal_test::temp_dir();
+    REQUIRE(sepal::write_plan_json(dir + "/few.json", db, few, &err));
+    sepal::MeasurementPlan back;
+    CHECK_FALSE(sepal::read_plan_json(dir + "/few.json", db, &back, &err));
+    CHECK(err.find("3 samples cannot fit") != std::string::npos);
+}
+
+TEST_CASE("measure: sample values beyond a BRDF's range are refused, and a reconstruction never overflows") {
+    const sepal::BrdfDatabase& db = coarse();
+    std::string err;
+    const sepal::MeasurementPlan p = make_plan(db, sepal::PlanMethod::kUniform, 40, {});
+    std::vector<double> v(p.rows.size(), 0.5);
+    v[7] = 1e38;  // finite, so the finiteness check passed it
+    const std::string dir = sepal_test::temp_dir();
+    REQUIRE(sepal::write_samples_csv(dir + "/s.csv", db, p, v, "test", &err));
+    std::vector<double> back;
+    CHECK_FALSE(sepal::read_samples_csv(dir + "/s.csv", db, p, &back, &err));
+    CHECK_MESSAGE(err.find("line") != std::string::npos, err);
+    CHECK(err.find("beyond +-1e+06") != std::string::npos);
+    // In range, the reconstruction's values stay finite.
+    v[7] = 1e6;
+    sepal::DatabaseReconstruction r;
+    REQUIRE_MESSAGE(sepal::reconstruct(db, p, v, {}, sepal::FitOptions{}, &r, &err), err);
+    for (float x : r.values) REQUIRE(std::isfinite(x));
 }
