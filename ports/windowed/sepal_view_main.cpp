@@ -45,6 +45,19 @@ int usage(FILE* f, int code) {
     return code;
 }
 
+// The end of a headless render: the light-range warning, the PNG, its path on stdout.
+int finish_headless(const std::vector<uint8_t>& bytes, const sepal_draw_stats& stats, const char* asset_path,
+                    const char* out, int width, int height, const std::vector<uint8_t>& rgba) {
+    const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, asset_path);
+    if (!dim.empty()) fprintf(stderr, "sepal-view: %s\n", dim.c_str());
+    if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
+        fprintf(stderr, "sepal-view: could not write %s\n", out);
+        return 1;
+    }
+    printf("%s\n", out);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -161,14 +174,7 @@ int main(int argc, char** argv) {
             sepal_ports::rgb_to_rgba8(rgb.data(), size_t(width) * height, rgba.data());
             fprintf(stderr, "sepal-view: cpu backend, %.1f ms; counters: %s\n", ms,
                     sepal_ports::describe_counters(stats).c_str());
-            const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, asset_path);
-            if (!dim.empty()) fprintf(stderr, "sepal-view: %s\n", dim.c_str());
-            if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
-                fprintf(stderr, "sepal-view: could not write %s\n", out);
-                return 1;
-            }
-            printf("%s\n", out);
-            return 0;
+            return finish_headless(bytes, stats, asset_path, out, width, height, rgba);
         }
         sepal_ports::GlRenderOptions opt;
         opt.gles_version = gles;
@@ -183,14 +189,7 @@ int main(int argc, char** argv) {
                 info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
                 info.stats.fullscreen_passes, info.stats.copies, info.ms,
                 sepal_ports::describe_counters(info.stats).c_str());
-        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, asset_path);
-        if (!dim.empty()) fprintf(stderr, "sepal-view: %s\n", dim.c_str());
-        if (!sepal_ports::write_png_atomic(out, width, height, rgba.data())) {
-            fprintf(stderr, "sepal-view: could not write %s\n", out);
-            return 1;
-        }
-        printf("%s\n", out);
-        return 0;
+        return finish_headless(bytes, info.stats, asset_path, out, width, height, rgba);
     }
 
     char msg[512];

@@ -141,16 +141,22 @@ extern "C" size_t sepal_cpu_scratch_floats(int vertex_count) {
 
 namespace {
 
+// Before any pixel is written (and before the camera's matrices): the caller sized the
+// buffers from these.
+sepal_result check_size(int width, int height, sepal_error* err) {
+    if (width < 1 || height < 1 || width > kMaxCpuSide || height > kMaxCpuSide)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: target %dx%d out of range 1..%d", width, height,
+                         kMaxCpuSide);
+    return SEPAL_OK;
+}
+
 // One object: d->scene in object space, view (the modelview) and proj its matrices. keep:
 // colour and depth stay where the object is not in front; otherwise both start cleared,
 // the colour to the scene's background.
 sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float* proj, bool keep, sepal_error* err) {
     if (!d || !d->asset || !d->mesh || !d->scene || !d->color || !d->depth || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
-    // Before any pixel is written: the buffers are sized by the caller from these.
-    if (d->width < 1 || d->height < 1 || d->width > kMaxCpuSide || d->height > kMaxCpuSide)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: target %dx%d out of range 1..%d", d->width, d->height,
-                         kMaxCpuSide);
+    if (const sepal_result r = check_size(d->width, d->height, err)) return r;
     if (!srt::asset_parsed(*d->asset))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: the asset was not filled by sepal_asset_parse");
     if (d->scratch_floats < sepal_cpu_scratch_floats(d->mesh->vertex_count))
@@ -242,6 +248,7 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float*
 
 extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err) {
     if (!d || !d->scene) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
+    if (const sepal_result r = check_size(d->width, d->height, err)) return r;
     float view[16], proj[16];
     const sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, view, proj, err);
     if (r != SEPAL_OK) return r;

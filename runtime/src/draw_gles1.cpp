@@ -449,7 +449,7 @@ struct Gles1Saved {
         GLfloat texture_matrix[16];
         ArrayState coords;
     } unit[kUnits];
-    ArrayState vertex, color;
+    ArrayState vertex, color, normal;
 };
 static_assert(sizeof(Gles1Saved) <= srt::kSavedStateBytes, "sepal_frame.saved is too small");
 
@@ -514,7 +514,21 @@ void gles1_frame_begin(const sepal_frame_desc& d, void* out) {
                GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY_POINTER, &s.vertex);
     save_array(GL_COLOR_ARRAY, GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY_STRIDE,
                GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY_POINTER, &s.color);
+    s.normal.enabled = glIsEnabled(GL_NORMAL_ARRAY);
+    glGetIntegerv(GL_NORMAL_ARRAY_TYPE, &s.normal.type);
+    glGetIntegerv(GL_NORMAL_ARRAY_STRIDE, &s.normal.stride);
+    glGetIntegerv(GL_NORMAL_ARRAY_BUFFER_BINDING, &s.normal.buffer);
+    glGetPointerv(GL_NORMAL_ARRAY_POINTER, &s.normal.pointer);
     begin_core_frame(d);
+    // Arrays the passes do not use but a draw would still read: an application's normal or
+    // texture-coordinate array left enabled over a pointer that is no longer valid crashes
+    // a driver that fetches it (NVIDIA does, with lighting off; Mesa skips it).
+    glDisableClientState(GL_NORMAL_ARRAY);
+    for (int u = 0; u < s.units; ++u) {
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    glClientActiveTexture(GL_TEXTURE0);
     // Fixed-function stages an application may leave on would change every pass.
     for (int i = 0; i < 6; ++i) glDisable(kEnables[i]);
     glShadeModel(GL_SMOOTH);
@@ -554,6 +568,8 @@ void gles1_frame_end(const sepal_caps& caps, const void* in) {
                   [](const ArrayState& a) { glVertexPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
     restore_array(GL_COLOR_ARRAY, s.color,
                   [](const ArrayState& a) { glColorPointer(a.size, (GLenum)a.type, a.stride, a.pointer); });
+    restore_array(GL_NORMAL_ARRAY, s.normal,
+                  [](const ArrayState& a) { glNormalPointer((GLenum)a.type, a.stride, a.pointer); });
     glClientActiveTexture((GLenum)s.client_unit);
     restore_core_state(s.core);
 }

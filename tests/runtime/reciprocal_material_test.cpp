@@ -98,8 +98,9 @@ TEST_CASE("reciprocal asset: version 2.1 only when used; the reader's rules and 
     plain.material.flags = 0;
     CHECK_FALSE(sepal::encode_asset(plain, &bytes, &err));
     CHECK(err.find("non-reciprocal") != std::string::npos);
-    // A product plan (no reciprocal pass): stays 1.0.
-    plain.passes[0].op = SEPAL_OP_PRODUCT;
+    // A product plan (no reciprocal pass, its colours those of G H): stays 1.0.
+    REQUIRE_MESSAGE(sepal::build_plan(&plain, &err), err);
+    REQUIRE(plain.passes[0].op == SEPAL_OP_PRODUCT);
     bytes = encode(plain);
     REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
     CHECK(parsed->header.version_major == 1);

@@ -36,8 +36,10 @@
 //   GL ES 1.1: lighting, alpha test, fog, colour logic op, GL_TEXTURE_2D per unit, shade
 //     model, matrix mode, the projection and modelview matrices and unit 0-2's texture
 //     matrix, the current colour, each unit's texture environment (mode, combiners,
-//     sources, operands, scales), client active texture, the vertex, colour and texture
-//     coordinate arrays (enable, size, type, stride, pointer, buffer).
+//     sources, operands, scales), client active texture, the vertex, colour, normal and
+//     texture coordinate arrays (enable, size, type, stride, pointer, buffer); the normal
+//     array and every unit's texture coordinates are disabled during the frame (a driver
+//     may fetch an enabled array the passes do not use).
 //   GL ES 2: the current program, blend function and equation per RGB and alpha, vertex
 //     attributes 0-5 (enable, size, type, normalized, stride, pointer, buffer, current
 //     value).
