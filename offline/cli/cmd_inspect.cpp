@@ -4,6 +4,8 @@
 #include <memory>
 
 #include "cli/cli.h"
+#include "common/render_gl.h"
+#include "common/scene_flags.h"
 #include "cli/options.h"
 #include "util/io.h"
 #include "util/json.h"
@@ -100,8 +102,18 @@ int run_inspect(const std::string& path, const CommandIO& io) {
         for (uint32_t c = 0; c < d.channels; ++c) std::fprintf(io.out, " %.5g", double(d.bias[c]));
         std::fprintf(io.out, "\n");
     }
-    std::fprintf(io.out, "plan        %u passes per light, %u doublings, peak partial sum %.4f\n", a->plan.pass_count,
+    // One meaning of "doublings" everywhere: the framebuffer doublings a frame draws (what the
+    // bake's table and `sepal render` print), the plan's own 2^k scale and the lights' exposure
+    // together; here the default scene's on gles1, through the emulator.
+    std::fprintf(io.out, "plan        %u passes per light, scale 2^%u, peak partial sum %.4f\n", a->plan.pass_count,
                  a->plan.doublings, double(a->plan.peak_partial_sum));
+    sepal_ports::SceneSetup setup;
+    std::vector<uint8_t> rgba;
+    sepal_draw_stats frame = {};
+    if (sepal_ports::load_scene_mesh(&setup, &err) &&
+        sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, 1, 0, &rgba, &err, &frame))
+        std::fprintf(io.out, "doublings   %d in the default scene's frame on gles1 (sepal render prints its own scene's)\n",
+                     frame.doublings);
     for (uint32_t i = 0; i < a->plan.pass_count; ++i) {
         const sepal_fmt_pass& p = a->passes[i];
         std::fprintf(io.out, "  pass %-3u %-8s %-8s", i, p.blend == SEPAL_BLEND_ADD ? "add" : "subtract",
