@@ -108,6 +108,9 @@ int run_inspect(const std::string& path, const CommandIO& io) {
     std::fprintf(io.out, "plan        %u passes per light, scale 2^%u, peak partial sum %.4f\n", a->plan.pass_count,
                  a->plan.doublings, double(a->plan.peak_partial_sum));
     sepal_ports::SceneSetup setup;
+    // The count follows from the mesh's vertices and the lights, not the image's size: a
+    // small frame costs a fraction of the default 512x512 one.
+    setup.width = setup.height = 64;
     std::vector<uint8_t> rgba;
     sepal_draw_stats frame = {};
     if (sepal_ports::load_scene_mesh(&setup, &err) &&
