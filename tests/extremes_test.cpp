@@ -35,7 +35,7 @@
 #include "factor/param.h"
 #include "bake/plan.h"
 #include "bake/quantize.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "measured/tabulated.h"
 #include "test_brdfs.h"
 #include "test_util.h"

@@ -3,6 +3,7 @@
 #include <cstring>
 #include <memory>
 
+#include "sepal/sepal_asset.h"
 #include "util/io.h"
 
 namespace sepal {

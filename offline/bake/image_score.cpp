@@ -8,7 +8,7 @@
 
 #include "util/enum_names.h"
 #include "reference/render_exact.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_material.h"
 
 namespace sepal {

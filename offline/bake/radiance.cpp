@@ -8,7 +8,7 @@
 
 #include "brdf/brdf_util.h"
 #include "factor/factor_error.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "util/parallel.h"
 
 namespace sepal {

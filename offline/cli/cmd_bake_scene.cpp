@@ -33,7 +33,7 @@
 #include "common/scene_flags.h"
 #include "util/io.h"
 #include "util/json.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "spec/spec.h"
 
 namespace sepal {

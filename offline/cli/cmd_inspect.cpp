@@ -9,7 +9,7 @@
 #include "cli/options.h"
 #include "util/io.h"
 #include "util/json.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace sepal {
 

@@ -17,7 +17,7 @@
 #include "sampling/mc_render.h"
 #include "sampling/sampler_file.h"
 #include "util/image.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "cli/scene_options.h"

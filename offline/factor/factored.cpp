@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace sepal {
 

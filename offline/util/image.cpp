@@ -16,7 +16,7 @@
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
-#include "sepal/sepal_format.h"  // sepal_crc32: PNG's CRC-32
+#include "sepal/sepal_asset.h"  // sepal_crc32: PNG's CRC-32
 
 // stb_image_write's deflate (defined in its implementation, not declared by its header):
 // the 16-bit PNG writer below feeds it the filtered rows.

@@ -225,10 +225,12 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
                               "GL_EXT_color_buffer_half_float; use --backend gles2*)");
                 return false;
             }
-            caps->use_float_target = 1;
         }
-        if (sepal_material_create(caps, asset.get(), setup.width, setup.height, material.get(), e) != SEPAL_OK)
-            return false;
+        const sepal_result made =
+            options.float_target
+                ? sepal_material_create_float_target(caps, asset.get(), setup.width, setup.height, material.get(), e)
+                : sepal_material_create(caps, asset.get(), setup.width, setup.height, material.get(), e);
+        if (made != SEPAL_OK) return false;
         d = scene_draw_desc(material.get(), setup, options.mode, &scratch);
         return !diffuse || sepal_texture_create_rgba8(diffuse->pixels.data(), diffuse->width, diffuse->height,
                                                       &d.diffuse_texture, e) == SEPAL_OK;

@@ -14,7 +14,7 @@
 // approximate and says so. Exposure bounds stay the full plan's: a subset of the added
 // passes never sums higher.
 #pragma once
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace sepal_ports {
 

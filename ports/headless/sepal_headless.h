@@ -1,12 +1,12 @@
 // sepal_headless.h - offscreen GL ES contexts through EGL, no display needed.
 //
 // Usage:
-//   sepal_headless_desc d = {};                 // zero means default: 256x256, GL ES 1.1
+//   sepal_headless_desc d = {0};                // zero means default: 256x256, GL ES 1.1
 //   d.width = 512; d.height = 512; d.gles_version = 2;
 //   char err[256];
 //   sepal_headless_context* c = sepal_headless_create(&d, err, sizeof err);
 //   if (!c) { fprintf(stderr, "%s\n", err); return 2; }
-//   ... draw with GL ES ...
+//   // draw with GL ES
 //   sepal_headless_read_rgba(c, pixels);       // width*height*4 bytes, top row first
 //   sepal_headless_destroy(c);
 //

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "internal.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_scene.h"
 
 static_assert(sizeof(sepal_fmt_header) == 64, "header layout");

@@ -1,5 +1,6 @@
 // Error reporting and small helpers shared by the runtime.
 #include "internal.h"
+#include "sepal/sepal_version.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -119,3 +120,6 @@ extern "C" void sepal_mat4_look_at(const float eye[3], const float target[3], co
     for (int r = 0; r < 3; ++r)
         out[12 + r] = -(m[r] * eye[0] + m[4 + r] * eye[1] + m[8 + r] * eye[2]);
 }
+
+extern "C" uint32_t sepal_version(void) { return SEPAL_VERSION; }
+extern "C" const char* sepal_version_string(void) { return SEPAL_VERSION_STRING; }

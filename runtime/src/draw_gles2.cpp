@@ -314,7 +314,7 @@ GLuint build(const char* name, const char* vs, const char* fs, const char* const
 namespace srt {
 
 sepal_result create_gles2_programs(sepal_material* m, sepal_error* err) {
-    if (m->caps.use_float_target && m->caps.has_float_target) {
+    if (m->float_target) {
         // GL ES 3 names, not in the GL ES 2 header this file includes.
         const GLenum kRGBA16F = 0x881A, kHalfFloat = 0x140B;
         glGenTextures(1, &m->float_color);

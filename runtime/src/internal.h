@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "sepal/sepal_rt.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_scene.h"
 
 namespace srt {

@@ -177,11 +177,17 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
 
 }  // namespace srt
 
-extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset,
-                                          int max_width, int max_height, sepal_material* out,
-                                          sepal_error* err) {
+namespace {
+
+sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
+                    bool float_target, sepal_material* out, sepal_error* err) {
     sepal_result r0 = srt::material_plan(caps, asset, max_width, max_height, out, err);
     if (r0 != SEPAL_OK) return r0;
+    if (float_target && !(caps->gles_version == 2 && caps->has_float_target))
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
+                         "material: no half-float render target (needs GL ES 3 with GL_EXT_color_buffer_half_float "
+                         "or _float; caps.has_float_target is 0)");
+    out->float_target = float_target ? 1 : 0;
     // Without a current context every GL call is a silent no-op: the material would hold no
     // textures and draw nothing.
     if (!glGetString(GL_VERSION))
@@ -239,6 +245,19 @@ extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepa
     return srt::ok(err);
 }
 
+}  // namespace
+
+extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset, int max_width,
+                                              int max_height, sepal_material* out, sepal_error* err) {
+    return create(caps, asset, max_width, max_height, false, out, err);
+}
+
+extern "C" sepal_result sepal_material_create_float_target(const sepal_caps* caps, const sepal_asset* asset,
+                                                           int max_width, int max_height, sepal_material* out,
+                                                           sepal_error* err) {
+    return create(caps, asset, max_width, max_height, true, out, err);
+}
+
 extern "C" void sepal_material_context_lost(sepal_material* m) {
     if (!m) return;
     // The names are meaningless now: forget them (a later glDelete* on a new context could
@@ -263,7 +282,7 @@ extern "C" sepal_result sepal_material_restore(sepal_material* m, const sepal_ca
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "restore: the asset is not the one the material was created from");
     const int w = m->max_width, h = m->max_height;
-    return sepal_material_create(caps, asset, w, h, m, err);  // clears context_lost
+    return create(caps, asset, w, h, m->float_target != 0, m, err);  // clears context_lost
 }
 
 extern "C" void sepal_material_destroy(sepal_material* m) {

@@ -3,7 +3,7 @@
 #include <math.h>
 
 #include "internal.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace {
 

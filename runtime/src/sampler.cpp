@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "internal.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_sampler.h"
 
 static_assert(sizeof(sepal_smp_header) == 64, "sampler header layout");

@@ -11,7 +11,7 @@
 #include "database/measure_plan.h"
 #include "fuzz/fuzz.h"
 #include "measured/nbrdf.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace sepal_fuzz {
 

@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "fuzz/fuzz.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace {
 

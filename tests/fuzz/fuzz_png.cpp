@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "fuzz/fuzz.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "util/image.h"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fuzz/fuzz.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_sampler.h"
 
 extern "C" int sepal_fuzz_smp(const uint8_t* data, size_t size) {

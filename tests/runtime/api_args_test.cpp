@@ -58,7 +58,7 @@ TEST_CASE("api: sepal_draw_cpu checks its size limit before writing a pixel") {
     CHECK(color[0] == 7.0f);
 }
 
-TEST_CASE("api: sepal_material_create refuses a never-parsed asset and a missing context") {
+TEST_CASE("api: sepal_material_create refuses a never-parsed asset, a float target without one, a missing context") {
     Parsed p;
     sepal_headless_desc hd = {};
     char msg[256];
@@ -75,6 +75,13 @@ TEST_CASE("api: sepal_material_create refuses a never-parsed asset and a missing
     std::memset(&zeroed, 0, sizeof zeroed);
     CHECK(sepal_material_create(&caps, &zeroed, 64, 64, mat.get(), &e) == SEPAL_ERR_INVALID_ARGUMENT);
     CHECK(std::string(e.message).find("not filled by sepal_asset_parse") != std::string::npos);
+    // A half-float target is asked for, not a field of the caps: GL ES 1.1 has none.
+    CHECK(sepal_material_create_float_target(&caps, p.asset.get(), 64, 64, mat.get(), &e) == SEPAL_ERR_UNSUPPORTED);
+    CHECK(std::string(e.message).find("no half-float render target") != std::string::npos);
+    REQUIRE(sepal_material_create(&caps, p.asset.get(), 64, 64, mat.get(), &e) == SEPAL_OK);
+    CHECK(mat->float_target == 0);
+    CHECK(mat->float_fbo == 0);
+    sepal_material_destroy(mat.get());
     sepal_headless_destroy(ctx);  // no context is current now
     CHECK(sepal_material_create(&caps, p.asset.get(), 64, 64, mat.get(), &e) == SEPAL_ERR_INVALID_ARGUMENT);
     CHECK(std::string(e.message).find("no current GL context") != std::string::npos);

@@ -11,7 +11,7 @@
 #include "bake/asset_file.h"
 #include "bake/plan.h"
 #include "fuzz/fuzz.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 
 namespace {
 

@@ -4,14 +4,29 @@
 #include <GLES2/gl2.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
 #include "util/image.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_rt.h"
+#include "sepal/sepal_version.h"
 #include "test_util.h"
 #include "internal.h"
+
+TEST_CASE("version: the library answers the version its headers define") {
+    CHECK(sepal_version() == (uint32_t)SEPAL_VERSION);
+    CHECK((sepal_version() >> 16) == SEPAL_VERSION_MAJOR);
+    CHECK(((sepal_version() >> 8) & 0xFFu) == SEPAL_VERSION_MINOR);
+    CHECK((sepal_version() & 0xFFu) == SEPAL_VERSION_PATCH);
+    REQUIRE(sepal_version_string() != nullptr);
+    CHECK(std::strcmp(sepal_version_string(), SEPAL_VERSION_STRING) == 0);
+    char packed[32];
+    std::snprintf(packed, sizeof packed, "%u.%u.%u", sepal_version() >> 16, (sepal_version() >> 8) & 0xFFu,
+                  sepal_version() & 0xFFu);
+    CHECK(std::strcmp(packed, sepal_version_string()) == 0);
+}
 
 TEST_CASE("caps: GL_VERSION strings of real drivers give their GL ES major version") {
     struct Case {

@@ -1,7 +1,7 @@
 // sepal_frame.h - a frame of many objects in the engine's framebuffer, with its matrices.
 //
 // Usage (GL ES 1.1 or 2; the engine has drawn its sky, floor and UI already):
-//   static float scratch[...];                      // sepal_draw_scratch_floats of the largest object
+//   static float scratch[1 << 20];                  // >= sepal_draw_scratch_floats of the largest object
 //   sepal_frame_desc fd = {0};
 //   fd.caps = &caps;                                // the context's, from sepal_query_caps
 //   memcpy(fd.view, view, sizeof fd.view);          // the engine's, column-major
@@ -51,7 +51,7 @@
 // Limits: model matrices are similarities (rotation, translation, uniform scale > 0;
 // refused otherwise): shading runs in object space with the eye and lights moved there.
 // A viewport up to each material's creation size. The material's own float target
-// (caps.use_float_target) serves sepal_draw only; in a frame, set fd.float_target when
+// (sepal_material_create_float_target) serves sepal_draw only; in a frame, set fd.float_target when
 // the framebuffer bound at begin is a float one of the engine's (no exposure, no
 // doublings). Not thread-safe: one frame per context at a time, on the context's thread.
 //

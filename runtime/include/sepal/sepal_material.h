@@ -5,9 +5,10 @@
 //   sepal_asset_parse(bytes, size, &asset, &err);
 //   static sepal_material mat;
 //   sepal_material_create(&caps, &asset, 512, 512, &mat, &err);   // textures uploaded here
-//   std::vector<float> scratch(sepal_draw_scratch_floats(mesh.vertex_count, scene.light_count));
-//   sepal_draw_desc d = {}; d.material = &mat; d.mesh = &mesh; d.scene = &scene;
-//   d.width = 512; d.height = 512; d.scratch = scratch.data(); d.scratch_floats = scratch.size();
+//   size_t n = sepal_draw_scratch_floats(mesh.vertex_count, scene.light_count);
+//   float* scratch = malloc(n * sizeof(float));   // once, at load (the runtime allocates nothing)
+//   sepal_draw_desc d = {0}; d.material = &mat; d.mesh = &mesh; d.scene = &scene;
+//   d.width = 512; d.height = 512; d.scratch = scratch; d.scratch_floats = n;
 //   sepal_draw(&d, &stats, &err);                  // clears, draws all passes, scales up
 //   sepal_material_destroy(&mat);
 // sepal_draw is a frame of one object (sepal_frame.h): it clears the viewport (0, 0, width,
@@ -66,7 +67,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_rt.h"
 #include "sepal/sepal_scene.h"
 
@@ -110,8 +111,9 @@ typedef struct sepal_material {
     uint32_t program_pass, program_fullscreen, program_mesh_texture;
     uint32_t program_fused_vertex, program_fused_pixel;
     int fused_group;  // terms summed per fused pass: min(terms, texture units / 2, 8)
-    // Half-float target (caps.use_float_target on GL ES 3): frames are drawn there with no
+    // Half-float target (sepal_material_create_float_target): frames are drawn there with no
     // exposure and no doublings, then copied to the current framebuffer for display.
+    int float_target;
     uint32_t float_fbo, float_color, float_depth;
     // Set by sepal_material_context_lost: the GL names above belong to a dead context.
     int context_lost;
@@ -134,6 +136,12 @@ typedef enum sepal_draw_mode {
 
 sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset, int max_width,
                                int max_height, sepal_material* out, sepal_error* err);
+// The same with a half-float target of max_width x max_height (GL ES 2 on a GL ES 3
+// context with caps.has_float_target; SEPAL_ERR_UNSUPPORTED otherwise): sepal_draw draws
+// there with no exposure and no doublings (sepal_read_float reads it back), to measure what
+// the 8-bit framebuffer costs. GPU memory: 10 bytes per pixel.
+sepal_result sepal_material_create_float_target(const sepal_caps* caps, const sepal_asset* asset, int max_width,
+                                                int max_height, sepal_material* out, sepal_error* err);
 void sepal_material_destroy(sepal_material* m);
 
 // GL context loss (EGL_CONTEXT_LOST on phones after a power event, or a context the app

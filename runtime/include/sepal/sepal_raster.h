@@ -1,11 +1,11 @@
 // sepal_raster.h - a small software triangle rasterizer with GL's conventions.
 //
 // Usage:
-//   float depth[W * H];                       // caller-owned depth buffer
+//   static float depth[W * H];                // caller-owned depth buffer
 //   sepal_raster_target t = {W, H, depth};
 //   sepal_raster_clear_depth(&t);
-//   sepal_raster_desc d = {};
-//   d.clip = clip_positions;                  // float[4] per vertex (after projection)
+//   sepal_raster_desc d = {0};
+//   d.clip = clip_positions; d.vertex_count = n_vertices;  // float[4] per vertex (after projection)
 //   d.varyings = attributes; d.varying_count = 5; d.varying_stride = 5;  // floats per vertex
 //   d.indices = idx; d.index_count = n;
 //   d.fragment = shade; d.user = &my_state;   // called per covered pixel that passes depth

@@ -1,13 +1,18 @@
 // sepal_rt.h - the sepal runtime: GL capability checks, meshes, preview drawing.
 //
 // Usage (a port has created and made current a GL ES context):
-//   sepal_error err = {};
+//   sepal_error err = {SEPAL_OK, ""};
 //   sepal_caps caps;
 //   if (sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &err) != SEPAL_OK) { puts(err.message); }
-//   sepal_vertex v[SEPAL_SPHERE_MAX_VERTICES]; uint16_t idx[SEPAL_SPHERE_MAX_INDICES];
-//   sepal_mesh mesh = {v, idx, 0, 0};
-//   sepal_mesh_sphere(32, 16, &mesh, &err);
-//   sepal_preview_desc d = {};  d.mesh = &mesh; ...
+//   static sepal_vertex v[SEPAL_SPHERE_MAX_VERTICES]; static uint16_t idx[SEPAL_SPHERE_MAX_INDICES];
+//   sepal_mesh mesh = {v, idx, SEPAL_SPHERE_MAX_VERTICES, SEPAL_SPHERE_MAX_INDICES};  // capacities in
+//   sepal_mesh_sphere(32, 16, &mesh, &err);         // counts out
+//   const float eye[3] = {0, -3, 0}, target[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+//   sepal_preview_desc d = {0};
+//   d.mesh = &mesh; d.base_color[0] = d.base_color[1] = d.base_color[2] = 0.8f;
+//   d.light_dir_eye[2] = 1.0f;
+//   sepal_mat4_look_at(eye, target, up, d.model_view);
+//   sepal_mat4_perspective(45.0f, 1.0f, 0.1f, 10.0f, d.projection);
 //   sepal_preview_draw(&caps, &d, &err);
 //
 // Rules: C++17 inside, a C-like API outside; no exceptions, no RTTI, no iostream, no
@@ -40,6 +45,14 @@ typedef struct sepal_error {
     char message[256];
 } sepal_error;
 
+// ---- version ------------------------------------------------------------------------
+// The linked library's version (a program built against one release's headers and run
+// with another's shared library sees both): SEPAL_VERSION packed (major << 16 | minor << 8
+// | patch) and SEPAL_VERSION_STRING. Compare majors before trusting the ABI:
+//   if ((sepal_version() >> 16) != SEPAL_VERSION_MAJOR) { puts(sepal_version_string()); }
+uint32_t sepal_version(void);
+const char* sepal_version_string(void);
+
 // ---- capabilities -------------------------------------------------------------------
 // Bits of a mask that hides capabilities the context has, so every fallback path can be
 // exercised on a driver that has everything (e.g. Mesa).
@@ -60,11 +73,9 @@ typedef struct sepal_caps {
     int has_fbo;             // GL_OES_framebuffer_object (ES 1) or core (ES 2)
     int has_npot;            // full NPOT textures (GL_OES_texture_npot or ES 3)
     // Half-float colour buffers (GL ES 3 with GL_EXT_color_buffer_half_float or _float):
-    // the GL ES 2 paths can draw into one to measure what the 8-bit framebuffer costs.
+    // the GL ES 2 paths can draw into one to measure what the 8-bit framebuffer costs
+    // (sepal_material_create_float_target).
     int has_float_target;
-    // Set by the caller before sepal_material_create to get a float target (GL ES 2 only;
-    // ignored without has_float_target). 0 by default: no GPU memory spent on it.
-    int use_float_target;
     uint32_t mask;           // the mask that was applied
     // Extension entry points, from the port's loader (NULL when unavailable).
     void (*blend_equation)(unsigned int mode);  // glBlendEquationOES / glBlendEquation

@@ -3,11 +3,11 @@
 // reader, runtime/src/sampler.cpp) and a small C API: sample, pdf, eval.
 //
 // Usage (a path tracer; `bytes` holds a file written by `sepal sampler SPEC -o FILE`):
-//   sepal_sampler smp; sepal_error err = {};
+//   sepal_sampler smp; sepal_error err = {SEPAL_OK, ""};
 //   if (sepal_sampler_parse(bytes, size, &smp, &err) != SEPAL_OK) { puts(err.message); }
 //   sepal_sampler_view view;                     // per outgoing direction, caller-owned
 //   sepal_sampler_set_view(&smp, wo, &view);      // wo in the local frame, towards the eye
-//   float u[2] = {...}, wi[3], pdf;               // u in [0,1)^2: random, stratified, QMC
+//   float u[2] = {0.25f, 0.5f}, wi[3], pdf;       // u in [0,1)^2: random, stratified, QMC
 //   if (sepal_sampler_sample(&view, u, wi, &pdf) == 1)
 //       L += Li(wi) * f(wi, wo) * wi[2] / pdf;    // f: the BRDF (or sepal_sampler_eval)
 //
@@ -55,7 +55,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sepal/sepal_format.h"  // sepal_crc32
+#include "sepal/sepal_asset.h"  // sepal_crc32
 #include "sepal/sepal_rt.h"
 
 #ifdef __cplusplus

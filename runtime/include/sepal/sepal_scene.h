@@ -3,7 +3,7 @@
 // Usage:
 //   sepal_scene s;
 //   sepal_scene_default(&s);                 // camera on -y looking at the origin, one light
-//   s.lights[0].intensity[0] = 2.0f; ...
+//   s.lights[0].intensity[0] = 2.0f;
 //   float view[16], proj[16];
 //   sepal_scene_matrices(&s, width, height, view, proj, &err);
 //

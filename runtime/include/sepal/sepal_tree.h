@@ -8,9 +8,10 @@
 //   sepal_tree_parse(bytes, size, &asset, &err);         // bytes must outlive asset and tree
 //   static sepal_tree tree;
 //   sepal_tree_create(&caps, &asset, 512, 512, &tree, &err);
-//   std::vector<float> scratch(sepal_draw_scratch_floats(mesh.vertex_count, scene.light_count));
-//   sepal_tree_draw_desc d = {}; d.tree = &tree; d.mesh = &mesh; d.scene = &scene;
-//   d.width = d.height = 512; d.scratch = scratch.data(); d.scratch_floats = scratch.size();
+//   size_t n = sepal_draw_scratch_floats(mesh.vertex_count, scene.light_count);
+//   float* scratch = malloc(n * sizeof(float));           // once, at load
+//   sepal_tree_draw_desc d = {0}; d.tree = &tree; d.mesh = &mesh; d.scene = &scene;
+//   d.width = d.height = 512; d.scratch = scratch; d.scratch_floats = n;
 //   sepal_tree_draw(&d, &stats, &err);
 //   sepal_tree_destroy(&tree);
 //
@@ -51,7 +52,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_material.h"
 
 #ifdef __cplusplus

@@ -10,5 +10,7 @@
 #define SEPAL_VERSION_MINOR 9
 #define SEPAL_VERSION_PATCH 0
 #define SEPAL_VERSION_STRING "0.9.0"
+/* Packed: major << 16 | minor << 8 | patch (what sepal_version() returns at run time). */
+#define SEPAL_VERSION ((SEPAL_VERSION_MAJOR << 16) | (SEPAL_VERSION_MINOR << 8) | SEPAL_VERSION_PATCH)
 
 #endif

@@ -13,7 +13,7 @@
 #include "bake/radiance.h"
 #include "cli/cli.h"
 #include "util/parallel.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "spec/spec.h"
 #include "test_util.h"
 

@@ -15,7 +15,7 @@
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "sepal/sepal_material.h"
 #include "spec/spec.h"
 #include "test_util.h"

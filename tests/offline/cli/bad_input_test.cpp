@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cli/cli.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "test_util.h"
 
 namespace {

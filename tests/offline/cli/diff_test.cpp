@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "cli/cli.h"
-#include "sepal/sepal_format.h"
+#include "sepal/sepal_asset.h"
 #include "util/io.h"
 #include "util/image.h"
 #include "test_util.h"
