@@ -195,4 +195,25 @@ bool render_exact_object(const Brdf& brdf, const sepal_scene& object_scene, cons
                        false, supersample);
 }
 
+bool render_exact_frame_object(const Brdf& brdf, const sepal_frame_desc& frame, const sepal_object& object,
+                               Image* image, std::vector<float>* depth, ExactStats* stats, std::string* err,
+                               int supersample) {
+    const int count = object.vertices ? object.vertices->vertex_count : object.mesh ? object.mesh->vertex_count : 0;
+    std::vector<sepal_vertex> vertices(count > 0 ? size_t(count) : 1);
+    sepal_scene scene;
+    float clip[16];
+    int loaded = 0;
+    sepal_error e = {};
+    if (sepal_object_shading(&frame, &object, &scene, clip, vertices.data(), count, &loaded, &e) != SEPAL_OK) {
+        *err = std::string("exact render: ") + e.message;
+        return false;
+    }
+    // The indices are only read.
+    uint16_t* indices = const_cast<uint16_t*>(object.vertices ? object.vertices->indices : object.mesh->indices);
+    const int index_count = object.vertices ? object.vertices->index_count : object.mesh->index_count;
+    const sepal_mesh mesh = {vertices.data(), indices, loaded, index_count};
+    return render_exact_object(brdf, scene, mesh, clip, frame.viewport[2], frame.viewport[3], image, depth, stats, err,
+                               supersample);
+}
+
 }  // namespace sepal

@@ -24,6 +24,7 @@
 
 #include "brdf/brdf.h"
 #include "util/image.h"
+#include "sepal/sepal_frame.h"
 #include "sepal/sepal_scene.h"
 
 namespace sepal {
@@ -68,5 +69,13 @@ bool render_exact(const Brdf& brdf, const sepal_scene& scene, const sepal_mesh& 
 bool render_exact_object(const Brdf& brdf, const sepal_scene& object_scene, const sepal_mesh& mesh,
                          const float clip_from_object[16], int width, int height, Image* frame,
                          std::vector<float>* depth, ExactStats* stats, std::string* err, int supersample = 1);
+
+// The same straight from a frame's description (sepal_object_shading): a sepal_mesh or the
+// engine's vertex data, any affine model with a positive determinant, the frame's viewport
+// size. The vertices are copied into the shading space here (the exact renderer may
+// allocate; the runtime does not).
+bool render_exact_frame_object(const Brdf& brdf, const sepal_frame_desc& frame, const sepal_object& object,
+                               Image* image, std::vector<float>* depth, ExactStats* stats, std::string* err,
+                               int supersample = 1);
 
 }  // namespace sepal

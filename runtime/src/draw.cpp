@@ -7,9 +7,10 @@
 
 namespace srt {
 
-sepal_result prepare_frame(const sepal_draw_desc* d, const float modelview[16], const float proj[16],
-                           bool float_target, FramePrep* out, sepal_draw_stats* stats, sepal_error* err) {
-    if (!d || !d->material || !d->mesh || !d->scene || !d->scratch)
+sepal_result prepare_frame(const sepal_draw_desc* d, const MeshView& mesh, const float modelview[16],
+                           const float proj[16], bool float_target, FramePrep* out, sepal_draw_stats* stats,
+                           sepal_error* err) {
+    if (!d || !d->material || !d->scene || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
     const sepal_material* m = d->material;
     if (m->plan.pass_count == 0)
@@ -18,24 +19,25 @@ sepal_result prepare_frame(const sepal_draw_desc* d, const float modelview[16], 
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "draw: viewport %dx%d outside 1x1..%dx%d (the size given at creation)",
                          d->width, d->height, m->max_width, m->max_height);
-    if (!d->mesh->vertices || !d->mesh->indices || d->mesh->vertex_count < 1 || d->mesh->index_count % 3)
+    if (!mesh.attr[MeshView::kPosition] || !mesh.indices || mesh.vertex_count < 1 || mesh.index_count % 3)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: empty or malformed mesh");
-    const size_t need = sepal_draw_scratch_floats(d->mesh->vertex_count, d->scene->light_count);
+    const size_t need = sepal_draw_scratch_floats(mesh.vertex_count, d->scene->light_count);
     if (d->scratch_floats < need)
         return srt::fail(err, SEPAL_ERR_CAPACITY, "draw: scratch holds %zu floats, needs %zu",
                          d->scratch_floats, need);
     FramePrep& prep = *out;
+    prep.mesh = mesh;
     memcpy(prep.view, modelview, sizeof prep.view);
     memcpy(prep.proj, proj, sizeof prep.proj);
     memset(stats, 0, sizeof *stats);
-    prep.vertices = srt::setup_vertices((sepal_param)m->info.param, (sepal_hemi_map)m->info.map, *d->mesh,
+    prep.vertices = srt::setup_vertices((sepal_param)m->info.param, (sepal_hemi_map)m->info.map, mesh,
                                         *d->scene, d->scratch, (m->info.flags & SEPAL_MATERIAL_RECIPROCAL) != 0);
-    const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, prep.vertices.bad_vertices);
+    const srt::TriangleCheck tri = srt::check_triangles(mesh, prep.vertices.bad_vertices);
     if (tri.bad_index >= 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: index %d is %u; the mesh has %d vertices",
-                         tri.bad_index, d->mesh->indices[tri.bad_index], d->mesh->vertex_count);
+                         tri.bad_index, mesh.indices[tri.bad_index], mesh.vertex_count);
     stats->below_horizon = prep.vertices.below_horizon;
-    stats->dim_lights = dim_lights(m->info, *d->mesh, *d->scene);
+    stats->dim_lights = dim_lights(m->info, mesh, *d->scene);
     stats->fallback_tangents = prep.vertices.fallback_tangents;
     stats->bad_vertices = prep.vertices.bad_vertices;
     stats->skipped_triangles = tri.skipped;
@@ -182,7 +184,9 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
     sepal_draw_stats local_stats;
     sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;
     const sepal_material* m = d->material;
-    r = srt::prepare_frame(d, fd.view, fd.projection, m && m->float_fbo != 0, &prep, stats, err);
+    if (!d->mesh) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
+    r = srt::prepare_frame(d, srt::MeshView(*d->mesh), fd.view, fd.projection, m && m->float_fbo != 0, &prep, stats,
+                           err);
     if (r != SEPAL_OK) return r;
     fd.caps = &m->caps;
     fd.viewport[2] = d->width;

@@ -150,25 +150,28 @@ sepal_result check_size(int width, int height, sepal_error* err) {
     return SEPAL_OK;
 }
 
-// One object: d->scene in object space, view (the modelview) and proj its matrices. keep:
-// colour and depth stay where the object is not in front; otherwise both start cleared,
-// the colour to the scene's background.
-sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float* proj, bool keep, sepal_error* err) {
-    if (!d || !d->asset || !d->mesh || !d->scene || !d->color || !d->depth || !d->scratch)
+// One object: mesh its vertices (d->mesh is not read), d->scene in its shading space, view
+// (the modelview) and proj its matrices. keep: colour and depth stay where the object is
+// not in front; otherwise both start cleared, the colour to the scene's background.
+sepal_result cpu_object(const sepal_cpu_desc* d, const srt::MeshView& mesh, const float* view, const float* proj,
+                        bool keep, sepal_error* err) {
+    if (!d || !d->asset || !mesh.attr[srt::MeshView::kPosition] || !d->scene || !d->color || !d->depth || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
     if (const sepal_result r = check_size(d->width, d->height, err)) return r;
     if (!srt::asset_parsed(*d->asset))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: the asset was not filled by sepal_asset_parse");
-    if (d->scratch_floats < sepal_cpu_scratch_floats(d->mesh->vertex_count))
+    if (d->scratch_floats < sepal_cpu_scratch_floats(mesh.vertex_count))
         return srt::fail(err, SEPAL_ERR_CAPACITY, "cpu: scratch holds %zu floats, needs %zu", d->scratch_floats,
-                         sepal_cpu_scratch_floats(d->mesh->vertex_count));
+                         sepal_cpu_scratch_floats(mesh.vertex_count));
     sepal_result r;
-    const int n = d->mesh->vertex_count;
+    const int n = mesh.vertex_count;
     float* clip = d->scratch;
     float* vary = d->scratch + 4 * (size_t)n;
     sepal_draw_stats st = {};
     for (int i = 0; i < n; ++i) {
-        const sepal_vertex& v = d->mesh->vertices[i];
+        sepal_vertex v;
+        mesh.load(i, &v);  // in the shading space
+        const float* object_position = mesh.position(i);
         float* dst = vary + (size_t)i * kVaryings;
         if (!srt::vertex_usable(v)) {
             // A NaN clip position makes the rasterizer skip every triangle using it, as the
@@ -183,7 +186,7 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float*
             for (int k = 0; k < 4; ++k) {
                 float m = 0.0f;  // (proj * view)[row][k], column-major
                 for (int j = 0; j < 4; ++j) m += proj[j * 4 + row] * view[k * 4 + j];
-                acc += m * (k < 3 ? v.position[k] : 1.0f);
+                acc += m * (k < 3 ? object_position[k] : 1.0f);
             }
             clip[4 * (size_t)i + row] = acc;
         }
@@ -192,10 +195,10 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float*
         if (srt::repaired_attributes(v, dst + 3, dst + 6, &frame)) ++st.fallback_tangents;
         memcpy(dst + 10, v.uv, 2 * sizeof(float));
     }
-    const srt::TriangleCheck tri = srt::check_triangles(*d->mesh, st.bad_vertices);
+    const srt::TriangleCheck tri = srt::check_triangles(mesh, st.bad_vertices);
     if (tri.bad_index >= 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: index %d is %u; the mesh has %d vertices", tri.bad_index,
-                         d->mesh->indices[tri.bad_index], n);
+                         mesh.indices[tri.bad_index], n);
     st.skipped_triangles = tri.skipped;
     st.zero_area_triangles = tri.zero_area;
     sepal_raster_target target = {d->width, d->height, d->depth};
@@ -222,8 +225,8 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float*
     rd.varyings = vary;
     rd.varying_count = kVaryings;
     rd.varying_stride = kVaryings;
-    rd.indices = d->mesh->indices;
-    rd.index_count = d->mesh->index_count;
+    rd.indices = mesh.indices;
+    rd.index_count = mesh.index_count;
     rd.cull = SEPAL_CULL_BACK;
     rd.depth_func = SEPAL_DEPTH_LEQUAL;
     rd.fragment = shade;
@@ -235,7 +238,7 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const float* view, const float*
         out.draw_calls = 1;
         out.exposure = 1.0f;
         out.below_horizon = s.st.below_horizon;
-        out.dim_lights = srt::dim_lights(d->asset->material, *d->mesh, *d->scene);
+        out.dim_lights = srt::dim_lights(d->asset->material, mesh, *d->scene);
         out.param_fallbacks = s.st.param_fallbacks;
         out.negative_clamped = s.st.negative_clamped;
         out.nonfinite_clamped = s.st.nonfinite_clamped;
@@ -252,7 +255,8 @@ extern "C" sepal_result sepal_draw_cpu(const sepal_cpu_desc* d, sepal_error* err
     float view[16], proj[16];
     const sepal_result r = sepal_scene_matrices(d->scene, d->width, d->height, view, proj, err);
     if (r != SEPAL_OK) return r;
-    return cpu_object(d, view, proj, false, err);
+    if (!d->mesh) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL asset, mesh, scene or buffer");
+    return cpu_object(d, srt::MeshView(*d->mesh), view, proj, false, err);
 }
 
 extern "C" void sepal_frame_clear_cpu(int width, int height, const float rgb[3], float* color, float* depth) {
@@ -270,14 +274,14 @@ extern "C" sepal_result sepal_frame_draw_cpu(const sepal_frame_desc* f, const se
                                              float* depth, float* scratch, size_t scratch_floats,
                                              sepal_draw_stats* stats, sepal_error* err) {
     if (!f || !o) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL frame or object");
-    sepal_scene scene;
-    float modelview[16];
-    const sepal_result r = srt::object_scene(f->view, o->model, o->lights, o->light_count, &scene, modelview, err);
+    srt::ObjectSpace space;
+    sepal_result r = srt::object_space(f->view, o->model, o->lights, o->light_count, &space, err);
     if (r != SEPAL_OK) return r;
+    srt::MeshView mesh;
+    if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
     sepal_cpu_desc d = {};
     d.asset = o->asset;
-    d.mesh = o->mesh;
-    d.scene = &scene;
+    d.scene = &space.scene;
     d.width = f->viewport[2];
     d.height = f->viewport[3];
     d.color = color;
@@ -285,5 +289,5 @@ extern "C" sepal_result sepal_frame_draw_cpu(const sepal_frame_desc* f, const se
     d.scratch = scratch;
     d.scratch_floats = scratch_floats;
     d.stats = stats;
-    return cpu_object(&d, modelview, f->projection, true, err);
+    return cpu_object(&d, mesh, space.modelview, f->projection, true, err);
 }

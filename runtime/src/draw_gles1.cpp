@@ -21,7 +21,7 @@ constexpr GLenum kFuncReverseSubtract = 0x800B;  // GL_FUNC_REVERSE_SUBTRACT(_OE
 
 struct Frame {
     const sepal_material* m;
-    const sepal_mesh* mesh;
+    const srt::MeshView* mesh;
     const sepal_scene* scene;
     float* scratch;
     int width, height;
@@ -42,6 +42,13 @@ struct Frame {
         GLint scale;
     } env[3];
 };
+
+// The object's positions (object space: GL moves them with the modelview) and UVs, read in
+// place from its mesh or the engine's arrays.
+const float* pos(const Frame& f) { return f.mesh->position(0); }
+GLsizei pos_stride(const Frame& f) { return (GLsizei)f.mesh->stride[srt::MeshView::kPosition]; }
+const float* uv(const Frame& f) { return f.mesh->element(srt::MeshView::kUv, 0); }
+GLsizei uv_stride(const Frame& f) { return (GLsizei)f.mesh->stride[srt::MeshView::kUv]; }
 
 void set_equation(const sepal_material* m, GLenum eq) {
     // Without the extension only GL_FUNC_ADD exists, which is GL's fixed behaviour.
@@ -94,7 +101,7 @@ const float* factor_uv(const Frame& f, uint16_t tex, int light) {
 
 void mesh_arrays(const Frame& f, bool colors) {
     glEnableClientState(GL_VERTEX_ARRAY);
-    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), f.mesh->vertices[0].position);
+    glVertexPointer(3, GL_FLOAT, pos_stride(f), pos(f));
     if (colors) {
         glEnableClientState(GL_COLOR_ARRAY);
         glColorPointer(4, GL_FLOAT, 0, srt::pass_colors(f.scratch, f.mesh->vertex_count, f.scene->light_count));
@@ -119,7 +126,7 @@ void draw_mesh(const Frame& f) {
 void object_pass(Frame& f, bool textured, const float color[4]) {
     glDisableClientState(GL_COLOR_ARRAY);
     glEnableClientState(GL_VERTEX_ARRAY);
-    glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), f.mesh->vertices[0].position);
+    glVertexPointer(3, GL_FLOAT, pos_stride(f), pos(f));
     glColor4f(color[0], color[1], color[2], color[3]);
     bind_unit(GL_TEXTURE1, 0, nullptr);
     if (textured) {
@@ -131,8 +138,8 @@ void object_pass(Frame& f, bool textured, const float color[4]) {
         const float screen[16] = {sx, 0, 0, 0, 0, sy, 0, 0, 0, 0, 0, 0, sx, sy, 0, 1};
         float tm[16];
         srt::mat4_mul(screen, f.mvp, tm);
-        bind_unit(GL_TEXTURE0, f.m->copy_texture, f.mesh->vertices[0].position, sizeof(sepal_vertex));
-        glTexCoordPointer(3, GL_FLOAT, sizeof(sepal_vertex), f.mesh->vertices[0].position);
+        bind_unit(GL_TEXTURE0, f.m->copy_texture, pos(f), pos_stride(f));
+        glTexCoordPointer(3, GL_FLOAT, pos_stride(f), pos(f));
         glMatrixMode(GL_TEXTURE);
         glLoadMatrixf(tm);
         glMatrixMode(GL_MODELVIEW);
@@ -189,7 +196,7 @@ void pass_multitexture(Frame& f, const sepal_fmt_pass& pass, int light, bool inv
     const int textures = srt::pass_texture_count(pass);
     mesh_arrays(f, true);
     if (f.diffuse_texture) {
-        bind_unit(GL_TEXTURE0, f.diffuse_texture, f.mesh->vertices[0].uv, sizeof(sepal_vertex));
+        bind_unit(GL_TEXTURE0, f.diffuse_texture, uv(f), uv_stride(f));
         set_env_modulate(f, GL_TEXTURE0, GL_PRIMARY_COLOR, GL_TEXTURE, textures == 0 ? scale : 1);
         bind_unit(GL_TEXTURE1, textures >= 1 ? f.m->gl_textures[pass.tex0] : 0,
                   textures >= 1 ? factor_uv(f, pass.tex0, light) : nullptr);
@@ -308,7 +315,7 @@ void diffuse_map(Frame& f, const sepal_draw_desc* d) {
     glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, d->diffuse_texture);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), d->mesh->vertices[0].uv);
+    glTexCoordPointer(2, GL_FLOAT, uv_stride(f), uv(f));
     set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
     draw_mesh(f);
 }
@@ -324,7 +331,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     srt::mat4_mul(prep.proj, prep.view, mvp);
     GLint viewport[4];
     glGetIntegerv(GL_VIEWPORT, viewport);
-    Frame f = {m, d->mesh, d->scene, d->scratch, d->width, d->height, viewport[0], viewport[1], mvp,
+    Frame f = {m, &prep.mesh, d->scene, d->scratch, d->width, d->height, viewport[0], viewport[1], mvp,
                prep.exposure, stats, false, prep.vertices.bad_vertices,
                prep.diffuse_per_pass ? (GLuint)d->diffuse_texture : 0u, false, {}};
     // The frame's begin set what every object shares (gles1_frame_begin); this object's

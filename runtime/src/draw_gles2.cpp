@@ -46,6 +46,7 @@ const char* const kFusedPixelAttribs[] = {"a_position", "a_normal", "a_tangent",
 struct Frame {
     const sepal_material* m;
     const sepal_draw_desc* d;
+    const srt::MeshView* mesh;  // d->mesh is not read: the object's vertices are these
     float* scratch;
     float mvp[16];
     float exposure;
@@ -75,8 +76,8 @@ void draw_mesh(const Frame& f) {
     // Laying depth: the nearest fragment's colour replaces an occluded one's, which is what
     // adding it to the cleared framebuffer gives; then EQUAL, as after a pre-pass.
     if (f.lays_depth) glDisable(GL_BLEND);
-    srt::for_each_drawable_run(*f.d->mesh, f.bad_vertices, [&f](int first, int count) {
-        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.d->mesh->indices + first);
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
     });
     ++f.stats->draw_calls;
     if (f.lays_depth) {
@@ -87,7 +88,11 @@ void draw_mesh(const Frame& f) {
     }
 }
 
-const float* positions(const Frame& f) { return f.d->mesh->vertices[0].position; }
+// The object's positions (object space: u_mvp moves them) and UVs, read in place.
+const float* positions(const Frame& f) { return f.mesh->position(0); }
+GLsizei pos_stride(const Frame& f) { return (GLsizei)f.mesh->stride[srt::MeshView::kPosition]; }
+const float* uvs(const Frame& f) { return f.mesh->element(srt::MeshView::kUv, 0); }
+GLsizei uv_stride(const Frame& f) { return (GLsizei)f.mesh->stride[srt::MeshView::kUv]; }
 
 // The object's mesh in a constant colour (the pass program, no texture): the black
 // pre-pass, and the framebuffer-wide operations restricted to the object's visible
@@ -101,14 +106,14 @@ void solid_mesh(const Frame& f, const float color[4], bool counts_as_pass) {
     glUniform1f(loc(p, "u_scale"), 1.0f);
     glUniform1f(loc(p, "u_use_map"), 0.0f);
     attribs(1);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, pos_stride(f), positions(f));
     glVertexAttrib4fv(1, color);
     if (counts_as_pass) {
         draw_mesh(f);
         return;
     }
-    srt::for_each_drawable_run(*f.d->mesh, f.bad_vertices, [&f](int first, int count) {
-        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.d->mesh->indices + first);
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
     });
     ++f.stats->fullscreen_passes;
 }
@@ -124,7 +129,7 @@ void invert(const Frame& f) {
 
 void multipass(const Frame& f) {
     const sepal_material* m = f.m;
-    const int n = f.d->mesh->vertex_count, lights = f.d->scene->light_count;
+    const int n = f.mesh->vertex_count, lights = f.d->scene->light_count;
     const GLuint p = m->program_pass;
     glUseProgram(p);
     glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, f.mvp);
@@ -158,9 +163,9 @@ void multipass(const Frame& f) {
                 return m->texture_role[tex] == SEPAL_ROLE_G ? srt::light_g_uv(f.scratch, n, l) : srt::light_h_uv(f.scratch, n, l);
             };
             attribs(f.map_per_pass ? 5 : 4);
-            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, pos_stride(f), positions(f));
             if (f.map_per_pass)
-                glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), f.d->mesh->vertices[0].uv);
+                glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, uv_stride(f), uvs(f));
             glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, colors);
             // Unused coordinates still need a valid array: point them at the G ones.
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0,
@@ -224,7 +229,7 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
 
 void fused(const Frame& f, bool per_pixel) {
     const sepal_material* m = f.m;
-    const int n = f.d->mesh->vertex_count;
+    const int n = f.mesh->vertex_count;
     const sepal_scene& scene = *f.d->scene;
     const GLuint p = per_pixel ? m->program_fused_pixel : m->program_fused_vertex;
     glUseProgram(p);
@@ -246,6 +251,12 @@ void fused(const Frame& f, bool per_pixel) {
         glUniform3fv(loc(p, "u_light_intensity"), SEPAL_MAX_LIGHTS, intensity);
         glUniform1i(loc(p, "u_light_count"), scene.light_count);
         glUniform3fv(loc(p, "u_eye"), 1, scene.camera.eye);
+        // Positions into the shading space (world under a model that is not a similarity).
+        float shade[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        if (f.mesh->transform)
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 3; ++r) shade[c * 4 + r] = f.mesh->m[c * 3 + r];
+        glUniformMatrix4fv(loc(p, "u_shade_from_object"), 1, GL_FALSE, shade);
         glUniform1i(loc(p, "u_param"), (int)m->info.param);
         glUniform1i(loc(p, "u_map"), (int)m->info.map);
     }
@@ -254,16 +265,19 @@ void fused(const Frame& f, bool per_pixel) {
         fused_terms(f, p, first, count);
         if (per_pixel) {
             attribs(3);
-            const sepal_vertex* v = f.d->mesh->vertices;
-            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->position);
-            if (f.repaired) {  // the normals and tangents the CPU backend interpolates too
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, pos_stride(f), positions(f));
+            // The normals and tangents the CPU backend interpolates too: repaired, or moved
+            // to the shading space, in the scratch.
+            if (f.repaired || f.mesh->transform) {
                 const float* a = srt::vertex_frames(f.scratch, n, scene.light_count);
                 const GLsizei stride = srt::kFrameFloats * sizeof(float);
                 glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, a);
                 glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, a + 3);
             } else {
-                glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->normal);
-                glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->tangent);
+                glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, (GLsizei)f.mesh->stride[srt::MeshView::kNormal],
+                                      f.mesh->element(srt::MeshView::kNormal, 0));
+                glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, (GLsizei)f.mesh->stride[srt::MeshView::kTangent],
+                                      f.mesh->element(srt::MeshView::kTangent, 0));
             }
             draw_mesh(f);
             continue;
@@ -285,7 +299,7 @@ void fused(const Frame& f, bool per_pixel) {
             srt::fill_pass_colors(m->info, diffuse, in, 1.0f, n, dif);
             const bool reciprocal = (m->info.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
             attribs(reciprocal ? 6 : 5);
-            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), positions(f));
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, pos_stride(f), positions(f));
             if (reciprocal) glVertexAttribPointer(5, 2, GL_FLOAT, GL_FALSE, 0, srt::light_swapped_uv(f.scratch, n, l));
             glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, srt::light_g_uv(f.scratch, n, l));
             glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, srt::light_h_uv(f.scratch, n, l));
@@ -397,7 +411,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     } else if (d->mode != SEPAL_MODE_FUSED_PIXEL) {
         return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: unknown mode %d", (int)d->mode);
     }
-    Frame f = {m, d, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
+    Frame f = {m, d, &prep.mesh, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
                prep.vertices.fallback_tangents > 0, prep.diffuse_per_pass, false};
     mat4_mul(prep.proj, prep.view, f.mvp);
     // The frame's begin set what every object shares (gles2_frame_begin); the depth set-up
@@ -440,11 +454,10 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         glUniform1i(loc(p, "u_tex0"), 0);
         bind_texture(GL_TEXTURE0, d->diffuse_texture);
         attribs(3);
-        const sepal_vertex* v = d->mesh->vertices;
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->position);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, pos_stride(f), positions(f));
         glVertexAttrib4f(1, 1, 1, 1, 1);
         glDisableVertexAttribArray(1);
-        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(sepal_vertex), v->uv);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, uv_stride(f), uvs(f));
         glEnableVertexAttribArray(2);
         draw_mesh(f);
     }

@@ -2,12 +2,14 @@
 #pragma once
 #include "sepal/sepal_frame.h"
 #include "sepal/sepal_material.h"
+#include "mesh_view.h"
 #include "vertex_setup.h"
 
 namespace srt {
 
 struct FramePrep {
     float view[16], proj[16];  // view: the modelview (the engine's view times the model matrix)
+    MeshView mesh;             // what the executors draw (positions in object space)
     VertexSetupResult vertices;
     // 2^-e on the vertex colours of the plan's passes; 1 for the fused modes, whose
     // shaders compute f E directly and let the framebuffer clamp it at 1, as the display
@@ -30,19 +32,28 @@ struct FramePrep {
 sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
                            sepal_material* out, sepal_error* err);
 // Validates the draw, sets up the vertices (scratch), and sizes the exposure, the doublings
-// and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. d->scene is
-// the object's scene in object space (object_scene), modelview and proj its matrices;
-// float_target: the target holds floats (no exposure, no doublings). stats is cleared and
-// filled with the object's counters.
-sepal_result prepare_frame(const sepal_draw_desc* d, const float modelview[16], const float proj[16],
-                           bool float_target, FramePrep* out, sepal_draw_stats* stats, sepal_error* err);
+// and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. mesh: the
+// object's vertices (d->mesh is not read), d->scene its scene in the shading space
+// (object_space), modelview and proj its matrices; float_target: the target holds floats
+// (no exposure, no doublings). stats is cleared and filled with the object's counters.
+sepal_result prepare_frame(const sepal_draw_desc* d, const MeshView& mesh, const float modelview[16],
+                           const float proj[16], bool float_target, FramePrep* out, sepal_draw_stats* stats,
+                           sepal_error* err);
 
-// An object's scene in object space: the eye (from the inverse view) and the lights moved
-// by the inverse model matrix, point intensities divided by the scale squared (distances
-// grow by it), so that shading the object-space mesh gives the world-space radiance. The
-// model matrix must be a similarity with positive determinant. modelview = view x model.
-sepal_result object_scene(const float view[16], const float model[16], const sepal_light* lights, int light_count,
-                          sepal_scene* out, float modelview[16], sepal_error* err);
+// Where an object is shaded. Under a similarity model: its own space, the eye (from the
+// inverse view) and the lights moved by the inverse model matrix, point intensities divided
+// by the scale squared (distances grow by it), so that shading the object-space mesh gives
+// the world-space radiance; transform false. Under any other affine model (det > 0): world
+// space, the scene as given, and transform true with m the model's 3 x 4 and n its 3 x 3's
+// inverse transpose (MeshView's). modelview = view x model either way.
+struct ObjectSpace {
+    sepal_scene scene;
+    float modelview[16];
+    bool transform;
+    float m[12], n[9];
+};
+sepal_result object_space(const float view[16], const float model[16], const sepal_light* lights, int light_count,
+                          ObjectSpace* out, sepal_error* err);
 void mat4_mul(const float* a, const float* b, float* out);  // column-major a x b
 
 // The GL ES state a frame touches, saved at begin and put back at end (sepal_frame.h lists
@@ -62,7 +73,7 @@ void gles2_background(const sepal_material* m, const float rgb[3], sepal_draw_st
 void gles2_show_float(const sepal_material* m, const void* saved, int width, int height, sepal_draw_stats* stats);
 // Lights of the scene whose irradiance at the centre of the mesh's bounds (dimmest lit
 // channel) is above 0 and below the material's declared irradiance_min (0 when it declares none).
-int dim_lights(const sepal_fmt_material& m, const sepal_mesh& mesh, const sepal_scene& scene);
+int dim_lights(const sepal_fmt_material& m, const MeshView& mesh, const sepal_scene& scene);
 // The order passes are drawn in (the plan's; staged: by falling exposure shift, stable).
 void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order);
 

@@ -152,11 +152,12 @@ extern "C" size_t sepal_emulate_scratch_floats(int width, int height, int vertex
 
 namespace {
 
-// One object: e->scene in object space, modelview and proj its matrices. keep: the frame's
-// depth (kept_depth) and colour stay where the object is not in front; otherwise the
-// framebuffer starts cleared and gets the scene's background where nothing is drawn.
-sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[16], const float proj[16],
-                            float* kept_depth, sepal_error* err) {
+// One object: mesh its vertices (e->mesh is not read), e->scene in its shading space,
+// modelview and proj its matrices. keep: the frame's depth (kept_depth) and colour stay
+// where the object is not in front; otherwise the framebuffer starts cleared and gets the
+// scene's background where nothing is drawn.
+sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& mesh, const float modelview[16],
+                            const float proj[16], float* kept_depth, sepal_error* err) {
     const bool keep = kept_depth != nullptr;
     if (e->gles_version != 1 && e->gles_version != 2)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: gles_version %d (1 or 2)", e->gles_version);
@@ -165,7 +166,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[1
     const int W = e->width, H = e->height;
     if (W < 1 || H < 1 || W > 8192 || H > 8192)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: %dx%d out of 1..8192", W, H);
-    const int n = e->mesh->vertex_count, lights = e->scene->light_count;
+    const int n = mesh.vertex_count, lights = e->scene->light_count;
     const size_t need = sepal_emulate_scratch_floats(W, H, n, lights);
     if (need == 0 || e->scratch_floats < need)
         return srt::fail(err, SEPAL_ERR_CAPACITY, "emulate: scratch holds %zu floats, needs %zu", e->scratch_floats,
@@ -187,7 +188,6 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[1
     float* colors = tri + (size_t)W * H;  // 4 n per light: the current pass's vertex colours
     sepal_draw_desc d = {};
     d.material = &m;
-    d.mesh = e->mesh;
     d.scene = e->scene;
     d.width = W;
     d.height = H;
@@ -197,7 +197,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[1
     srt::FramePrep prep;
     sepal_draw_stats local;
     sepal_draw_stats* stats = e->stats ? e->stats : &local;
-    if ((r = srt::prepare_frame(&d, modelview, proj, false, &prep, stats, err)) != SEPAL_OK) return r;
+    if ((r = srt::prepare_frame(&d, mesh, modelview, proj, false, &prep, stats, err)) != SEPAL_OK) return r;
     // Clip positions, as the GL pipeline computes them (proj * view * position).
     float mvp[16];
     for (int c = 0; c < 4; ++c)
@@ -207,10 +207,11 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[1
             mvp[c * 4 + row] = s;
         }
     for (int i = 0; i < n; ++i) {
-        const sepal_vertex& v = e->mesh->vertices[i];
+        const float* p = mesh.position(i);  // object space, as GL takes it
         for (int row = 0; row < 4; ++row)
-            clip[4 * (size_t)i + row] = mvp[row] * v.position[0] + mvp[4 + row] * v.position[1] +
-                                        mvp[8 + row] * v.position[2] + mvp[12 + row];
+            clip[4 * (size_t)i + row] = mvp[row] * p[0] + mvp[4 + row] * p[1] + mvp[8 + row] * p[2] + mvp[12 + row];
+        sepal_vertex v;
+        mesh.load(i, &v);
         if (!srt::vertex_usable(v))
             for (int k = 0; k < 4; ++k) clip[4 * (size_t)i + k] = NAN;  // never drawn, as in GL
     }
@@ -219,9 +220,9 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[1
     sepal_raster_target target = {W, H, depth};
     if (!keep) sepal_raster_clear_depth(&target);
     Coverage cov = {tri, W};
-    const int tris = e->mesh->index_count / 3;
+    const int tris = mesh.index_count / 3;
     for (int t = 0; t < tris; ++t) {
-        const uint16_t* idx = e->mesh->indices + 3 * t;
+        const uint16_t* idx = mesh.indices + 3 * t;
         float local_clip[12], var[3];
         for (int k = 0; k < 3; ++k) {
             memcpy(local_clip + 4 * k, clip + 4 * (size_t)idx[k], 4 * sizeof(float));
@@ -309,7 +310,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const float modelview[1
                 const size_t p = (size_t)y * W + x;
                 const int t = (int)tri[p];
                 if (t < 0) continue;
-                const uint16_t* idx = e->mesh->indices + 3 * t;
+                const uint16_t* idx = mesh.indices + 3 * t;
                 if (t != setup.t)
                     setup.set(t, clip + 4 * (size_t)idx[0], clip + 4 * (size_t)idx[1], clip + 4 * (size_t)idx[2], W, H);
                 // Window coordinates (y up) of the pixel and of its 2x2 quad's corner.
@@ -379,22 +380,22 @@ extern "C" sepal_result sepal_emulate_draw(const sepal_emulate_desc* e, sepal_er
     float view[16], proj[16];
     const sepal_result r = sepal_scene_matrices(e->scene, e->width, e->height, view, proj, err);
     if (r != SEPAL_OK) return r;
-    return emulate_object(e, view, proj, nullptr, err);
+    return emulate_object(e, srt::MeshView(*e->mesh), view, proj, nullptr, err);
 }
 
 extern "C" sepal_result sepal_frame_emulate(const sepal_frame_desc* f, const sepal_object* o, int gles_version,
                                            uint32_t mask, uint8_t* rgba, float* depth, float* scratch,
                                            size_t scratch_floats, sepal_draw_stats* stats, sepal_error* err) {
-    if (!f || !o || !o->asset || !o->mesh || !rgba || !depth || !scratch)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: NULL frame, object, asset, mesh or buffer");
-    sepal_scene scene;
-    float modelview[16];
-    sepal_result r = srt::object_scene(f->view, o->model, o->lights, o->light_count, &scene, modelview, err);
+    if (!f || !o || !o->asset || !rgba || !depth || !scratch)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: NULL frame, object, asset or buffer");
+    srt::ObjectSpace space;
+    sepal_result r = srt::object_space(f->view, o->model, o->lights, o->light_count, &space, err);
     if (r != SEPAL_OK) return r;
+    srt::MeshView mesh;
+    if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
     sepal_emulate_desc e = {};
     e.asset = o->asset;
-    e.mesh = o->mesh;
-    e.scene = &scene;
+    e.scene = &space.scene;
     e.width = f->viewport[2];
     e.height = f->viewport[3];
     e.gles_version = gles_version;
@@ -403,5 +404,5 @@ extern "C" sepal_result sepal_frame_emulate(const sepal_frame_desc* f, const sep
     e.scratch = scratch;
     e.scratch_floats = scratch_floats;
     e.stats = stats;
-    return emulate_object(&e, modelview, f->projection, depth, err);
+    return emulate_object(&e, mesh, space.modelview, f->projection, depth, err);
 }

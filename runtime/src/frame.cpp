@@ -74,8 +74,8 @@ bool is_identity(const float* m) {
 
 }  // namespace
 
-sepal_result object_scene(const float view[16], const float model[16], const sepal_light* lights, int light_count,
-                          sepal_scene* out, float modelview[16], sepal_error* err) {
+sepal_result object_space(const float view[16], const float model[16], const sepal_light* lights, int light_count,
+                          ObjectSpace* out, sepal_error* err) {
     if (light_count < 0 || light_count > SEPAL_MAX_LIGHTS || (light_count > 0 && !lights))
         return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object: %d lights (0..%d, and a light array)", light_count,
                     SEPAL_MAX_LIGHTS);
@@ -87,8 +87,9 @@ sepal_result object_scene(const float view[16], const float model[16], const sep
                 !isfinite(lights[l].intensity[k]))
                 return fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                             "object: light %d has a non-finite position or an intensity not finite and >= 0", l);
-    // A similarity: columns of the 3 x 3 part orthogonal with equal lengths, det > 0, no
-    // projective row. Shading in object space is exact only for these.
+    if (model[3] != 0.0f || model[7] != 0.0f || model[11] != 0.0f || model[15] != 1.0f)
+        return fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                    "object: the model matrix is projective (its last row must be 0 0 0 1: an affine map)");
     const float* c[3] = {model, model + 4, model + 8};
     double n2[3], s2 = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -98,43 +99,58 @@ sepal_result object_scene(const float view[16], const float model[16], const sep
     const double det = (double)c[0][0] * ((double)c[1][1] * c[2][2] - (double)c[1][2] * c[2][1]) -
                        (double)c[1][0] * ((double)c[0][1] * c[2][2] - (double)c[0][2] * c[2][1]) +
                        (double)c[2][0] * ((double)c[0][1] * c[1][2] - (double)c[0][2] * c[1][1]);
-    bool similar = s2 > 1e-30 && det > 0.0 && model[3] == 0.0f && model[7] == 0.0f && model[11] == 0.0f &&
-                   model[15] == 1.0f;
+    // Relative to the scale cubed: a matrix that nearly collapses a direction is singular.
+    if (!(fabs(det) > 1e-12 * s2 * sqrt(s2)))
+        return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object: the model matrix is singular (determinant %g)", det);
+    if (det < 0.0)
+        return fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                    "object: the model matrix has a negative determinant (%g): a mirror flips the triangles' winding "
+                    "and the tangent frames' handedness; mirror the mesh itself instead",
+                    det);
+    // A similarity (columns orthogonal, equal lengths) keeps angles: shading in object space
+    // with the eye and lights moved there is exact, and costs nothing per vertex.
+    bool similar = true;
     for (int i = 0; i < 3 && similar; ++i) {
         similar = fabs(n2[i] - s2) <= 1e-3 * s2;
         const int j = (i + 1) % 3;
         const double dot = (double)c[i][0] * c[j][0] + (double)c[i][1] * c[j][1] + (double)c[i][2] * c[j][2];
         similar = similar && fabs(dot) <= 1e-3 * s2;
     }
-    if (!similar)
-        return fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                    "object: the model matrix is not a similarity (rotation, translation, uniform scale > 0)");
     double inv_view[16], inv_model[16];
     if (!invert4(view, inv_view)) return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object: the view matrix is singular");
     if (!invert4(model, inv_model)) return fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object: the model matrix is singular");
-    memset(out, 0, sizeof *out);
+    sepal_scene* sc = &out->scene;
+    memset(sc, 0, sizeof *sc);
     const double eye_w[3] = {inv_view[12] / inv_view[15], inv_view[13] / inv_view[15], inv_view[14] / inv_view[15]};
-    const bool identity = is_identity(model);
+    // Any other affine map: shading in world space, each vertex moved there as it is read.
+    out->transform = !similar;
+    const bool move = similar && !is_identity(model);
     for (int k = 0; k < 3; ++k) {
-        const double e = identity ? eye_w[k]
-                                  : inv_model[k] * eye_w[0] + inv_model[4 + k] * eye_w[1] +
-                                        inv_model[8 + k] * eye_w[2] + inv_model[12 + k];
-        out->camera.eye[k] = (float)e;
+        const double e = !move ? eye_w[k]
+                               : inv_model[k] * eye_w[0] + inv_model[4 + k] * eye_w[1] + inv_model[8 + k] * eye_w[2] +
+                                     inv_model[12 + k];
+        sc->camera.eye[k] = (float)e;
     }
-    out->camera.up[2] = 1.0f;
-    out->light_count = light_count;
+    sc->camera.up[2] = 1.0f;
+    sc->light_count = light_count;
     for (int l = 0; l < light_count; ++l) {
-        out->lights[l] = lights[l];
-        if (identity) continue;
+        sc->lights[l] = lights[l];
+        if (!move) continue;
         const float* p = lights[l].position;
         const bool point = lights[l].type == SEPAL_LIGHT_POINT;
         for (int k = 0; k < 3; ++k)
-            out->lights[l].position[k] = (float)(inv_model[k] * p[0] + inv_model[4 + k] * p[1] +
-                                                 inv_model[8 + k] * p[2] + (point ? inv_model[12 + k] : 0.0));
+            sc->lights[l].position[k] = (float)(inv_model[k] * p[0] + inv_model[4 + k] * p[1] +
+                                                inv_model[8 + k] * p[2] + (point ? inv_model[12 + k] : 0.0));
         if (point)
-            for (int k = 0; k < 3; ++k) out->lights[l].intensity[k] = (float)(lights[l].intensity[k] / s2);
+            for (int k = 0; k < 3; ++k) sc->lights[l].intensity[k] = (float)(lights[l].intensity[k] / s2);
     }
-    mat4_mul(view, model, modelview);
+    for (int col = 0; col < 3; ++col)
+        for (int r = 0; r < 3; ++r) {
+            out->m[col * 3 + r] = model[col * 4 + r];
+            out->n[col * 3 + r] = (float)inv_model[r * 4 + col];  // (M^-1)^T: column col, row r = M^-1[col][r]
+        }
+    for (int r = 0; r < 3; ++r) out->m[9 + r] = model[12 + r];
+    mat4_mul(view, model, out->modelview);
     return ok(err);
 }
 
@@ -144,15 +160,42 @@ extern "C" void sepal_model_identity(float m[16]) {
     for (int i = 0; i < 16; ++i) m[i] = i % 5 == 0 ? 1.0f : 0.0f;
 }
 
+extern "C" sepal_result sepal_object_shading(const sepal_frame_desc* desc, const sepal_object* object,
+                                             sepal_scene* scene, float clip_from_shading[16], sepal_vertex* vertices,
+                                             int capacity, int* count, sepal_error* err) {
+    if (!desc || !object || !scene || !clip_from_shading || (vertices && !count))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object_shading: NULL argument");
+    srt::ObjectSpace space;
+    sepal_result r = srt::object_space(desc->view, object->model, object->lights, object->light_count, &space, err);
+    if (r != SEPAL_OK) return r;
+    srt::MeshView mesh;
+    if ((r = srt::object_mesh_view(*object, space, &mesh, err)) != SEPAL_OK) return r;
+    *scene = space.scene;
+    // World space (any other affine model) or the object's own (a similarity).
+    srt::mat4_mul(desc->projection, space.transform ? desc->view : space.modelview, clip_from_shading);
+    if (!vertices) return r;
+    *count = mesh.vertex_count;
+    if (capacity < mesh.vertex_count)
+        return srt::fail(err, SEPAL_ERR_CAPACITY, "object_shading: room for %d vertices, the object has %d", capacity,
+                         mesh.vertex_count);
+    for (int i = 0; i < mesh.vertex_count; ++i) mesh.load(i, &vertices[i]);
+    return r;
+}
+
 extern "C" sepal_result sepal_object_scene(const sepal_frame_desc* desc, const sepal_object* object,
                                            sepal_scene* scene, float clip_from_object[16], sepal_error* err) {
     if (!desc || !object || !scene || !clip_from_object)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object_scene: NULL argument");
-    float modelview[16];
+    srt::ObjectSpace space;
     const sepal_result r =
-        srt::object_scene(desc->view, object->model, object->lights, object->light_count, scene, modelview, err);
+        srt::object_space(desc->view, object->model, object->lights, object->light_count, &space, err);
     if (r != SEPAL_OK) return r;
-    srt::mat4_mul(desc->projection, modelview, clip_from_object);
+    if (space.transform)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "object_scene: the model matrix is not a similarity (rotation, translation, uniform scale > "
+                         "0): its shading space is the world (sepal_object_shading)");
+    *scene = space.scene;
+    srt::mat4_mul(desc->projection, space.modelview, clip_from_object);
     return r;
 }
 
@@ -178,7 +221,7 @@ extern "C" sepal_result sepal_frame_begin(sepal_frame* frame, const sepal_frame_
 extern "C" sepal_result sepal_frame_draw(sepal_frame* frame, const sepal_object* o, sepal_draw_stats* stats_out,
                                          sepal_error* err) {
     if (!frame || !frame->active) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: draw outside begin/end");
-    if (!o || !o->material || !o->mesh)
+    if (!o || !o->material || (!o->mesh && !o->vertices))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: NULL object, material or mesh");
     const sepal_material* m = o->material;
     if (m->texture_count == 0)
@@ -190,14 +233,14 @@ extern "C" sepal_result sepal_frame_draw(sepal_frame* frame, const sepal_object*
     if (m->caps.gles_version != fd.caps->gles_version)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: a GL ES %d material in a GL ES %d frame",
                          m->caps.gles_version, fd.caps->gles_version);
-    sepal_scene scene;
-    float modelview[16];
-    sepal_result r = srt::object_scene(fd.view, o->model, o->lights, o->light_count, &scene, modelview, err);
+    srt::ObjectSpace space;
+    sepal_result r = srt::object_space(fd.view, o->model, o->lights, o->light_count, &space, err);
     if (r != SEPAL_OK) return r;
+    srt::MeshView mesh;
+    if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
     sepal_draw_desc d = {};
     d.material = m;
-    d.mesh = o->mesh;
-    d.scene = &scene;
+    d.scene = &space.scene;
     d.width = fd.viewport[2];
     d.height = fd.viewport[3];
     d.scratch = fd.scratch;
@@ -207,7 +250,7 @@ extern "C" sepal_result sepal_frame_draw(sepal_frame* frame, const sepal_object*
     srt::FramePrep prep;
     sepal_draw_stats local;
     sepal_draw_stats* stats = stats_out ? stats_out : &local;
-    r = srt::prepare_frame(&d, modelview, fd.projection, fd.float_target != 0, &prep, stats, err);
+    r = srt::prepare_frame(&d, mesh, space.modelview, fd.projection, fd.float_target != 0, &prep, stats, err);
     if (r != SEPAL_OK) return r;
     return m->caps.gles_version == 1 ? srt::draw_gles1(&d, prep, stats, err) : srt::draw_gles2(&d, prep, stats, err);
 }

@@ -5,13 +5,15 @@
 
 namespace srt {
 
-int dim_lights(const sepal_fmt_material& m, const sepal_mesh& mesh, const sepal_scene& scene) {
-    if (!(m.irradiance_min > 0.0f) || !mesh.vertices || mesh.vertex_count < 1) return 0;
+int dim_lights(const sepal_fmt_material& m, const MeshView& mesh, const sepal_scene& scene) {
+    if (!(m.irradiance_min > 0.0f) || !mesh.attr[MeshView::kPosition] || mesh.vertex_count < 1) return 0;
     // The centre of the usable vertices' bounds: where "the light at the object" is measured,
     // as the bake declared its range (cheap, and the same for any tessellation).
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = 0; i < mesh.vertex_count; ++i) {
-        const float* p = mesh.vertices[i].position;
+        sepal_vertex v;
+        mesh.load(i, &v);
+        const float* p = v.position;
         if (!(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]))) continue;
         for (int k = 0; k < 3; ++k) lo[k] = fminf(lo[k], p[k]), hi[k] = fmaxf(hi[k], p[k]);
     }

@@ -3,6 +3,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 namespace srt {
 
@@ -12,11 +13,12 @@ constexpr float kHorizonSlack = 0.17364818f;  // sin 10 degrees: a 16 x 8 sphere
 
 // One vertex, every light: the reference for the batched path below, and the path of every
 // vertex it does not take (bad input, fallbacks, the eye at the vertex, overflow).
-void setup_one(int i, sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh, const sepal_scene& scene,
+void setup_one(int i, sepal_param param, sepal_hemi_map map, const MeshView& mesh, const sepal_scene& scene,
                float* scratch, bool swapped, VertexSetupResult& r) {
     const int n = mesh.vertex_count;
     float* frames = vertex_frames(scratch, n, scene.light_count);
-    const sepal_vertex& v = mesh.vertices[i];
+    sepal_vertex v;
+    mesh.load(i, &v);
     float* attr = frames + (size_t)kFrameFloats * i;
     if (!vertex_usable(v)) {
         // Never drawn (its triangles are skipped): finite placeholders only.
@@ -112,6 +114,8 @@ void setup_one(int i, sepal_param param, sepal_hemi_map map, const sepal_mesh& m
 constexpr int kBatch = 32;
 
 struct Batch {
+    // The vertices in the shading space, where the mesh is not a sepal_vertex array already.
+    sepal_vertex loaded[kBatch];
     // The vertex (copied out of the mesh's interleaved layout), then its frame and wo.
     float px[kBatch], py[kBatch], pz[kBatch];
     float nx[kBatch], ny[kBatch], nz[kBatch];
@@ -268,14 +272,16 @@ void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
 
 using BatchLight = void (*)(Batch& B, int m, const sepal_light& light, bool parabolic);
 
-void setup_batched(BatchLight batch_light, sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+void setup_batched(BatchLight batch_light, sepal_param param, sepal_hemi_map map, const MeshView& mesh,
                    const sepal_scene& scene, float* scratch, VertexSetupResult& r, Batch& B) {
     const int n = mesh.vertex_count, lights = scene.light_count;
     float* frames = vertex_frames(scratch, n, lights);
     float* view = view_cosine(scratch, n, lights);
     for (int b = 0; b < n; b += kBatch) {
         const int m = n - b < kBatch ? n - b : kBatch;
-        const sepal_vertex* vs = mesh.vertices + b;
+        const sepal_vertex* vs = mesh.direct ? mesh.direct + b : B.loaded;
+        if (!mesh.direct)
+            for (int j = 0; j < m; ++j) mesh.load(b + j, &B.loaded[j]);
         for (int j = 0; j < m; ++j) {
             B.px[j] = vs[j].position[0], B.py[j] = vs[j].position[1], B.pz[j] = vs[j].position[2];
             B.nx[j] = vs[j].normal[0], B.ny[j] = vs[j].normal[1], B.nz[j] = vs[j].normal[2];
@@ -318,7 +324,7 @@ void setup_batched(BatchLight batch_light, sepal_param param, sepal_hemi_map map
 
 }  // namespace
 
-VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const MeshView& mesh,
                                  const sepal_scene& scene, float* scratch, bool swapped) {
     VertexSetupResult r = {0.0f, 0.0f, 0.0f, 0.0f, 0, 0, 0, 0, 0};
     Batch batch;
@@ -334,7 +340,7 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const se
     return r;
 }
 
-VertexSetupResult setup_vertices_reference(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+VertexSetupResult setup_vertices_reference(sepal_param param, sepal_hemi_map map, const MeshView& mesh,
                                            const sepal_scene& scene, float* scratch, bool swapped) {
     VertexSetupResult r = {0.0f, 0.0f, 0.0f, 0.0f, 0, 0, 0, 0, 0};
     for (int i = 0; i < mesh.vertex_count; ++i) setup_one(i, param, map, mesh, scene, scratch, swapped, r);
@@ -387,7 +393,7 @@ void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass
     }
 }
 
-TriangleCheck check_triangles(const sepal_mesh& mesh, int bad_vertices) {
+TriangleCheck check_triangles(const MeshView& mesh, int bad_vertices) {
     TriangleCheck c = {0, 0, -1};
     for (int i = 0; i < mesh.index_count; ++i)
         if (mesh.indices[i] >= mesh.vertex_count) {
@@ -395,20 +401,50 @@ TriangleCheck check_triangles(const sepal_mesh& mesh, int bad_vertices) {
             return c;
         }
     for (int t = 0; t + 2 < mesh.index_count; t += 3) {
-        const sepal_vertex* v[3] = {&mesh.vertices[mesh.indices[t]], &mesh.vertices[mesh.indices[t + 1]],
-                                  &mesh.vertices[mesh.indices[t + 2]]};
-        if (bad_vertices > 0 && (!vertex_usable(*v[0]) || !vertex_usable(*v[1]) || !vertex_usable(*v[2]))) {
-            ++c.skipped;
-            continue;
+        if (bad_vertices > 0) {
+            sepal_vertex v[3];
+            for (int k = 0; k < 3; ++k) mesh.load(mesh.indices[t + k], &v[k]);
+            if (!vertex_usable(v[0]) || !vertex_usable(v[1]) || !vertex_usable(v[2])) {
+                ++c.skipped;
+                continue;
+            }
         }
+        // In object space: an affine map with det != 0 keeps zero areas zero and others not.
+        const float* p[3] = {mesh.position(mesh.indices[t]), mesh.position(mesh.indices[t + 1]),
+                             mesh.position(mesh.indices[t + 2])};
         float e1[3], e2[3];
-        for (int k = 0; k < 3; ++k)
-            e1[k] = v[1]->position[k] - v[0]->position[k], e2[k] = v[2]->position[k] - v[0]->position[k];
+        for (int k = 0; k < 3; ++k) e1[k] = p[1][k] - p[0][k], e2[k] = p[2][k] - p[0][k];
         const float cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                              e1[0] * e2[1] - e1[1] * e2[0]};
         if (!(dot3(cr, cr) > 0.0f)) ++c.zero_area;  // as sepal_obj_load counts them
     }
     return c;
+}
+
+// Out of line and in this file's floating-point mode (no contraction): the batched and the
+// one-vertex paths read each vertex through this one function, so they see the same bits.
+__attribute__((noinline)) void MeshView::load(int i, sepal_vertex* v) const {
+    if (direct) {
+        *v = direct[i];
+        return;
+    }
+    const float* p = element(kPosition, i);
+    const float* nr = element(kNormal, i);
+    const float* t = element(kTangent, i);
+    const float* uv = element(kUv, i);
+    if (!transform) {
+        memcpy(v->position, p, sizeof v->position);
+        memcpy(v->normal, nr, sizeof v->normal);
+        memcpy(v->tangent, t, sizeof v->tangent);
+    } else {
+        for (int r = 0; r < 3; ++r) {
+            v->position[r] = m[r] * p[0] + m[3 + r] * p[1] + m[6 + r] * p[2] + m[9 + r];
+            v->normal[r] = n[r] * nr[0] + n[3 + r] * nr[1] + n[6 + r] * nr[2];
+            v->tangent[r] = m[r] * t[0] + m[3 + r] * t[1] + m[6 + r] * t[2];
+        }
+        v->tangent[3] = t[3];
+    }
+    memcpy(v->uv, uv, sizeof v->uv);
 }
 
 }  // namespace srt

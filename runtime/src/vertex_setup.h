@@ -4,6 +4,7 @@
 // garbage, each counted.
 #pragma once
 #include "internal.h"
+#include "mesh_view.h"
 #include "sepal/sepal_format.h"
 #include "sepal/sepal_material.h"
 #include "sepal/sepal_scene.h"
@@ -84,10 +85,10 @@ void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass
 // The common case (iv, vh, gs-half or axis; xy or parabolic map; not swapped) runs in batches
 // the compiler vectorizes, with the same results bit for bit as the one-vertex-at-a-time
 // reference below, which takes everything else and every vertex the batches leave to it.
-VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const MeshView& mesh,
                                  const sepal_scene& scene, float* scratch, bool swapped = false);
 // One vertex at a time (tests compare the batched path against it).
-VertexSetupResult setup_vertices_reference(sepal_param param, sepal_hemi_map map, const sepal_mesh& mesh,
+VertexSetupResult setup_vertices_reference(sepal_param param, sepal_hemi_map map, const MeshView& mesh,
                                            const sepal_scene& scene, float* scratch, bool swapped = false);
 
 struct TriangleCheck {
@@ -96,21 +97,21 @@ struct TriangleCheck {
     int bad_index;  // the first index at or past vertex_count, or -1
 };
 // bad_vertices: from setup_vertices (0 skips the per-corner test).
-TriangleCheck check_triangles(const sepal_mesh& mesh, int bad_vertices);
+TriangleCheck check_triangles(const MeshView& mesh, int bad_vertices);
 
 // Calls draw(first_index, index_count) for each run of consecutive triangles whose
 // vertices are all usable: one call for the whole mesh when bad_vertices is 0.
 template <typename Draw>
-void for_each_drawable_run(const sepal_mesh& mesh, int bad_vertices, Draw draw) {
+void for_each_drawable_run(const MeshView& mesh, int bad_vertices, Draw draw) {
     if (bad_vertices == 0) {
         draw(0, mesh.index_count);
         return;
     }
     int start = 0;
     for (int t = 0; t < mesh.index_count; t += 3) {
-        const bool ok = vertex_usable(mesh.vertices[mesh.indices[t]]) &&
-                        vertex_usable(mesh.vertices[mesh.indices[t + 1]]) &&
-                        vertex_usable(mesh.vertices[mesh.indices[t + 2]]);
+        sepal_vertex v[3];
+        for (int k = 0; k < 3; ++k) mesh.load(mesh.indices[t + k], &v[k]);
+        const bool ok = vertex_usable(v[0]) && vertex_usable(v[1]) && vertex_usable(v[2]);
         if (!ok) {
             if (t > start) draw(start, t - start);
             start = t + 3;

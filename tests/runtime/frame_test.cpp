@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "bake/plan.h"
 #include "frame_fixtures.h"
@@ -286,12 +287,353 @@ TEST_CASE("frame: arguments are checked") {
     sepal_object o = sc.object(0, m, nullptr, SEPAL_MODE_MULTIPASS);
     CHECK(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);  // before begin
     REQUIRE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK);
-    o.model[0] = 2.0f;  // a non-uniform scale: shading in object space would be wrong
+    o.model[0] = 2.0f;  // a non-uniform scale: shaded in world space
+    CHECK_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
+    o.model[0] = -1.0f;  // a mirror
     CHECK(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);
-    CHECK(std::string(e.message).find("similarity") != std::string::npos);
+    CHECK(std::string(e.message).find("negative determinant") != std::string::npos);
+    o.model[0] = 0.0f;
+    o.model[1] = 0.0f;
+    CHECK(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK(std::string(e.message).find("singular") != std::string::npos);
+    o = sc.object(0, m, nullptr, SEPAL_MODE_MULTIPASS);
+    o.model[3] = 0.1f;  // projective
+    CHECK(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK(std::string(e.message).find("projective") != std::string::npos);
     o = sc.object(0, m, nullptr, SEPAL_MODE_MULTIPASS);
     o.light_count = SEPAL_MAX_LIGHTS + 1;
     CHECK(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_ERR_INVALID_ARGUMENT);
     CHECK(sepal_frame_end(&f, &e) == SEPAL_OK);
     CHECK(sepal_frame_end(&f, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+}
+
+namespace {
+
+// An engine's own vertex: sepal's attributes mixed with fields it does not read.
+struct EngineVertex {
+    uint32_t id;
+    float uv[2];
+    float position[3];
+    uint8_t color[4];
+    float normal[3];
+    float tangent[4];
+    float weights[4];
+};
+static_assert(sizeof(EngineVertex) == 72, "an interleaved layout with foreign fields");
+
+sepal_vertex_stream stream(const void* data, size_t offset, int stride) {
+    sepal_vertex_stream s = {};
+    s.data = data;
+    s.offset = int(offset);
+    s.stride = stride;
+    return s;
+}
+
+// The scene's sphere in two engine layouts: one interleaved buffer, and positions and
+// normals in packed arrays of their own (stride 0) with the rest interleaved.
+struct EngineMesh {
+    std::vector<EngineVertex> interleaved;
+    std::vector<float> positions, normals;
+    sepal_vertex_data data{}, split{};
+    explicit EngineMesh(const sepal_mesh& m) {
+        interleaved.resize(size_t(m.vertex_count));
+        for (int i = 0; i < m.vertex_count; ++i) {
+            EngineVertex& v = interleaved[size_t(i)];
+            const sepal_vertex& s = m.vertices[i];
+            v.id = uint32_t(i) * 2654435761u;
+            std::memcpy(v.uv, s.uv, sizeof v.uv);
+            std::memcpy(v.position, s.position, sizeof v.position);
+            std::memcpy(v.normal, s.normal, sizeof v.normal);
+            std::memcpy(v.tangent, s.tangent, sizeof v.tangent);
+            for (int k = 0; k < 4; ++k) v.color[k] = uint8_t(i + k), v.weights[k] = NAN;  // never read
+            positions.insert(positions.end(), s.position, s.position + 3);
+            normals.insert(normals.end(), s.normal, s.normal + 3);
+        }
+        const int stride = int(sizeof(EngineVertex));
+        const EngineVertex* b = interleaved.data();
+        data.position = stream(b, offsetof(EngineVertex, position), stride);
+        data.normal = stream(b, offsetof(EngineVertex, normal), stride);
+        data.tangent = stream(b, offsetof(EngineVertex, tangent), stride);
+        data.uv = stream(b, offsetof(EngineVertex, uv), stride);
+        data.vertex_count = m.vertex_count;
+        data.indices = m.indices;
+        data.index_count = m.index_count;
+        split = data;
+        split.position = stream(positions.data(), 0, 0);
+        split.normal = stream(normals.data(), 0, 0);
+    }
+};
+
+// Models that are not similarities: object 0 scaled non-uniformly and turned, object 1
+// sheared; placed as the scene's (overlapping on screen, 1 in front).
+void affine_models(float m[2][16]) {
+    const float a = 25.0f * 3.14159265f / 180.0f, c = std::cos(a), s = std::sin(a);
+    const float sx = 0.85f, sy = 0.45f, sz = 0.7f;
+    const float m0[16] = {c * sx, s * sx, 0, 0, -s * sy, c * sy, 0, 0, 0, 0, sz, 0, -0.35f, 0.3f, 0.0f, 1};
+    // x' = 0.5 (x + 0.6 z), y' = 0.5 (y + 0.4 x), z' = 0.5 z
+    const float m1[16] = {0.5f, 0.2f, 0, 0, 0, 0.5f, 0, 0, 0.3f, 0, 0.5f, 0, 0.3f, -0.5f, -0.1f, 1};
+    std::memcpy(m[0], m0, sizeof m0);
+    std::memcpy(m[1], m1, sizeof m1);
+}
+
+enum Layout { kMesh, kInterleaved, kSplit };
+
+sepal_object layout_object(const Scene& sc, const EngineMesh& em, Layout layout, int k, const float* model,
+                           const sepal_material* m, const sepal_asset* a, sepal_draw_mode mode) {
+    sepal_object o = sc.object(k, m, a, mode);
+    std::memcpy(o.model, model, sizeof o.model);
+    if (layout != kMesh) {
+        o.mesh = nullptr;
+        o.vertices = layout == kInterleaved ? &em.data : &em.split;
+    }
+    return o;
+}
+
+}  // namespace
+
+TEST_CASE("frame: the engine's strided vertices draw what a sepal_mesh draws, bit for bit, on every backend") {
+    const std::vector<uint8_t> bytes[2] = {encode(signed_asset()), encode(constant_asset())};
+    const Scene sc;
+    const EngineMesh em(sc.mesh);
+    float affine[2][16];
+    affine_models(affine);
+    const float* const models[2][2] = {{sc.model[0], sc.model[1]}, {affine[0], affine[1]}};
+    struct Case {
+        int version;
+        sepal_draw_mode mode;
+    };
+    const Case cases[] = {{1, SEPAL_MODE_MULTIPASS},
+                          {2, SEPAL_MODE_MULTIPASS},
+                          {2, SEPAL_MODE_FUSED_VERTEX},
+                          {2, SEPAL_MODE_FUSED_PIXEL}};
+    for (int set = 0; set < 2; ++set) {
+        CAPTURE(set);  // 0: similarities, 1: a non-uniform scale and a shear
+        for (const Case& c : cases) {
+            CAPTURE(c.version);
+            CAPTURE(int(c.mode));
+            Gl gl(c.version);
+            const sepal_material* m[2] = {gl.material(bytes[0], 0), gl.material(bytes[1], 0)};
+            std::vector<uint8_t> images[3];
+            for (Layout layout : {kMesh, kInterleaved, kSplit}) {
+                sepal_frame_desc fd = sc.frame;
+                fd.caps = &gl.caps;
+                fd.clear = 1;
+                sepal_frame f;
+                sepal_error e = {};
+                REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
+                for (int k = 0; k < 2; ++k) {
+                    const sepal_object o = layout_object(sc, em, layout, k, models[set][k], m[k], nullptr, c.mode);
+                    REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
+                }
+                REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
+                images[layout] = gl.read();
+            }
+            size_t lit = 0;
+            for (size_t p = 0; p < images[0].size(); p += 4) lit += images[0][p] + images[0][p + 1] > 0;
+            CHECK(lit > 800);  // the objects are there
+            CHECK(images[kInterleaved] == images[kMesh]);
+            CHECK(images[kSplit] == images[kMesh]);
+        }
+        // The CPU backend and the emulator.
+        sepal_asset assets[2];
+        sepal_error e = {};
+        for (int k = 0; k < 2; ++k)
+            REQUIRE(sepal_asset_parse(bytes[k].data(), bytes[k].size(), &assets[k], &e) == SEPAL_OK);
+        std::vector<float> cpu[3], emu_depth(size_t(kWidth) * kHeight), cpu_depth(emu_depth.size());
+        std::vector<uint8_t> emu[3];
+        std::vector<float> scratch(std::max(sepal_cpu_scratch_floats(sc.mesh.vertex_count),
+                                            sepal_emulate_scratch_floats(kWidth, kHeight, sc.mesh.vertex_count, 2)));
+        for (Layout layout : {kMesh, kInterleaved, kSplit}) {
+            cpu[layout].assign(size_t(kWidth) * kHeight * 3, 0.0f);
+            emu[layout].assign(size_t(kWidth) * kHeight * 4, 0);
+            sepal_frame_clear_cpu(kWidth, kHeight, nullptr, cpu[layout].data(), cpu_depth.data());
+            sepal_frame_clear_cpu(kWidth, kHeight, nullptr, nullptr, emu_depth.data());
+            for (int k = 0; k < 2; ++k) {
+                const sepal_object o =
+                    layout_object(sc, em, layout, k, models[set][k], nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
+                REQUIRE_MESSAGE(sepal_frame_draw_cpu(&sc.frame, &o, cpu[layout].data(), cpu_depth.data(),
+                                                     scratch.data(), scratch.size(), nullptr, &e) == SEPAL_OK,
+                                e.message);
+                REQUIRE_MESSAGE(sepal_frame_emulate(&sc.frame, &o, 1, 0, emu[layout].data(), emu_depth.data(),
+                                                    scratch.data(), scratch.size(), nullptr, &e) == SEPAL_OK,
+                                e.message);
+            }
+        }
+        CHECK(cpu[kInterleaved] == cpu[kMesh]);
+        CHECK(cpu[kSplit] == cpu[kMesh]);
+        CHECK(emu[kInterleaved] == emu[kMesh]);
+        CHECK(emu[kSplit] == emu[kMesh]);
+    }
+}
+
+TEST_CASE("frame: a non-uniform scale and a shear against the exact renderer of the same description") {
+    // As the two-object frame above, with models that are not similarities (shading in world
+    // space) and object 1 from the engine's interleaved vertices.
+    const char* const ward = "ward:rho_d=0.5,rho_s=0.2,ax=0.5,ay=0.3";
+    const sepal::AssetData ward_asset = bake_small(ward, sepal::Param::GsHalf, sepal::Method::NMF, 2, true, 32, 64);
+    const std::vector<uint8_t> bytes[2] = {encode(constant_asset()), encode(ward_asset)};
+    std::string err;
+    std::unique_ptr<sepal::Brdf> ward_brdf = sepal::make_brdf(ward, &err);
+    REQUIRE_MESSAGE(ward_brdf, err);
+    const ConstantBrdf constant(0.125);
+    const sepal::Brdf* brdf[2] = {&constant, ward_brdf.get()};
+    const Scene sc;
+    const EngineMesh em(sc.mesh);
+    float affine[2][16];
+    affine_models(affine);
+    const Layout layout[2] = {kMesh, kInterleaved};
+    sepal_asset assets[2];
+    sepal_error e = {};
+    for (int k = 0; k < 2; ++k) REQUIRE(sepal_asset_parse(bytes[k].data(), bytes[k].size(), &assets[k], &e) == SEPAL_OK);
+    sepal::Image exact(kWidth, kHeight, 3);
+    std::vector<float> depth(size_t(kWidth) * kHeight, 1.0f);
+    for (int k = 0; k < 2; ++k) {
+        const sepal_object o = layout_object(sc, em, layout[k], k, affine[k], nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
+        REQUIRE_MESSAGE(sepal::render_exact_frame_object(*brdf[k], sc.frame, o, &exact, &depth, nullptr, &err,
+                                                         sepal::kReferenceSupersample),
+                        err);
+    }
+    for (float& v : exact.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
+    sepal::write_png(sepal_test::output_dir() + "/frame_affine_exact.png", exact, nullptr);
+    auto check = [&](const sepal::Image& img, const std::string& name) {
+        const sepal::ImageDiff d = sepal::diff_images(exact, img, 0);
+        CAPTURE(name);
+        CAPTURE(d.psnr);
+        sepal::write_png(sepal_test::output_dir() + "/frame_affine_" + name + ".png", img, nullptr);
+        CHECK(d.psnr >= 38.0);
+        MESSAGE("non-uniform scale and shear, " << name << " against exact: " << d.psnr << " dB");
+    };
+    sepal::Image gles1_image;
+    for (int version : {1, 2})
+        for (sepal_draw_mode mode : {SEPAL_MODE_MULTIPASS, SEPAL_MODE_FUSED_VERTEX, SEPAL_MODE_FUSED_PIXEL}) {
+            if (version == 1 && mode != SEPAL_MODE_MULTIPASS) continue;
+            Gl gl(version);
+            const sepal_material* m[2] = {gl.material(bytes[0], 0), gl.material(bytes[1], 0)};
+            sepal_frame_desc fd = sc.frame;
+            fd.caps = &gl.caps;
+            fd.clear = 1;
+            sepal_frame f;
+            REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
+            for (int k = 0; k < 2; ++k) {
+                const sepal_object o = layout_object(sc, em, layout[k], k, affine[k], m[k], nullptr, mode);
+                REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
+            }
+            REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
+            const sepal::Image img = rgb(gl.read());
+            if (version == 1) gles1_image = img;
+            check(img, version == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2" : mode == SEPAL_MODE_FUSED_VERTEX
+                                                                                        ? "gles2-fused-vertex"
+                                                                                        : "gles2-fused-pixel");
+        }
+    sepal::Image cpu(kWidth, kHeight, 3);
+    std::vector<float> cpu_depth(size_t(kWidth) * kHeight);
+    std::vector<uint8_t> emu(size_t(kWidth) * kHeight * 4, 0);
+    std::vector<float> emu_depth(size_t(kWidth) * kHeight);
+    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, cpu.data.data(), cpu_depth.data());
+    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, nullptr, emu_depth.data());
+    std::vector<float> scratch(std::max(sepal_cpu_scratch_floats(sc.mesh.vertex_count),
+                                        sepal_emulate_scratch_floats(kWidth, kHeight, sc.mesh.vertex_count, 2)));
+    for (int k = 0; k < 2; ++k) {
+        const sepal_object o = layout_object(sc, em, layout[k], k, affine[k], nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
+        REQUIRE_MESSAGE(sepal_frame_draw_cpu(&sc.frame, &o, cpu.data.data(), cpu_depth.data(), scratch.data(),
+                                             scratch.size(), nullptr, &e) == SEPAL_OK,
+                        e.message);
+        REQUIRE_MESSAGE(sepal_frame_emulate(&sc.frame, &o, 1, 0, emu.data(), emu_depth.data(), scratch.data(),
+                                            scratch.size(), nullptr, &e) == SEPAL_OK,
+                        e.message);
+    }
+    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
+    check(cpu, "cpu");
+    const sepal::ImageDiff de = sepal::diff_images(gles1_image, rgb(emu), 8);
+    CAPTURE(de.psnr);
+    CHECK(de.psnr >= 45.0);
+    // Shading in world space is what the object looks like: the same objects as similarities
+    // would not match (the test can fail).
+    sepal::Image similar(kWidth, kHeight, 3);
+    std::vector<float> similar_depth(size_t(kWidth) * kHeight, 1.0f);
+    for (int k = 0; k < 2; ++k) {
+        const sepal_object o = sc.object(k, nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
+        REQUIRE(sepal::render_exact_frame_object(*brdf[k], sc.frame, o, &similar, &similar_depth, nullptr, &err));
+    }
+    CHECK(sepal::diff_images(exact, similar, 0).psnr < 25.0);
+}
+
+TEST_CASE("frame: the engine's vertex data and model matrices are checked, with messages that say what") {
+    const std::vector<uint8_t> bytes = encode(constant_asset());
+    sepal_asset asset;
+    sepal_error e = {};
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), &asset, &e) == SEPAL_OK);
+    const Scene sc;
+    const EngineMesh em(sc.mesh);
+    struct Case {
+        const char* name;
+        std::function<void(sepal_vertex_data*, sepal_object*)> change;
+        const char* message;
+    };
+    const Case cases[] = {
+        {"NULL positions", [](sepal_vertex_data* d, sepal_object*) { d->position.data = nullptr; },
+         "position array is NULL"},
+        {"NULL tangents", [](sepal_vertex_data* d, sepal_object*) { d->tangent.data = nullptr; },
+         "tangent array is NULL"},
+        {"stride below the element", [](sepal_vertex_data* d, sepal_object*) { d->normal.stride = 8; },
+         "normal offset 28, stride 8"},
+        {"negative offset", [](sepal_vertex_data* d, sepal_object*) { d->uv.offset = -4; }, "uv offset -4"},
+        {"unaligned", [](sepal_vertex_data* d, sepal_object*) { d->position.offset += 2; }, "unaligned"},
+        {"no vertices", [](sepal_vertex_data* d, sepal_object*) { d->vertex_count = 0; }, "vertex_count 0"},
+        {"past 16-bit indices", [](sepal_vertex_data* d, sepal_object*) { d->vertex_count = 70000; },
+         "vertex_count 70000"},
+        {"NULL indices", [](sepal_vertex_data* d, sepal_object*) { d->indices = nullptr; }, "NULL index array"},
+        {"not triangles", [](sepal_vertex_data* d, sepal_object*) { d->index_count -= 1; }, "multiple of 3"},
+        {"an index past the vertices", [](sepal_vertex_data* d, sepal_object*) { d->vertex_count = 10; },
+         "the mesh has 10 vertices"},
+        {"a mesh and vertex data", [&sc](sepal_vertex_data*, sepal_object* o) { o->mesh = &sc.mesh; },
+         "both a mesh and vertex data"},
+        {"a mirror", [](sepal_vertex_data*, sepal_object* o) { o->model[5] = -o->model[5]; }, "negative determinant"},
+        {"singular", [](sepal_vertex_data*, sepal_object* o) { o->model[10] = 0.0f; }, "singular"},
+    };
+    std::vector<float> color(size_t(kWidth) * kHeight * 3), depth(size_t(kWidth) * kHeight);
+    std::vector<float> scratch(sepal_cpu_scratch_floats(sc.mesh.vertex_count));
+    Gl gl(1);
+    const sepal_material* m = gl.material(bytes, 0);
+    sepal_frame_desc fd = sc.frame;
+    fd.caps = &gl.caps;
+    for (const Case& c : cases) {
+        CAPTURE(std::string(c.name));
+        sepal_vertex_data d = em.data;
+        sepal_object o = layout_object(sc, em, kInterleaved, 0, sc.model[0], m, &asset, SEPAL_MODE_MULTIPASS);
+        c.change(&d, &o);
+        o.vertices = &d;
+        sepal_error ec = {};
+        CHECK(sepal_frame_draw_cpu(&sc.frame, &o, color.data(), depth.data(), scratch.data(), scratch.size(), nullptr,
+                                   &ec) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK_MESSAGE(std::string(ec.message).find(c.message) != std::string::npos, ec.message);
+        sepal_frame f;
+        REQUIRE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK);
+        sepal_error eg = {};
+        CHECK(sepal_frame_draw(&f, &o, nullptr, &eg) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK_MESSAGE(std::string(eg.message).find(c.message) != std::string::npos, eg.message);
+        REQUIRE(sepal_frame_end(&f, &e) == SEPAL_OK);
+    }
+    // sepal_object_shading: the vertices' room is checked, and a similarity keeps object space.
+    sepal_object o = layout_object(sc, em, kInterleaved, 0, sc.model[0], m, &asset, SEPAL_MODE_MULTIPASS);
+    sepal_scene scene;
+    float clip[16];
+    std::vector<sepal_vertex> v(size_t(sc.mesh.vertex_count));
+    int count = 0;
+    CHECK(sepal_object_shading(&sc.frame, &o, &scene, clip, v.data(), 10, &count, &e) == SEPAL_ERR_CAPACITY);
+    CHECK(count == sc.mesh.vertex_count);
+    REQUIRE(sepal_object_shading(&sc.frame, &o, &scene, clip, v.data(), count, &count, &e) == SEPAL_OK);
+    CHECK(std::memcmp(v.data(), sc.mesh.vertices, v.size() * sizeof(sepal_vertex)) == 0);
+    float affine[2][16];
+    affine_models(affine);
+    std::memcpy(o.model, affine[0], sizeof o.model);
+    CHECK(sepal_object_scene(&sc.frame, &o, &scene, clip, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+    CHECK(std::string(e.message).find("sepal_object_shading") != std::string::npos);
+    REQUIRE(sepal_object_shading(&sc.frame, &o, &scene, clip, v.data(), count, &count, &e) == SEPAL_OK);
+    // World space: the eye where the view puts it, vertex 0 moved by the model.
+    for (int r = 0; r < 3; ++r)
+        CHECK(v[0].position[r] == doctest::Approx(affine[0][r] * sc.mesh.vertices[0].position[0] +
+                                                  affine[0][4 + r] * sc.mesh.vertices[0].position[1] +
+                                                  affine[0][8 + r] * sc.mesh.vertices[0].position[2] + affine[0][12 + r])
+                                      .epsilon(1e-6));
 }

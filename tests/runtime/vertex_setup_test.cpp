@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sepal/sepal_scene.h"
+#include "mesh_view.h"
 #include "vertex_setup.h"
 
 namespace {
@@ -93,7 +94,7 @@ void expect_same(const srt::VertexSetupResult& a, const srt::VertexSetupResult& 
 }
 
 // Runs both paths on the same scratch contents (sentinels where neither writes) and compares.
-void compare(const sepal_mesh& mesh, const sepal_scene& scene, sepal_param p, sepal_hemi_map m, bool swapped) {
+void compare(const srt::MeshView& mesh, const sepal_scene& scene, sepal_param p, sepal_hemi_map m, bool swapped) {
     const size_t floats = srt::scratch_floats(mesh.vertex_count, scene.light_count);
     std::vector<float> a(floats, -7.0f), b(floats, -7.0f);
     const srt::VertexSetupResult ra = srt::setup_vertices(p, m, mesh, scene, a.data(), swapped);
@@ -168,4 +169,66 @@ TEST_CASE("vertex set-up: an empty mesh and a mesh of one vertex") {
         srt::setup_vertices(SEPAL_PARAM_GS_HALF, SEPAL_MAP_XY, none.mesh(), s, scratch.data());
     CHECK(r.bad_vertices == 0);
     CHECK(r.max_irradiance_sum == 0.0f);
+}
+
+TEST_CASE("vertex set-up: the engine's strided vertices under an affine model, batched and reference alike") {
+    sepal_scene scene;
+    sepal_scene_default(&scene);
+    scene.light_count = 2;
+    scene.lights[1].type = SEPAL_LIGHT_DIRECTIONAL;
+    for (int c = 0; c < 3; ++c) scene.lights[1].position[c] = 0.3f * float(c + 1), scene.lights[1].intensity[c] = 2.0f;
+    Mesh odd = odd_sphere(scene, 7);
+    // The vertices interleaved with foreign fields: 20 floats a vertex, sepal's 12 spread out.
+    const int n = int(odd.v.size()), stride = 20;
+    std::vector<float> buffer(size_t(n) * stride, std::numeric_limits<float>::quiet_NaN());
+    for (int i = 0; i < n; ++i) {
+        float* b = buffer.data() + size_t(i) * stride;
+        std::memcpy(b + 1, odd.v[size_t(i)].position, 3 * sizeof(float));
+        std::memcpy(b + 5, odd.v[size_t(i)].normal, 3 * sizeof(float));
+        std::memcpy(b + 9, odd.v[size_t(i)].tangent, 4 * sizeof(float));
+        std::memcpy(b + 15, odd.v[size_t(i)].uv, 2 * sizeof(float));
+    }
+    sepal_vertex_data d = {};
+    const int bytes = stride * int(sizeof(float));
+    d.position = {buffer.data(), 4, bytes};
+    d.normal = {buffer.data(), 20, bytes};
+    d.tangent = {buffer.data(), 36, bytes};
+    d.uv = {buffer.data(), 60, bytes};
+    d.vertex_count = n;
+    d.indices = odd.i.data();
+    d.index_count = int(odd.i.size());
+    srt::MeshView strided;
+    sepal_error e = {};
+    REQUIRE_MESSAGE(srt::mesh_view(d, &strided, &e) == SEPAL_OK, e.message);
+    CHECK(strided.direct == nullptr);
+    // Untransformed, the strided view is the sepal_mesh's, bit for bit.
+    {
+        const srt::MeshView direct(odd.mesh());
+        const size_t floats = srt::scratch_floats(n, scene.light_count);
+        std::vector<float> a(floats, -7.0f), b(floats, -7.0f);
+        const srt::VertexSetupResult ra = srt::setup_vertices(SEPAL_PARAM_GS_HALF, SEPAL_MAP_XY, strided, scene, a.data());
+        const srt::VertexSetupResult rb = srt::setup_vertices(SEPAL_PARAM_GS_HALF, SEPAL_MAP_XY, direct, scene, b.data());
+        expect_same(ra, rb, a, b);
+    }
+    // A shear and a non-uniform scale: every vertex moved as it is read, in the batch and
+    // in the reference alike.
+    srt::MeshView moved = strided;
+    moved.transform = true;
+    const float m[12] = {0.8f, 0.1f, 0.0f, 0.3f, 0.5f, 0.0f, 0.0f, 0.2f, 1.3f, 0.1f, -0.2f, 0.3f};
+    std::memcpy(moved.m, m, sizeof m);
+    // The inverse transpose of m's 3 x 3 (any invertible matrix: the set-up takes it as given).
+    const float n9[9] = {1.3f, -0.2f, 0.05f, -0.1f, 2.1f, -0.3f, 0.0f, 0.0f, 0.8f};
+    std::memcpy(moved.n, n9, sizeof n9);
+    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_AXIS})
+        for (sepal_hemi_map map : {SEPAL_MAP_XY, SEPAL_MAP_PARABOLIC}) {
+            CAPTURE(int(p));
+            CAPTURE(int(map));
+            compare(moved, scene, p, map, false);
+        }
+    // The moved vertex is the model's image of the given one.
+    sepal_vertex v;
+    moved.load(3, &v);
+    const float* q = odd.v[3].position;
+    for (int r = 0; r < 3; ++r)
+        CHECK(v.position[r] == doctest::Approx(m[r] * q[0] + m[3 + r] * q[1] + m[6 + r] * q[2] + m[9 + r]));
 }

@@ -14,6 +14,18 @@
 //   o.material = &mat; o.mesh = &mesh; o.lights = lights; o.light_count = 2;
 //   sepal_model_identity(o.model); o.model[12] = 1.5f;   // object to world
 //   sepal_frame_draw(&frame, &o, &stats, &err);    // as many objects as you like
+//   sepal_vertex_data vd;                           // or the engine's own vertices, in place:
+//   memset(&vd, 0, sizeof vd);
+//   vd.position.data = vd.normal.data = vd.tangent.data = vd.uv.data = engine_vertices;
+//   vd.position.stride = vd.normal.stride = vd.tangent.stride = vd.uv.stride = sizeof engine_vertices[0];
+//   vd.position.offset = offsetof(struct engine_vertex, p);
+//   vd.normal.offset = offsetof(struct engine_vertex, n);
+//   vd.tangent.offset = offsetof(struct engine_vertex, t);
+//   vd.uv.offset = offsetof(struct engine_vertex, uv);
+//   vd.vertex_count = vertex_count; vd.indices = engine_indices; vd.index_count = index_count;
+//   o.mesh = NULL; o.vertices = &vd;
+//   o.model[0] = 2.0f; o.model[4] = 0.5f;           // any affine model with det > 0
+//   sepal_frame_draw(&frame, &o, &stats, &err);
 //   sepal_frame_end(&frame, &err);                 // GL state back as found
 //
 // What a frame does to the framebuffer: nothing unless fd.clear asks for a clear (colour
@@ -48,8 +60,14 @@
 // context bind vertex array object 0 before the frame (GL ES 2 has none; attributes
 // would be set on the bound one).
 //
-// Limits: model matrices are similarities (rotation, translation, uniform scale > 0;
-// refused otherwise): shading runs in object space with the eye and lights moved there.
+// Vertices: a sepal_mesh, or the engine's own arrays by offset and stride
+// (sepal_vertex_data: positions, normals, tangents, UVs, 16-bit indices), read in place:
+// nothing is copied into sepal_vertex and nothing is allocated; the per-vertex set-up
+// writes only the frame's scratch. Model matrices: any affine map with a positive
+// determinant. Under a similarity (rotation, translation, uniform scale) shading runs in
+// object space with the eye and lights moved there; under any other (non-uniform scale,
+// shear) each vertex is moved to world space as the set-up reads it (normals by the
+// inverse transpose) and shading runs there, on every backend alike.
 // A viewport up to each material's creation size. The material's own float target
 // (sepal_material_create_float_target) serves sepal_draw only; in a frame, set fd.float_target when
 // the framebuffer bound at begin is a float one of the engine's (no exposure, no
@@ -80,15 +98,40 @@ typedef struct sepal_frame_desc {
     size_t scratch_floats;
 } sepal_frame_desc;
 
+// ---- the engine's vertex data --------------------------------------------------------
+// One attribute in the engine's memory, as sokol's vertex layouts: vertex i's element (32-bit
+// floats) at (const char*)data + offset + i * stride. stride 0: tightly packed (the
+// element's size). data + offset and stride must be multiples of 4 (float alignment).
+typedef struct sepal_vertex_stream {
+    const void* data;
+    int offset;  // bytes
+    int stride;  // bytes, 0 or >= the element's size
+} sepal_vertex_stream;
+
+// An object's vertices without a copy into sepal_vertex: the four attributes may share one
+// interleaved buffer (same data and stride, their own offsets) or live in separate ones.
+// Object space; read (never written) during each draw, so keep them alive and unchanged
+// until the draw returns (GL calls read them then; nothing is kept after).
+typedef struct sepal_vertex_data {
+    sepal_vertex_stream position;  // 3 floats
+    sepal_vertex_stream normal;    // 3 floats (need not be unit length)
+    sepal_vertex_stream tangent;   // 4 floats: xyz the primary tangent, w the handedness
+    sepal_vertex_stream uv;        // 2 floats
+    int vertex_count;              // 1..65535
+    const uint16_t* indices;       // triangles, counter-clockwise front faces
+    int index_count;               // a multiple of 3
+} sepal_vertex_data;
+
 typedef struct sepal_object {
     const sepal_material* material;  // GL frames
     const sepal_asset* asset;        // CPU backend and emulator
-    const sepal_mesh* mesh;          // object space
-    float model[16];                 // object to world, column-major: a similarity
+    const sepal_mesh* mesh;          // object space (or vertices below; exactly one of them)
+    float model[16];                 // object to world, column-major: affine, det > 0
     const sepal_light* lights;       // world space, the lights that reach this object
     int light_count;                 // 0..SEPAL_MAX_LIGHTS
     sepal_draw_mode mode;            // GL ES 2 (0: multipass)
     uint32_t diffuse_texture;        // as sepal_draw_desc.diffuse_texture
+    const sepal_vertex_data* vertices;  // the engine's arrays, instead of mesh
 } sepal_object;
 
 typedef struct sepal_frame {
@@ -100,12 +143,22 @@ typedef struct sepal_frame {
 
 // Column-major identity (a convenience for model matrices).
 void sepal_model_identity(float m[16]);
-// What every backend shades for an object: its scene in object space (the eye from the
-// inverse view, the lights moved by the inverse model matrix, point intensities divided by
-// the scale squared) and the clip-from-object matrix projection x view x model. The exact
-// renderer (offline/) takes these, so it draws the frame the runtime draws. Refuses a
-// model matrix that is not a similarity with positive determinant, and a light count
-// outside 0..SEPAL_MAX_LIGHTS.
+// What every backend shades for an object, for the exact renderer (offline/) and tests:
+// the scene in the object's shading space, the clip-from-shading-space matrix, and (when
+// vertices is not NULL) the object's vertices moved into that space, at most capacity of
+// them (SEPAL_ERR_CAPACITY when it has more; *count receives how many). Under a
+// similarity model (rotation, translation, uniform scale) the shading space is the
+// object's own (the eye and lights moved by the inverse model matrix, point intensities
+// divided by the scale squared; the vertices as given); under any other affine model it is
+// the world (vertices by the model matrix, normals by its inverse transpose, tangents by
+// it). Refuses a projective or singular model, a negative determinant (a mirror: it flips
+// the triangles' winding and the tangent frames' handedness), a light count outside
+// 0..SEPAL_MAX_LIGHTS and malformed vertex data (messages say which).
+sepal_result sepal_object_shading(const sepal_frame_desc* desc, const sepal_object* object, sepal_scene* scene,
+                                  float clip_from_shading[16], sepal_vertex* vertices, int capacity, int* count,
+                                  sepal_error* err);
+// The same for a similarity model only (today's callers): the scene in object space and
+// clip_from_object = projection x view x model; any other model is refused.
 sepal_result sepal_object_scene(const sepal_frame_desc* desc, const sepal_object* object, sepal_scene* scene,
                                 float clip_from_object[16], sepal_error* err);
 
