@@ -31,8 +31,9 @@ struct MeshView {
     const float* element(int a, int i) const { return (const float*)(attr[a] + (size_t)i * stride[a]); }
     // The object-space position (what GL transforms with the modelview).
     const float* position(int i) const { return element(kPosition, i); }
-    // Vertex i in the shading space (every backend shades this).
-    void load(int i, sepal_vertex* v) const;
+    // Vertex i in the shading space (every backend shades this), and count of them from first.
+    void load(int i, sepal_vertex* v) const { load_range(i, 1, v); }
+    void load_range(int first, int count, sepal_vertex* out) const;
 };
 
 // The engine's arrays: checks every pointer, stride, alignment and count (messages name the

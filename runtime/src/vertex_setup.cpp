@@ -280,8 +280,7 @@ void setup_batched(BatchLight batch_light, sepal_param param, sepal_hemi_map map
     for (int b = 0; b < n; b += kBatch) {
         const int m = n - b < kBatch ? n - b : kBatch;
         const sepal_vertex* vs = mesh.direct ? mesh.direct + b : B.loaded;
-        if (!mesh.direct)
-            for (int j = 0; j < m; ++j) mesh.load(b + j, &B.loaded[j]);
+        if (!mesh.direct) mesh.load_range(b, m, B.loaded);
         for (int j = 0; j < m; ++j) {
             B.px[j] = vs[j].position[0], B.py[j] = vs[j].position[1], B.pz[j] = vs[j].position[2];
             B.nx[j] = vs[j].normal[0], B.ny[j] = vs[j].normal[1], B.nz[j] = vs[j].normal[2];
@@ -422,29 +421,35 @@ TriangleCheck check_triangles(const MeshView& mesh, int bad_vertices) {
 }
 
 // Out of line and in this file's floating-point mode (no contraction): the batched and the
-// one-vertex paths read each vertex through this one function, so they see the same bits.
-__attribute__((noinline)) void MeshView::load(int i, sepal_vertex* v) const {
+// one-vertex paths read vertices through this one function, so they see the same bits.
+__attribute__((noinline)) void MeshView::load_range(int first, int count, sepal_vertex* out) const {
     if (direct) {
-        *v = direct[i];
+        memcpy(out, direct + first, (size_t)count * sizeof(sepal_vertex));
         return;
     }
-    const float* p = element(kPosition, i);
-    const float* nr = element(kNormal, i);
-    const float* t = element(kTangent, i);
-    const float* uv = element(kUv, i);
-    if (!transform) {
-        memcpy(v->position, p, sizeof v->position);
-        memcpy(v->normal, nr, sizeof v->normal);
-        memcpy(v->tangent, t, sizeof v->tangent);
-    } else {
-        for (int r = 0; r < 3; ++r) {
-            v->position[r] = m[r] * p[0] + m[3 + r] * p[1] + m[6 + r] * p[2] + m[9 + r];
-            v->normal[r] = n[r] * nr[0] + n[3 + r] * nr[1] + n[6 + r] * nr[2];
-            v->tangent[r] = m[r] * t[0] + m[3 + r] * t[1] + m[6 + r] * t[2];
-        }
-        v->tangent[3] = t[3];
+    const unsigned char* p = attr[kPosition] + (size_t)first * stride[kPosition];
+    const unsigned char* nr = attr[kNormal] + (size_t)first * stride[kNormal];
+    const unsigned char* t = attr[kTangent] + (size_t)first * stride[kTangent];
+    const unsigned char* uv = attr[kUv] + (size_t)first * stride[kUv];
+    for (int j = 0; j < count; ++j) {
+        sepal_vertex& v = out[j];
+        memcpy(v.position, p + (size_t)j * stride[kPosition], sizeof v.position);
+        memcpy(v.normal, nr + (size_t)j * stride[kNormal], sizeof v.normal);
+        memcpy(v.tangent, t + (size_t)j * stride[kTangent], sizeof v.tangent);
+        memcpy(v.uv, uv + (size_t)j * stride[kUv], sizeof v.uv);
     }
-    memcpy(v->uv, uv, sizeof v->uv);
+    if (!transform) return;
+    for (int j = 0; j < count; ++j) {
+        sepal_vertex& v = out[j];
+        const float x = v.position[0], y = v.position[1], z = v.position[2];
+        const float a = v.normal[0], b = v.normal[1], c = v.normal[2];
+        const float tx = v.tangent[0], ty = v.tangent[1], tz = v.tangent[2];
+        for (int r = 0; r < 3; ++r) {
+            v.position[r] = m[r] * x + m[3 + r] * y + m[6 + r] * z + m[9 + r];
+            v.normal[r] = n[r] * a + n[3 + r] * b + n[6 + r] * c;
+            v.tangent[r] = m[r] * tx + m[3 + r] * ty + m[6 + r] * tz;
+        }
+    }
 }
 
 }  // namespace srt
