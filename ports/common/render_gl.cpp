@@ -237,7 +237,9 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
     };
     job.draw = [&](sepal_draw_stats* stats, sepal_error* e) { return sepal_draw(&d, stats, e) == SEPAL_OK; };
     job.finish = [&](sepal_error* e) {
-        if (material->float_fbo) {
+        sepal_material_info mi;
+        sepal_material_get_info(material.get(), &mi);
+        if (mi.float_target) {
             std::vector<float> f(size_t(setup.width) * setup.height * 4);
             int clamped = 0;
             if (sepal_read_float(material.get(), setup.width, setup.height, f.data(), &clamped, e) != SEPAL_OK)
@@ -252,10 +254,9 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         }
         static const char* const kModes[] = {"multipass", "fused, per-vertex coordinates", "fused, per pixel"};
         info->path = std::string(gles_version == 2 ? "GL ES 2 " : "GL ES 1.1 ") + kModes[int(options.mode) % 3] + ", " +
-                     std::string(material->single_unit ? "one texture unit (copy texture)" : "two texture units") +
-                     (material->has_negative_passes
-                          ? (material->subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
-                          : ", no subtraction");
+                     std::string(mi.single_unit ? "one texture unit (copy texture)" : "two texture units") +
+                     (mi.subtracts ? (mi.subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
+                                   : ", no subtraction");
         return true;
     };
     job.destroy = [&] {

@@ -12,7 +12,7 @@ sepal_result prepare_frame(const sepal_draw_desc* d, const MeshView& mesh, const
                            sepal_error* err) {
     if (!d || !d->material || !d->scene || !d->scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
-    const sepal_material* m = d->material;
+    const srt::Material* m = srt::material(d->material);
     if (m->plan.pass_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
     if (d->width < 1 || d->height < 1 || d->width > m->max_width || d->height > m->max_height)
@@ -126,7 +126,7 @@ sepal_result prepare_frame(const sepal_draw_desc* d, const MeshView& mesh, const
     return SEPAL_OK;
 }
 
-void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order) {
+void pass_order(const srt::Material* m, const FramePrep& prep, uint16_t* order) {
     // The plan's order; staged (add-only plans): by falling exposure shift, stable.
     const uint32_t count = m->plan.pass_count;
     for (uint32_t p = 0; p < count; ++p) {
@@ -136,7 +136,7 @@ void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order)
     }
 }
 
-int gles1_schedule(const sepal_material* m, const FramePrep& prep, int total_doublings, Gles1Step* steps) {
+int gles1_schedule(const srt::Material* m, const FramePrep& prep, int total_doublings, Gles1Step* steps) {
     uint16_t order[SEPAL_FMT_MAX_PASSES];
     const uint32_t count = m->plan.pass_count;
     pass_order(m, prep, order);
@@ -168,9 +168,9 @@ int gles1_schedule(const sepal_material* m, const FramePrep& prep, int total_dou
 }  // namespace srt
 
 extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* stats_out, sepal_error* err) {
-    if (d && d->material && d->material->texture_count == 0)
+    if (d && d->material && srt::material(d->material)->texture_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: material not created (or destroyed)");
-    if (d && d->material && d->material->context_lost)
+    if (d && d->material && srt::material(d->material)->context_lost)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "draw: the material's GL context was lost; sepal_material_restore it on the new context");
     if (!d || !d->scene)
@@ -183,7 +183,7 @@ extern "C" sepal_result sepal_draw(const sepal_draw_desc* d, sepal_draw_stats* s
     srt::FramePrep prep;
     sepal_draw_stats local_stats;
     sepal_draw_stats* stats = stats_out ? stats_out : &local_stats;
-    const sepal_material* m = d->material;
+    const srt::Material* m = srt::material(d->material);
     if (!d->mesh) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "draw: NULL material, mesh, scene or scratch");
     r = srt::prepare_frame(d, srt::MeshView(*d->mesh), fd.view, fd.projection, m && m->float_fbo != 0, &prep, stats,
                            err);

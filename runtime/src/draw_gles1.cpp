@@ -20,7 +20,7 @@ constexpr GLenum kFuncSubtract = 0x800A;        // GL_FUNC_SUBTRACT(_OES): src -
 constexpr GLenum kFuncReverseSubtract = 0x800B;  // GL_FUNC_REVERSE_SUBTRACT(_OES): dst - src
 
 struct Frame {
-    const sepal_material* m;
+    const srt::Material* m;
     const srt::MeshView* mesh;
     const sepal_scene* scene;
     float* scratch;
@@ -50,7 +50,7 @@ GLsizei pos_stride(const Frame& f) { return (GLsizei)f.mesh->stride[srt::MeshVie
 const float* uv(const Frame& f) { return f.mesh->element(srt::MeshView::kUv, 0); }
 GLsizei uv_stride(const Frame& f) { return (GLsizei)f.mesh->stride[srt::MeshView::kUv]; }
 
-void set_equation(const sepal_material* m, GLenum eq) {
+void set_equation(const srt::Material* m, GLenum eq) {
     // Without the extension only GL_FUNC_ADD exists, which is GL's fixed behaviour.
     if (m->caps.blend_equation) m->caps.blend_equation(eq);
 }
@@ -325,7 +325,7 @@ void diffuse_map(Frame& f, const sepal_draw_desc* d) {
 namespace srt {
 
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
-    const sepal_material* m = d->material;
+    const srt::Material* m = srt::material(d->material);
     sepal_result r;
     float mvp[16];
     srt::mat4_mul(prep.proj, prep.view, mvp);

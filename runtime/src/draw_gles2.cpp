@@ -44,7 +44,7 @@ const char* const kFusedVertexAttribs[] = {"a_position", "a_uv_g",   "a_uv_h", "
 const char* const kFusedPixelAttribs[] = {"a_position", "a_normal", "a_tangent", nullptr};
 
 struct Frame {
-    const sepal_material* m;
+    const srt::Material* m;
     const sepal_draw_desc* d;
     const srt::MeshView* mesh;  // d->mesh is not read: the object's vertices are these
     float* scratch;
@@ -128,7 +128,7 @@ void invert(const Frame& f) {
 
 
 void multipass(const Frame& f) {
-    const sepal_material* m = f.m;
+    const srt::Material* m = f.m;
     const int n = f.mesh->vertex_count, lights = f.d->scene->light_count;
     const GLuint p = m->program_pass;
     glUseProgram(p);
@@ -181,7 +181,7 @@ void multipass(const Frame& f) {
 
 // Uniforms shared by both fused programs for terms [first, first + count).
 void fused_terms(const Frame& f, GLuint p, int first, int count) {
-    const sepal_material* m = f.m;
+    const srt::Material* m = f.m;
     char name[32];
     for (int k = 0; k < count; ++k) {
         const int gi = (int)m->term_textures[first + k][SEPAL_ROLE_G], hi = (int)m->term_textures[first + k][SEPAL_ROLE_H];
@@ -228,7 +228,7 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
 }
 
 void fused(const Frame& f, bool per_pixel) {
-    const sepal_material* m = f.m;
+    const srt::Material* m = f.m;
     const int n = f.mesh->vertex_count;
     const sepal_scene& scene = *f.d->scene;
     const GLuint p = per_pixel ? m->program_fused_pixel : m->program_fused_vertex;
@@ -327,7 +327,7 @@ GLuint build(const char* name, const char* vs, const char* fs, const char* const
 
 namespace srt {
 
-sepal_result create_gles2_programs(sepal_material* m, sepal_error* err) {
+sepal_result create_gles2_programs(srt::Material* m, sepal_error* err) {
     if (m->float_target) {
         // GL ES 3 names, not in the GL ES 2 header this file includes.
         const GLenum kRGBA16F = 0x881A, kHalfFloat = 0x140B;
@@ -386,7 +386,7 @@ sepal_result create_gles2_programs(sepal_material* m, sepal_error* err) {
     return ok(err);
 }
 
-void destroy_gles2_programs(sepal_material* m) {
+void destroy_gles2_programs(srt::Material* m) {
     if (m->diffuse_texture) glDeleteTextures(1, &m->diffuse_texture);
     m->diffuse_texture = 0;
     if (m->float_fbo) glDeleteFramebuffers(1, &m->float_fbo);
@@ -402,7 +402,7 @@ void destroy_gles2_programs(sepal_material* m) {
 }
 
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
-    const sepal_material* m = d->material;
+    const srt::Material* m = srt::material(d->material);
     if (d->mode == SEPAL_MODE_FUSED_VERTEX || d->mode == SEPAL_MODE_MULTIPASS) {
         if (!param_per_vertex((sepal_param)m->info.param))
             return fail(err, SEPAL_ERR_UNSUPPORTED,
@@ -494,7 +494,7 @@ static_assert(sizeof(Gles2Saved) <= srt::kSavedStateBytes, "sepal_frame.saved is
 
 // A quad over the viewport at NDC depth z in a constant colour, or textured (the float
 // target shown): sepal_draw's own frame only.
-void viewport_quad(const sepal_material* m, float z, const float color[4], GLuint texture, float sx, float sy) {
+void viewport_quad(const srt::Material* m, float z, const float color[4], GLuint texture, float sx, float sy) {
     const float pos[12] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
     const float uv[8] = {0, 0, sx, 0, sx, sy, 0, sy};
     static const GLushort idx[6] = {0, 1, 2, 0, 2, 3};
@@ -564,7 +564,7 @@ void gles2_frame_end(const sepal_caps&, const void* in) {
     restore_core_state(s.core);
 }
 
-void gles2_background(const sepal_material* m, const float bg[3], sepal_draw_stats* stats) {
+void gles2_background(const srt::Material* m, const float bg[3], sepal_draw_stats* stats) {
     // A quad at the far plane passes LEQUAL only where no surface is.
     if (!(bg[0] > 0.0f || bg[1] > 0.0f || bg[2] > 0.0f)) return;
     const float color[4] = {bg[0], bg[1], bg[2], 1.0f};
@@ -575,7 +575,7 @@ void gles2_background(const sepal_material* m, const float bg[3], sepal_draw_sta
     ++stats->fullscreen_passes;
 }
 
-void gles2_show_float(const sepal_material* m, const void* saved, int width, int height, sepal_draw_stats* stats) {
+void gles2_show_float(const srt::Material* m, const void* saved, int width, int height, sepal_draw_stats* stats) {
     // The float frame in the framebuffer bound at begin (8-bit there: clamped at 1).
     static const float kWhite[4] = {1, 1, 1, 1};
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint) static_cast<const Gles2Saved*>(saved)->framebuffer);
@@ -588,8 +588,9 @@ void gles2_show_float(const sepal_material* m, const void* saved, int width, int
 
 }  // namespace srt
 
-extern "C" sepal_result sepal_read_float(const sepal_material* m, int width, int height, float* rgba, int* nonfinite_clamped,
+extern "C" sepal_result sepal_read_float(const sepal_material* material, int width, int height, float* rgba, int* nonfinite_clamped,
                                      sepal_error* err) {
+    const srt::Material* m = srt::material(material);
     if (nonfinite_clamped) *nonfinite_clamped = 0;
     if (!m || !rgba) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "read_float: NULL argument");
     if (!m->float_fbo) return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "read_float: the material has no float target");

@@ -30,7 +30,7 @@ struct FramePrep {
 // Everything sepal_material_create sets up except GL objects: validation against caps, the
 // plan, per-pass needs, the paths (one unit, subtraction by inversion, fused groups).
 sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
-                           sepal_material* out, sepal_error* err);
+                           srt::Material* out, sepal_error* err);
 // Validates the draw, sets up the vertices (scratch), and sizes the exposure, the doublings
 // and the stages: everything a GL executor (or the GL ES 1.1 emulator) needs. mesh: the
 // object's vertices (d->mesh is not read), d->scene its scene in the shading space
@@ -67,15 +67,15 @@ void gles2_frame_end(const sepal_caps& caps, const void* saved);
 constexpr size_t kSavedStateBytes = sizeof(((sepal_frame*)nullptr)->saved);
 // sepal_draw's background: a far-plane quad where the depth is still clear.
 void gles1_background(const float rgb[3], sepal_draw_stats* stats);
-void gles2_background(const sepal_material* m, const float rgb[3], sepal_draw_stats* stats);
+void gles2_background(const srt::Material* m, const float rgb[3], sepal_draw_stats* stats);
 // sepal_draw of a float-target material: the float frame shown in the framebuffer bound at
 // begin (saved), width x height.
-void gles2_show_float(const sepal_material* m, const void* saved, int width, int height, sepal_draw_stats* stats);
+void gles2_show_float(const srt::Material* m, const void* saved, int width, int height, sepal_draw_stats* stats);
 // Lights of the scene whose irradiance at the centre of the mesh's bounds (dimmest lit
 // channel) is above 0 and below the material's declared irradiance_min (0 when it declares none).
 int dim_lights(const sepal_fmt_material& m, const MeshView& mesh, const sepal_scene& scene);
 // The order passes are drawn in (the plan's; staged: by falling exposure shift, stable).
-void pass_order(const sepal_material* m, const FramePrep& prep, uint16_t* order);
+void pass_order(const srt::Material* m, const FramePrep& prep, uint16_t* order);
 
 // The GL ES 1.1 executor's sequence of framebuffer operations, shared with the emulator so
 // both do the same thing: passes (each with its exposure, drawn once per light), stage
@@ -89,11 +89,11 @@ struct Gles1Step {
     bool inverted;    // kPass: drawn into the inverted framebuffer (subtract becomes add)
 };
 constexpr int kMaxGles1Steps = 2 * SEPAL_FMT_MAX_PASSES + 3;  // a stage and a pass per pass, 2 inversions, the end
-int gles1_schedule(const sepal_material* m, const FramePrep& prep, int total_doublings, Gles1Step* steps);
+int gles1_schedule(const srt::Material* m, const FramePrep& prep, int total_doublings, Gles1Step* steps);
 
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
-sepal_result create_gles2_programs(sepal_material* m, sepal_error* err);
-void destroy_gles2_programs(sepal_material* m);
+sepal_result create_gles2_programs(srt::Material* m, sepal_error* err);
+void destroy_gles2_programs(srt::Material* m);
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 
 }  // namespace srt

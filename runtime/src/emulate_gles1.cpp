@@ -178,7 +178,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     caps.max_texture_size = 8192;
     caps.has_blend_subtract = (e->mask & SEPAL_MASK_BLEND_SUBTRACT) ? 0 : 1;
     caps.mask = e->mask;
-    sepal_material m;
+    srt::Material m;
     sepal_result r = srt::material_plan(&caps, e->asset, W, H, &m, err);
     if (r != SEPAL_OK) return r;
     float* vscratch = e->scratch;
@@ -187,7 +187,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     float* tri = clip + 4 * (size_t)n + (size_t)W * H;
     float* colors = tri + (size_t)W * H;  // 4 n per light: the current pass's vertex colours
     sepal_draw_desc d = {};
-    d.material = &m;
+    d.material = srt::storage(&m);
     d.scene = e->scene;
     d.width = W;
     d.height = H;

@@ -223,7 +223,7 @@ extern "C" sepal_result sepal_frame_draw(sepal_frame* frame, const sepal_object*
     if (!frame || !frame->active) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: draw outside begin/end");
     if (!o || !o->material || (!o->mesh && !o->vertices))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: NULL object, material or mesh");
-    const sepal_material* m = o->material;
+    const srt::Material* m = srt::material(o->material);
     if (m->texture_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: material not created (or destroyed)");
     if (m->context_lost)
@@ -239,7 +239,7 @@ extern "C" sepal_result sepal_frame_draw(sepal_frame* frame, const sepal_object*
     srt::MeshView mesh;
     if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
     sepal_draw_desc d = {};
-    d.material = m;
+    d.material = o->material;
     d.scene = &space.scene;
     d.width = fd.viewport[2];
     d.height = fd.viewport[3];

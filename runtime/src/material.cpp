@@ -80,7 +80,7 @@ int next_pow2(int v) {
 namespace srt {
 
 sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
-                           sepal_material* out, sepal_error* err) {
+                           srt::Material* out, sepal_error* err) {
     if (!caps || !asset || !out)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "material: NULL argument");
     memset(out, 0, sizeof *out);
@@ -180,7 +180,7 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
 namespace {
 
 sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
-                    bool float_target, sepal_material* out, sepal_error* err) {
+                    bool float_target, srt::Material* out, sepal_error* err) {
     sepal_result r0 = srt::material_plan(caps, asset, max_width, max_height, out, err);
     if (r0 != SEPAL_OK) return r0;
     if (float_target && !(caps->gles_version == 2 && caps->has_float_target))
@@ -206,14 +206,14 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
         const bool pixel_only = info.param == SEPAL_PARAM_RUSINKIEWICZ || info.param == SEPAL_PARAM_ELEV_AZIM;
         sepal_result r = upload(asset->textures[i], out->gl_textures[i], wrap, !(pixel_only && td.role == SEPAL_ROLE_H), err);
         if (r != SEPAL_OK) {
-            sepal_material_destroy(out);
+            sepal_material_destroy(srt::storage(out));
             return r;
         }
     }
     if (caps->gles_version == 2) {
         sepal_result r = srt::create_gles2_programs(out, err);
         if (r != SEPAL_OK) {
-            sepal_material_destroy(out);
+            sepal_material_destroy(srt::storage(out));
             return r;
         }
     }
@@ -221,7 +221,7 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
         out->copy_width = next_pow2(max_width);
         out->copy_height = next_pow2(max_height);
         if (out->copy_width > caps->max_texture_size || out->copy_height > caps->max_texture_size) {
-            sepal_material_destroy(out);
+            sepal_material_destroy(srt::storage(out));
             return srt::fail(err, SEPAL_ERR_UNSUPPORTED,
                              "material: the one-texture-unit path needs a %dx%d copy texture; the "
                              "GPU's limit is %d",
@@ -238,7 +238,7 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         sepal_result r = srt::gl_check("copy texture", err);
         if (r != SEPAL_OK) {
-            sepal_material_destroy(out);
+            sepal_material_destroy(srt::storage(out));
             return r;
         }
     }
@@ -249,16 +249,35 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
 
 extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset, int max_width,
                                               int max_height, sepal_material* out, sepal_error* err) {
-    return create(caps, asset, max_width, max_height, false, out, err);
+    return create(caps, asset, max_width, max_height, false, srt::material(out), err);
 }
 
 extern "C" sepal_result sepal_material_create_float_target(const sepal_caps* caps, const sepal_asset* asset,
                                                            int max_width, int max_height, sepal_material* out,
                                                            sepal_error* err) {
-    return create(caps, asset, max_width, max_height, true, out, err);
+    return create(caps, asset, max_width, max_height, true, srt::material(out), err);
 }
 
-extern "C" void sepal_material_context_lost(sepal_material* m) {
+extern "C" void sepal_material_get_info(const sepal_material* storage, sepal_material_info* out) {
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    const srt::Material* m = srt::material(storage);
+    if (!m || m->texture_count == 0) return;
+    out->created = 1;
+    out->gles_version = m->caps.gles_version;
+    out->max_width = m->max_width;
+    out->max_height = m->max_height;
+    out->float_target = m->float_fbo != 0;
+    out->single_unit = m->single_unit;
+    out->subtracts = m->has_negative_passes;
+    out->subtract_by_inversion = m->subtract_by_inversion;
+    out->context_lost = m->context_lost;
+    out->passes = (int)m->plan.pass_count;
+    out->textures = (int)m->texture_count;
+}
+
+extern "C" void sepal_material_context_lost(sepal_material* storage) {
+    srt::Material* m = srt::material(storage);
     if (!m) return;
     // The names are meaningless now: forget them (a later glDelete* on a new context could
     // delete that context's objects of the same number).
@@ -270,8 +289,9 @@ extern "C" void sepal_material_context_lost(sepal_material* m) {
     m->context_lost = 1;
 }
 
-extern "C" sepal_result sepal_material_restore(sepal_material* m, const sepal_caps* caps, const sepal_asset* asset,
-                                           sepal_error* err) {
+extern "C" sepal_result sepal_material_restore(sepal_material* storage, const sepal_caps* caps,
+                                               const sepal_asset* asset, sepal_error* err) {
+    srt::Material* m = srt::material(storage);
     if (!m || !caps || !asset) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "restore: NULL argument");
     if (!m->context_lost)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
@@ -285,7 +305,8 @@ extern "C" sepal_result sepal_material_restore(sepal_material* m, const sepal_ca
     return create(caps, asset, w, h, m->float_target != 0, m, err);  // clears context_lost
 }
 
-extern "C" void sepal_material_destroy(sepal_material* m) {
+extern "C" void sepal_material_destroy(sepal_material* storage) {
+    srt::Material* m = srt::material(storage);
     if (!m) return;
     if (m->context_lost) {  // nothing to delete: the objects died with the context
         m->texture_count = 0;

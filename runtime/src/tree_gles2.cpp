@@ -6,6 +6,7 @@
 
 #include "gles2_util.h"
 #include "gl_clear.h"
+#include "material_state.h"
 #include "tree_internal.h"
 
 namespace {
@@ -221,8 +222,8 @@ sepal_result tree_draw_fused_gles2(const sepal_tree_draw_desc* d, sepal_draw_sta
     glUniform3fv(loc(p, "u_light_intensity"), SEPAL_MAX_LIGHTS, intensity);
     glUniform1i(loc(p, "u_light_count"), scene.light_count);
     glUniform3fv(loc(p, "u_eye"), 1, scene.camera.eye);
-    glUniform1i(loc(p, "u_param"), (int)t->bases[0].info.param);
-    glUniform1i(loc(p, "u_map"), (int)t->bases[0].info.map);
+    glUniform1i(loc(p, "u_param"), (int)srt::material(&t->bases[0])->info.param);
+    glUniform1i(loc(p, "u_map"), (int)srt::material(&t->bases[0])->info.map);
     const int aw = next_pow2(t->atlas_cols * t->tile_n), ah = next_pow2(t->atlas_rows * t->tile_n);
     glUniform2f(loc(p, "u_tile_size"), (float)t->tile_n / (float)aw, (float)t->tile_n / (float)ah);
     glUniform1f(loc(p, "u_half_texel"), 0.5f / (float)t->tile_n);

@@ -346,7 +346,7 @@ VertexSetupResult setup_vertices_reference(sepal_param param, sepal_hemi_map map
     return r;
 }
 
-PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light) {
+PassInputs pass_inputs(const srt::Material* m, float* scratch, int n, int lights, int light) {
     PassInputs in;
     in.irradiance = light_irradiance(scratch, n, light);
     in.cosine = light_cosine(scratch, n, light);
@@ -358,7 +358,7 @@ PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int light
     return in;
 }
 
-float reciprocal_lookup(const sepal_material* m, uint32_t term, const float uv[2], int c) {
+float reciprocal_lookup(const srt::Material* m, uint32_t term, const float uv[2], int c) {
     const int w = (int)m->reciprocal_width[term], h = (int)m->reciprocal_height[term];
     const int ch = (int)m->info.channels, cc = ch == 1 ? 0 : c;
     const uint8_t* t = m->reciprocal_g[term];

@@ -6,6 +6,7 @@
 #include "internal.h"
 #include "mesh_view.h"
 #include "sepal/sepal_format.h"
+#include "material_state.h"
 #include "sepal/sepal_material.h"
 #include "sepal/sepal_scene.h"
 
@@ -69,12 +70,12 @@ struct PassInputs {
     const float* profile;       // the material's diffuse profile, or NULL
     uint32_t profile_side;
     const float* swapped_uv;    // x~, 2 per vertex (reciprocal materials)
-    const sepal_material* material;
+    const srt::Material* material;
 };
 // The RECIPROCAL pass's third factor: the stored q of term `term`'s G texture at uv,
 // channel c (bilinear at level 0, clamped to the edge, as GL_LINEAR; the material's 8-bit copy).
-float reciprocal_lookup(const sepal_material* m, uint32_t term, const float uv[2], int c);
-PassInputs pass_inputs(const sepal_material* m, float* scratch, int n, int lights, int light);
+float reciprocal_lookup(const srt::Material* m, uint32_t term, const float uv[2], int c);
+PassInputs pass_inputs(const srt::Material* m, float* scratch, int n, int lights, int light);
 // RGBA vertex colours of one pass and light: color * E (* cos) (* profile) * scale per
 // vertex, alpha 1.
 void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass, const PassInputs& in, float scale,

@@ -28,6 +28,7 @@
 #include "common/scene_flags.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_material.h"
+#include "material_state.h"
 #include "mesh_view.h"
 #include "vertex_setup.h"
 #include "bench/bench_cli.h"
@@ -122,7 +123,7 @@ struct PassDraw {
 };
 
 // The frame's passes (plan passes x lights) as PassDraws, from the scratch of the last draw.
-std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc& d) {
+std::vector<PassDraw> plan_draws(const srt::Material& m, const sepal_draw_desc& d) {
     std::vector<PassDraw> out;
     const int n = d.mesh->vertex_count;
     for (uint32_t p = 0; p < m.plan.pass_count; ++p)
@@ -422,10 +423,10 @@ int main(int argc, char** argv) {
                 }
             glFinish();
             int passes = stats.draw_calls + stats.fullscreen_passes;
-            fill_limit_ms(passes, mat->gl_textures[0], 0);  // their warm-up
-            const std::vector<PassDraw> draws = plan_draws(*mat, d);
-            mesh_passes_ms(nullptr, passes, mat->gl_textures[0], s, 0);
-            mesh_passes_ms(&draws, passes, mat->gl_textures[0], s, 0);
+            fill_limit_ms(passes, srt::material(mat.get())->gl_textures[0], 0);  // their warm-up
+            const std::vector<PassDraw> draws = plan_draws(*srt::material(mat.get()), d);
+            mesh_passes_ms(nullptr, passes, srt::material(mat.get())->gl_textures[0], s, 0);
+            mesh_passes_ms(&draws, passes, srt::material(mat.get())->gl_textures[0], s, 0);
             for (int r = 0; r < rounds; ++r) {
                 const auto t = Clock::now();
                 if (sepal_draw(&d, &stats, &e) != SEPAL_OK) {
@@ -435,9 +436,9 @@ int main(int argc, char** argv) {
                 glFinish();
                 times.push_back(ms_since(t));
                 passes = stats.draw_calls + stats.fullscreen_passes;
-                fills.push_back(fill_limit_ms(passes, mat->gl_textures[0], 1, 0));
-                meshes.push_back(mesh_passes_ms(nullptr, passes, mat->gl_textures[0], s, 1, 0));
-                pass_floor.push_back(mesh_passes_ms(&draws, passes, mat->gl_textures[0], s, 1, 0));
+                fills.push_back(fill_limit_ms(passes, srt::material(mat.get())->gl_textures[0], 1, 0));
+                meshes.push_back(mesh_passes_ms(nullptr, passes, srt::material(mat.get())->gl_textures[0], s, 1, 0));
+                pass_floor.push_back(mesh_passes_ms(&draws, passes, srt::material(mat.get())->gl_textures[0], s, 1, 0));
             }
             const double ms = median(times), fill = median(fills), mesh = median(meshes), pass = median(pass_floor);
             if (sweep == 0) {  // untimed: no set-up timing or GL count either

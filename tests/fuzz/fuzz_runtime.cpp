@@ -49,7 +49,7 @@ extern "C" int sepal_fuzz_runtime(const uint8_t* data, size_t size) {
         caps.max_texture_size = 2048;
         caps.has_blend_subtract = c.subtract;
         caps.has_fbo = 1;
-        const sepal_result r = srt::material_plan(&caps, &asset, kSide, kSide, &material, &err);
+        const sepal_result r = srt::material_plan(&caps, &asset, kSide, kSide, srt::material(&material), &err);
         // GL ES 1.1 draws only the per-vertex parameterizations; anything else the reader
         // accepted, every GL backend must take.
         const bool per_vertex = asset.material.param <= SEPAL_PARAM_VH || asset.material.param == SEPAL_PARAM_AXIS;

@@ -173,7 +173,10 @@ TEST_CASE("headless: context loss: the material forgets its GL objects and is re
         CHECK(sepal_material_restore(material.get(), &caps, other.get(), &e) == SEPAL_ERR_INVALID_ARGUMENT);
         CHECK(std::strstr(e.message, "not the one the material was created from") != nullptr);
         REQUIRE_MESSAGE(sepal_material_restore(material.get(), &caps, asset.get(), &e) == SEPAL_OK, e.message);
-        CHECK(material->context_lost == 0);
+        sepal_material_info mi;
+        sepal_material_get_info(material.get(), &mi);
+        CHECK(mi.context_lost == 0);
+        CHECK(mi.created == 1);
         frame(ctx, &after);
         CHECK(before == after);
         sepal_material_destroy(material.get());
@@ -190,5 +193,7 @@ TEST_CASE("headless: context loss: the material forgets its GL objects and is re
     sepal_material_context_lost(material.get());
     sepal_headless_destroy(ctx);
     sepal_material_destroy(material.get());
-    CHECK(material->texture_count == 0);
+    sepal_material_info mi;
+    sepal_material_get_info(material.get(), &mi);
+    CHECK(mi.created == 0);
 }

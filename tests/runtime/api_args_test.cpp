@@ -10,6 +10,7 @@
 
 #include "headless/sepal_headless.h"
 #include "material_fixtures.h"
+#include "material_state.h"
 #include "sepal/sepal.h"
 
 using namespace material_fx;
@@ -79,8 +80,12 @@ TEST_CASE("api: sepal_material_create refuses a never-parsed asset, a float targ
     CHECK(sepal_material_create_float_target(&caps, p.asset.get(), 64, 64, mat.get(), &e) == SEPAL_ERR_UNSUPPORTED);
     CHECK(std::string(e.message).find("no half-float render target") != std::string::npos);
     REQUIRE(sepal_material_create(&caps, p.asset.get(), 64, 64, mat.get(), &e) == SEPAL_OK);
-    CHECK(mat->float_target == 0);
-    CHECK(mat->float_fbo == 0);
+    sepal_material_info mi;
+    sepal_material_get_info(mat.get(), &mi);
+    CHECK(mi.created == 1);
+    CHECK(mi.float_target == 0);
+    CHECK(mi.gles_version == 1);
+    CHECK(mi.max_width == 64);
     sepal_material_destroy(mat.get());
     sepal_headless_destroy(ctx);  // no context is current now
     CHECK(sepal_material_create(&caps, p.asset.get(), 64, 64, mat.get(), &e) == SEPAL_ERR_INVALID_ARGUMENT);
@@ -100,4 +105,18 @@ TEST_CASE("api: unknown maps and parameterizations, negative counts") {
     CHECK(sepal_draw_scratch_floats(100, 1) > 0);
     CHECK(sepal_cpu_scratch_floats(-1) == 0);
     CHECK(sepal_emulate_scratch_floats(-1, -1, -1, -1) == 0);
+}
+
+TEST_CASE("api: sepal_material is opaque storage of a fixed size, with room for the runtime's state to grow") {
+    CHECK(sizeof(sepal_material) == SEPAL_MATERIAL_BYTES);
+    CHECK(sizeof(srt::Material) <= sizeof(sepal_material));
+    // The room left: what the state may grow by before the ABI's size must change.
+    CHECK(sizeof(sepal_material) - sizeof(srt::Material) >= 4096);
+    MESSAGE("sepal_material: " << sizeof(sepal_material) << " bytes, the runtime's state " << sizeof(srt::Material));
+    sepal_material never_created = {};
+    sepal_material_info mi;
+    sepal_material_get_info(&never_created, &mi);
+    CHECK(mi.created == 0);
+    sepal_material_get_info(nullptr, &mi);
+    CHECK(mi.created == 0);
 }

@@ -75,49 +75,30 @@
 extern "C" {
 #endif
 
+// A material on the GPU: opaque. What the runtime keeps per material (GL names, the plan,
+// per-pass needs, shader programs, a reciprocal material's 8-bit G copies) is private and
+// may change in any release; only the size is part of the ABI, with room for the inside to
+// grow, so a sepal_material may be declared anywhere (static, in a struct, on the heap)
+// and no call allocates. Read what an application needs with sepal_material_get_info.
+#define SEPAL_MATERIAL_BYTES (56u * 1024u)
 typedef struct sepal_material {
-    sepal_caps caps;
-    sepal_fmt_material info;
-    sepal_fmt_plan plan;
-    sepal_fmt_pass passes[SEPAL_FMT_MAX_PASSES];
-    uint32_t texture_count;
-    uint32_t gl_textures[SEPAL_FMT_MAX_TEXTURES];
-    uint32_t texture_role[SEPAL_FMT_MAX_TEXTURES];
-    uint32_t term_textures[SEPAL_FMT_MAX_TERMS][2];  // per term: its G and H texture index
-    float texture_scale[SEPAL_FMT_MAX_TEXTURES][3];  // decode: scale * q + bias (fused shaders)
-    float texture_bias[SEPAL_FMT_MAX_TEXTURES][3];
-    // GL ES 1.1: per pass, the largest value GL clamps at 1 (vertex colour, or colour x tex0
-    // on one texture unit) per unit irradiance: what its exposure must keep below 1.
-    float pass_need[SEPAL_FMT_MAX_PASSES];
-    // A radiance material's diffuse profile (format 2), copied: the DIFFUSE pass's vertex
-    // colours are computed from it every frame. side 0: none (1 everywhere).
-    float diffuse_profile[SEPAL_FMT_MAX_DIFFUSE_SIDE * SEPAL_FMT_MAX_DIFFUSE_SIDE * 3];
-    uint32_t diffuse_side;
-    uint32_t diffuse_texture;  // GL ES 2: the profile as an RGB texture (fused per-pixel), or 0
-    // A reciprocal material (format 2.1): per term, its G texture's level 0 in 8 bits (16-bit
-    // assets rounded as the upload rounds them), for the RECIPROCAL passes' per-vertex third
-    // lookup; texture_term maps a texture index to its term.
-    uint8_t reciprocal_g[SEPAL_FMT_MAX_RECIPROCAL_TERMS]
-                        [SEPAL_FMT_MAX_RECIPROCAL_SIDE * SEPAL_FMT_MAX_RECIPROCAL_SIDE * 3];
-    uint32_t reciprocal_width[SEPAL_FMT_MAX_RECIPROCAL_TERMS], reciprocal_height[SEPAL_FMT_MAX_RECIPROCAL_TERMS];
-    uint32_t texture_term[SEPAL_FMT_MAX_TEXTURES];
-    int single_unit;          // one texture unit: products through the copy texture
-    int subtract_by_inversion;  // no blend subtract: invert, add, invert back
-    int has_negative_passes;
-    uint32_t copy_texture;    // running sum (single-unit path), 0 when unused
-    int copy_width, copy_height;  // power-of-two size of the copy texture
-    int max_width, max_height;
-    // GL ES 2: shader programs compiled at creation (0 on GL ES 1.1).
-    uint32_t program_pass, program_fullscreen, program_mesh_texture;
-    uint32_t program_fused_vertex, program_fused_pixel;
-    int fused_group;  // terms summed per fused pass: min(terms, texture units / 2, 8)
-    // Half-float target (sepal_material_create_float_target): frames are drawn there with no
-    // exposure and no doublings, then copied to the current framebuffer for display.
-    int float_target;
-    uint32_t float_fbo, float_color, float_depth;
-    // Set by sepal_material_context_lost: the GL names above belong to a dead context.
-    int context_lost;
+    uint64_t opaque_[SEPAL_MATERIAL_BYTES / 8];
 } sepal_material;
+
+typedef struct sepal_material_info {
+    int created;       // 1 from a successful create (or restore) until destroy
+    int gles_version;  // of the context it was created for
+    int max_width, max_height;
+    int float_target;  // drawn into its half-float target (sepal_material_create_float_target)
+    int single_unit;   // one texture unit: products through a copy of the framebuffer
+    int subtracts;     // the plan has subtracted passes
+    int subtract_by_inversion;  // drawn by inverting the framebuffer (no blend subtract)
+    int context_lost;  // sepal_material_context_lost was called; restore it
+    int passes;        // the plan's passes per light
+    int textures;
+} sepal_material_info;
+// Fills out (all zero for a material never created or destroyed); calls no GL.
+void sepal_material_get_info(const sepal_material* m, sepal_material_info* out);
 
 // Reads the last frame of a float-target material as linear RGBA floats, bottom row
 // first (GL's order), width x height of the last draw. SEPAL_ERR_UNSUPPORTED without one.
