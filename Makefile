@@ -22,7 +22,7 @@ endif
 # running this Makefile goes; everything else is checked and installed by `make deps`.
 DEB_PACKAGES := g++ make pkg-config libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
                 libglm-dev libstb-dev doctest-dev libeigen3-dev \
-                nlohmann-json3-dev libcli11-dev libx11-dev xvfb xauth xdotool emscripten chromium
+                nlohmann-json3-dev libcli11-dev libtinygltf-dev libx11-dev xvfb xauth xdotool emscripten chromium
 
 WARN     := -Wall -Wextra -Werror
 CXXSTD   := -std=c++17
