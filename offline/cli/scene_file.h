@@ -146,6 +146,7 @@ struct SceneGlOptions {
     sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
     int frames = 1;
     std::function<void()> before;
+    std::vector<int> order;  // the objects to draw, in this order (empty: all, in the file's)
 };
 struct SceneGlInfo {
     sepal_draw_stats stats{};  // summed over the objects of the last frame

@@ -49,7 +49,16 @@ bool render_scene_gl(const LoadedScene& s, const SceneFrame& fr, const SceneGlOp
         if (sepal_frame_begin(&frame, &d, e) != SEPAL_OK) return false;
         *stats = sepal_draw_stats{};
         bool ok = true;
-        for (size_t i = 0; ok && i < fr.objects.size(); ++i) {
+        std::vector<int> order = opt.order;
+        if (order.empty())
+            for (size_t i = 0; i < fr.objects.size(); ++i) order.push_back(int(i));
+        for (size_t k = 0; ok && k < order.size(); ++k) {
+            const size_t i = size_t(order[k]);
+            if (i >= fr.objects.size()) {
+                std::snprintf(e->message, sizeof e->message, "draw order names object %zu of %zu", i, fr.objects.size());
+                ok = false;
+                break;
+            }
             const sepal_mesh mesh = s.meshes[size_t(s.object_mesh[i])].mesh();
             sepal_object o = fr.objects[i];
             o.material = materials[size_t(s.file.objects[i].material)].get();
