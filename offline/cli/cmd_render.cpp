@@ -196,15 +196,6 @@ constexpr double kLargeFramePixels = double(1 << 21);
 constexpr double kRenderBytesPerPixel = 40.0;
 
 int run_render(RenderArgs& args, const CommandIO& io) {
-    if (!args.scene.empty()) return run_render_scene(args, io);
-    if (args.input.empty()) {
-        std::fprintf(io.err, "sepal render: give INPUT (a BRDF spec, measured file or .sepal asset) or --scene FILE\n");
-        return kExitBadInput;
-    }
-    if (args.time != 0 || !args.cache.empty()) {
-        std::fprintf(io.err, "sepal render: --time and --cache apply with --scene\n");
-        return kExitBadInput;
-    }
     sepal_ports::SceneSetup& setup = args.setup;
     std::string chosen_why;
     if (args.backend.empty()) {
@@ -406,6 +397,20 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     return kExitOk;
 }
 
+// A scene file, or one material in a scene of flags.
+int run_render_any(RenderArgs& args, const CommandIO& io) {
+    if (!args.scene.empty()) return run_render_scene(args, io);
+    if (args.input.empty()) {
+        std::fprintf(io.err, "sepal render: give INPUT (a BRDF spec, measured file or .sepal asset) or --scene FILE\n");
+        return kExitBadInput;
+    }
+    if (args.time != 0 || !args.cache.empty()) {
+        std::fprintf(io.err, "sepal render: --time and --cache apply with --scene\n");
+        return kExitBadInput;
+    }
+    return run_render(args, io);
+}
+
 }  // namespace
 
 CommandRun setup_render(CLI::App& app) {
@@ -454,7 +459,7 @@ CommandRun setup_render(CLI::App& app) {
     sepal::add_scene_options(app, &a->setup);
     for (const char* f : {"--size", "--mesh", "--camera", "--target", "--fov", "--background", "--light"})
         a->scene_flags.push_back(app.get_option(f));
-    return [a](const CommandIO& io) { return run_render(*a, io); };
+    return [a](const CommandIO& io) { return run_render_any(*a, io); };
 }
 
 }  // namespace sepal
