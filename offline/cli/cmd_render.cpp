@@ -39,7 +39,7 @@ struct RenderArgs {
     int supersample = kReferenceSupersample;
     uint64_t seed = 1;
     // A scene file (docs/scenes.md) at a time; which scene flags were given.
-    std::string scene, cache;
+    std::string scene, cache, export_dir;
     double time = 0;
     std::vector<const CLI::Option*> scene_flags;
 };
@@ -61,6 +61,16 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
         return fail("--scene takes no --env, --diffuse or --float-target");
     const std::string backend = args.backend.empty() ? "gles1" : args.backend;
     std::string err;
+    if (!args.export_dir.empty()) {
+        SceneFile file;
+        LoadedScene scene;
+        if (!read_scene_file(args.scene, &file, &err) ||
+            !load_scene(file, args.cache.empty() ? default_scene_cache() : args.cache, &scene, &err, io.err) ||
+            !export_scene_bundle(scene, args.export_dir, &err))
+            return fail(err);
+        std::fprintf(io.out, "bundle     %s/scene.txt\n", args.export_dir.c_str());
+        return kExitOk;
+    }
     if (args.out_path.empty() && args.float_path.empty()) return fail("give -o out.png (or --float out.pfm: exact, cpu)");
     if (!args.float_path.empty() && backend != "exact" && backend != "cpu") return fail("--float: exact and cpu only");
     if (!args.mask_text.empty() && (backend == "exact" || backend == "cpu")) return fail("--mask applies to the GL backends and their models");
@@ -404,8 +414,8 @@ int run_render_any(RenderArgs& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal render: give INPUT (a BRDF spec, measured file or .sepal asset) or --scene FILE\n");
         return kExitBadInput;
     }
-    if (args.time != 0 || !args.cache.empty()) {
-        std::fprintf(io.err, "sepal render: --time and --cache apply with --scene\n");
+    if (args.time != 0 || !args.cache.empty() || !args.export_dir.empty()) {
+        std::fprintf(io.err, "sepal render: --time, --cache and --export apply with --scene\n");
         return kExitBadInput;
     }
     return run_render(args, io);
@@ -422,6 +432,9 @@ CommandRun setup_render(CLI::App& app) {
                    "--backend (default gles1) or exact");
     app.add_option("--time", a->time, "with --scene: the time in seconds (moving lights, orbiting camera, spinning objects)")
         ->check(CLI::Range(-1e6, 1e6));
+    app.add_option("--export", a->export_dir,
+                   "with --scene: write the scene as a bundle into this folder (scene.txt, baked assets, meshes) for "
+                   "sepal-view --scene, and render nothing");
     app.add_option("--cache", a->cache,
                    "with --scene: the folder for the scene's baked materials (default: build/cache/scenes beside the "
                    "binary)");

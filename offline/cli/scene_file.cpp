@@ -7,6 +7,7 @@
 
 #include "bake/asset_file.h"
 #include "cli/bake_scene.h"
+#include "common/scene_bundle.h"
 #include "mesh/gltf_mesh.h"
 #include "reference/render_exact.h"
 #include "spec/spec.h"
@@ -16,7 +17,6 @@
 namespace sepal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kMaxSceneBytes = size_t(1) << 20;
 constexpr size_t kMaxMeshFileBytes = size_t(256) << 20;
 
@@ -258,59 +258,13 @@ bool read_scene_file(const std::string& path, SceneFile* out, std::string* err) 
                             slash == std::string::npos ? "" : path.substr(0, slash), out, err);
 }
 
-sepal_camera scene_camera_at(const SceneFile& f, double t) {
-    const SceneCamera& c = f.camera;
-    sepal_camera cam{};
-    double eye[3];
-    if (c.orbit) {
-        const double yaw = (c.yaw + c.spin * t) * kPi / 180, pitch = c.pitch * kPi / 180;
-        eye[0] = c.target[0] + c.distance * std::cos(pitch) * std::sin(yaw);
-        eye[1] = c.target[1] - c.distance * std::cos(pitch) * std::cos(yaw);
-        eye[2] = c.target[2] + c.distance * std::sin(pitch);
-    } else {
-        std::memcpy(eye, c.eye, sizeof eye);
-    }
-    for (int k = 0; k < 3; ++k) cam.eye[k] = float(eye[k]), cam.target[k] = float(c.target[k]), cam.up[k] = k == 2;
-    cam.fovy_degrees = float(c.fov);
-    cam.z_near = float(c.z_near);
-    cam.z_far = float(c.z_far);
-    return cam;
-}
+sepal_camera scene_camera_at(const SceneFile& f, double t) { return sepal_ports::camera_at(f.camera, t); }
 
 int scene_lights_at(const SceneFile& f, double t, sepal_light lights[SEPAL_MAX_LIGHTS]) {
-    int n = 0;
-    for (const SceneLight& l : f.lights) {
-        sepal_light& o = lights[n++];
-        o = sepal_light{};
-        o.type = l.type;
-        double p[3] = {l.position[0], l.position[1], l.position[2]};
-        if (l.orbit_period > 0) {
-            const double a = (l.orbit_phase + 360.0 * t / l.orbit_period) * kPi / 180, ca = std::cos(a), sa = std::sin(a);
-            const double* c = l.type == SEPAL_LIGHT_POINT ? l.orbit_center : nullptr;
-            const double x = p[0] - (c ? c[0] : 0), y = p[1] - (c ? c[1] : 0);
-            p[0] = ca * x - sa * y + (c ? c[0] : 0);
-            p[1] = sa * x + ca * y + (c ? c[1] : 0);
-        }
-        const double pulse = l.pulse_period > 0 ? 1 - l.pulse_depth * 0.5 * (1 - std::cos(2 * kPi * t / l.pulse_period)) : 1;
-        for (int k = 0; k < 3; ++k) o.position[k] = float(p[k]), o.intensity[k] = float(l.color[k] * l.intensity * pulse);
-    }
-    return n;
+    return sepal_ports::lights_at(f.lights.data(), int(f.lights.size()), t, lights);
 }
 
-void scene_model_at(const SceneObject& o, double t, float model[16]) {
-    // M = T Rz(spin t) Rz Ry Rx S: the spin turns the object in place about its own vertical.
-    const double rx = o.rotate[0] * kPi / 180, ry = o.rotate[1] * kPi / 180, rz = (o.rotate[2] + o.spin * t) * kPi / 180;
-    const double cx = std::cos(rx), sx = std::sin(rx), cy = std::cos(ry), sy = std::sin(ry), cz = std::cos(rz), sz = std::sin(rz);
-    const double r[3][3] = {{cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx},
-                            {sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx},
-                            {-sy, cy * sx, cy * cx}};
-    for (int c = 0; c < 3; ++c) {
-        for (int row = 0; row < 3; ++row) model[4 * c + row] = float(r[row][c] * o.scale);
-        model[4 * c + 3] = 0.0f;
-        model[12 + c] = float(o.translate[c]);
-    }
-    model[15] = 1.0f;
-}
+void scene_model_at(const SceneObject& o, double t, float model[16]) { sepal_ports::model_at(o, t, model); }
 
 sepal_mesh SceneMesh::mesh() const {
     return {const_cast<sepal_vertex*>(vertices.data()), const_cast<uint16_t*>(indices.data()), int(vertices.size()),
@@ -336,44 +290,31 @@ namespace {
 bool build_mesh(const SceneObject& o, SceneMesh* m, std::string* err) {
     const std::string& n = o.mesh;
     m->name = n;
-    sepal_error e = {};
-    sepal_result r = SEPAL_OK;
-    auto sized = [m](size_t v, size_t i) {
-        m->vertices.resize(v);
-        m->indices.resize(i);
-        return sepal_mesh{m->vertices.data(), m->indices.data(), int(v), int(i)};
-    };
-    sepal_mesh mesh{};
-    if (n == "sphere") mesh = sized(65 * 33, 64 * 32 * 6), r = sepal_mesh_sphere(64, 32, &mesh, &e);
-    else if (n == "torus") mesh = sized(65 * 33, 64 * 32 * 6), r = sepal_mesh_torus(0.72f, 0.3f, 64, 32, &mesh, &e);
-    else if (n == "grid") mesh = sized(33 * 33, 32 * 32 * 6), r = sepal_mesh_grid(32, &mesh, &e);
-    else if (n == "wave") mesh = sized(49 * 49, 48 * 48 * 6), r = sepal_mesh_wave(48, &mesh, &e);
-    else if (n == "floor") {
-        const size_t c = size_t(o.floor_cells);
-        mesh = sized((c + 1) * (c + 1), c * c * 6), r = sepal_mesh_grid(o.floor_cells, &mesh, &e);
-    } else if (file_extension(n) == "obj") {
-        std::vector<uint8_t> bytes;
-        if (!read_file(n, &bytes, err, kMaxMeshFileBytes)) return false;
-        const std::vector<char> text(bytes.begin(), bytes.end());
-        sepal_obj_info info;
-        r = sepal_obj_measure(text.data(), text.size(), &info, &e);
-        if (r == SEPAL_OK) {
-            mesh = sized(size_t(info.max_vertices), size_t(info.max_indices));
-            std::vector<char> scratch(info.scratch_bytes);
-            sepal_obj_stats stats;
-            r = sepal_obj_load(text.data(), text.size(), &mesh, scratch.data(), scratch.size(), &stats, &e);
-        }
-        if (r != SEPAL_OK) return *err = n + ": " + e.message, false;
-    } else {
+    if (sepal_ports::is_builtin_mesh(n)) return sepal_ports::builtin_mesh(n, o.floor_cells, &m->vertices, &m->indices, err);
+    if (file_extension(n) != "obj") {
         GltfMesh g;
         if (!load_gltf_mesh(n, &g, err)) return false;
         m->vertices = std::move(g.vertices);
         m->indices = std::move(g.indices);
         return true;
     }
+    std::vector<uint8_t> bytes;
+    if (!read_file(n, &bytes, err, kMaxMeshFileBytes)) return false;
+    const std::vector<char> text(bytes.begin(), bytes.end());
+    sepal_obj_info info;
+    sepal_error e = {};
+    sepal_result r = sepal_obj_measure(text.data(), text.size(), &info, &e);
+    if (r == SEPAL_OK) {
+        m->vertices.resize(size_t(info.max_vertices));
+        m->indices.resize(size_t(info.max_indices));
+        sepal_mesh mesh = {m->vertices.data(), m->indices.data(), info.max_vertices, info.max_indices};
+        std::vector<char> scratch(info.scratch_bytes);
+        sepal_obj_stats stats;
+        r = sepal_obj_load(text.data(), text.size(), &mesh, scratch.data(), scratch.size(), &stats, &e);
+        m->vertices.resize(size_t(mesh.vertex_count));
+        m->indices.resize(size_t(mesh.index_count));
+    }
     if (r != SEPAL_OK) return *err = n + ": " + e.message, false;
-    m->vertices.resize(size_t(mesh.vertex_count));
-    m->indices.resize(size_t(mesh.index_count));
     return true;
 }
 
@@ -465,6 +406,59 @@ sepal_object object_of(const LoadedScene& s, const SceneFrame& fr, size_t i, sep
     return o;
 }
 }  // namespace
+
+bool export_scene_bundle(const LoadedScene& s, const std::string& dir, std::string* err) {
+    if (!make_dirs(dir, err)) return false;
+    const SceneFile& f = s.file;
+    std::string t = "sepal-scene 1\n";
+    char line[512];
+    std::snprintf(line, sizeof line, "size %d %d\nbackground %.9g %.9g %.9g\n", f.width, f.height, f.background[0],
+                  f.background[1], f.background[2]);
+    t += line;
+    const SceneCamera& c = f.camera;
+    if (c.orbit)
+        std::snprintf(line, sizeof line, "camera orbit %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", c.target[0],
+                      c.target[1], c.target[2], c.distance, c.yaw, c.pitch, c.spin, c.fov, c.z_near, c.z_far);
+    else
+        std::snprintf(line, sizeof line, "camera eye %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", c.eye[0], c.eye[1],
+                      c.eye[2], c.target[0], c.target[1], c.target[2], c.fov, c.z_near, c.z_far);
+    t += line;
+    for (const SceneLight& l : f.lights) {
+        std::snprintf(line, sizeof line,
+                      "light %s %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n",
+                      l.type == SEPAL_LIGHT_POINT ? "point" : "directional", l.position[0], l.position[1], l.position[2],
+                      l.color[0], l.color[1], l.color[2], l.intensity, l.orbit_period, l.orbit_phase, l.orbit_center[0],
+                      l.orbit_center[1], l.orbit_center[2], l.pulse_period, l.pulse_depth);
+        t += line;
+    }
+    for (size_t k = 0; k < s.asset_bytes.size(); ++k) {
+        const std::string name = "material-" + std::to_string(k) + ".sepal";
+        if (!write_file_atomic(dir + "/" + name, s.asset_bytes[k].data(), s.asset_bytes[k].size(), err)) return false;
+        t += "material " + name + "\n";
+    }
+    for (size_t k = 0; k < s.meshes.size(); ++k) {
+        const SceneMesh& m = s.meshes[k];
+        int cells = 0;
+        for (size_t i = 0; i < f.objects.size(); ++i)
+            if (s.object_mesh[i] == int(k)) cells = f.objects[i].floor_cells;
+        if (sepal_ports::is_builtin_mesh(m.name)) {
+            t += "mesh " + m.name + (m.name == "floor" ? " " + std::to_string(cells) : "") + "\n";
+            continue;
+        }
+        const std::string name = "mesh-" + std::to_string(k) + ".mesh";
+        const std::vector<uint8_t> b = sepal_ports::encode_bundle_mesh(m.mesh());
+        if (!write_file_atomic(dir + "/" + name, b.data(), b.size(), err)) return false;
+        t += "mesh " + name + "\n";
+    }
+    for (size_t i = 0; i < f.objects.size(); ++i) {
+        const SceneObject& o = f.objects[i];
+        std::snprintf(line, sizeof line, "object %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", o.material,
+                      s.object_mesh[i], o.translate[0], o.translate[1], o.translate[2], o.rotate[0], o.rotate[1],
+                      o.rotate[2], o.scale, o.spin);
+        t += line;
+    }
+    return write_file_atomic(dir + "/scene.txt", t.data(), t.size(), err);
+}
 
 bool render_scene_exact(const LoadedScene& s, const SceneFrame& fr, int supersample, Image* out, std::string* err) {
     const int w = fr.desc.viewport[2], h = fr.desc.viewport[3];

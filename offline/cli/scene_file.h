@@ -28,6 +28,7 @@
 
 #include "bake/bake.h"
 #include "brdf/brdf.h"
+#include "common/scene_motion.h"
 #include "sepal/sepal_frame.h"
 #include "util/image.h"
 
@@ -37,25 +38,10 @@ constexpr int kSceneMaxObjects = 256;
 constexpr int kSceneMaxMaterials = 64;
 constexpr int kSceneMaxMeshFiles = 16;
 
-struct SceneCamera {
-    bool orbit = true;
-    double target[3] = {0, 0, 0};
-    double distance = 5, yaw = 0, pitch = 20, spin = 0;  // degrees; spin: degrees of yaw per second
-    double eye[3] = {0, -4, 2};                            // without orbit
-    double fov = 40, z_near = 0.1, z_far = 100;
-};
-
-struct SceneLight {
-    sepal_light_type type = SEPAL_LIGHT_POINT;
-    double position[3] = {0, 0, 3};  // point: position; directional: direction towards the light
-    double color[3] = {1, 1, 1};
-    double intensity = 1;
-    // Orbit: turned about the vertical axis through orbit_center (directional: its direction
-    // about z) by orbit_phase + 360 t / orbit_period degrees; period 0: still.
-    double orbit_period = 0, orbit_phase = 0, orbit_center[3] = {0, 0, 0};
-    // Pulse: intensity times 1 - pulse_depth (1 - cos(2 pi t / pulse_period)) / 2.
-    double pulse_period = 0, pulse_depth = 0;
-};
+// The camera, lights and transforms with their motion over time (shared with sepal-view's
+// scene mode: ports/common/scene_motion.h).
+using SceneCamera = sepal_ports::SceneCamera;
+using SceneLight = sepal_ports::SceneLight;
 
 struct SceneMaterial {
     std::string name, spec;  // spec: what the exact renderer draws and the bake bakes
@@ -64,12 +50,11 @@ struct SceneMaterial {
     std::vector<uint8_t> measured;  // a measured file's bytes (part of the bake key)
 };
 
-struct SceneObject {
+struct SceneObject : sepal_ports::SceneTransform {
     std::string name;
     int material = 0;
     std::string mesh;  // sphere, torus, grid, wave, floor (the floor's grid), or a file path
     int floor_cells = 0;
-    double translate[3] = {0, 0, 0}, rotate[3] = {0, 0, 0}, scale = 1, spin = 0;  // degrees; spin: about z, per second
 };
 
 struct SceneFile {
@@ -124,6 +109,10 @@ struct SceneFrame {
     std::vector<sepal_object> objects;  // asset set, material null (GL renders fill it)
 };
 bool scene_frame(const LoadedScene& s, double t, int width, int height, SceneFrame* out, std::string* err);
+
+// A scene bundle (ports/common/scene_bundle.h) in dir: scene.txt, each material's asset,
+// each mesh file's vertices (built-in meshes by name): what sepal-view's scene mode reads.
+bool export_scene_bundle(const LoadedScene& s, const std::string& dir, std::string* err);
 
 // The exact renderer, object by object over the background (linear RGB).
 bool render_scene_exact(const LoadedScene& s, const SceneFrame& fr, int supersample, Image* out, std::string* err);

@@ -173,5 +173,5 @@ TEST_CASE("render --scene: flags that do not apply are refused") {
     CHECK(sepal_test::run_cmd("render", {"-o", out}, &text) == 2);
     CHECK(text.find("or --scene FILE") != std::string::npos);
     CHECK(sepal_test::run_cmd("render", {"cook-torrance", "--time", "2", "-o", out}, &text) == 2);
-    CHECK(text.find("--time and --cache apply with --scene") != std::string::npos);
+    CHECK(text.find("--time, --cache and --export apply with --scene") != std::string::npos);
 }
