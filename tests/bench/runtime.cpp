@@ -142,6 +142,56 @@ std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc&
     return out;
 }
 
+[[noreturn]] void bench_fail(const std::string& m) {
+    std::fprintf(stderr, "bench: %s\n", m.c_str());
+    std::exit(1);
+}
+
+// A headless GL ES 1.1 context of w x h, current, and its capabilities (exits on failure).
+sepal_headless_context* gles1_context(int w, int h, sepal_caps* caps) {
+    sepal_headless_desc hd = {};
+    hd.width = w;
+    hd.height = h;
+    hd.gles_version = 1;
+    char msg[512];
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
+    sepal_error e = {};
+    if (!ctx || sepal_query_caps(1, 0, sepal_headless_get_proc_address, caps, &e) != SEPAL_OK)
+        bench_fail(ctx ? e.message : msg);
+    return ctx;
+}
+
+// One pass's factor textures and coordinates on units 0 and 1 (the mesh's UVs for a unit
+// without a factor).
+void bind_pass(const PassDraw& pd, const sepal_mesh& mesh) {
+    for (int u = 0; u < 2; ++u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        glBindTexture(GL_TEXTURE_2D, pd.texture[u]);
+        if (pd.uv[u]) glTexCoordPointer(2, GL_FLOAT, 0, pd.uv[u]);
+        else glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), mesh.vertices[0].uv);
+    }
+}
+
+// The state the limit frames set, back to GL's defaults.
+void end_passes(int units) {
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    for (int u = units - 1; u >= 0; --u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        glDisable(GL_TEXTURE_2D);
+        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+}
+
 // `passes` draws of the scene's mesh with no per-frame CPU work (arrays set once), back faces
 // culled, additively blended:
 // - the mesh limit (draws null): bare single-textured draws at the mesh's UVs, no colour
@@ -188,35 +238,14 @@ double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint tex
         glClear(as_plan ? GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT);
         for (int p = 0; p < passes; ++p) {
             if (as_plan) {
-                const PassDraw& pd = (*draws)[size_t(p) % draws->size()];
-                for (int u = 0; u < 2; ++u) {
-                    glActiveTexture(GL_TEXTURE0 + u);
-                    glClientActiveTexture(GL_TEXTURE0 + u);
-                    glBindTexture(GL_TEXTURE_2D, pd.texture[u]);
-                    if (pd.uv[u]) glTexCoordPointer(2, GL_FLOAT, 0, pd.uv[u]);
-                    else glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].uv);
-                }
+                bind_pass((*draws)[size_t(p) % draws->size()], s.mesh);
             }
             glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
         }
         glFinish();
         if (f >= warmup) times.push_back(ms_since(t));
     }
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_DEPTH_TEST);
-    for (int u = units - 1; u >= 0; --u) {
-        glActiveTexture(GL_TEXTURE0 + u);
-        glClientActiveTexture(GL_TEXTURE0 + u);
-        glDisable(GL_TEXTURE_2D);
-        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-    }
-    glDisableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
+    end_passes(units);
     return median(times);
 }
 
@@ -348,34 +377,13 @@ double kiosk_pass_limit_ms(const std::vector<KioskObject>& objs, const float* pr
         glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), o.mesh.vertices[0].position);
         glColorPointer(4, GL_FLOAT, 0, o.draws.front().colors);
         for (int p = 0; p < o.passes; ++p) {
-            const PassDraw& pd = o.draws[size_t(p) % o.draws.size()];
-            for (int u = 0; u < 2; ++u) {
-                glActiveTexture(GL_TEXTURE0 + u);
-                glClientActiveTexture(GL_TEXTURE0 + u);
-                glBindTexture(GL_TEXTURE_2D, pd.texture[u]);
-                if (pd.uv[u]) glTexCoordPointer(2, GL_FLOAT, 0, pd.uv[u]);
-                else glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), o.mesh.vertices[0].uv);
-            }
+            bind_pass(o.draws[size_t(p) % o.draws.size()], o.mesh);
             glDrawElements(GL_TRIANGLES, o.mesh.index_count, GL_UNSIGNED_SHORT, o.mesh.indices);
         }
     }
     glFinish();
     const double ms = ms_since(t);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_DEPTH_TEST);
-    for (int u = 1; u >= 0; --u) {
-        glActiveTexture(GL_TEXTURE0 + u);
-        glClientActiveTexture(GL_TEXTURE0 + u);
-        glDisable(GL_TEXTURE_2D);
-        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-    }
-    glDisableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
+    end_passes(2);
     return ms;
 }
 
@@ -385,10 +393,6 @@ struct KioskRow {
     std::string device;
 };
 
-[[noreturn]] void bench_fail(const std::string& m) {
-    std::fprintf(stderr, "bench: kiosk: %s\n", m.c_str());
-    std::exit(1);
-}
 
 // The kiosk at its own size (640x480) and t = 4 s on GL ES 1.1: rounds of one frame (the
 // engine's clear, sepal_frame_begin, every object, sepal_frame_end, glFinish) and one
@@ -401,18 +405,11 @@ KioskRow kiosk_row(int rounds) {
     if (!sepal::read_scene_file(SEPAL_SOURCE_DIR "/examples/kiosk.json", &file, &err) ||
         !sepal::load_scene(file, sepal::default_scene_cache(), &scene, &err, stderr) ||
         !sepal::scene_frame(scene, 4.0, file.width, file.height, &fr, &err))
-        bench_fail(err);
+        bench_fail("kiosk: " + err);
     const int W = file.width, H = file.height;
-    sepal_headless_desc hd = {};
-    hd.width = W;
-    hd.height = H;
-    hd.gles_version = 1;
-    char msg[512];
-    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
-    sepal_error e = {};
     sepal_caps caps;
-    if (!ctx || sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &e) != SEPAL_OK)
-        bench_fail(ctx ? e.message : msg);
+    sepal_headless_context* ctx = gles1_context(W, H, &caps);
+    sepal_error e = {};
     KioskRow row;
     row.device = sepal_headless_describe(ctx);
     std::vector<std::unique_ptr<sepal_material>> mats;
@@ -536,22 +533,9 @@ int main(int argc, char** argv) {
         std::printf("wrote %s/runtime-kiosk.json\n", out_dir.c_str());
         return 0;
     }
-    sepal_headless_desc hd = {};
-    hd.width = W;
-    hd.height = H;
-    hd.gles_version = 1;
-    char msg[512];
-    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
-    if (!ctx) {
-        std::fprintf(stderr, "bench: %s\n", msg);
-        return 1;
-    }
-    sepal_error e = {};
     sepal_caps caps;
-    if (sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &e) != SEPAL_OK) {
-        std::fprintf(stderr, "bench: %s\n", e.message);
-        return 1;
-    }
+    sepal_headless_context* ctx = gles1_context(W, H, &caps);
+    sepal_error e = {};
     std::string json = "{\n  \"device\": \"" + std::string(sepal_headless_describe(ctx)) + "\",\n  \"size\": [512, 512],\n  \"frames\": [\n";
     std::printf("GL ES 1.1 multipass, %dx%d, %s; medians of %d rounds (a frame, a fill-limit, a mesh-limit and a pass-limit frame)\n",
                 W, H, sepal_headless_describe(ctx), rounds);

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "cli/scene_file.h"
+#include "frame_fixtures.h"
 #include "reference/render_exact.h"
 #include "test_util.h"
 
@@ -49,21 +50,9 @@ std::vector<uint8_t> gl_render(const sepal::SceneGlOptions& o, const sepal::Scen
 }
 
 // The engine's frame before sepal's objects: its clear colour and a rectangle nearer than
-// every object (depth 0.05), drawn by scissored clears.
+// every object (depth 0.05).
 void engine_draws(const float clear[3], const float rect[3]) {
-    glDisable(GL_SCISSOR_TEST);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glClearColor(clear[0], clear[1], clear[2], 1.0f);
-    glClearDepthf(1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(120, 90, 60, 40);
-    glClearColor(rect[0], rect[1], rect[2], 1.0f);
-    glClearDepthf(0.05f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDisable(GL_SCISSOR_TEST);
-    glClearDepthf(1.0f);
+    frame_fx::engine_draws(clear, rect, 120, 90, 60, 40, 0.05f);
 }
 
 }  // namespace
