@@ -88,13 +88,23 @@ std::vector<uint8_t> encode_bundle_mesh(const sepal_mesh& mesh) {
 }
 
 bool load_scene_bundle(const std::string& path, SceneBundle* out, std::string* err) {
-    SceneBundle& b = *out;
-    b = SceneBundle();
     std::vector<uint8_t> bytes;
     if (!read_bounded_file(path, kMaxText, &bytes, err)) return false;
     const size_t slash = path.find_last_of('/');
     const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash);
-    std::istringstream lines(std::string(bytes.begin(), bytes.end()));
+    return parse_scene_bundle(std::string(bytes.begin(), bytes.end()), path,
+                              [&dir](const std::string& name, size_t max, std::vector<uint8_t>* o, std::string* e) {
+                                  return read_bounded_file(dir + "/" + name, max, o, e);
+                              },
+                              out, err);
+}
+
+bool parse_scene_bundle(const std::string& text, const std::string& path, const BundleReader& read, SceneBundle* out,
+                        std::string* err) {
+    SceneBundle& b = *out;
+    b = SceneBundle();
+    if (text.size() > kMaxText) return *err = path + ": over 1 MiB", false;
+    std::istringstream lines(text);
     std::string line;
     int number = 0;
     auto fail = [&](const std::string& why) {
@@ -126,7 +136,7 @@ bool load_scene_bundle(const std::string& path, SceneBundle* out, std::string* e
         } else if (rec == "material") {
             if (!(in >> name) || !plain_name(name) || b.assets.size() >= 64) return fail("material FILE.sepal (64 at most)");
             b.asset_bytes.emplace_back();
-            if (!read_bounded_file(dir + "/" + name, SEPAL_FMT_MAX_FILE_BYTES, &b.asset_bytes.back(), err)) return fail(*err);
+            if (!read(name, SEPAL_FMT_MAX_FILE_BYTES, &b.asset_bytes.back(), err)) return fail(*err);
             b.assets.push_back(std::make_unique<sepal_asset>());
             sepal_error e = {};
             const std::vector<uint8_t>& a = b.asset_bytes.back();
@@ -141,7 +151,8 @@ bool load_scene_bundle(const std::string& path, SceneBundle* out, std::string* e
                 if (!builtin_mesh(name, cells, &m.vertices, &m.indices, err)) return fail(*err);
             } else {
                 std::vector<uint8_t> mb;
-                if (!plain_name(name) || !read_bounded_file(dir + "/" + name, kMaxMeshBytes, &mb, err)) return fail(*err);
+                if (!plain_name(name)) return fail("mesh NAME: a file beside scene.txt");
+                if (!read(name, kMaxMeshBytes, &mb, err)) return fail(*err);
                 if (!decode_mesh(mb, &m, err)) return fail(name + ": " + *err);
             }
         } else if (rec == "object") {

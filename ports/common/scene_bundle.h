@@ -26,6 +26,7 @@
 #pragma once
 #include <stdint.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +59,12 @@ struct SceneBundle {
 };
 
 bool load_scene_bundle(const std::string& path, SceneBundle* out, std::string* err);
+// The same from scene.txt's text (`source` names it in messages); `read` gives the bytes of
+// a file it names, at most max_bytes (the web port hands over what the page fetched).
+using BundleReader = std::function<bool(const std::string& name, size_t max_bytes, std::vector<uint8_t>* out,
+                                        std::string* err)>;
+bool parse_scene_bundle(const std::string& text, const std::string& source, const BundleReader& read,
+                        SceneBundle* out, std::string* err);
 
 // The frame at time t, the orbit camera turned by extra yaw and pitch (degrees; the viewer's
 // drags), at width x height: view, projection and viewport in *desc (clear 0, the caller sets
