@@ -399,6 +399,14 @@ $(RUNTIME_OBJ) $(HEADLESS_PORT_OBJ): CXXFLAGS_ALL += $(PIC_FLAGS)
 $(RUNTIME_OBJ) $(HEADLESS_PORT_OBJ): $(BUILD)/obj/pic.flags
 $(BUILD)/obj/pic.flags: FORCE
 	@mkdir -p $(dir $@) && echo '$(PIC_FLAGS)' | cmp -s - $@ || echo '$(PIC_FLAGS)' > $@
+# The sources that compile the checkout's paths in (SEPAL_SOURCE_DIR, SEPAL_BIN_DIR,
+# SEPAL_SHARED_DIR) are rebuilt when the paths change: a build/ copied from another
+# checkout must not test that checkout's binaries and fixtures.
+DIR_FLAGS := $(CURDIR) $(BUILD) $(SHARED)
+DIR_USERS := $(shell grep -rlE 'SEPAL_(SOURCE|BIN|SHARED)_DIR' offline runtime ports tests --include='*.cpp' --include='*.c' 2>/dev/null)
+$(patsubst %.cpp,$(BUILD)/obj/%.o,$(filter %.cpp,$(DIR_USERS))): $(BUILD)/obj/dirs.flags
+$(BUILD)/obj/dirs.flags: FORCE
+	@mkdir -p $(dir $@) && echo '$(DIR_FLAGS)' | cmp -s - $@ || echo '$(DIR_FLAGS)' > $@
 FORCE:
 
 $(DIST)/libsepal.a: $(LIB_RUNTIME)
