@@ -135,6 +135,24 @@ struct Gl {
     }
 };
 
+// One frame of the scene's two objects on gl's context: object(k) for k = 0, 1 (1, 0 when
+// reversed), cleared first when clear.
+using ObjectOf = std::function<sepal_object(int k)>;
+inline void draw_frame(Gl& gl, const Scene& sc, bool clear, const ObjectOf& object, bool reversed = false) {
+    sepal_frame_desc fd = sc.frame;
+    fd.caps = &gl.caps;
+    fd.clear = clear ? 1 : 0;
+    sepal_frame f;
+    sepal_error e = {};
+    REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
+    for (int i = 0; i < 2; ++i) {
+        const sepal_object o = object(reversed ? 1 - i : i);
+        sepal_draw_stats stats = {};
+        REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, &stats, &e) == SEPAL_OK, e.message);
+    }
+    REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
+}
+
 // The state contract: each change (what an application might leave) must show in the
 // snapshot; then a two-object frame and a sepal_draw on that state must leave the snapshot
 // as it was.
@@ -150,17 +168,8 @@ inline void check_state_kept(Gl& gl, const Scene& sc, const sepal_material* m, s
         CHECK(!gl_snapshot::differences(last, now).empty());  // the snapshot sees this change
         last = now;
     }
-    sepal_frame_desc fd = sc.frame;
-    fd.caps = &gl.caps;
-    fd.clear = 1;
-    sepal_frame f;
+    draw_frame(gl, sc, true, [&](int k) { return sc.object(k, m, nullptr, mode); });
     sepal_error e = {};
-    REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
-    for (int k = 0; k < 2; ++k) {
-        const sepal_object o = sc.object(k, m, nullptr, mode);
-        REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
-    }
-    REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
     const std::string diff = gl_snapshot::differences(last, snapshot());
     CHECK_MESSAGE(diff.empty(), "left behind: " << diff);
     // sepal_draw, the one-object frame, keeps the contract too.

@@ -275,10 +275,9 @@ extern "C" sepal_result sepal_frame_draw_cpu(const sepal_frame_desc* f, const se
                                              sepal_draw_stats* stats, sepal_error* err) {
     if (!f || !o) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "cpu: NULL frame or object");
     srt::ObjectSpace space;
-    sepal_result r = srt::object_space(f->view, o->model, o->lights, o->light_count, &space, err);
-    if (r != SEPAL_OK) return r;
     srt::MeshView mesh;
-    if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
+    sepal_result r = srt::object_view(f->view, *o, &space, &mesh, err);
+    if (r != SEPAL_OK) return r;
     sepal_cpu_desc d = {};
     d.asset = o->asset;
     d.scene = &space.scene;

@@ -389,10 +389,9 @@ extern "C" sepal_result sepal_frame_emulate(const sepal_frame_desc* f, const sep
     if (!f || !o || !o->asset || !rgba || !depth || !scratch)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: NULL frame, object, asset or buffer");
     srt::ObjectSpace space;
-    sepal_result r = srt::object_space(f->view, o->model, o->lights, o->light_count, &space, err);
-    if (r != SEPAL_OK) return r;
     srt::MeshView mesh;
-    if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
+    sepal_result r = srt::object_view(f->view, *o, &space, &mesh, err);
+    if (r != SEPAL_OK) return r;
     sepal_emulate_desc e = {};
     e.asset = o->asset;
     e.scene = &space.scene;

@@ -166,10 +166,9 @@ extern "C" sepal_result sepal_object_shading(const sepal_frame_desc* desc, const
     if (!desc || !object || !scene || !clip_from_shading || (vertices && !count))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "object_shading: NULL argument");
     srt::ObjectSpace space;
-    sepal_result r = srt::object_space(desc->view, object->model, object->lights, object->light_count, &space, err);
-    if (r != SEPAL_OK) return r;
     srt::MeshView mesh;
-    if ((r = srt::object_mesh_view(*object, space, &mesh, err)) != SEPAL_OK) return r;
+    sepal_result r = srt::object_view(desc->view, *object, &space, &mesh, err);
+    if (r != SEPAL_OK) return r;
     *scene = space.scene;
     // World space (any other affine model) or the object's own (a similarity).
     srt::mat4_mul(desc->projection, space.transform ? desc->view : space.modelview, clip_from_shading);
@@ -234,10 +233,9 @@ extern "C" sepal_result sepal_frame_draw(sepal_frame* frame, const sepal_object*
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "frame: a GL ES %d material in a GL ES %d frame",
                          m->caps.gles_version, fd.caps->gles_version);
     srt::ObjectSpace space;
-    sepal_result r = srt::object_space(fd.view, o->model, o->lights, o->light_count, &space, err);
-    if (r != SEPAL_OK) return r;
     srt::MeshView mesh;
-    if ((r = srt::object_mesh_view(*o, space, &mesh, err)) != SEPAL_OK) return r;
+    sepal_result r = srt::object_view(fd.view, *o, &space, &mesh, err);
+    if (r != SEPAL_OK) return r;
     sepal_draw_desc d = {};
     d.material = o->material;
     d.scene = &space.scene;

@@ -78,4 +78,10 @@ sepal_result object_mesh_view(const sepal_object& o, const ObjectSpace& space, M
     return ok(err);
 }
 
+sepal_result object_view(const float view[16], const sepal_object& o, ObjectSpace* space, MeshView* mesh,
+                         sepal_error* err) {
+    const sepal_result r = object_space(view, o.model, o.lights, o.light_count, space, err);
+    return r != SEPAL_OK ? r : object_mesh_view(o, *space, mesh, err);
+}
+
 }  // namespace srt

@@ -43,5 +43,9 @@ sepal_result mesh_view(const sepal_vertex_data& data, MeshView* out, sepal_error
 // shading transform of object_scene.
 sepal_result object_mesh_view(const sepal_object& o, const struct ObjectSpace& space, MeshView* out,
                               sepal_error* err);
+// Both for a frame's object: object_space of view and the object's model and lights, then its
+// vertices.
+sepal_result object_view(const float view[16], const sepal_object& o, struct ObjectSpace* space, MeshView* mesh,
+                         sepal_error* err);
 
 }  // namespace srt

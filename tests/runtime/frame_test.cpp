@@ -36,19 +36,7 @@ bool in_rect(size_t pixel) {  // pixel: top row first
 
 std::vector<uint8_t> gl_frame(Gl& gl, const Scene& sc, const sepal_material* const m[2], sepal_draw_mode mode,
                               bool reversed, bool clear) {
-    sepal_frame_desc fd = sc.frame;
-    fd.caps = &gl.caps;
-    fd.clear = clear ? 1 : 0;
-    sepal_frame f;
-    sepal_error e = {};
-    REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
-    for (int i = 0; i < 2; ++i) {
-        const int k = reversed ? 1 - i : i;
-        const sepal_object o = sc.object(k, m[k], nullptr, mode);
-        sepal_draw_stats stats = {};
-        REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, &stats, &e) == SEPAL_OK, e.message);
-    }
-    REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
+    draw_frame(gl, sc, clear, [&](int k) { return sc.object(k, m[k], nullptr, mode); }, reversed);
     return gl.read();
 }
 
@@ -64,6 +52,87 @@ sepal::AssetData constant_asset() {
     std::string err;
     REQUIRE_MESSAGE(sepal::build_plan(&a, &err), err);
     return a;
+}
+
+// The exact-render frames' two materials: a constant f, and an anisotropic Ward (radiance
+// factors, 2 NMF terms) broad enough that this small bake's own error stays below the
+// frame's (a narrow one costs every backend alike, the CPU's factored BRDF included).
+struct WardAndConstant {
+    std::vector<uint8_t> bytes[2];
+    std::unique_ptr<sepal::Brdf> ward;
+    ConstantBrdf constant{0.125};
+    const sepal::Brdf* brdf[2] = {};
+    sepal_asset assets[2];
+    WardAndConstant() {
+        const char* const spec = "ward:rho_d=0.5,rho_s=0.2,ax=0.5,ay=0.3";
+        bytes[0] = encode(constant_asset());
+        bytes[1] = encode(bake_small(spec, sepal::Param::GsHalf, sepal::Method::NMF, 2, true, 32, 64));
+        std::string err;
+        ward = sepal::make_brdf(spec, &err);
+        REQUIRE_MESSAGE(ward, err);
+        brdf[0] = &constant;
+        brdf[1] = ward.get();
+        sepal_error e = {};
+        for (int k = 0; k < 2; ++k)
+            REQUIRE(sepal_asset_parse(bytes[k].data(), bytes[k].size(), &assets[k], &e) == SEPAL_OK);
+    }
+};
+
+using BackendObject = std::function<sepal_object(int k, const sepal_material*, const sepal_asset*, sepal_draw_mode)>;
+
+// The frame of object(k, ...) on every backend against its exact image (8-bit): GL ES 1.1,
+// GL ES 2 multipass and fused, and the CPU at >= 38 dB each (printed as "label, backend",
+// written as prefix_backend.png); the emulator against GL ES 1.1 at >= 45 dB.
+void check_backends(const Scene& sc, const WardAndConstant& w, const sepal::Image& exact, const std::string& prefix,
+                    const std::string& label, const BackendObject& object) {
+    auto check = [&](const sepal::Image& img, const std::string& name) {
+        const sepal::ImageDiff d = sepal::diff_images(exact, img, 0);
+        CAPTURE(name);
+        CAPTURE(d.psnr);
+        sepal::write_png(sepal_test::output_dir() + "/" + prefix + "_" + name + ".png", img, nullptr);
+        CHECK(d.psnr >= 38.0);
+        MESSAGE(label << ", " << name << " against exact: " << d.psnr << " dB");
+    };
+    sepal::write_png(sepal_test::output_dir() + "/" + prefix + "_exact.png", exact, nullptr);
+    sepal::Image gles1_image;
+    for (int version : {1, 2})
+        for (sepal_draw_mode mode : {SEPAL_MODE_MULTIPASS, SEPAL_MODE_FUSED_VERTEX, SEPAL_MODE_FUSED_PIXEL}) {
+            if (version == 1 && mode != SEPAL_MODE_MULTIPASS) continue;
+            Gl gl(version);
+            const sepal_material* m[2] = {gl.material(w.bytes[0], 0), gl.material(w.bytes[1], 0)};
+            draw_frame(gl, sc, true, [&](int k) { return object(k, m[k], nullptr, mode); });
+            const sepal::Image img = rgb(gl.read());
+            if (version == 1) gles1_image = img;
+            check(img, version == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2" : mode == SEPAL_MODE_FUSED_VERTEX
+                                                                                        ? "gles2-fused-vertex"
+                                                                                        : "gles2-fused-pixel");
+        }
+    // The CPU backend and the emulator, object by object into their own buffers.
+    sepal::Image cpu(kWidth, kHeight, 3);
+    std::vector<float> cpu_depth(size_t(kWidth) * kHeight);
+    std::vector<uint8_t> emu(size_t(kWidth) * kHeight * 4, 0);
+    std::vector<float> emu_depth(size_t(kWidth) * kHeight);
+    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, cpu.data.data(), cpu_depth.data());
+    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, nullptr, emu_depth.data());
+    std::vector<float> scratch(std::max(sepal_cpu_scratch_floats(sc.mesh.vertex_count),
+                                        sepal_emulate_scratch_floats(kWidth, kHeight, sc.mesh.vertex_count, 2)));
+    sepal_error e = {};
+    for (int k = 0; k < 2; ++k) {
+        const sepal_object o = object(k, nullptr, &w.assets[k], SEPAL_MODE_MULTIPASS);
+        REQUIRE_MESSAGE(sepal_frame_draw_cpu(&sc.frame, &o, cpu.data.data(), cpu_depth.data(), scratch.data(),
+                                             scratch.size(), nullptr, &e) == SEPAL_OK,
+                        e.message);
+        REQUIRE_MESSAGE(sepal_frame_emulate(&sc.frame, &o, 1, 0, emu.data(), emu_depth.data(), scratch.data(),
+                                            scratch.size(), nullptr, &e) == SEPAL_OK,
+                        e.message);
+    }
+    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
+    check(cpu, "cpu");
+    // The emulator is what GL ES 1.1 shows (as for single objects: tests/ports/emulate_test.cpp).
+    const sepal::ImageDiff de = sepal::diff_images(gles1_image, rgb(emu), 8);
+    CAPTURE(de.psnr);
+    CHECK(de.psnr >= 45.0);
+    CHECK(de.share_over <= 0.001);
 }
 
 }  // namespace
@@ -137,22 +206,14 @@ TEST_CASE("frame: pixels the objects do not cover keep what the engine drew, bit
 }
 
 TEST_CASE("frame: two objects against the exact renderer of the same description, every backend") {
-    // Object 0 a constant f, object 1 an anisotropic Ward (radiance factors, 2 NMF terms)
-    // turned by its model matrix, scaled by 1/2 and in front of 0 where they overlap. Broad
-    // enough that this small bake's own error stays below the frame's (a narrow one costs
-    // every backend alike, the CPU's factored BRDF included).
-    const char* const ward = "ward:rho_d=0.5,rho_s=0.2,ax=0.5,ay=0.3";
-    const sepal::AssetData ward_asset = bake_small(ward, sepal::Param::GsHalf, sepal::Method::NMF, 2, true, 32, 64);
-    const std::vector<uint8_t> bytes[2] = {encode(constant_asset()), encode(ward_asset)};
+    // Object 0 a constant f, object 1 an anisotropic Ward turned by its model matrix, scaled
+    // by 1/2 and in front of 0 where they overlap.
+    const WardAndConstant w;
+    const sepal::Brdf* const* brdf = w.brdf;
+    const sepal_asset* assets = w.assets;
     std::string err;
-    std::unique_ptr<sepal::Brdf> ward_brdf = sepal::make_brdf(ward, &err);
-    REQUIRE_MESSAGE(ward_brdf, err);
-    const ConstantBrdf constant(0.125);
-    const sepal::Brdf* brdf[2] = {&constant, ward_brdf.get()};
     const Scene sc;
-    sepal_asset assets[2];
     sepal_error e = {};
-    for (int k = 0; k < 2; ++k) REQUIRE(sepal_asset_parse(bytes[k].data(), bytes[k].size(), &assets[k], &e) == SEPAL_OK);
 
     sepal::Image exact(kWidth, kHeight, 3);
     std::vector<float> depth(size_t(kWidth) * kHeight, 1.0f);
@@ -215,52 +276,10 @@ TEST_CASE("frame: two objects against the exact renderer of the same description
     }
     CHECK(both > 100);
 
-    auto check = [&](const sepal::Image& img, const std::string& name) {
-        const sepal::ImageDiff d = sepal::diff_images(exact, img, 0);
-        CAPTURE(name);
-        CAPTURE(d.psnr);
-        sepal::write_png(sepal_test::output_dir() + "/frame_" + name + ".png", img, nullptr);
-        CHECK(d.psnr >= 38.0);
-        MESSAGE("two-object frame, " << name << " against exact: " << d.psnr << " dB");
-    };
-    sepal::write_png(sepal_test::output_dir() + "/frame_exact.png", exact, nullptr);
-    sepal::Image gles1_image;
-    for (int version : {1, 2})
-        for (sepal_draw_mode mode : {SEPAL_MODE_MULTIPASS, SEPAL_MODE_FUSED_VERTEX, SEPAL_MODE_FUSED_PIXEL}) {
-            if (version == 1 && mode != SEPAL_MODE_MULTIPASS) continue;
-            Gl gl(version);
-            const sepal_material* m[2] = {gl.material(bytes[0], 0), gl.material(bytes[1], 0)};
-            const sepal::Image img = rgb(gl_frame(gl, sc, m, mode, false, true));
-            if (version == 1) gles1_image = img;
-            check(img, version == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2" : mode == SEPAL_MODE_FUSED_VERTEX
-                                                                                        ? "gles2-fused-vertex"
-                                                                                        : "gles2-fused-pixel");
-        }
-    // The CPU backend and the emulator, object by object into their own buffers.
-    sepal::Image cpu(kWidth, kHeight, 3);
-    std::vector<float> cpu_depth(size_t(kWidth) * kHeight);
-    std::vector<uint8_t> emu(size_t(kWidth) * kHeight * 4, 0);
-    std::vector<float> emu_depth(size_t(kWidth) * kHeight);
-    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, cpu.data.data(), cpu_depth.data());
-    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, nullptr, emu_depth.data());
-    for (int k = 0; k < 2; ++k) {
-        const sepal_object o = sc.object(k, nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
-        std::vector<float> scratch(sepal_cpu_scratch_floats(sc.mesh.vertex_count));
-        REQUIRE_MESSAGE(sepal_frame_draw_cpu(&sc.frame, &o, cpu.data.data(), cpu_depth.data(), scratch.data(),
-                                             scratch.size(), nullptr, &e) == SEPAL_OK,
-                        e.message);
-        scratch.resize(sepal_emulate_scratch_floats(kWidth, kHeight, sc.mesh.vertex_count, 2));
-        REQUIRE_MESSAGE(sepal_frame_emulate(&sc.frame, &o, 1, 0, emu.data(), emu_depth.data(), scratch.data(),
-                                            scratch.size(), nullptr, &e) == SEPAL_OK,
-                        e.message);
-    }
-    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
-    check(cpu, "cpu");
-    // The emulator is what GL ES 1.1 shows (as for single objects: tests/ports/emulate_test.cpp).
-    const sepal::ImageDiff de = sepal::diff_images(gles1_image, rgb(emu), 8);
-    CAPTURE(de.psnr);
-    CHECK(de.psnr >= 45.0);
-    CHECK(de.share_over <= 0.001);
+    check_backends(sc, w, exact, "frame", "two-object frame",
+                   [&](int k, const sepal_material* m, const sepal_asset* a, sepal_draw_mode mode) {
+                       return sc.object(k, m, a, mode);
+                   });
 }
 
 TEST_CASE("frame: arguments are checked") {
@@ -403,17 +422,9 @@ TEST_CASE("frame: the engine's strided vertices draw what a sepal_mesh draws, bi
             const sepal_material* m[2] = {gl.material(bytes[0], 0), gl.material(bytes[1], 0)};
             std::vector<uint8_t> images[3];
             for (Layout layout : {kMesh, kInterleaved, kSplit}) {
-                sepal_frame_desc fd = sc.frame;
-                fd.caps = &gl.caps;
-                fd.clear = 1;
-                sepal_frame f;
-                sepal_error e = {};
-                REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
-                for (int k = 0; k < 2; ++k) {
-                    const sepal_object o = layout_object(sc, em, layout, k, models[set][k], m[k], nullptr, c.mode);
-                    REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
-                }
-                REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
+                draw_frame(gl, sc, true, [&](int k) {
+                    return layout_object(sc, em, layout, k, models[set][k], m[k], nullptr, c.mode);
+                });
                 images[layout] = gl.read();
             }
             size_t lit = 0;
@@ -457,91 +468,34 @@ TEST_CASE("frame: the engine's strided vertices draw what a sepal_mesh draws, bi
 TEST_CASE("frame: a non-uniform scale and a shear against the exact renderer of the same description") {
     // As the two-object frame above, with models that are not similarities (shading in world
     // space) and object 1 from the engine's interleaved vertices.
-    const char* const ward = "ward:rho_d=0.5,rho_s=0.2,ax=0.5,ay=0.3";
-    const sepal::AssetData ward_asset = bake_small(ward, sepal::Param::GsHalf, sepal::Method::NMF, 2, true, 32, 64);
-    const std::vector<uint8_t> bytes[2] = {encode(constant_asset()), encode(ward_asset)};
-    std::string err;
-    std::unique_ptr<sepal::Brdf> ward_brdf = sepal::make_brdf(ward, &err);
-    REQUIRE_MESSAGE(ward_brdf, err);
-    const ConstantBrdf constant(0.125);
-    const sepal::Brdf* brdf[2] = {&constant, ward_brdf.get()};
+    const WardAndConstant w;
     const Scene sc;
     const EngineMesh em(sc.mesh);
     float affine[2][16];
     affine_models(affine);
     const Layout layout[2] = {kMesh, kInterleaved};
-    sepal_asset assets[2];
-    sepal_error e = {};
-    for (int k = 0; k < 2; ++k) REQUIRE(sepal_asset_parse(bytes[k].data(), bytes[k].size(), &assets[k], &e) == SEPAL_OK);
+    std::string err;
     sepal::Image exact(kWidth, kHeight, 3);
     std::vector<float> depth(size_t(kWidth) * kHeight, 1.0f);
     for (int k = 0; k < 2; ++k) {
-        const sepal_object o = layout_object(sc, em, layout[k], k, affine[k], nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
-        REQUIRE_MESSAGE(sepal::render_exact_frame_object(*brdf[k], sc.frame, o, &exact, &depth, nullptr, &err,
+        const sepal_object o =
+            layout_object(sc, em, layout[k], k, affine[k], nullptr, &w.assets[k], SEPAL_MODE_MULTIPASS);
+        REQUIRE_MESSAGE(sepal::render_exact_frame_object(*w.brdf[k], sc.frame, o, &exact, &depth, nullptr, &err,
                                                          sepal::kReferenceSupersample),
                         err);
     }
     for (float& v : exact.data) v = std::round(std::min(1.0f, std::max(0.0f, v)) * 255.0f) / 255.0f;
-    sepal::write_png(sepal_test::output_dir() + "/frame_affine_exact.png", exact, nullptr);
-    auto check = [&](const sepal::Image& img, const std::string& name) {
-        const sepal::ImageDiff d = sepal::diff_images(exact, img, 0);
-        CAPTURE(name);
-        CAPTURE(d.psnr);
-        sepal::write_png(sepal_test::output_dir() + "/frame_affine_" + name + ".png", img, nullptr);
-        CHECK(d.psnr >= 38.0);
-        MESSAGE("non-uniform scale and shear, " << name << " against exact: " << d.psnr << " dB");
-    };
-    sepal::Image gles1_image;
-    for (int version : {1, 2})
-        for (sepal_draw_mode mode : {SEPAL_MODE_MULTIPASS, SEPAL_MODE_FUSED_VERTEX, SEPAL_MODE_FUSED_PIXEL}) {
-            if (version == 1 && mode != SEPAL_MODE_MULTIPASS) continue;
-            Gl gl(version);
-            const sepal_material* m[2] = {gl.material(bytes[0], 0), gl.material(bytes[1], 0)};
-            sepal_frame_desc fd = sc.frame;
-            fd.caps = &gl.caps;
-            fd.clear = 1;
-            sepal_frame f;
-            REQUIRE_MESSAGE(sepal_frame_begin(&f, &fd, &e) == SEPAL_OK, e.message);
-            for (int k = 0; k < 2; ++k) {
-                const sepal_object o = layout_object(sc, em, layout[k], k, affine[k], m[k], nullptr, mode);
-                REQUIRE_MESSAGE(sepal_frame_draw(&f, &o, nullptr, &e) == SEPAL_OK, e.message);
-            }
-            REQUIRE_MESSAGE(sepal_frame_end(&f, &e) == SEPAL_OK, e.message);
-            const sepal::Image img = rgb(gl.read());
-            if (version == 1) gles1_image = img;
-            check(img, version == 1 ? "gles1" : mode == SEPAL_MODE_MULTIPASS ? "gles2" : mode == SEPAL_MODE_FUSED_VERTEX
-                                                                                        ? "gles2-fused-vertex"
-                                                                                        : "gles2-fused-pixel");
-        }
-    sepal::Image cpu(kWidth, kHeight, 3);
-    std::vector<float> cpu_depth(size_t(kWidth) * kHeight);
-    std::vector<uint8_t> emu(size_t(kWidth) * kHeight * 4, 0);
-    std::vector<float> emu_depth(size_t(kWidth) * kHeight);
-    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, cpu.data.data(), cpu_depth.data());
-    sepal_frame_clear_cpu(kWidth, kHeight, nullptr, nullptr, emu_depth.data());
-    std::vector<float> scratch(std::max(sepal_cpu_scratch_floats(sc.mesh.vertex_count),
-                                        sepal_emulate_scratch_floats(kWidth, kHeight, sc.mesh.vertex_count, 2)));
-    for (int k = 0; k < 2; ++k) {
-        const sepal_object o = layout_object(sc, em, layout[k], k, affine[k], nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
-        REQUIRE_MESSAGE(sepal_frame_draw_cpu(&sc.frame, &o, cpu.data.data(), cpu_depth.data(), scratch.data(),
-                                             scratch.size(), nullptr, &e) == SEPAL_OK,
-                        e.message);
-        REQUIRE_MESSAGE(sepal_frame_emulate(&sc.frame, &o, 1, 0, emu.data(), emu_depth.data(), scratch.data(),
-                                            scratch.size(), nullptr, &e) == SEPAL_OK,
-                        e.message);
-    }
-    for (float& v : cpu.data) v = std::min(1.0f, std::max(0.0f, v));
-    check(cpu, "cpu");
-    const sepal::ImageDiff de = sepal::diff_images(gles1_image, rgb(emu), 8);
-    CAPTURE(de.psnr);
-    CHECK(de.psnr >= 45.0);
+    check_backends(sc, w, exact, "frame_affine", "non-uniform scale and shear",
+                   [&](int k, const sepal_material* m, const sepal_asset* a, sepal_draw_mode mode) {
+                       return layout_object(sc, em, layout[k], k, affine[k], m, a, mode);
+                   });
     // Shading in world space is what the object looks like: the same objects as similarities
     // would not match (the test can fail).
     sepal::Image similar(kWidth, kHeight, 3);
     std::vector<float> similar_depth(size_t(kWidth) * kHeight, 1.0f);
     for (int k = 0; k < 2; ++k) {
-        const sepal_object o = sc.object(k, nullptr, &assets[k], SEPAL_MODE_MULTIPASS);
-        REQUIRE(sepal::render_exact_frame_object(*brdf[k], sc.frame, o, &similar, &similar_depth, nullptr, &err));
+        const sepal_object o = sc.object(k, nullptr, &w.assets[k], SEPAL_MODE_MULTIPASS);
+        REQUIRE(sepal::render_exact_frame_object(*w.brdf[k], sc.frame, o, &similar, &similar_depth, nullptr, &err));
     }
     CHECK(sepal::diff_images(exact, similar, 0).psnr < 25.0);
 }
