@@ -372,6 +372,10 @@ class Search {
         // Homomorphic factors hold f: capped where f cos theta_i is white under every light of the range
         // (the radiance fit's white level), so p and q keep their 8 bits for what shows.
         if (homomorphic && o_.radiance) fz.fo.homomorphic.white = out_->white;
+        if (!homomorphic && o_.radiance && o_.fit_weight == BakeOptions::FitWeight::Display) {
+            const double emax = range_irradiance_max(o_.light_range);
+            fz.fo.value_weight = [emax](const glm::dvec3& v) { return display_weight(v, emax); };
+        }
         fz.ok = factor_brdf(homomorphic ? plain_ : source_, fz.fo, &fz.result, &fz.err);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         fz.capped = capped_count_() - before;
@@ -728,8 +732,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
             }
     } else {
         // The ladder: every kept pair on its first rung; the best one with a sharp factor
-        // (half-angle, axis's G) climbs while a rung gains climb_db (a sharper lobe needs a
-        // finer sharp factor; iv has no such factor and stays on its rung).
+        // (half-angle, axis's G) climbs until a rung falls climb_db below the best so far (a
+        // sharper lobe needs a finer sharp factor; iv has no such factor and stays on its rung).
         // The climber: the best pair with a sharp factor on the first rung, a sum-of-products one
         // (its term count grows on the way) before a homomorphic one (one product).
         auto climber_rank = [](const std::tuple<Param, HemiMap, Method>& q) {
@@ -787,9 +791,9 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                 search.run(std::get<0>(p), std::get<1>(p), o.ladder[r].first, o.ladder[r].second, std::get<2>(p), terms,
                            false, judge);
                 const double b = best_since(first);
-                const bool gained = b >= last + o.climb_db;
+                const bool lost = b < last - o.climb_db;
                 last = std::max(last, b);
-                if (!gained) break;
+                if (lost) break;
             }
         if (o.max_bytes > 0)
             for (const auto& q : pairs)

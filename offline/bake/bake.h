@@ -62,10 +62,14 @@ struct BakeOptions {
     // factor (param.h: gs-half's G, vh's H, axis's G) while the other one takes each of smooth_resolutions not
     // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
     // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
-    // factors at ladder_iv), and the best one climbs while a rung gains climb_db.
+    // factors at ladder_iv), and the best one climbs until a rung falls climb_db below the
+    // best so far: a lobe narrower than a texel gains nothing on a middle rung and everything
+    // on the last (phong n=1000), and a rung that only loses stops the climb. {32, 32}: the
+    // other factor finer where it holds grazing views (the rim highlights of lights behind
+    // the object).
     std::vector<int> resolutions;
     std::vector<int> smooth_resolutions;
-    std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
+    std::vector<std::pair<int, int>> ladder = {{32, 16}, {32, 32}, {64, 16}, {128, 8}};  // (half-angle, other)
     int ladder_iv = 32;
     double climb_db = 0.5;
     // With max_bytes (and the ladder), every kept pair is also factored with both factors at
@@ -126,6 +130,10 @@ struct BakeOptions {
     // unless diffuse_given.
     bool radiance = true;
     double white = 0;
+    // The radiance fit's entry weights: Display weighs each value's error as a display shows
+    // it across the light range (radiance.h, display_weight); Uniform counts every entry alike.
+    enum class FitWeight { Display, Uniform };
+    FitWeight fit_weight = FitWeight::Display;
     // The diffuse part: a profile over (cos theta_i, cos theta_o) of diffuse_side^2 nodes
     // (estimate_diffuse_profile; constant when flat), or with diffuse_side 0 a constant, the
     // diffuse_quantile of f (estimate_diffuse); or given (diffuse_given: the constant diffuse).

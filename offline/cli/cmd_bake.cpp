@@ -1,6 +1,6 @@
 // sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
 //   [--light-range R] [--light-max E] [--light-cone DEG] [--lights N] [--meshes LIST]
-//   [--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E]
+//   [--white auto|none|W] [--fit radiance|brdf] [--fit-weight display|uniform] [--min-psnr D] [--max-error E]
 //   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
 #include <algorithm>
@@ -65,7 +65,7 @@ void print_counts(const BakeResult& r, std::FILE* out) {
 
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
-    std::string white = "auto", fit = "radiance", colour = "auto";
+    std::string white = "auto", fit = "radiance", colour = "auto", fit_weight = "display";
     bool mips = false;
     BakeOptions o;
 };
@@ -93,6 +93,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         o.white = w;
     }
     o.radiance = args.fit == "radiance";
+    o.fit_weight = args.fit_weight == "uniform" ? BakeOptions::FitWeight::Uniform : BakeOptions::FitWeight::Display;
     o.colour_auto = args.colour == "auto";
     if (!o.colour_auto) parse_colour(args.colour, &o.colour);
     o.mips = args.mips;
@@ -246,6 +247,9 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--fit", a->fit, "radiance: factor f cos(theta_i) capped at the white level, diffuse apart "
                                     "(format 2); brdf: factor f (format 1)")
         ->check(CLI::IsMember({"radiance", "brdf"}))->capture_default_str();
+    app.add_option("--fit-weight", a->fit_weight, "the radiance fit's weights: display (each value's error as it shows "
+                                               "under the light range) or uniform")
+        ->check(CLI::IsMember({"display", "uniform"}))->capture_default_str();
     app.add_option("--white", a->white, "the radiance fit's cap: auto (from the light range's dimmest light), none, or "
                                         "f cos per steradian")
         ->capture_default_str();
