@@ -16,9 +16,6 @@ constexpr double kDistance2 = 2.0 * 2.0 + 2.5 * 2.5 + 3.0 * 3.0;
 constexpr double kDefaultIntensity = 60.0;
 // The grazing view's light: from the side and behind.
 constexpr double kGrazingLight[3] = {3.83, 1.91, 0.96};
-// A rim light: from behind the object and above, its highlight on the visible rim where
-// the eye is grazing (the hardest place for a factorization; training sees it).
-constexpr double kRimLight[3] = {2.5, 1.5, 2.5};
 // Directions farther than about 155 degrees from the eye light only a sliver the camera
 // cannot resolve.
 constexpr double kBehind = -0.9;
@@ -53,6 +50,15 @@ class Draws {
             const glm::dvec3 d(s * std::cos(phi), s * std::sin(phi), z);
             if (glm::dot(d, eye_) > kBehind || tries >= 64) return d;
         }
+    }
+    // A direction behind the object (its highlight on the visible rim), in the cone; any
+    // drawn direction when the cone holds none.
+    glm::dvec3 behind() {
+        for (int tries = 0; tries < 64; ++tries) {
+            const glm::dvec3 d = direction();
+            if (glm::dot(d, eye_) < 0.0) return d;
+        }
+        return direction();
     }
     // Log-uniform between the range's ends.
     double irradiance() {
@@ -122,7 +128,10 @@ std::vector<LightCondition> training_conditions(const LightRange& r) {
     out.push_back({"default", "sphere", {point_light(vec(kDefaultLight), hi)}});
     out.push_back({"grazing dim", "sphere", {point_light(vec(kGrazingLight), lo)}});
     out.push_back({"dim", "sphere", {point_light(draw.direction(), lo)}});
-    out.push_back({"rim", "sphere", {point_light(vec(kRimLight), draw.irradiance())}});
+    {
+        const glm::dvec3 d = draw.behind();
+        out.push_back({"rim", "sphere", {point_light(d, draw.irradiance())}});
+    }
     if (r.max_lights >= 2) {
         const glm::dvec3 a = draw.direction(), b = draw.direction();
         const double ea = draw.irradiance(), eb = draw.irradiance();

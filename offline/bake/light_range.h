@@ -18,7 +18,7 @@
 // about 25 degrees of straight behind it (they light a sliver the camera cannot resolve).
 // Training conditions (seed): the default scene's light at the brightest irradiance, the
 // grazing light (from the side and behind) and one drawn direction at the dimmest, a rim
-// light (behind and above, at a drawn irradiance), and with two lights or more, two drawn
+// light (a drawn direction behind the object, at a drawn irradiance), and with two lights or more, two drawn
 // lights at drawn irradiances (log-uniform in the range); the torus or wave as one more
 // condition when listed in meshes.
 // Held-out conditions (another seed): a drawn direction at the dimmest irradiance, one at a
