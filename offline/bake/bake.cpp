@@ -732,8 +732,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
             }
     } else {
         // The ladder: every kept pair on its first rung; the best one with a sharp factor
-        // (half-angle, axis's G) climbs until a rung falls climb_db below the best so far (a
-        // sharper lobe needs a finer sharp factor; iv has no such factor and stays on its rung).
+        // (half-angle, axis's G) climbs while a rung gains climb_db (a sharper lobe needs a
+        // finer sharp factor; iv has no such factor and stays on its rung).
         // The climber: the best pair with a sharp factor on the first rung, a sum-of-products one
         // (its term count grows on the way) before a homomorphic one (one product).
         auto climber_rank = [](const std::tuple<Param, HemiMap, Method>& q) {
@@ -785,16 +785,26 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         }
         const auto p = top_pair >= 0 ? pairs[size_t(top_pair)] : pairs[0];
         double last = top_pair >= 0 ? rung_best[size_t(top_pair)] : -1e30;
+        size_t reached = 0;
         if (top_pair >= 0)
             for (size_t r = 1; r < o.ladder.size(); ++r) {
                 const size_t first = out->candidates.size();
                 search.run(std::get<0>(p), std::get<1>(p), o.ladder[r].first, o.ladder[r].second, std::get<2>(p), terms,
                            false, judge);
                 const double b = best_since(first);
-                const bool lost = b < last - o.climb_db;
+                const bool gained = b >= last + o.climb_db;
                 last = std::max(last, b);
-                if (lost) break;
+                if (!gained) break;
+                reached = r;
             }
+        // The other factor finer on the rung the climb reached: it holds the view (vh) or the
+        // light in the half-angle frame (gs-half), whose grazing end is the rim highlight of a
+        // light behind the object. Not above a 64-texel sharp factor: at 128 x 32 the sample
+        // matrix and its weighted fit cost several times the rest of the bake (phong n=1000).
+        if (top_pair >= 0 && sharp_factor(std::get<0>(p)) >= 0 && o.ladder[reached].second < o.finer_other &&
+            o.ladder[reached].first <= 64)
+            search.run(std::get<0>(p), std::get<1>(p), o.ladder[reached].first, o.finer_other, std::get<2>(p), terms,
+                       false, judge);
         if (o.max_bytes > 0)
             for (const auto& q : pairs)
                 search.run(std::get<0>(q), std::get<1>(q), o.small_rung, o.small_rung, std::get<2>(q), terms, false,

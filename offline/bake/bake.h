@@ -62,16 +62,15 @@ struct BakeOptions {
     // factor (param.h: gs-half's G, vh's H, axis's G) while the other one takes each of smooth_resolutions not
     // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
     // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
-    // factors at ladder_iv), and the best one climbs until a rung falls climb_db below the
-    // best so far: a lobe narrower than a texel gains nothing on a middle rung and everything
-    // on the last (phong n=1000), and a rung that only loses stops the climb. {32, 32}: the
-    // other factor finer where it holds grazing views (the rim highlights of lights behind
-    // the object).
+    // factors at ladder_iv), and the best one climbs while a rung gains climb_db; on the
+    // rung it reached, the other factor is tried at finer_other too (it holds the grazing
+    // views where a light behind the object puts its highlight).
     std::vector<int> resolutions;
     std::vector<int> smooth_resolutions;
-    std::vector<std::pair<int, int>> ladder = {{32, 16}, {32, 32}, {64, 16}, {128, 8}};  // (half-angle, other)
+    std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
     int ladder_iv = 32;
     double climb_db = 0.5;
+    int finer_other = 32;
     // With max_bytes (and the ladder), every kept pair is also factored with both factors at
     // small_rung: the sizes an 8 KB material needs sit below the ladder's first rung.
     int small_rung = 16;
