@@ -155,6 +155,8 @@ void mark_front(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
 }
 
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
+    // The image figure less bytes_db per doubling of the asset's bytes.
+    auto worth = [&o](const BakeCandidate& c) { return c.psnr - o.bytes_db * std::log2(double(std::max<int64_t>(c.bytes, 1))); };
     int best = -1;
     for (size_t i = 0; i < candidates->size(); ++i) {
         BakeCandidate& c = (*candidates)[i];
@@ -172,17 +174,17 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
         const BakeCandidate& b = (*candidates)[size_t(best)];
         const bool better = budgeted(o) ? std::make_tuple(c.ms, front_error(c, o), c.bytes) <
                                               std::make_tuple(b.ms, front_error(b, o), b.bytes)
-                                        : image_error(c) < image_error(b);
+                                        : worth(c) > worth(b);
         if (better) best = int(i);
     }
     if (best < 0 || budgeted(o)) return best;
-    // Within tie_db of the best image: the fewest passes, then the fewest bytes, then the
+    // Within tie_db of the best worth: the fewest passes, then the fewest bytes, then the
     // better image.
-    const double top = (*candidates)[size_t(best)].psnr;
+    const double top = worth((*candidates)[size_t(best)]);
     for (size_t i = 0; i < candidates->size(); ++i) {
         const BakeCandidate& c = (*candidates)[i];
         const BakeCandidate& b = (*candidates)[size_t(best)];
-        if (c.meets && c.psnr >= top - o.tie_db &&
+        if (c.meets && worth(c) >= top - o.tie_db &&
             std::make_tuple(c.passes, c.bytes, image_error(c)) < std::make_tuple(b.passes, b.bytes, image_error(b)))
             best = int(i);
     }

@@ -122,7 +122,10 @@ struct BakeOptions {
     int coarse_size = 64;
     double keep_db = 1.5;
     int keep = 2;
-    double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best PSNR
+    double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best worth
+    // The winner's worth: its PSNR less bytes_db per doubling of its bytes (a candidate of
+    // twice the bytes must render this much better to win).
+    double bytes_db = 0.5;
     // Radiance fit (radiance.h, format 2): the factors hold f cos(theta_i) capped at white,
     // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the light range
     // (1.25 / its dimmest irradiance at the object); < 0: no cap. diffuse: estimated (estimate_diffuse)

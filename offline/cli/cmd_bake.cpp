@@ -1,7 +1,7 @@
 // sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
 //   [--light-range R] [--light-max E] [--light-cone DEG] [--lights N] [--meshes LIST]
 //   [--white auto|none|W] [--fit radiance|brdf] [--fit-weight display|uniform] [--min-psnr D] [--max-error E]
-//   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
+//   [--max-passes P] [--max-bytes B] [--bytes-db D] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
 #include <algorithm>
 #include <cmath>
@@ -290,6 +290,9 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--max-error", o.max_error, "budget: relative cosine-weighted RMS after quantization, e.g. 0.1")
         ->check(positive());
     app.add_option("--max-passes", o.max_passes, "budget: plan passes per light")->check(CLI::Range(1, 1 << 20));
+    app.add_option("--bytes-db", o.bytes_db, "the winner's trade: a candidate of twice the bytes must render this "
+                                             "many dB better to win")
+        ->check(CLI::Range(0.0, 10.0))->capture_default_str();
     app.add_option("--max-bytes", o.max_bytes, "budget: encoded asset size in bytes")
         ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
     // Not a fixed list: a --timings file may hold a model of any backend its sweep measured.
