@@ -22,7 +22,7 @@ endif
 # running this Makefile goes; everything else is checked and installed by `make deps`.
 DEB_PACKAGES := g++ make pkg-config libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
                 libglm-dev libstb-dev doctest-dev libeigen3-dev \
-                nlohmann-json3-dev libcli11-dev libx11-dev xvfb xauth xdotool emscripten chromium
+                nlohmann-json3-dev libcli11-dev libtinygltf-dev libx11-dev xvfb xauth xdotool emscripten chromium
 
 WARN     := -Wall -Wextra -Werror
 CXXSTD   := -std=c++17
@@ -130,7 +130,8 @@ EMENV      := NODE_PATH=/usr/share/nodejs
 WEB_DIR    := build/web
 WEB_SRC    := $(filter-out runtime/src/draw_gles1.cpp runtime/src/preview_gles1.cpp,$(RUNTIME_SRC)) \
               $(wildcard ports/web/*.cpp) ports/common/scene_flags.cpp ports/common/orbit.cpp \
-              ports/common/term_prefix.cpp ports/common/scene_args.cpp ports/common/scene_draw.cpp
+              ports/common/term_prefix.cpp ports/common/scene_args.cpp ports/common/scene_draw.cpp \
+              ports/common/scene_bundle.cpp ports/common/scene_motion.cpp
 WEB_OBJ    := $(patsubst %.cpp,build/web-obj/%.o,$(WEB_SRC))
 WEB_CXXFLAGS := -std=c++17 -O2 $(WARN) -fno-exceptions -fno-rtti -DSEPAL_NO_GLES1 -MMD -MP
 WEB_EXPORTS := $(foreach f,$(shell grep -o '^EMSCRIPTEN_KEEPALIVE.* sepal_web_[a-z_]*' ports/web/sepal_web.cpp 2>/dev/null | grep -o 'sepal_web_[a-z_]*$$'),"_$(f)",)
@@ -139,8 +140,8 @@ WEB_EXPORTS := $(foreach f,$(shell grep -o '^EMSCRIPTEN_KEEPALIVE.* sepal_web_[a
 # 2.1 MB, past Emscripten's default 2 MB ring, and drew nothing; 32 MB holds 760k indices.
 WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s GL_MAX_TEMP_BUFFER_SIZE=33554432 -s ENVIRONMENT=web -s FILESYSTEM=0 -s ALLOW_MEMORY_GROWTH=1 \
                -s EXPORTED_FUNCTIONS='[$(WEB_EXPORTS)"_malloc","_free"]' \
-               -s EXPORTED_RUNTIME_METHODS='["cwrap","UTF8ToString"]'
-WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_DIR)/default.sepal
+               -s EXPORTED_RUNTIME_METHODS='["cwrap","UTF8ToString","stringToUTF8"]'
+WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_DIR)/default.sepal $(WEB_DIR)/kiosk/scene.txt
 
 .SECONDARY:
 .PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 check-layers check-functions FORCE \
@@ -398,6 +399,14 @@ $(RUNTIME_OBJ) $(HEADLESS_PORT_OBJ): CXXFLAGS_ALL += $(PIC_FLAGS)
 $(RUNTIME_OBJ) $(HEADLESS_PORT_OBJ): $(BUILD)/obj/pic.flags
 $(BUILD)/obj/pic.flags: FORCE
 	@mkdir -p $(dir $@) && echo '$(PIC_FLAGS)' | cmp -s - $@ || echo '$(PIC_FLAGS)' > $@
+# The sources that compile the checkout's paths in (SEPAL_SOURCE_DIR, SEPAL_BIN_DIR,
+# SEPAL_SHARED_DIR) are rebuilt when the paths change: a build/ copied from another
+# checkout must not test that checkout's binaries and fixtures.
+DIR_FLAGS := $(CURDIR) $(BUILD) $(SHARED)
+DIR_USERS := $(shell grep -rlE 'SEPAL_(SOURCE|BIN|SHARED)_DIR' offline runtime ports tests --include='*.cpp' --include='*.c' 2>/dev/null)
+$(patsubst %.cpp,$(BUILD)/obj/%.o,$(filter %.cpp,$(DIR_USERS))): $(BUILD)/obj/dirs.flags
+$(BUILD)/obj/dirs.flags: FORCE
+	@mkdir -p $(dir $@) && echo '$(DIR_FLAGS)' | cmp -s - $@ || echo '$(DIR_FLAGS)' > $@
 FORCE:
 
 $(DIST)/libsepal.a: $(LIB_RUNTIME)
@@ -452,6 +461,10 @@ $(WEB_DIR)/%: ports/web/%
 	@mkdir -p $(dir $@) && cp $< $@
 $(WEB_DIR)/default.sepal: $(RUN_ASSET)
 	@mkdir -p $(dir $@) && cp $< $@
+# The kiosk scene as a bundle the page fetches (?scene=kiosk/scene.txt; docs/scenes.md).
+$(WEB_DIR)/kiosk/scene.txt: $(BIN_SEPAL) examples/kiosk.json fixtures/gltf/vase.glb fixtures/gltf/vase.gltf
+	$(call say,SCENE,$@)
+	$(Q)$(BIN_SEPAL) render --scene examples/kiosk.json --export $(WEB_DIR)/kiosk > /dev/null
 
 # Include directions between folders (tests/check_layers.sh): no loop, and
 # tools -> offline -> runtime, ports -> runtime. Checked on every build.

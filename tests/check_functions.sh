@@ -7,7 +7,6 @@ cd "$(dirname "$0")/.."
 limit=150
 allowed='
 offline/bake/bake.cpp bake 338
-offline/cli/cmd_bake_scene.cpp run_bake_scene 170
 offline/cli/cmd_render.cpp run_render 201
 offline/database/database.cpp BrdfDatabase::open 216
 offline/sampling/factored_fit.cpp fit_one 227

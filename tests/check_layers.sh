@@ -4,6 +4,7 @@
 #   runtime   -> runtime only
 #   offline/* -> offline/*, runtime; offline/cli (the tools) also ports/common, ports/headless
 #   ports/*   -> ports/*, runtime
+# and the offline-only libraries (tinygltf, Eigen, nlohmann-json, CLI11) stay out of runtime/ and ports/.
 # A quoted include names its folder by its first component ("sepal/..." is the runtime's API,
 # "brdf/..." offline/brdf, "headless/..." ports/headless); one without a folder is its own.
 set -eu
@@ -36,6 +37,12 @@ bad=$(awk '
 if [ -n "$bad" ]; then
     echo "check-layers: dependencies against the layering (tools -> offline -> runtime; ports -> runtime):"
     echo "$bad"
+    exit 1
+fi
+third=$(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"](tiny_gltf\.h|mesh/tiny_gltf\.h|Eigen/|nlohmann/|CLI/)' runtime ports || true)
+if [ -n "$third" ]; then
+    echo "check-layers: offline-only libraries included from runtime/ or ports/ (docs/architecture.md):"
+    echo "$third" | sed 's/^/  /'
     exit 1
 fi
 if ! loop=$(cut -d' ' -f1-2 "$edges" | sort -u | tsort 2>&1 >/dev/null) || [ -n "$loop" ]; then

@@ -3,6 +3,8 @@
 #pragma once
 #include <doctest/doctest.h>
 
+#include <GLES2/gl2.h>
+
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -23,6 +25,24 @@ inline void model_matrix(float degrees, float scale, float x, float y, float z, 
     const float a = degrees * 3.14159265f / 180.0f, c = std::cos(a) * scale, s = std::sin(a) * scale;
     const float v[16] = {c, s, 0, 0, -s, c, 0, 0, 0, 0, scale, 0, x, y, z, 1};
     std::memcpy(m, v, sizeof v);
+}
+
+// The engine's frame before sepal's objects: its clear colour, and a rectangle (window
+// coordinates, rows from the bottom) at `depth`, drawn by scissored clears.
+inline void engine_draws(const float clear[3], const float rect[3], int x, int y, int w, int h, float depth) {
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glClearColor(clear[0], clear[1], clear[2], 1.0f);
+    glClearDepthf(1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(x, y, w, h);
+    glClearColor(rect[0], rect[1], rect[2], 1.0f);
+    glClearDepthf(depth);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    glClearDepthf(1.0f);
 }
 
 struct Scene {

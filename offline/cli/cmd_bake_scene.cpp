@@ -80,8 +80,36 @@ bool int_item(const Json& x, const std::string& where, int* out, std::string* er
     return true;
 }
 
+}  // namespace
+
+std::string scene_bake_key(const Brdf& brdf, const BakeOptions& o, const std::string& views_key,
+                           const std::vector<uint8_t>& measured) {
+    // Everything that decides the asset's bytes.
+    std::string desc = "sepal-bake format " + std::to_string(SEPAL_FMT_VERSION_MAJOR) + "." +
+                       std::to_string(SEPAL_FMT_VERSION_MINOR) + "|" + brdf.spec() + "|";
+    for (Param p : o.params) desc += std::string(param_name(p)) + ",";
+    for (HemiMap p : o.maps) desc += std::string(map_name(p)) + ",";
+    for (Method p : o.methods) desc += std::string(method_name(p)) + ",";
+    for (int r : o.resolutions) desc += std::to_string(r) + ",";
+    for (int t : o.terms) desc += std::to_string(t) + ",";
+    char tail[176];
+    std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|mips %d|", o.max_error, o.max_passes,
+                  (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr, int(o.mips));
+    char range[160];
+    std::snprintf(range, sizeof range, "|lights %.9g %.9g %.9g %d|", o.light_range.ratio, o.light_range.irradiance_max,
+                  o.light_range.cone_degrees, o.light_range.max_lights);
+    desc += tail + views_key + range;
+    for (const std::string& m : o.light_range.meshes) desc += m + ",";
+    if (o.judge_size != BakeOptions().judge_size) desc += "|judge " + std::to_string(o.judge_size);
+    uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
+    crc = sepal_crc32(crc, measured.data(), measured.size());
+    char key[16];
+    std::snprintf(key, sizeof key, "%08x", crc);
+    return key;
+}
+
 // The bake key already in DIR/name.sepal, or "" if there is none (or it is invalid).
-std::string existing_key(const std::string& path) {
+std::string existing_bake_key(const std::string& path) {
     std::vector<uint8_t> bytes;
     if (!read_file(path, &bytes, nullptr, SEPAL_FMT_MAX_FILE_BYTES)) return "";
     auto a = std::make_unique<sepal_asset>();
@@ -93,8 +121,6 @@ std::string existing_key(const std::string& path) {
         return "";
     return key;
 }
-
-}  // namespace
 
 bool scene_light_range(const JsonField& f, LightRange* out, std::string* err) {
     if (!f.object.is_object()) return *err = f.where + ": expected an object {ratio, irradiance_max, cone, count, meshes}", false;
@@ -292,30 +318,9 @@ int run_bake_scene(const BakeSceneArgs& args, const CommandIO& io) {
             material_fail(err);
             continue;
         }
-        // The key: everything that decides the asset's bytes.
-        std::string desc = "sepal-bake format " + std::to_string(SEPAL_FMT_VERSION_MAJOR) + "." +
-                           std::to_string(SEPAL_FMT_VERSION_MINOR) + "|" + brdf->spec() + "|";
-        for (Param p : o.params) desc += std::string(param_name(p)) + ",";
-        for (HemiMap p : o.maps) desc += std::string(map_name(p)) + ",";
-        for (Method p : o.methods) desc += std::string(method_name(p)) + ",";
-        for (int r : o.resolutions) desc += std::to_string(r) + ",";
-        for (int t : o.terms) desc += std::to_string(t) + ",";
-        char tail[176];
-        std::snprintf(tail, sizeof tail, "|%.9g|%d|%lld|%d|%.9g|%s|%.9g|%.9g|mips %d|", o.max_error, o.max_passes,
-                      (long long)o.max_bytes, o.bits[0], o.cap, target_name(o.target), o.white, o.min_psnr,
-                      int(o.mips));
-        char range[160];
-        std::snprintf(range, sizeof range, "|lights %.9g %.9g %.9g %d|", o.light_range.ratio, o.light_range.irradiance_max,
-                      o.light_range.cone_degrees, o.light_range.max_lights);
-        desc += tail + views_key + range;
-        for (const std::string& m : o.light_range.meshes) desc += m + ",";
-        uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
-        crc = sepal_crc32(crc, measured.data(), measured.size());
-        char key[16];
-        std::snprintf(key, sizeof key, "%08x", crc);
-        o.key = key;
+        o.key = scene_bake_key(*brdf, o, views_key, measured);
         const std::string out_path = dir + "/" + name + ".sepal";
-        if (!args.force && existing_key(out_path) == key) {
+        if (!args.force && existing_bake_key(out_path) == o.key) {
             std::fprintf(io.out, "%-20s up to date (%s)\n", label.c_str(), out_path.c_str());
             ++skipped;
             continue;

@@ -1,6 +1,7 @@
 // sepal render SPEC_OR_ASSET --backend exact|gles1|gles2|gles2-fused|gles2-fused-pixel|cpu|
 //   gles1-model|gles2-model [--mask LIST] [--diffuse PNG] [scene flags] -o out.png [--float out.pfm]
 // sepal render SPEC --env sky|constant|FILE.hdr [--spp N] [--sampler cosine|factored|FILE.smp] [--seed S] ...
+// sepal render --scene FILE.json [--time T] [--backend ...] [--size WxH] -o out.png
 #include <chrono>
 #include <cstring>
 #include <memory>
@@ -9,6 +10,7 @@
 
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "cli/scene_file.h"
 #include "util/io.h"
 #include "reference/render_exact.h"
 #include "sampling/alternatives.h"
@@ -36,7 +38,95 @@ struct RenderArgs {
     int spp = 16;
     int supersample = kReferenceSupersample;
     uint64_t seed = 1;
+    // A scene file (docs/scenes.md) at a time; which scene flags were given.
+    std::string scene, cache, export_dir;
+    double time = 0;
+    std::vector<const CLI::Option*> scene_flags;
 };
+
+// --scene: a frame of many objects from a scene file, on any backend or exact.
+int run_render_scene(RenderArgs& args, const CommandIO& io) {
+    auto fail = [&](const std::string& m) {
+        std::fprintf(io.err, "sepal render: %s\n", m.c_str());
+        return kExitBadInput;
+    };
+    bool size_given = false;
+    for (const CLI::Option* o : args.scene_flags) {
+        if (!o->count()) continue;
+        if (o->get_name() == "--size") size_given = true;
+        else return fail("--scene: the scene file sets camera, lights, meshes and background; " + o->get_name() + " does not apply (--size does)");
+    }
+    if (!args.input.empty()) return fail("--scene draws the scene file's materials; give no INPUT ('" + args.input + "')");
+    if (!args.env.empty() || !args.diffuse_path.empty() || args.float_target)
+        return fail("--scene takes no --env, --diffuse or --float-target");
+    const std::string backend = args.backend.empty() ? "gles1" : args.backend;
+    std::string err;
+    if (!args.export_dir.empty()) {
+        SceneFile file;
+        LoadedScene scene;
+        if (!read_scene_file(args.scene, &file, &err) ||
+            !load_scene(file, args.cache.empty() ? default_scene_cache() : args.cache, &scene, &err, io.err) ||
+            !export_scene_bundle(scene, args.export_dir, &err))
+            return fail(err);
+        std::fprintf(io.out, "bundle     %s/scene.txt\n", args.export_dir.c_str());
+        return kExitOk;
+    }
+    if (args.out_path.empty() && args.float_path.empty()) return fail("give -o out.png (or --float out.pfm: exact, cpu)");
+    if (!args.float_path.empty() && backend != "exact" && backend != "cpu") return fail("--float: exact and cpu only");
+    if (!args.mask_text.empty() && (backend == "exact" || backend == "cpu")) return fail("--mask applies to the GL backends and their models");
+    if (args.supersample != kReferenceSupersample && backend != "exact") return fail("--supersample applies to the exact backend");
+    if (!check_output("-o", args.out_path, &err) || !check_output("--float", args.float_path, &err)) return fail(err);
+    SceneFile file;
+    LoadedScene scene;
+    SceneFrame fr;
+    if (!read_scene_file(args.scene, &file, &err) ||
+        !load_scene(file, args.cache.empty() ? default_scene_cache() : args.cache, &scene, &err, io.err))
+        return fail(err);
+    const int w = size_given ? args.setup.width : file.width, h = size_given ? args.setup.height : file.height;
+    if (!scene_frame(scene, args.time, w, h, &fr, &err)) return fail(err);
+    std::fprintf(io.out, "scene      %s at t = %g s: %zu objects, %zu materials (%d baked now, %d from the cache), %d lights\n",
+                 args.scene.c_str(), args.time, file.objects.size(), file.materials.size(), scene.baked, scene.cached,
+                 fr.light_count);
+    Image img;
+    std::vector<uint8_t> rgba;
+    const auto start = std::chrono::steady_clock::now();
+    std::string line;
+    sepal_ports::GlRenderOptions gl;
+    uint32_t mask = 0;
+    if (!sepal_ports::parse_mask(args.mask_text, &mask, &err)) return fail(err);
+    if (backend == "exact") {
+        if (!render_scene_exact(scene, fr, args.supersample, &img, &err)) return fail(err);
+        line = std::to_string(args.supersample) + "x" + std::to_string(args.supersample) + " samples per pixel";
+    } else if (backend == "cpu") {
+        if (!render_scene_cpu(scene, fr, &img, nullptr, &err)) return fail(err);
+        line = "the runtime's CPU backend";
+    } else if (backend == "gles1-model" || backend == "gles2-model") {
+        if (!render_scene_emulated(scene, fr, backend == "gles1-model" ? 1 : 2, mask, &rgba, &err)) return fail(err);
+        line = "the GL ES pipeline emulated on the CPU";
+    } else if (sepal_ports::parse_gl_backend(backend, &gl)) {
+        SceneGlOptions o;
+        o.gles_version = gl.gles_version;
+        o.mode = gl.mode;
+        o.mask = mask;
+        SceneGlInfo info;
+        if (!render_scene_gl(scene, fr, o, &rgba, &info, &err)) return fail(err);
+        line = info.device + "; " + std::to_string(info.stats.draw_calls) + " draws, " +
+               std::to_string(info.stats.doublings) + " doublings";
+    } else {
+        return fail("unknown backend '" + backend + "'");
+    }
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!rgba.empty()) img = to_rgb(image_from_rgba8(rgba.data(), w, h));
+    int64_t clipped = 0;
+    OutputGuard written;
+    if ((!args.out_path.empty() && !write_png(args.out_path, img, &err, &clipped)) ||
+        (!args.float_path.empty() && !write_pfm(args.float_path, img, &err)) || !written.commit(&err))
+        return fail(err);
+    std::fprintf(io.out, "backend    %s, %dx%d, %.1f ms (%s)\n", backend.c_str(), w, h, ms, line.c_str());
+    if (!args.out_path.empty()) std::fprintf(io.out, "png        %s\n", args.out_path.c_str());
+    if (!args.float_path.empty()) std::fprintf(io.out, "pfm        %s\n", args.float_path.c_str());
+    return kExitOk;
+}
 
 // The exact backend under distant lighting: a Monte Carlo estimate per pixel with the
 // chosen importance sampler (offline/sampling/mc_render.h; unbiased whatever the sampler).
@@ -317,12 +407,37 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     return kExitOk;
 }
 
+// A scene file, or one material in a scene of flags.
+int run_render_any(RenderArgs& args, const CommandIO& io) {
+    if (!args.scene.empty()) return run_render_scene(args, io);
+    if (args.input.empty()) {
+        std::fprintf(io.err, "sepal render: give INPUT (a BRDF spec, measured file or .sepal asset) or --scene FILE\n");
+        return kExitBadInput;
+    }
+    if (args.time != 0 || !args.cache.empty() || !args.export_dir.empty()) {
+        std::fprintf(io.err, "sepal render: --time, --cache and --export apply with --scene\n");
+        return kExitBadInput;
+    }
+    return run_render(args, io);
+}
+
 }  // namespace
 
 CommandRun setup_render(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
-    app.add_option("INPUT", a->input, "a BRDF spec or measured file (exact backend), or a baked .sepal asset")
-        ->required();
+    app.add_option("INPUT", a->input,
+                   "a BRDF spec or measured file (exact backend), or a baked .sepal asset (required without --scene)");
+    app.add_option("--scene", a->scene,
+                   "a scene file (JSON, docs/scenes.md): many objects, materials, moving lights, a camera; drawn on "
+                   "--backend (default gles1) or exact");
+    app.add_option("--time", a->time, "with --scene: the time in seconds (moving lights, orbiting camera, spinning objects)")
+        ->check(CLI::Range(-1e6, 1e6));
+    app.add_option("--export", a->export_dir,
+                   "with --scene: write the scene as a bundle into this folder (scene.txt, baked assets, meshes) for "
+                   "sepal-view --scene, and render nothing");
+    app.add_option("--cache", a->cache,
+                   "with --scene: the folder for the scene's baked materials (default: build/cache/scenes beside the "
+                   "binary)");
     app.add_option("--backend", a->backend,
                    "exact: the BRDF per pixel on the CPU; gles1, gles2, gles2-fused, gles2-fused-pixel: a baked "
                    "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend; gles1-model, "
@@ -355,7 +470,9 @@ CommandRun setup_render(CLI::App& app) {
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     sepal::add_scene_options(app, &a->setup);
-    return [a](const CommandIO& io) { return run_render(*a, io); };
+    for (const char* f : {"--size", "--mesh", "--camera", "--target", "--fov", "--background", "--light"})
+        a->scene_flags.push_back(app.get_option(f));
+    return [a](const CommandIO& io) { return run_render_any(*a, io); };
 }
 
 }  // namespace sepal

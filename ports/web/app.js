@@ -1,7 +1,9 @@
 // sepal web viewer: page logic around the wasm module (sepal_web.cpp). Loads an asset by
 // URL (?asset=, the URL box) or from a dropped / picked file, and draws on change. With
 // ?test=1 it draws fixed views instead and writes their pixels into #result (the headless
-// Chromium test reads them with --dump-dom); ?bench=N times N frames.
+// Chromium test reads them with --dump-dom); ?bench=N times N frames. ?scene=kiosk/scene.txt
+// plays a scene bundle (docs/scenes.md) with its lights and camera on the clock (?time=T
+// fixes it; with ?test=1 one frame per backend into #result).
 'use strict';
 var params = new URLSearchParams(location.search);
 var Module = {
@@ -34,6 +36,18 @@ function bind() {
     Module.HEAPU8.set(bytes, p);
     var ok = Module._sepal_web_load(p, bytes.length);
     Module._free(p);
+    return ok;
+  };
+  api.sceneOpen = c('sepal_web_scene_open', 'number', ['string']);
+  api.sceneDraw = c('sepal_web_scene_draw', 'number', ['number']);
+  api.sceneOrbit = c('sepal_web_scene_orbit', null, ['number', 'number']);
+  api.sceneFile = function (name, bytes) {
+    var p = Module._malloc(bytes.length), n = Module._malloc(name.length * 4 + 1);
+    Module.HEAPU8.set(bytes, p);
+    Module.stringToUTF8(name, n, name.length * 4 + 1);
+    var ok = Module._sepal_web_scene_file(n, p, bytes.length);
+    Module._free(p);
+    Module._free(n);
     return ok;
   };
   api.read = function (w, h) {
@@ -116,6 +130,65 @@ function runTest(w, h) {
   next();
 }
 
+// A scene bundle: scene.txt, then every file it names beside it, handed to the module.
+function runScene(url, w, h) {
+  var dir = url.lastIndexOf('/') >= 0 ? url.slice(0, url.lastIndexOf('/') + 1) : '';
+  fetchBytes(url, function (err, bytes) {
+    if (err) { statusBox.textContent = result.textContent = 'error ' + err; return; }
+    var text = new TextDecoder().decode(bytes), names = [];
+    text.split('\n').forEach(function (line) {
+      var w = line.trim().split(/\s+/);
+      if (w[0] === 'material' || (w[0] === 'mesh' && /\.mesh$/.test(w[1]))) names.push(w[1]);
+    });
+    var left = names.length, failed = null;
+    function opened() {
+      if (failed || !api.sceneOpen(text)) { statusBox.textContent = result.textContent = 'error ' + (failed || api.error()); return; }
+      if (params.get('test')) return sceneTest(url, w, h);
+      playScene();
+    }
+    if (!left) return opened();
+    names.forEach(function (n) {
+      fetchBytes(dir + n, function (e, b) {
+        if (e) failed = failed || e; else if (!api.sceneFile(n, b)) failed = failed || api.error();
+        if (--left === 0) opened();
+      });
+    });
+  });
+}
+
+// ?test=1&scene=...&time=T&backends=gles2,gles2-fused: "ok SCENE BACKEND W H BASE64" lines, "done".
+function sceneTest(url, w, h) {
+  var names = ['gles2', 'gles2-fused', 'gles2-fused-pixel'], t = parseFloat(params.get('time') || '0');
+  var lines = [];
+  (params.get('backends') || 'gles2').split(',').forEach(function (b) {
+    var mode = names.indexOf(b);
+    if (mode < 0 || !api.backend(mode) || api.sceneDraw(t) < 0) { lines.push('error ' + url + ' ' + b + ' ' + api.error()); return; }
+    lines.push('ok ' + url + ' ' + b + ' ' + w + ' ' + h + ' ' + base64(api.read(w, h)));
+  });
+  lines.push('done');
+  result.textContent = lines.join('\n');
+}
+
+function playScene() {
+  var canvas = Module.canvas, drag = false, lx = 0, ly = 0, t0 = performance.now();
+  var fixed = params.get('time') ? parseFloat(params.get('time')) : null;
+  canvas.addEventListener('pointerdown', function (e) { drag = true; lx = e.clientX; ly = e.clientY; canvas.setPointerCapture(e.pointerId); });
+  canvas.addEventListener('pointermove', function (e) {
+    if (!drag) return;
+    api.sceneOrbit(e.clientX - lx, e.clientY - ly);
+    lx = e.clientX; ly = e.clientY;
+  });
+  canvas.addEventListener('pointerup', function () { drag = false; });
+  document.getElementById('backend').addEventListener('change', function (e) { api.backend(parseInt(e.target.value, 10)); });
+  function frame() {
+    var t = fixed !== null ? fixed : (performance.now() - t0) / 1000;
+    lastMs = api.sceneDraw(t);
+    showStatus('scene t = ' + t.toFixed(1) + ' s');
+    if (lastMs >= 0) requestAnimationFrame(frame);
+  }
+  requestAnimationFrame(frame);
+}
+
 function runBench(frames) {
   fetchBytes(params.get('asset') || 'default.sepal', function (err, bytes) {
     if (err || !api.load(bytes)) { result.textContent = 'error ' + (err || api.error()); return; }
@@ -143,6 +216,7 @@ function start() {
   var backend = ['gles2', 'gles2-fused', 'gles2-fused-pixel'].indexOf(params.get('backend') || 'gles2');
   if (backend >= 0) { api.backend(backend); document.getElementById('backend').value = String(backend); }
   if (params.get('terms')) { api.terms(parseInt(params.get('terms'), 10)); document.getElementById('terms').value = params.get('terms'); }
+  if (params.get('scene')) return runScene(params.get('scene'), w, h);
   if (params.get('test')) return runTest(w, h);
   if (params.get('bench')) return runBench(parseInt(params.get('bench'), 10));
   wire();

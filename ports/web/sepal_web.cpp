@@ -29,11 +29,14 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "common/orbit.h"
+#include "common/scene_bundle.h"
 #include "common/scene_args.h"
 #include "common/scene_draw.h"
 #include "common/scene_flags.h"
@@ -64,6 +67,25 @@ struct App {
 App& app() {
     static App a;
     return a;
+}
+
+// Scene mode: a scene bundle (ports/common/scene_bundle.h) the page fetched, drawn as one
+// frame of many objects.
+struct WebScene {
+    std::map<std::string, std::vector<uint8_t>> files;  // what the page handed over, by name
+    sepal_ports::SceneBundle bundle;
+    std::vector<std::unique_ptr<sepal_material>> materials;
+    std::vector<float> scratch;
+    double yaw = 0, pitch = 0;
+    void clear() {
+        for (auto& m : materials) sepal_material_destroy(m.get());
+        materials.clear();
+    }
+};
+
+WebScene& web_scene() {
+    static WebScene s;
+    return s;
 }
 
 int fail(const std::string& message) {
@@ -219,6 +241,89 @@ EMSCRIPTEN_KEEPALIVE double sepal_web_draw(void) {
         return -1;
     }
     return ms;
+}
+
+// Scene mode. The page hands over each file scene.txt names (sepal_web_scene_file), then
+// its text (sepal_web_scene_open: the materials are made for the canvas), then draws frames
+// at times t (sepal_web_scene_draw: the backend from sepal_web_set_backend).
+EMSCRIPTEN_KEEPALIVE int sepal_web_scene_file(const char* name, const uint8_t* bytes, int size) {
+    if (!name || !bytes || size < 0) return fail("sepal_web_scene_file: no name or bytes");
+    web_scene().files[name].assign(bytes, bytes + size);
+    return 1;
+}
+
+EMSCRIPTEN_KEEPALIVE int sepal_web_scene_open(const char* text) {
+    App& a = app();
+    WebScene& s = web_scene();
+    s.clear();
+    std::string err;
+    const bool ok = sepal_ports::parse_scene_bundle(
+        text ? text : "", "scene.txt",
+        [&s](const std::string& name, size_t max, std::vector<uint8_t>* out, std::string* e) {
+            auto it = s.files.find(name);
+            if (it == s.files.end() || it->second.size() > max) return *e = name + ": not fetched (or too large)", false;
+            *out = it->second;
+            return true;
+        },
+        &s.bundle, &err);
+    if (!ok) return fail(err);
+    for (const auto& asset : s.bundle.assets) {
+        s.materials.push_back(std::make_unique<sepal_material>());
+        sepal_error e = {};
+        if (sepal_material_create(&a.caps, asset.get(), a.width, a.height, s.materials.back().get(), &e) != SEPAL_OK) {
+            s.materials.pop_back();
+            s.clear();
+            return fail(e.message);
+        }
+    }
+    s.scratch.resize(sepal_draw_scratch_floats(int(s.bundle.max_vertices()), int(s.bundle.lights.size())));
+    return 1;
+}
+
+EMSCRIPTEN_KEEPALIVE void sepal_web_scene_orbit(float dx, float dy) {
+    web_scene().yaw -= dx * sepal_ports::kOrbitDegreesPerPixel;
+    web_scene().pitch += dy * sepal_ports::kOrbitDegreesPerPixel;
+}
+
+// The background, then one frame of every object at time t; its time in ms, or -1.
+EMSCRIPTEN_KEEPALIVE double sepal_web_scene_draw(double t) {
+    App& a = app();
+    WebScene& s = web_scene();
+    if (s.materials.empty()) return fail("no scene open"), -1;
+    sepal_frame_desc fd;
+    sepal_light lights[SEPAL_MAX_LIGHTS];
+    int nl = 0;
+    std::vector<sepal_object> objs;
+    std::string err;
+    if (!sepal_ports::bundle_frame(s.bundle, t, s.yaw, s.pitch, a.width, a.height, &fd, lights, &nl, &objs, &err))
+        return fail(err), -1;
+    const double start = emscripten_get_now();
+    glViewport(0, 0, a.width, a.height);
+    glClearColor(fd.clear_color[0], fd.clear_color[1], fd.clear_color[2], 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    fd.caps = &a.caps;
+    fd.scratch = s.scratch.data();
+    fd.scratch_floats = s.scratch.size();
+    sepal_frame f;
+    sepal_error e = {};
+    if (sepal_frame_begin(&f, &fd, &e) != SEPAL_OK) return fail(e.message), -1;
+    bool ok = true;
+    a.stats = sepal_draw_stats{};
+    for (size_t i = 0; ok && i < objs.size(); ++i) {
+        const sepal_mesh mesh = s.bundle.meshes[size_t(s.bundle.objects[i].mesh)].mesh();
+        objs[i].mesh = &mesh;
+        objs[i].material = s.materials[size_t(s.bundle.objects[i].material)].get();
+        objs[i].mode = a.mode;
+        sepal_draw_stats st = {};
+        ok = sepal_frame_draw(&f, &objs[i], &st, &e) == SEPAL_OK;
+        a.stats.draw_calls += st.draw_calls;
+    }
+    sepal_error end = {};
+    const bool ended = sepal_frame_end(&f, &end) == SEPAL_OK;
+    uint8_t pixel[4];
+    glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);  // WebGL's finish does not wait
+    if (!ok || !ended) return fail(ok ? end.message : e.message), -1;
+    return emscripten_get_now() - start;
 }
 
 // The last frame as RGBA8, top row first (width * height * 4 bytes).

@@ -19,6 +19,7 @@
 #include "sepal/sepal_version.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_rt.h"
+#include "windowed/scene_view.h"
 #include "windowed/viewer.h"
 
 namespace {
@@ -27,6 +28,9 @@ int usage(FILE* f, int code) {
     fprintf(f,
             "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [scene flags] -o out.png\n"
             "       sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]\n"
+            "       sepal-view --scene FILE.json|BUNDLE [--headless -o out.png] [--backend B] [--time T] [--frames N --shot PNG]\n"
+            "  --scene FILE          a scene file (docs/scenes.md): many objects, moving lights; in a window, or\n"
+            "                        one frame with --headless (ports/windowed/scene_view.h)\n"
             "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"
             "  --headless            render offscreen through EGL; without it: a window (X11),\n"
             "                        keys and mouse as `h` prints there\n"
@@ -61,6 +65,8 @@ int finish_headless(const std::vector<uint8_t>& bytes, const sepal_draw_stats& s
 }  // namespace
 
 int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (!strcmp(argv[i], "--scene")) return sepal_ports::run_scene_view(argc, argv);
     bool headless = false;
     int gles = 1;
     uint32_t mask = 0;

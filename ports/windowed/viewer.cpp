@@ -87,6 +87,8 @@ std::string meta_spec(const sepal_asset& a) {
     return out;
 }
 
+}  // namespace
+
 std::string self_dir() {
     char buf[PATH_MAX];
     const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
@@ -119,6 +121,16 @@ int run_process(const std::vector<std::string>& args, const std::string& log) {
     if (waitpid(pid, &status, 0) != pid) return -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
+
+std::string sepal_tool(const std::string& given) {
+    if (!given.empty()) return given;
+    const char* env = getenv("SEPAL_CLI");
+    if (env && *env) return env;
+    const std::string beside = self_dir() + "/sepal";
+    return access(beside.c_str(), X_OK) == 0 ? beside : "sepal";
+}
+
+namespace {
 
 std::string last_line(const std::string& path) {
     std::vector<uint8_t> bytes;
@@ -244,13 +256,7 @@ std::string Viewer::temp(const char* name) {
     return path;
 }
 
-std::string Viewer::tool() {
-    if (!opt_.sepal_tool.empty()) return opt_.sepal_tool;
-    const char* env = getenv("SEPAL_CLI");
-    if (env && *env) return env;
-    const std::string beside = self_dir() + "/sepal";
-    return access(beside.c_str(), X_OK) == 0 ? beside : "sepal";
-}
+std::string Viewer::tool() { return sepal_tool(opt_.sepal_tool); }
 
 bool Viewer::open_input(std::string* err) {
     struct stat st;

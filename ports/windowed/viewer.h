@@ -42,6 +42,7 @@
 #include <stdint.h>
 
 #include <string>
+#include <vector>
 
 #include "common/scene_flags.h"
 
@@ -65,5 +66,14 @@ const char* viewer_flags_help();
 // Runs the window until quit; returns the process exit code (0, 1 runtime or GL
 // failure, 2 bad input). setup holds the scene flags and the mesh name (not yet loaded).
 int run_viewer(const ViewerOptions& options, SceneSetup* setup);
+
+// The folder of the running binary ("" when unknown).
+std::string self_dir();
+// Runs argv (argv[0] looked up on PATH when it has no slash) with its output in log;
+// returns the exit status, or -1 when it could not run.
+int run_process(const std::vector<std::string>& args, const std::string& log);
+// The sepal tool: `given` (--sepal), else $SEPAL_CLI, else the one beside this binary, else
+// `sepal` on PATH.
+std::string sepal_tool(const std::string& given);
 
 }  // namespace sepal_ports

@@ -5,7 +5,10 @@
 // Timings are medians of several frames, each ended by glFinish, measured in one run next
 // to their baseline, and reported as ratios: absolute milliseconds on llvmpipe say little
 // about a phone, ratios say how far from the fill limit the multipass method is.
-// Writes build/bench/runtime.json and prints a table.
+// The kiosk scene (examples/kiosk.json, docs/scenes.md) as a frame of many objects on GL ES
+// 1.1: its frame time against the pass limit of the same objects' passes, and its CPU set-up.
+// Writes build/bench/runtime.json and prints a table (--only kiosk: that row alone, into
+// runtime-kiosk.json).
 #include <GLES/gl.h>
 
 #include <algorithm>
@@ -24,6 +27,7 @@
 #include "common/render_gl.h"
 #include "util/io.h"
 #include "bake/plan.h"
+#include "cli/scene_file.h"
 #include "common/scene_flags.h"
 #include "headless/sepal_headless.h"
 #include "sepal/sepal_material.h"
@@ -138,6 +142,56 @@ std::vector<PassDraw> plan_draws(const sepal_material& m, const sepal_draw_desc&
     return out;
 }
 
+[[noreturn]] void bench_fail(const std::string& m) {
+    std::fprintf(stderr, "bench: %s\n", m.c_str());
+    std::exit(1);
+}
+
+// A headless GL ES 1.1 context of w x h, current, and its capabilities (exits on failure).
+sepal_headless_context* gles1_context(int w, int h, sepal_caps* caps) {
+    sepal_headless_desc hd = {};
+    hd.width = w;
+    hd.height = h;
+    hd.gles_version = 1;
+    char msg[512];
+    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
+    sepal_error e = {};
+    if (!ctx || sepal_query_caps(1, 0, sepal_headless_get_proc_address, caps, &e) != SEPAL_OK)
+        bench_fail(ctx ? e.message : msg);
+    return ctx;
+}
+
+// One pass's factor textures and coordinates on units 0 and 1 (the mesh's UVs for a unit
+// without a factor).
+void bind_pass(const PassDraw& pd, const sepal_mesh& mesh) {
+    for (int u = 0; u < 2; ++u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        glBindTexture(GL_TEXTURE_2D, pd.texture[u]);
+        if (pd.uv[u]) glTexCoordPointer(2, GL_FLOAT, 0, pd.uv[u]);
+        else glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), mesh.vertices[0].uv);
+    }
+}
+
+// The state the limit frames set, back to GL's defaults.
+void end_passes(int units) {
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    for (int u = units - 1; u >= 0; --u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        glDisable(GL_TEXTURE_2D);
+        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+}
+
 // `passes` draws of the scene's mesh with no per-frame CPU work (arrays set once), back faces
 // culled, additively blended:
 // - the mesh limit (draws null): bare single-textured draws at the mesh's UVs, no colour
@@ -184,35 +238,14 @@ double mesh_passes_ms(const std::vector<PassDraw>* draws, int passes, GLuint tex
         glClear(as_plan ? GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT);
         for (int p = 0; p < passes; ++p) {
             if (as_plan) {
-                const PassDraw& pd = (*draws)[size_t(p) % draws->size()];
-                for (int u = 0; u < 2; ++u) {
-                    glActiveTexture(GL_TEXTURE0 + u);
-                    glClientActiveTexture(GL_TEXTURE0 + u);
-                    glBindTexture(GL_TEXTURE_2D, pd.texture[u]);
-                    if (pd.uv[u]) glTexCoordPointer(2, GL_FLOAT, 0, pd.uv[u]);
-                    else glTexCoordPointer(2, GL_FLOAT, sizeof(sepal_vertex), s.mesh.vertices[0].uv);
-                }
+                bind_pass((*draws)[size_t(p) % draws->size()], s.mesh);
             }
             glDrawElements(GL_TRIANGLES, s.mesh.index_count, GL_UNSIGNED_SHORT, s.mesh.indices);
         }
         glFinish();
         if (f >= warmup) times.push_back(ms_since(t));
     }
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_DEPTH_TEST);
-    for (int u = units - 1; u >= 0; --u) {
-        glActiveTexture(GL_TEXTURE0 + u);
-        glClientActiveTexture(GL_TEXTURE0 + u);
-        glDisable(GL_TEXTURE_2D);
-        glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-    }
-    glDisableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
+    end_passes(units);
     return median(times);
 }
 
@@ -295,32 +328,214 @@ std::vector<BackendRow> backend_table() {
     return rows;
 }
 
+
+// One object of the kiosk's pass limit: its mesh under view x model, its passes (the frame's
+// draw count for it) cycling through its plan draws, its set-up's coordinates and colours.
+struct KioskObject {
+    sepal_mesh mesh;
+    float modelview[16];
+    std::vector<float> scratch;
+    std::vector<PassDraw> draws;
+    int passes = 0;
+};
+
+void mul16(const float* a, const float* b, float* out) {  // column-major a x b
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            float v = 0;
+            for (int k = 0; k < 4; ++k) v += a[4 * k + r] * b[4 * c + k];
+            out[4 * c + r] = v;
+        }
+}
+
+// The kiosk's pass limit: every object's passes as the GPU draws them (two factor textures at
+// the set-up's coordinates, the set-up's colours, depth-tested, additively blended), with no
+// set-up, no state saved or restored and no per-pass state beyond textures and coordinates.
+double kiosk_pass_limit_ms(const std::vector<KioskObject>& objs, const float* proj) {
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj);
+    glMatrixMode(GL_MODELVIEW);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    for (int u = 0; u < 2; ++u) {
+        glActiveTexture(GL_TEXTURE0 + u);
+        glClientActiveTexture(GL_TEXTURE0 + u);
+        glEnable(GL_TEXTURE_2D);
+        glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    const auto t = Clock::now();
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    for (const KioskObject& o : objs) {
+        glLoadMatrixf(o.modelview);
+        glVertexPointer(3, GL_FLOAT, sizeof(sepal_vertex), o.mesh.vertices[0].position);
+        glColorPointer(4, GL_FLOAT, 0, o.draws.front().colors);
+        for (int p = 0; p < o.passes; ++p) {
+            bind_pass(o.draws[size_t(p) % o.draws.size()], o.mesh);
+            glDrawElements(GL_TRIANGLES, o.mesh.index_count, GL_UNSIGNED_SHORT, o.mesh.indices);
+        }
+    }
+    glFinish();
+    const double ms = ms_since(t);
+    end_passes(2);
+    return ms;
+}
+
+struct KioskRow {
+    int objects = 0, passes = 0;
+    double ms = 0, pass_limit_ms = 0, setup_ms = 0;
+    std::string device;
+};
+
+
+// The kiosk at its own size (640x480) and t = 4 s on GL ES 1.1: rounds of one frame (the
+// engine's clear, sepal_frame_begin, every object, sepal_frame_end, glFinish) and one
+// pass-limit frame; the set-up of every object timed alone.
+KioskRow kiosk_row(int rounds) {
+    sepal::SceneFile file;
+    sepal::LoadedScene scene;
+    sepal::SceneFrame fr;
+    std::string err;
+    if (!sepal::read_scene_file(SEPAL_SOURCE_DIR "/examples/kiosk.json", &file, &err) ||
+        !sepal::load_scene(file, sepal::default_scene_cache(), &scene, &err, stderr) ||
+        !sepal::scene_frame(scene, 4.0, file.width, file.height, &fr, &err))
+        bench_fail("kiosk: " + err);
+    const int W = file.width, H = file.height;
+    sepal_caps caps;
+    sepal_headless_context* ctx = gles1_context(W, H, &caps);
+    sepal_error e = {};
+    KioskRow row;
+    row.device = sepal_headless_describe(ctx);
+    std::vector<std::unique_ptr<sepal_material>> mats;
+    for (const auto& a : scene.assets) {
+        mats.push_back(std::make_unique<sepal_material>());
+        if (sepal_material_create(&caps, a.get(), W, H, mats.back().get(), &e) != SEPAL_OK) bench_fail(e.message);
+    }
+    const size_t n = fr.objects.size();
+    std::vector<sepal_mesh> meshes(n);
+    std::vector<sepal_object> objs(n);
+    for (size_t i = 0; i < n; ++i) {
+        meshes[i] = scene.meshes[size_t(scene.object_mesh[i])].mesh();
+        objs[i] = fr.objects[i];
+        objs[i].mesh = &meshes[i];
+        objs[i].lights = fr.lights;
+        objs[i].material = mats[size_t(file.objects[i].material)].get();
+    }
+    std::vector<float> scratch(sepal_draw_scratch_floats(int(scene.max_vertices()), fr.light_count));
+    sepal_frame_desc desc = fr.desc;
+    desc.caps = &caps;
+    desc.scratch = scratch.data();
+    desc.scratch_floats = scratch.size();
+    // A frame, or one object alone into its own scratch (its pass count and coordinates).
+    auto frame = [&](int only, float* own, sepal_draw_stats* st) {
+        glClearColor(desc.clear_color[0], desc.clear_color[1], desc.clear_color[2], 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        sepal_frame_desc d = desc;
+        if (own) d.scratch = own;
+        sepal_frame f;
+        if (sepal_frame_begin(&f, &d, &e) != SEPAL_OK) bench_fail(e.message);
+        for (size_t i = 0; i < n; ++i)
+            if ((only < 0 || size_t(only) == i) && sepal_frame_draw(&f, &objs[i], st, &e) != SEPAL_OK) bench_fail(e.message);
+        if (sepal_frame_end(&f, &e) != SEPAL_OK) bench_fail(e.message);
+        glFinish();
+    };
+    std::vector<KioskObject> ko(n);
+    for (size_t i = 0; i < n; ++i) {
+        KioskObject& k = ko[i];
+        k.mesh = meshes[i];
+        mul16(desc.view, objs[i].model, k.modelview);
+        k.scratch.resize(scratch.size());
+        sepal_draw_stats st = {};
+        frame(int(i), k.scratch.data(), &st);
+        k.passes = st.draw_calls + st.fullscreen_passes;
+        sepal_scene sc;
+        sc.light_count = fr.light_count;
+        sepal_draw_desc dd = {};
+        dd.mesh = &k.mesh;
+        dd.scene = &sc;
+        dd.scratch = k.scratch.data();
+        k.draws = plan_draws(*objs[i].material, dd);
+        row.passes += k.passes;
+    }
+    row.objects = int(n);
+    std::vector<double> times, limits, setups;
+    for (int w = 0; w < 3; ++w) frame(-1, nullptr, nullptr), kiosk_pass_limit_ms(ko, desc.projection);
+    for (int r = 0; r < rounds; ++r) {
+        const auto t = Clock::now();
+        frame(-1, nullptr, nullptr);
+        times.push_back(ms_since(t));
+        limits.push_back(kiosk_pass_limit_ms(ko, desc.projection));
+    }
+    // The CPU set-up of the frame (every object's frames, directions, coordinates and
+    // irradiance, in object space), timed alone.
+    std::vector<sepal_scene> object_scenes(n);
+    for (size_t i = 0; i < n; ++i) {
+        float clip[16];
+        if (sepal_object_scene(&desc, &objs[i], &object_scenes[i], clip, &e) != SEPAL_OK) bench_fail(e.message);
+    }
+    for (int r = 0; r < rounds; ++r) {
+        const auto t = Clock::now();
+        for (size_t i = 0; i < n; ++i) {
+            const sepal_fmt_material& m = objs[i].asset->material;
+            srt::setup_vertices(sepal_param(m.param), sepal_hemi_map(m.map), meshes[i], object_scenes[i], scratch.data());
+        }
+        setups.push_back(ms_since(t));
+    }
+    row.ms = median(times);
+    row.pass_limit_ms = median(limits);
+    row.setup_ms = median(setups);
+    for (auto& m : mats) sepal_material_destroy(m.get());
+    sepal_headless_destroy(ctx);
+    return row;
+}
+
+std::string kiosk_report(const KioskRow& k, int rounds) {
+    std::printf("\nkiosk scene (examples/kiosk.json, t = 4 s), GL ES 1.1, 640x480, %s; medians of %d rounds\n",
+                k.device.c_str(), rounds);
+    std::printf("%-8s %-7s %-9s %-11s %-8s %-9s %-8s\n", "objects", "passes", "ms/frame", "pass-limit", "ratio",
+                "set-up ms", "share");
+    std::printf("%-8d %-7d %-9.2f %-11.2f %-8.3f %-9.3f %-8.3f\n", k.objects, k.passes, k.ms, k.pass_limit_ms,
+                k.ms / k.pass_limit_ms, k.setup_ms, k.setup_ms / k.ms);
+    char row[400];
+    std::snprintf(row, sizeof row,
+                  "  \"kiosk\": {\"scene\": \"examples/kiosk.json\", \"time\": 4, \"size\": [640, 480], \"objects\": %d, "
+                  "\"passes\": %d, \"ms\": %.3f, \"pass_limit_ms\": %.3f, \"ratio_pass\": %.3f, \"setup_ms\": %.3f, "
+                  "\"setup_share\": %.4f}",
+                  k.objects, k.passes, k.ms, k.pass_limit_ms, k.ms / k.pass_limit_ms, k.setup_ms, k.setup_ms / k.ms);
+    return row;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     BenchCli cli("sepal-bench-runtime",
                  "Runtime benchmarks: GL ES 1.1 ms per frame against the fill limit, per-vertex set-up, shipped sizes.");
+    std::string only;
+    cli.app.add_option("--only", only, "kiosk: only the kiosk scene's row, into runtime-kiosk.json")
+        ->check(CLI::IsMember({"kiosk"}));
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
     const std::string& out_dir = cli.out;
     const std::string& bin_dir = cli.build;
     const int W = 512, H = 512, rounds = 11;
     std::string err;
-    sepal_headless_desc hd = {};
-    hd.width = W;
-    hd.height = H;
-    hd.gles_version = 1;
-    char msg[512];
-    sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
-    if (!ctx) {
-        std::fprintf(stderr, "bench: %s\n", msg);
-        return 1;
+    if (only == "kiosk") {
+        const std::string json = "{\n" + kiosk_report(kiosk_row(rounds), rounds) + "\n}\n";
+        if (!sepal::write_file_atomic(out_dir + "/runtime-kiosk.json", json.data(), json.size(), &err)) {
+            std::fprintf(stderr, "bench: %s\n", err.c_str());
+            return 1;
+        }
+        std::printf("wrote %s/runtime-kiosk.json\n", out_dir.c_str());
+        return 0;
     }
-    sepal_error e = {};
     sepal_caps caps;
-    if (sepal_query_caps(1, 0, sepal_headless_get_proc_address, &caps, &e) != SEPAL_OK) {
-        std::fprintf(stderr, "bench: %s\n", e.message);
-        return 1;
-    }
+    sepal_headless_context* ctx = gles1_context(W, H, &caps);
+    sepal_error e = {};
     std::string json = "{\n  \"device\": \"" + std::string(sepal_headless_describe(ctx)) + "\",\n  \"size\": [512, 512],\n  \"frames\": [\n";
     std::printf("GL ES 1.1 multipass, %dx%d, %s; medians of %d rounds (a frame, a fill-limit, a mesh-limit and a pass-limit frame)\n",
                 W, H, sepal_headless_describe(ctx), rounds);
@@ -488,9 +703,10 @@ int main(int argc, char** argv) {
     const long view = stripped_size(bin_dir + "/bin/sepal-view", out_dir + "/sepal-view.stripped");
     std::printf("stripped sizes: libsepal_runtime.a %ld bytes, sepal-view %ld bytes\n", lib, view);
     char row[200];
-    std::snprintf(row, sizeof row, "  \"stripped_bytes\": {\"libsepal_runtime.a\": %ld, \"sepal-view\": %ld}\n}\n", lib, view);
+    std::snprintf(row, sizeof row, "  \"stripped_bytes\": {\"libsepal_runtime.a\": %ld, \"sepal-view\": %ld},\n", lib, view);
     json += row;
     sepal_headless_destroy(ctx);
+    json += kiosk_report(kiosk_row(rounds), rounds) + "\n}\n";
     if (!sepal::write_file_atomic(out_dir + "/runtime.json", json.data(), json.size(), &err)) {
         std::fprintf(stderr, "bench: %s\n", err.c_str());
         return 1;

@@ -210,3 +210,44 @@ TEST_CASE("web port in headless Chromium: the default page draws the default sph
     CHECK(frames == 2);
     CHECK(line == "done");
 }
+
+TEST_CASE("web port in headless Chromium: the kiosk scene bundle (make web) against sepal render --scene") {
+    REQUIRE_MESSAGE(port_test::have_program("chromium"), "chromium is missing: run `make deps`");
+    const std::string web = sepal_test::source_path("build/web");
+    struct stat st;
+    REQUIRE_MESSAGE(stat((web + "/kiosk/scene.txt").c_str(), &st) == 0, "build/web/kiosk is missing: run `make web`");
+    const std::string dir = sepal_test::temp_dir();
+    const std::string url = "file://" + web + "/index.html?test=1&size=640x480&scene=kiosk/scene.txt&time=4" +
+                            "&backends=gles2,gles2-fused";
+    std::istringstream lines(page_result(url, dir));
+    const std::string kiosk = sepal_test::source_path("examples/kiosk.json");
+    const sepal::Tolerance tol = port_test::cross_rasterizer_tolerance();
+    std::string line;
+    int frames = 0;
+    while (std::getline(lines, line) && line != "done") {
+        CAPTURE(line.substr(0, 200));
+        const PageFrame f = parse_frame(line);
+        REQUIRE(f.status == "ok");
+        REQUIRE(f.w == 640);
+        REQUIRE(f.rgba.size() == size_t(640) * 480 * 4);
+        const std::string png = dir + "/" + f.backend + ".png";
+        std::string out;
+        REQUIRE_MESSAGE(sepal_test::run_cmd("render", {"--scene", kiosk, "--time", "4", "--backend", f.backend, "-o", png},
+                                            &out) == 0,
+                        out);
+        sepal::Image native;
+        std::string err;
+        REQUIRE_MESSAGE(sepal::read_image(png, &native, &err), err);
+        const sepal::Image page = sepal::to_rgb(sepal::image_from_rgba8(f.rgba.data(), 640, 480));
+        const sepal::ImageDiff d = sepal::diff_images(sepal::to_rgb(native), page, tol.max_diff);
+        CAPTURE(f.backend);
+        CAPTURE(d.psnr);
+        CAPTURE(d.share_over);
+        CHECK(d.psnr >= tol.min_psnr);
+        CHECK(d.share_over <= tol.max_share);
+        MESSAGE("kiosk in the page, " << f.backend << " against sepal render --scene: " << d.psnr << " dB, "
+                                      << 100 * d.share_over << "% over " << tol.max_diff << " levels");
+        ++frames;
+    }
+    CHECK(frames == 2);
+}

@@ -23,21 +23,9 @@ namespace {
 constexpr int kRectX = 14, kRectY = 34, kRectW = 22, kRectH = 16;
 
 // The engine's frame before sepal's objects: its clear colour, and a rectangle nearer
-// than the objects (depth 0.5) drawn by a scissored clear.
+// than the objects (depth 0.5).
 void engine_draws(const float clear[3], const float rect[3]) {
-    glDisable(GL_SCISSOR_TEST);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glClearColor(clear[0], clear[1], clear[2], 1.0f);
-    glClearDepthf(1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(kRectX, kRectY, kRectW, kRectH);
-    glClearColor(rect[0], rect[1], rect[2], 1.0f);
-    glClearDepthf(0.5f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDisable(GL_SCISSOR_TEST);
-    glClearDepthf(1.0f);
+    frame_fx::engine_draws(clear, rect, kRectX, kRectY, kRectW, kRectH, 0.5f);
 }
 
 bool in_rect(size_t pixel) {  // pixel: top row first
