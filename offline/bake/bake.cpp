@@ -155,6 +155,8 @@ void mark_front(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
 }
 
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
+    // The image figure less bytes_db per doubling of the asset's bytes.
+    auto worth = [&o](const BakeCandidate& c) { return c.psnr - o.bytes_db * std::log2(double(std::max<int64_t>(c.bytes, 1))); };
     int best = -1;
     for (size_t i = 0; i < candidates->size(); ++i) {
         BakeCandidate& c = (*candidates)[i];
@@ -172,17 +174,17 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
         const BakeCandidate& b = (*candidates)[size_t(best)];
         const bool better = budgeted(o) ? std::make_tuple(c.ms, front_error(c, o), c.bytes) <
                                               std::make_tuple(b.ms, front_error(b, o), b.bytes)
-                                        : image_error(c) < image_error(b);
+                                        : worth(c) > worth(b);
         if (better) best = int(i);
     }
     if (best < 0 || budgeted(o)) return best;
-    // Within tie_db of the best image: the fewest passes, then the fewest bytes, then the
+    // Within tie_db of the best worth: the fewest passes, then the fewest bytes, then the
     // better image.
-    const double top = (*candidates)[size_t(best)].psnr;
+    const double top = worth((*candidates)[size_t(best)]);
     for (size_t i = 0; i < candidates->size(); ++i) {
         const BakeCandidate& c = (*candidates)[i];
         const BakeCandidate& b = (*candidates)[size_t(best)];
-        if (c.meets && c.psnr >= top - o.tie_db &&
+        if (c.meets && worth(c) >= top - o.tie_db &&
             std::make_tuple(c.passes, c.bytes, image_error(c)) < std::make_tuple(b.passes, b.bytes, image_error(b)))
             best = int(i);
     }
@@ -372,6 +374,10 @@ class Search {
         // Homomorphic factors hold f: capped where f cos theta_i is white under every light of the range
         // (the radiance fit's white level), so p and q keep their 8 bits for what shows.
         if (homomorphic && o_.radiance) fz.fo.homomorphic.white = out_->white;
+        if (!homomorphic && o_.radiance && o_.fit_weight == BakeOptions::FitWeight::Display) {
+            const double emax = range_irradiance_max(o_.light_range);
+            fz.fo.value_weight = [emax](const glm::dvec3& v) { return display_weight(v, emax); };
+        }
         fz.ok = factor_brdf(homomorphic ? plain_ : source_, fz.fo, &fz.result, &fz.err);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         fz.capped = capped_count_() - before;
@@ -781,6 +787,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         }
         const auto p = top_pair >= 0 ? pairs[size_t(top_pair)] : pairs[0];
         double last = top_pair >= 0 ? rung_best[size_t(top_pair)] : -1e30;
+        size_t reached = 0;
         if (top_pair >= 0)
             for (size_t r = 1; r < o.ladder.size(); ++r) {
                 const size_t first = out->candidates.size();
@@ -790,7 +797,16 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                 const bool gained = b >= last + o.climb_db;
                 last = std::max(last, b);
                 if (!gained) break;
+                reached = r;
             }
+        // The other factor finer on the rung the climb reached: it holds the view (vh) or the
+        // light in the half-angle frame (gs-half), whose grazing end is the rim highlight of a
+        // light behind the object. Not above a 64-texel sharp factor: at 128 x 32 the sample
+        // matrix and its weighted fit cost several times the rest of the bake (phong n=1000).
+        if (top_pair >= 0 && sharp_factor(std::get<0>(p)) >= 0 && o.ladder[reached].second < o.finer_other &&
+            o.ladder[reached].first <= 64)
+            search.run(std::get<0>(p), std::get<1>(p), o.ladder[reached].first, o.finer_other, std::get<2>(p), terms,
+                       false, judge);
         if (o.max_bytes > 0)
             for (const auto& q : pairs)
                 search.run(std::get<0>(q), std::get<1>(q), o.small_rung, o.small_rung, std::get<2>(q), terms, false,

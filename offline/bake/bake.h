@@ -62,12 +62,15 @@ struct BakeOptions {
     // factor (param.h: gs-half's G, vh's H, axis's G) while the other one takes each of smooth_resolutions not
     // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
     // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
-    // factors at ladder_iv), and the best one climbs while a rung gains climb_db.
+    // factors at ladder_iv), and the best one climbs while a rung gains climb_db; on the
+    // rung it reached, the other factor is tried at finer_other too (it holds the grazing
+    // views where a light behind the object puts its highlight).
     std::vector<int> resolutions;
     std::vector<int> smooth_resolutions;
     std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
     int ladder_iv = 32;
     double climb_db = 0.5;
+    int finer_other = 32;
     // With max_bytes (and the ladder), every kept pair is also factored with both factors at
     // small_rung: the sizes an 8 KB material needs sit below the ladder's first rung.
     int small_rung = 16;
@@ -119,13 +122,20 @@ struct BakeOptions {
     int coarse_size = 64;
     double keep_db = 1.5;
     int keep = 2;
-    double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best PSNR
+    double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best worth
+    // The winner's worth: its PSNR less bytes_db per doubling of its bytes (a candidate of
+    // twice the bytes must render this much better to win).
+    double bytes_db = 0.5;
     // Radiance fit (radiance.h, format 2): the factors hold f cos(theta_i) capped at white,
     // minus the diffuse part. white: > 0 the cap (per steradian); 0: from the light range
     // (1.25 / its dimmest irradiance at the object); < 0: no cap. diffuse: estimated (estimate_diffuse)
     // unless diffuse_given.
     bool radiance = true;
     double white = 0;
+    // The radiance fit's entry weights: Display weighs each value's error as a display shows
+    // it across the light range (radiance.h, display_weight); Uniform counts every entry alike.
+    enum class FitWeight { Display, Uniform };
+    FitWeight fit_weight = FitWeight::Display;
     // The diffuse part: a profile over (cos theta_i, cos theta_o) of diffuse_side^2 nodes
     // (estimate_diffuse_profile; constant when flat), or with diffuse_side 0 a constant, the
     // diffuse_quantile of f (estimate_diffuse); or given (diffuse_given: the constant diffuse).

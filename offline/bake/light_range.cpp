@@ -16,6 +16,9 @@ constexpr double kDistance2 = 2.0 * 2.0 + 2.5 * 2.5 + 3.0 * 3.0;
 constexpr double kDefaultIntensity = 60.0;
 // The grazing view's light: from the side and behind.
 constexpr double kGrazingLight[3] = {3.83, 1.91, 0.96};
+// Directions farther than about 155 degrees from the eye light only a sliver the camera
+// cannot resolve.
+constexpr double kBehind = -0.9;
 // The held-out stream: another seed, never the training one.
 constexpr uint64_t kHeldOutSalt = 0x9e1d07ull;
 
@@ -30,8 +33,8 @@ sepal_light point_light(const glm::dvec3& dir, double irradiance) {
     return l;
 }
 
-// Draws directions in the cone about +z, uniform in solid angle, among those that light
-// what the default camera sees (the light's direction within 90 degrees of the eye's).
+// Draws directions in the cone about +z, uniform in solid angle, all but those close to
+// straight behind the object as the default camera sees it (kBehind).
 class Draws {
   public:
     Draws(const LightRange& r, uint64_t seed) : r_(r), rng_(seed) {
@@ -45,8 +48,17 @@ class Draws {
             const double z = rng_.uniform(std::max(lo, 0.0), 1.0), phi = rng_.uniform(0.0, 2.0 * M_PI);
             const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
             const glm::dvec3 d(s * std::cos(phi), s * std::sin(phi), z);
-            if (glm::dot(d, eye_) > 0.0 || tries >= 64) return d;
+            if (glm::dot(d, eye_) > kBehind || tries >= 64) return d;
         }
+    }
+    // A direction behind the object (its highlight on the visible rim), in the cone; any
+    // drawn direction when the cone holds none.
+    glm::dvec3 behind() {
+        for (int tries = 0; tries < 64; ++tries) {
+            const glm::dvec3 d = direction();
+            if (glm::dot(d, eye_) < 0.0) return d;
+        }
+        return direction();
     }
     // Log-uniform between the range's ends.
     double irradiance() {
@@ -116,6 +128,10 @@ std::vector<LightCondition> training_conditions(const LightRange& r) {
     out.push_back({"default", "sphere", {point_light(vec(kDefaultLight), hi)}});
     out.push_back({"grazing dim", "sphere", {point_light(vec(kGrazingLight), lo)}});
     out.push_back({"dim", "sphere", {point_light(draw.direction(), lo)}});
+    {
+        const glm::dvec3 d = draw.behind();
+        out.push_back({"rim", "sphere", {point_light(d, draw.irradiance())}});
+    }
     if (r.max_lights >= 2) {
         const glm::dvec3 a = draw.direction(), b = draw.direction();
         const double ea = draw.irradiance(), eb = draw.irradiance();

@@ -13,12 +13,14 @@
 // bounds. Every condition keeps sepal render's camera and puts its point lights at the
 // default light's distance from the object (4.39), so the intensity is the irradiance times
 // 19.25; directions lie in the cone about the scene's up (+z), drawn uniformly over its
-// solid angle among those that light what the camera sees (a light behind the object, which
-// lights only a sliver of its rim, tests nothing).
+// solid angle, lights behind the object included (their highlights sit on the visible rim,
+// where the eye is grazing: the hardest place for a factorization), all but those within
+// about 25 degrees of straight behind it (they light a sliver the camera cannot resolve).
 // Training conditions (seed): the default scene's light at the brightest irradiance, the
-// grazing light (from the side and behind) and one drawn direction at the dimmest, and with
-// two lights or more, two drawn lights at drawn irradiances (log-uniform in the range); the
-// torus or wave as one more condition when listed in meshes.
+// grazing light (from the side and behind) and one drawn direction at the dimmest, a rim
+// light (a drawn direction behind the object, at a drawn irradiance), and with two lights or more, two drawn
+// lights at drawn irradiances (log-uniform in the range); the torus or wave as one more
+// condition when listed in meshes.
 // Held-out conditions (another seed): a drawn direction at the dimmest irradiance, one at a
 // drawn irradiance, the torus, two lights (with max_lights >= 2), each of the listed meshes
 // other than the sphere and torus: directions, intensities and a mesh the search never saw.

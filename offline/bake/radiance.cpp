@@ -94,6 +94,11 @@ DiffusePart estimate_diffuse_profile(const Brdf& f, int side, int threads) {
     return d;
 }
 
+double display_weight(const glm::dvec3& value, double irradiance_max) {
+    const double v = std::max(value.x, std::max(value.y, value.z)) * irradiance_max;
+    return v <= 1.0 ? 1.0 : 1.0 / (v * v);
+}
+
 glm::dvec3 RadianceBrdf::eval(const glm::dvec3& wi, const glm::dvec3& wo) const {
     ++calls_;
     if (!(wi.z > 0) || !(wo.z > 0)) return glm::dvec3(0);

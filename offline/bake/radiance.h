@@ -59,6 +59,16 @@ glm::dvec3 estimate_diffuse(const Brdf& f, double quantile = 0.005, int threads 
 // one). Returned constant (side 0) when the profile varies by under 2%, or all zero.
 DiffusePart estimate_diffuse_profile(const Brdf& f, int side = 16, int threads = 0);
 
+// The weight of a fitted value in the radiance fit (FactorOptions::value_weight): what an
+// error in g shows on a display under the declared light range. Under irradiance E a value
+// v shows as v E, clipped at 1, so the brightest light that still shows it is
+// min(E_max, 1 / v) and an error d in it shows as d min(E_max, 1 / v): the weight of the
+// squared error is (min(E_max, 1 / v) / E_max)^2 of the value's largest channel. Dim
+// values count as they do unweighted; a value above 1 / E_max counts relatively, so a
+// grazing peak near the white level no longer outweighs the body and the highlights a dim
+// or back light shows (measured: docs/fidelity.md, "The fit's weights").
+double display_weight(const glm::dvec3& value, double irradiance_max);
+
 // g(wi, wo) = max(0, min(f cos_i, white) - diffuse cos_i) per channel, the function the bake
 // factors; counts how many evaluations the cap and the floor at 0 changed (thread-safe).
 class RadianceBrdf : public Brdf {

@@ -1,7 +1,7 @@
 // sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
 //   [--light-range R] [--light-max E] [--light-cone DEG] [--lights N] [--meshes LIST]
-//   [--white auto|none|W] [--fit radiance|brdf] [--min-psnr D] [--max-error E]
-//   [--max-passes P] [--max-bytes B] [--backend B] [--timings tradeoff.json]
+//   [--white auto|none|W] [--fit radiance|brdf] [--fit-weight display|uniform] [--min-psnr D] [--max-error E]
+//   [--max-passes P] [--max-bytes B] [--bytes-db D] [--backend B] [--timings tradeoff.json]
 //   [--report r.json] [--export DIR] [--threads N]
 #include <algorithm>
 #include <cmath>
@@ -65,7 +65,7 @@ void print_counts(const BakeResult& r, std::FILE* out) {
 
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
-    std::string white = "auto", fit = "radiance", colour = "auto";
+    std::string white = "auto", fit = "radiance", colour = "auto", fit_weight = "display";
     bool mips = false;
     BakeOptions o;
 };
@@ -93,6 +93,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         o.white = w;
     }
     o.radiance = args.fit == "radiance";
+    o.fit_weight = args.fit_weight == "uniform" ? BakeOptions::FitWeight::Uniform : BakeOptions::FitWeight::Display;
     o.colour_auto = args.colour == "auto";
     if (!o.colour_auto) parse_colour(args.colour, &o.colour);
     o.mips = args.mips;
@@ -246,6 +247,9 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--fit", a->fit, "radiance: factor f cos(theta_i) capped at the white level, diffuse apart "
                                     "(format 2); brdf: factor f (format 1)")
         ->check(CLI::IsMember({"radiance", "brdf"}))->capture_default_str();
+    app.add_option("--fit-weight", a->fit_weight, "the radiance fit's weights: display (each value's error as it shows "
+                                               "under the light range) or uniform")
+        ->check(CLI::IsMember({"display", "uniform"}))->capture_default_str();
     app.add_option("--white", a->white, "the radiance fit's cap: auto (from the light range's dimmest light), none, or "
                                         "f cos per steradian")
         ->capture_default_str();
@@ -286,6 +290,9 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--max-error", o.max_error, "budget: relative cosine-weighted RMS after quantization, e.g. 0.1")
         ->check(positive());
     app.add_option("--max-passes", o.max_passes, "budget: plan passes per light")->check(CLI::Range(1, 1 << 20));
+    app.add_option("--bytes-db", o.bytes_db, "the winner's trade: a candidate of twice the bytes must render this "
+                                             "many dB better to win")
+        ->check(CLI::Range(0.0, 10.0))->capture_default_str();
     app.add_option("--max-bytes", o.max_bytes, "budget: encoded asset size in bytes")
         ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
     // Not a fixed list: a --timings file may hold a model of any backend its sweep measured.

@@ -118,7 +118,7 @@ double estimate_memory_mb(const FactorOptions& o) {
 // ---- progress ---------------------------------------------------------------------------
 // ---- sampling ---------------------------------------------------------------------------
 PairSampler::PairSampler(const Brdf& brdf, const FactorOptions& o)
-    : brdf_(brdf), confidence_(o.confidence), param_(o.param), map_(o.map), n_{factor_res(o, 0), factor_res(o, 1)}, s_(o.supersample),
+    : brdf_(brdf), confidence_(o.confidence), value_weight_(o.value_weight), param_(o.param), map_(o.map), n_{factor_res(o, 0), factor_res(o, 1)}, s_(o.supersample),
       pairs_(o.supersample * o.supersample * o.supersample * o.supersample) {
     prepare(0, &row_texel_, &row_points_);
     prepare(1, &col_texel_, &col_points_);
@@ -193,7 +193,11 @@ bool PairSampler::sample_row(int row, float* rgb, uint16_t* count, std::string* 
             }
         }
         if (n) acc /= double(n);
-        if (confidence) confidence[c] = !confidence_ ? 1.0f : n ? float(conf / n) : 0.0f;
+        if (confidence) {
+            double w = !confidence_ ? 1.0 : n ? conf / n : 0.0;
+            if (value_weight_ && n) w *= std::min(1.0, std::max(1e-3, value_weight_(acc)));
+            confidence[c] = float(w);
+        }
         rgb[3 * c] = float(acc.x), rgb[3 * c + 1] = float(acc.y), rgb[3 * c + 2] = float(acc.z);
         count[c] = uint16_t(n);
     }
@@ -258,7 +262,7 @@ bool sample_matrix(const PairSampler& s, const FactorOptions& o, Matrix* m, glm:
         const int r0 = int(chunk) * detail::kRowChunk;
         const int r1 = std::min(rows, r0 + detail::kRowChunk);
         for (int r = r0; r < r1; ++r) {
-            if (!s.sample_row(r, rgb.data(), cnt.data(), &errors[chunk], o.confidence ? conf.data() : nullptr)) {
+            if (!s.sample_row(r, rgb.data(), cnt.data(), &errors[chunk], o.confidence || o.value_weight ? conf.data() : nullptr)) {
                 failed = true;
                 return;
             }

@@ -83,6 +83,10 @@ struct FactorOptions {
     // held matrix (svd_weighted, nmf, acls; plain svd and nd ignore it). Entries whose
     // weight becomes 0 count as below the horizon (horizon_weight): keep a floor above 0.
     std::function<double(const glm::dvec3& wi, const glm::dvec3& wo)> confidence;
+    // Optional weight of an entry from its value (the mean of f over its pairs), clamped to
+    // [1e-3, 1]: multiplies the entry's weight like confidence, at no extra evaluation (the
+    // bake's display weighting: radiance.h).
+    std::function<double(const glm::dvec3& value)> value_weight;
     bool acls_constant = false;   // term 1's half-angle factor held constant
     bool acls_monotonic = false;  // half-angle factors non-increasing in theta_h
     double max_memory_mb = 2048;

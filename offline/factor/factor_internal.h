@@ -35,7 +35,7 @@ class PairSampler {
     // rgb: 3 * cols() floats (averages over valid pairs, 0 where none); count: valid pairs
     // per entry. False with a message when the BRDF returns a non-finite value.
     // confidence (optional, cols() floats): the mean of FactorOptions::confidence over each
-    // entry's valid pairs (1 without one).
+    // entry's valid pairs (1 without one), times FactorOptions::value_weight of its mean.
     bool sample_row(int row, float* rgb, uint16_t* count, std::string* err,
                     float* confidence = nullptr) const;
 
@@ -49,6 +49,7 @@ class PairSampler {
 
     const Brdf& brdf_;
     std::function<double(const glm::dvec3&, const glm::dvec3&)> confidence_;
+    std::function<double(const glm::dvec3&)> value_weight_;
     Param param_;
     HemiMap map_;
     int n_[2], s_, pairs_;  // n_: texels per side of G (0) and H (1)

@@ -74,9 +74,27 @@ sepal::Image draw_gles1(const std::vector<uint8_t>& bytes, const sepal::BakeView
 TEST_CASE("light range: training and held-out conditions differ, lie in the range, and are deterministic") {
     sepal::LightRange r;  // the default: 8:1, the hemisphere, two lights
     const auto train = sepal::training_conditions(r), held = sepal::held_out_conditions(r);
-    REQUIRE(train.size() == 4);
+    REQUIRE(train.size() == 5);
     REQUIRE(held.size() == 4);
     CHECK(train[0].name == "default");
+    // Lights from behind the object (as the default camera sees it) are part of the range:
+    // training has its rim light, and the drawn directions reach behind.
+    sepal_scene scene;
+    sepal_scene_default(&scene);
+    auto behind = [&](const sepal_light& l) {
+        return double(l.position[0]) * scene.camera.eye[0] + double(l.position[1]) * scene.camera.eye[1] +
+                   double(l.position[2]) * scene.camera.eye[2] < 0.0;
+    };
+    CHECK(train[3].name == "rim");
+    CHECK(behind(train[3].lights[0]));
+    int drawn_behind = 0;
+    for (uint64_t seed = 1; seed <= 8; ++seed) {
+        sepal::LightRange rs;
+        rs.seed = seed;
+        for (const auto& c : sepal::held_out_conditions(rs))
+            for (const sepal_light& l : c.lights) drawn_behind += behind(l);
+    }
+    CHECK(drawn_behind >= 4);
     bool torus = false, two = false;
     const double lo = sepal::range_irradiance_min(r), hi = sepal::range_irradiance_max(r);
     CHECK(hi / lo == doctest::Approx(8.0));
