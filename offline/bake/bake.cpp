@@ -349,6 +349,29 @@ class Search {
            const ErrorEvaluator& ev, std::function<int64_t()> capped_count)
         : brdf_(brdf), o_(o), out_(out), source_(source), plain_(plain), ev_(ev), capped_count_(std::move(capped_count)) {}
 
+    // The ladder from its first rung (best: that rung's best PSNR): each rung while the last
+    // gained climb_db, then the other factor finer on the rung reached. It holds the view
+    // (vh) or the light in the half-angle frame (gs-half), whose grazing end is the rim
+    // highlight of a light behind the object. Not above a 64-texel sharp factor: at 128 x 32
+    // the sample matrix and its weighted fit cost several times the rest of the bake.
+    void climb(Param param, HemiMap map, Method method, double best, const std::vector<int>& terms,
+               const ImageJudge& judge) {
+        size_t reached = 0;
+        for (size_t r = 1; r < o_.ladder.size(); ++r) {
+            const size_t first = out_->candidates.size();
+            run(param, map, o_.ladder[r].first, o_.ladder[r].second, method, terms, false, judge);
+            double b = -1e30;
+            for (size_t c = first; c < out_->candidates.size(); ++c)
+                if (out_->candidates[c].ok) b = std::max(b, out_->candidates[c].psnr);
+            const bool gained = b >= best + o_.climb_db;
+            best = std::max(best, b);
+            if (!gained) break;
+            reached = r;
+        }
+        if (sharp_factor(param) >= 0 && o_.ladder[reached].second < o_.finer_other && o_.ladder[reached].first <= 64)
+            run(param, map, o_.ladder[reached].first, o_.finer_other, method, terms, false, judge);
+    }
+
     // Factors one (param, map, res, method) with up to max_terms terms and appends its
     // candidates (every listed term count and depth), judged on `judge`.
     // res: the sharp factor's side (param.h's sharp_factor; both sides for iv); res_other: the
@@ -785,28 +808,10 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
                 if (half_sop(pairs[i]) && (half < 0 || rung_best[i] > rung_best[size_t(half)])) half = int(i);
             if (half >= 0 && rung_best[size_t(half)] >= top - o.tie_db) top_pair = half;
         }
-        const auto p = top_pair >= 0 ? pairs[size_t(top_pair)] : pairs[0];
-        double last = top_pair >= 0 ? rung_best[size_t(top_pair)] : -1e30;
-        size_t reached = 0;
-        if (top_pair >= 0)
-            for (size_t r = 1; r < o.ladder.size(); ++r) {
-                const size_t first = out->candidates.size();
-                search.run(std::get<0>(p), std::get<1>(p), o.ladder[r].first, o.ladder[r].second, std::get<2>(p), terms,
-                           false, judge);
-                const double b = best_since(first);
-                const bool gained = b >= last + o.climb_db;
-                last = std::max(last, b);
-                if (!gained) break;
-                reached = r;
-            }
-        // The other factor finer on the rung the climb reached: it holds the view (vh) or the
-        // light in the half-angle frame (gs-half), whose grazing end is the rim highlight of a
-        // light behind the object. Not above a 64-texel sharp factor: at 128 x 32 the sample
-        // matrix and its weighted fit cost several times the rest of the bake (phong n=1000).
-        if (top_pair >= 0 && sharp_factor(std::get<0>(p)) >= 0 && o.ladder[reached].second < o.finer_other &&
-            o.ladder[reached].first <= 64)
-            search.run(std::get<0>(p), std::get<1>(p), o.ladder[reached].first, o.finer_other, std::get<2>(p), terms,
-                       false, judge);
+        if (top_pair >= 0) {
+            const auto& p = pairs[size_t(top_pair)];
+            search.climb(std::get<0>(p), std::get<1>(p), std::get<2>(p), rung_best[size_t(top_pair)], terms, judge);
+        }
         if (o.max_bytes > 0)
             for (const auto& q : pairs)
                 search.run(std::get<0>(q), std::get<1>(q), o.small_rung, o.small_rung, std::get<2>(q), terms, false,
