@@ -120,6 +120,7 @@ void views_lighting(sepal::BakeOptions* o) {
     o->light_range.max_lights = 1;
     o->light_range.irradiance_max = 1e6;
     o->held_out = false;
+    o->fit_weight = sepal::BakeOptions::FitWeight::Uniform;
 }
 
 sepal::AssetData bake_small(const std::string& spec, sepal::Param param, sepal::Method method, int terms,

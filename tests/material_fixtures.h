@@ -47,7 +47,8 @@ sepal_ports::SceneSetup test_scene(const char* mesh, int lights);
 // and term count, judged at judge_size; radiance: the format-2 fit (else factors of f).
 // The bake's lighting before the light range: ranked on the default scene and its grazing
 // twin, the white level 1.25 / their smallest lit irradiance (the declared range is made
-// brighter than both so that they decide it), no held-out judging. The goldens and the
+// brighter than both so that they decide it), no held-out judging, the uniform fit (the
+// display weight needs the range's brightest light). The goldens and the
 // emulator's tolerances were set on such assets; the range is tested on its own
 // (tests/offline/bake/light_range_test.cpp).
 void views_lighting(sepal::BakeOptions* o);

@@ -216,8 +216,8 @@ TEST_CASE("image judge: a Lambert material is its diffuse pass, exact on every t
         // judge's 64 x 32 sphere at 64 x 64 pixels: measured 42.7 dB).
         CHECK(w.psnr >= (t == sepal::Target::Cpu ? 50.0 : 41.0));
         CHECK(r.asset.material.flags == SEPAL_MATERIAL_RADIANCE);
-        REQUIRE(r.views.size() == 4);  // the default light range's training conditions
-        CHECK(w.psnr_views.size() == 4);
+        REQUIRE(r.views.size() == 5);  // the default light range's training conditions
+        CHECK(w.psnr_views.size() == 5);
     }
 }
 
