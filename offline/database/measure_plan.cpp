@@ -331,7 +331,11 @@ bool read_plan_json(const std::string& path, const BrdfDatabase& db, Measurement
     try {
         if (!j.is_object() || j.value("format", "") != "sepal-measure-plan")
             return fail("not a sepal measurement plan (format \"sepal-measure-plan\")");
-        if (j.value("version", 0) != 1) return fail("plan version " + j["version"].dump() + " (this sepal reads 1)");
+        // Integers only: a float version (1e91) converted to int is undefined behaviour.
+        const auto ver = j.find("version");
+        if (ver == j.end() || !ver->is_number_integer() || ver->get<int64_t>() != 1)
+            return fail("plan version " + (ver == j.end() ? std::string("missing") : ver->dump()) +
+                        " (this sepal reads 1)");
         const Json& g = j.at("grid");
         if (!g.is_array() || g.size() != 3 || g[0] != db.grid().n_theta_h ||
             g[1] != db.grid().n_theta_d || g[2] != db.grid().n_phi_d)
