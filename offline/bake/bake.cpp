@@ -349,6 +349,14 @@ class Search {
            const ErrorEvaluator& ev, std::function<int64_t()> capped_count)
         : brdf_(brdf), o_(o), out_(out), source_(source), plain_(plain), ev_(ev), capped_count_(std::move(capped_count)) {}
 
+    // Best PSNR of the candidates appended since `first`.
+    double best_since(size_t first) const {
+        double b = -1e30;
+        for (size_t c = first; c < out_->candidates.size(); ++c)
+            if (out_->candidates[c].ok) b = std::max(b, out_->candidates[c].psnr);
+        return b;
+    }
+
     // The ladder from its first rung (best: that rung's best PSNR): each rung while the last
     // gained climb_db, then the other factor finer on the rung reached. It holds the view
     // (vh) or the light in the half-angle frame (gs-half), whose grazing end is the rim
@@ -360,9 +368,7 @@ class Search {
         for (size_t r = 1; r < o_.ladder.size(); ++r) {
             const size_t first = out_->candidates.size();
             run(param, map, o_.ladder[r].first, o_.ladder[r].second, method, terms, false, judge);
-            double b = -1e30;
-            for (size_t c = first; c < out_->candidates.size(); ++c)
-                if (out_->candidates[c].ok) b = std::max(b, out_->candidates[c].psnr);
+            const double b = best_since(first);
             const bool gained = b >= best + o_.climb_db;
             best = std::max(best, b);
             if (!gained) break;
@@ -730,13 +736,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         all_pairs = ranked;
         if (!kept.empty()) pairs = kept;
     }
-    // Best PSNR of the fine candidates appended since `first`.
-    auto best_since = [&](size_t first) {
-        double b = -1e30;
-        for (size_t c = first; c < out->candidates.size(); ++c)
-            if (out->candidates[c].ok) b = std::max(b, out->candidates[c].psnr);
-        return b;
-    };
+    auto best_since = [&search](size_t first) { return search.best_since(first); };
     std::vector<int> terms = o.terms;
     std::sort(terms.begin(), terms.end());
     terms.erase(std::unique(terms.begin(), terms.end()), terms.end());
