@@ -60,5 +60,7 @@ TEST_CASE("render --framebuffer 565: an RGB565 pbuffer (and its model) writes a 
     CHECK(contains(out, "--framebuffer '555': give 8888 (8 bits per channel) or 565"));
     CHECK(run({dir + "/b.sepal", "--backend", "cpu", "--framebuffer", "565", "-o", dir + "/x.png"}, &out) == 2);
     CHECK(contains(out, "--framebuffer applies to the GL backends and their models (not cpu)"));
+    CHECK(run({"--scene", dir + "/s.json", "--framebuffer", "565", "-o", dir + "/x.png"}, &out) == 2);
+    CHECK(contains(out, "--scene takes no --env, --diffuse, --float-target or --framebuffer"));
     CHECK_FALSE(sepal_test::run("test -e " + dir + "/x.png") == 0);
 }
