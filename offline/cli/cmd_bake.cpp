@@ -307,7 +307,7 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--max-memory", o.max_memory_mb, "refuse factorizations above this estimate, MB")
         ->check(positive())->capture_default_str();
     app.add_option("--report", a->report, "write every candidate, the budgets and the counts as JSON");
-    app.add_option("--export", a->export_dir, "write every texture as PNG per MIP level (16-bit for --bits 16), level 0 as PFM, and manifest.json into DIR");
+    app.add_option("--export", a->export_dir, "write every texture as PNG per MIP level (16-bit for --bits 16), level 0 as PFM, the diffuse profile as PFM, and manifest.json (flags, diffuse part, white level, light range, the evaluation formula: docs/format.md) into DIR");
     return [a](const CommandIO& io) { return run_bake(*a, io); };
 }
 
