@@ -120,6 +120,14 @@ TEST_CASE("asset eval: the value at a direction pair is the CPU backend's pixel 
     }
     // Below the horizon: 0, as the backend draws nothing there.
     CHECK(a->eval(sepal::dir_from_degrees(95, 0), sepal::dir_from_degrees(30, 0)) == glm::dvec3(0.0));
+    const float up[3] = {0, 0, 1}, down[3] = {0, 0, -1};
+    float out[3] = {7, 7, 7};
+    CHECK(sepal_asset_eval(&a->asset(), down, up, out) == 0);
+    CHECK(out[0] == 0.0f);
+    static const sepal_asset zeroed = {};  // not filled by sepal_asset_parse
+    CHECK(sepal_asset_eval(&zeroed, up, up, out) == -1);
+    CHECK(sepal_asset_eval(nullptr, up, up, out) == -1);
+    CHECK(sepal_asset_eval(&a->asset(), up, up, nullptr) == -1);
 }
 
 TEST_CASE("asset eval: the white level caps what the asset represents, as the display does under its lights") {
