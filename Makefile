@@ -169,7 +169,7 @@ run: deps ## build, bake the default material, render it headless on GL ES 1.1 t
 	@$(MAKE) --no-print-directory -s -j$(NPROC) $(BIN_VIEW) $(BIN_SEPAL) $(RUN_ASSET)
 	@$(BIN_SEPAL) render '$(RUN_SPEC)' --backend exact -o $(BUILD)/out/sepal-run-exact.png > /dev/null
 	@$(BIN_VIEW) --headless $(RUN_ASSET) --backend gles1 -o $(RUN_OUT) > /dev/null
-	@$(BIN_SEPAL) diff $(BUILD)/out/sepal-run-exact.png $(RUN_OUT) | sed -n 's/^psnr */PSNR against the exact render, default scene (in-sample): /p'
+	@$(BIN_SEPAL) diff $(BUILD)/out/sepal-run-exact.png $(RUN_OUT) | sed -n 's/^psnr *\([^ ]* dB\).*/PSNR against the exact render, default scene (in-sample): \1/p'
 	@# The held-out condition the bake did worst in (lights the search never saw), drawn the same way.
 	@flags=$$(awk '/^  held-out/ { p = $$0; sub(/ dB,.*/, "", p); n = split(p, a, " "); \
 	    if (best == "" || a[n] + 0 < best) { best = a[n] + 0; f = $$0 } } \
@@ -177,7 +177,7 @@ run: deps ## build, bake the default material, render it headless on GL ES 1.1 t
 	  $(BIN_SEPAL) render '$(RUN_SPEC)' --backend exact $$flags -o $(BUILD)/out/sepal-run-held-out-exact.png > /dev/null && \
 	  $(BIN_VIEW) --headless $(RUN_ASSET) --backend gles1 $$flags -o $(BUILD)/out/sepal-run-held-out.png > /dev/null && \
 	  $(BIN_SEPAL) diff $(BUILD)/out/sepal-run-held-out-exact.png $(BUILD)/out/sepal-run-held-out.png --sheet $(RUN_SHEET) | \
-	  sed -n "s|^psnr *|PSNR against the exact render, held out (its worst condition: $$flags): |p"
+	  sed -n "s|^psnr *\([^ ]* dB\).*|PSNR against the exact render, held out (its worst condition: $$flags): \1|p"
 	@sed -n 's/^held-out: /the bake: held-out /p' $(BUILD)/out/ward.bake.txt
 	@echo "exact | gles1 | error heatmap, the held-out condition: $(RUN_SHEET)"
 	@echo $(RUN_OUT)

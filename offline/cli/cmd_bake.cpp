@@ -127,8 +127,11 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
     if (!r.views.empty()) {
         std::string names;
         for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
-        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the training views %s; (c): coarse stage\n",
-                     target_name(r.target), names.c_str());
+        std::fprintf(io.out,
+                     "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
+                     "of one image pair); dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
+                     "prints); (c): coarse stage\n",
+                     target_name(r.target), names.c_str(), r.views.front().c_str(), target_name(r.target));
     }
     if (!args.report.empty()) {
         Json j;
@@ -210,8 +213,11 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         // The headline: conditions the search never saw, drawn from the same light range.
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
         const double worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
-        std::fprintf(io.out, "held-out: %.2f dB on %s (worst condition %.2f dB; in-sample %.2f dB) for lights %s\n",
-                     r.held_out_psnr, target_name(r.target), worst, w.psnr, describe_light_range(o.light_range).c_str());
+        std::fprintf(io.out,
+                     "held-out: %.2f dB on %s pooled over the %zu conditions below (worst %.2f dB; in-sample %.2f dB, "
+                     "pooled over the training views) for lights %s\n",
+                     r.held_out_psnr, target_name(r.target), r.held_out_views.size(), worst, w.psnr,
+                     describe_light_range(o.light_range).c_str());
         for (size_t i = 0; i < r.held_out_views.size(); ++i)
             std::fprintf(io.out, "  %-20s %6.2f dB, %.2f%% of pixels over 16 levels  (%s)\n", r.held_out_views[i].c_str(),
                          r.held_out_psnr_views[i], 100.0 * r.held_out_share16[i], r.held_out_flags[i].c_str());

@@ -111,7 +111,7 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
         SceneGlInfo info;
         if (!render_scene_gl(scene, fr, o, &rgba, &info, &err)) return fail(err);
         line = info.device + "; " + std::to_string(info.stats.draw_calls) + " draws, " +
-               std::to_string(info.stats.doublings) + " doublings";
+               std::to_string(info.stats.doublings) + " doublings in this scene's frame";
     } else {
         return fail("unknown backend '" + backend + "'");
     }
@@ -279,7 +279,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
-        std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
+        std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings in this scene's frame\n",
                      backend.c_str(), setup.width, setup.height, stats.doublings);
         const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
         if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
@@ -350,7 +350,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         }
         std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
                      info.device.c_str());
-        std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
+        std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings in this scene's frame\n",
                      info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
                      info.stats.copies, info.stats.doublings);
         std::fprintf(io.out, "png        %s\n", out_path.c_str());
