@@ -63,6 +63,36 @@ void print_counts(const BakeResult& r, std::FILE* out) {
     for (const std::string& n : r.notes) std::fprintf(out, "note: %s\n", n.c_str());
 }
 
+// The candidates, for people, whether or not one won: the image first, the direction-
+// space error as a diagnostic.
+void print_candidates(const BakeResult& r, FILE* out) {
+    if (!r.candidates.empty())
+        std::fprintf(out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
+                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
+    for (size_t i = 0; i < r.candidates.size(); ++i) {
+        const BakeCandidate& c = r.candidates[i];
+        const std::string label = c.label() + (c.coarse ? " (c)" : "");
+        if (!c.ok) {
+            std::fprintf(out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
+            continue;
+        }
+        std::fprintf(out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
+                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
+                     c.on_front ? "*" : " ",
+                     int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
+                     c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
+    }
+    if (!r.views.empty()) {
+        std::string names;
+        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
+        std::fprintf(out,
+                     "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
+                     "of one image pair); dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
+                     "prints); (c): coarse stage\n",
+                     target_name(r.target), names.c_str(), r.views.front().c_str(), target_name(r.target));
+    }
+}
+
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
     std::string white = "auto", fit = "radiance", colour = "auto", fit_weight = "display";
@@ -106,33 +136,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         return bad(err);
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
-    // The candidates, for people, whether or not one won: the image first, the direction-
-    // space error as a diagnostic.
-    if (!r.candidates.empty())
-        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
-                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
-    for (size_t i = 0; i < r.candidates.size(); ++i) {
-        const BakeCandidate& c = r.candidates[i];
-        const std::string label = c.label() + (c.coarse ? " (c)" : "");
-        if (!c.ok) {
-            std::fprintf(io.out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
-            continue;
-        }
-        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
-                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
-                     c.on_front ? "*" : " ",
-                     int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
-                     c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
-    }
-    if (!r.views.empty()) {
-        std::string names;
-        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
-        std::fprintf(io.out,
-                     "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
-                     "of one image pair); dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
-                     "prints); (c): coarse stage\n",
-                     target_name(r.target), names.c_str(), r.views.front().c_str(), target_name(r.target));
-    }
+    print_candidates(r, io.out);
     if (!args.report.empty()) {
         Json j;
         j["spec"] = brdf->spec();
