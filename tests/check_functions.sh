@@ -7,7 +7,6 @@ cd "$(dirname "$0")/.."
 limit=150
 allowed='
 offline/bake/bake.cpp bake 338
-offline/database/database.cpp BrdfDatabase::open 216
 offline/sampling/factored_fit.cpp fit_one 227
 runtime/src/asset.cpp sepal_asset_parse 297
 '
