@@ -218,9 +218,10 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
         const double worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
         std::fprintf(io.out,
-                     "held-out: %.2f dB on %s pooled over the %zu conditions below (worst %.2f dB; in-sample %.2f dB, "
-                     "pooled over the training views) for lights %s\n",
-                     r.held_out_psnr, target_name(r.target), r.held_out_views.size(), worst, w.psnr,
+                     "held-out: %.2f dB on %s at %dx%d pooled over the %zu conditions below (worst %.2f dB; in-sample "
+                     "%.2f dB, pooled over the training views) for lights %s\n",
+                     r.held_out_psnr, target_name(r.target), o.judge_size, o.judge_size, r.held_out_views.size(), worst,
+                     w.psnr,
                      describe_light_range(o.light_range).c_str());
         for (size_t i = 0; i < r.held_out_views.size(); ++i)
             std::fprintf(io.out, "  %-20s %6.2f dB, %.2f%% of pixels over 16 levels  (%s)\n", r.held_out_views[i].c_str(),
