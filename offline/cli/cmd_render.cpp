@@ -210,22 +210,17 @@ constexpr double kRenderBytesPerPixel = 40.0;
 int render_model(RenderArgs& args, const CommandIO& io) {
     sepal_ports::SceneSetup& setup = args.setup;
     const std::string& backend = args.backend;
-    const std::string& out_path = args.out_path;
-    const std::string& float_path = args.float_path;
-    const std::string& mask_text = args.mask_text;
-    const std::string& diffuse_path = args.diffuse_path;
-    const bool float_target = args.float_target;
     std::string err;
     std::vector<uint8_t> bytes, rgba;
     uint32_t mask = 0;
     sepal_draw_stats stats = {};
-    if (!diffuse_path.empty() || !float_path.empty() || float_target || out_path.empty())
+    if (!args.diffuse_path.empty() || !args.float_path.empty() || args.float_target || args.out_path.empty())
         err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
-    if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
+    if (!err.empty() || !sepal_ports::parse_mask(args.mask_text, &mask, &err) ||
         !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(args.input, &bytes, &err) ||
         !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
                                             mask, &rgba, &err, &stats) ||
-        !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
+        !write_png(args.out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
@@ -233,7 +228,7 @@ int render_model(RenderArgs& args, const CommandIO& io) {
                  backend.c_str(), setup.width, setup.height, stats.doublings);
     const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
     if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
-    std::fprintf(io.out, "png        %s\n", out_path.c_str());
+    std::fprintf(io.out, "png        %s\n", args.out_path.c_str());
     return kExitOk;
 }
 
