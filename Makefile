@@ -90,6 +90,10 @@ BENCH_OBJ    := $(call obj,$(BENCH_SRC))
 BENCH_SUPPORT_OBJ := $(call obj,$(BENCH_SUPPORT_SRC))
 
 LIB_RUNTIME  := $(BUILD)/lib/libsepal_runtime.a
+# The GL ES emulator (sepal/internal/sepal_emulate.h): compiled as the runtime is, kept out of
+# libsepal (static and shared); the tools, ports/common and the tests link it.
+EMULATE_OBJ  := $(call obj,runtime/src/emulate_gles1.cpp)
+LIB_EMULATE  := $(BUILD)/lib/libsepal_emulate.a
 LIB_OFFLINE  := $(BUILD)/lib/libsepal_offline.a
 LIB_HEADLESS := $(BUILD)/lib/libsepal_headless.a
 LIB_STB      := $(BUILD)/lib/libsepal_stb.a
@@ -351,30 +355,31 @@ $(BUILD)/lib/lib%.a:
 	$(call say,AR,$@)
 	$(Q)ar rcs $@ $^
 
-$(LIB_RUNTIME): $(RUNTIME_OBJ)
+$(LIB_RUNTIME): $(filter-out $(EMULATE_OBJ),$(RUNTIME_OBJ))
+$(LIB_EMULATE): $(EMULATE_OBJ)
 $(LIB_OFFLINE): $(OFFLINE_OBJ)
 $(LIB_HEADLESS): $(HEADLESS_OBJ)
 $(LIB_STB): $(STB_OBJ)
 $(LIB_WINDOWED): $(WINDOWED_OBJ)
 
-$(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
+$(BIN_SEPAL): $(call obj,$(SEPAL_MAIN)) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_EMULATE) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
 
 # sepal-view: the runtime and the ports only, no offline code (the window through Xlib).
-$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_WINDOWED) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
+$(BIN_VIEW): $(call obj,$(VIEW_MAIN)) $(LIB_WINDOWED) $(LIB_HEADLESS) $(LIB_STB) $(LIB_EMULATE) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -lX11 -o $@
 
-$(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME) $(BIN_SEPAL)
+$(BIN_TESTS): $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_EMULATE) $(LIB_RUNTIME) $(BIN_SEPAL)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
-	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME) $(LIBS) -o $@
+	$(Q)$(CXX) $(LDFLAGS) $(TEST_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_EMULATE) $(LIB_RUNTIME) $(LIBS) -o $@
 
 # sepal-bench-<name>: one program per tests/bench/<name>.cpp (`make bench`).
-$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
+$(BUILD)/bin/sepal-bench-%: $(BUILD)/obj/tests/bench/%.o $(BENCH_SUPPORT_OBJ) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_EMULATE) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) $(LDFLAGS) $^ $(LIBS) -o $@
@@ -387,7 +392,7 @@ $(BUILD)/obj/tests/fuzz/entry/libfuzzer-%.o: tests/fuzz/entry/libfuzzer.cpp
 	$(call say,CXX,$@)
 	$(Q)$(CXX) $(CPPFLAGS) $(TEST_CPPFLAGS) $(CXXFLAGS_ALL) -DSEPAL_FUZZ_TARGET=sepal_fuzz_$* -c $< -o $@
 $(BUILD)/bin/fuzz-%: $(BUILD)/obj/tests/fuzz/entry/libfuzzer-%.o $(BUILD)/obj/tests/fuzz/fuzz_%.o \
-                     $(call obj,tests/fuzz/common.cpp) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_RUNTIME)
+                     $(call obj,tests/fuzz/common.cpp) $(LIB_OFFLINE) $(LIB_HEADLESS) $(LIB_STB) $(LIB_EMULATE) $(LIB_RUNTIME)
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) -fsanitize=fuzzer,$(FUZZ_SAN) $^ $(LIBS) -o $@
@@ -418,11 +423,11 @@ $(DIST)/libsepal_headless.a: $(HEADLESS_PORT_OBJ)
 	$(Q)ar rcs $@ $^
 # Exports are the C API only (packaging/*.map); --no-undefined: every GL symbol resolved;
 # -z text: refuse objects that are not position-independent instead of shipping them.
-$(DIST)/libsepal.so.$(SEPAL_VERSION): $(RUNTIME_OBJ) packaging/libsepal.map
+$(DIST)/libsepal.so.$(SEPAL_VERSION): $(filter-out $(EMULATE_OBJ),$(RUNTIME_OBJ)) packaging/libsepal.map
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)
 	$(Q)$(CXX) -shared -Wl,-soname,libsepal.so.$(SOVERSION) -Wl,--version-script=packaging/libsepal.map \
-	  -Wl,--no-undefined -Wl,-z,text $(LDFLAGS) $(RUNTIME_OBJ) -lGLESv1_CM -lGLESv2 -lm -o $@
+	  -Wl,--no-undefined -Wl,-z,text $(LDFLAGS) $(filter-out $(EMULATE_OBJ),$(RUNTIME_OBJ)) -lGLESv1_CM -lGLESv2 -lm -o $@
 $(DIST)/libsepal_headless.so.$(SEPAL_VERSION): $(HEADLESS_PORT_OBJ) packaging/libsepal_headless.map
 	@mkdir -p $(dir $@)
 	$(call say,LINK,$@)

@@ -24,6 +24,7 @@
 
 #include "draw_internal.h"
 #include "sepal/sepal_raster.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace {
 
