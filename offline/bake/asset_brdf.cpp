@@ -25,14 +25,10 @@ std::unique_ptr<AssetBrdf> AssetBrdf::load(const std::string& path, std::string*
         *err = path + ": invalid: " + e.message;
         return nullptr;
     }
-    if (a->asset_->meta) {
-        Json meta;
-        std::string ignored;
-        const std::string text(a->asset_->meta, a->asset_->meta_bytes);
-        if (parse_json(text, path + " META", &meta, &ignored) && meta.is_object() && meta.contains("spec") &&
-            meta["spec"].is_string())
-            a->source_ = meta["spec"].get<std::string>();
-    }
+    Json meta;
+    if (a->asset_->meta &&
+        parse_json(std::string(a->asset_->meta, a->asset_->meta_bytes), path + " META", &meta, nullptr))
+        json_string(JsonField{meta, ""}, "spec", &a->source_, nullptr);
     return a;
 }
 
