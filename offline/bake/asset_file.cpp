@@ -28,9 +28,9 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     std::vector<Payload> chunks;
     {
         Payload p{SEPAL_FMT_TAG_MATERIAL, {}};
-        // 2.3's light range only when the asset has one: older assets stay byte-identical.
-        append(&p.bytes, &asset.material, asset_has_light_range(asset) ? sizeof asset.material
-                                                                       : size_t(SEPAL_FMT_MATERIAL_BYTES_V2));
+        // 2.3's light range only from 2.3: older assets stay byte-identical.
+        const bool ranged = asset_needs_version2(asset) && asset_minor_version(asset) >= SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE;
+        append(&p.bytes, &asset.material, ranged ? sizeof asset.material : size_t(SEPAL_FMT_MATERIAL_BYTES_V2));
         chunks.push_back(std::move(p));
     }
     for (const AssetTexture& t : asset.textures) {
@@ -55,6 +55,11 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
         d.side = asset.diffuse_side;
         append(&p.bytes, &d, sizeof d);
         append(&p.bytes, asset.diffuse_profile.data(), asset.diffuse_profile.size() * sizeof(float));
+        chunks.push_back(std::move(p));
+    }
+    if (asset.has_profile) {
+        Payload p{SEPAL_FMT_TAG_PROFILE, {}};
+        append(&p.bytes, &asset.profile, sizeof asset.profile);
         chunks.push_back(std::move(p));
     }
     if (!asset.meta.empty()) {
@@ -88,11 +93,7 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
     h.version_major = v2 ? SEPAL_FMT_VERSION_MAJOR : 1;
     // 2.1 only for reciprocal materials, 2.2 only for axis ones: other version-2 assets stay
     // 2.0, byte for byte.
-    h.version_minor = !v2                                             ? 0
-                      : asset_has_light_range(asset)                  ? SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE
-                      : asset.material.param == SEPAL_PARAM_AXIS      ? SEPAL_FMT_VERSION_MINOR_AXIS
-                      : asset.material.flags & SEPAL_MATERIAL_RECIPROCAL ? SEPAL_FMT_VERSION_MINOR_RECIPROCAL
-                                                                         : 0;
+    h.version_minor = v2 ? asset_minor_version(asset) : 0;
     h.header_bytes = sizeof h;
     h.file_bytes = file.size();
     h.chunk_count = uint32_t(chunks.size());
@@ -117,7 +118,15 @@ bool asset_needs_version2(const AssetData& a) {
               !a.diffuse_profile.empty();
     for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE || p.op == SEPAL_OP_RECIPROCAL;
     v2 = v2 || m.param == SEPAL_PARAM_AXIS;  // 2.2
-    return v2 || asset_has_light_range(a);   // 2.3
+    return v2 || asset_has_light_range(a) || a.has_profile;  // 2.3, 2.4
+}
+
+uint16_t asset_minor_version(const AssetData& a) {
+    return a.has_profile                                      ? SEPAL_FMT_VERSION_MINOR_PROFILE
+           : asset_has_light_range(a)                         ? SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE
+           : a.material.param == SEPAL_PARAM_AXIS             ? SEPAL_FMT_VERSION_MINOR_AXIS
+           : a.material.flags & SEPAL_MATERIAL_RECIPROCAL     ? SEPAL_FMT_VERSION_MINOR_RECIPROCAL
+                                                              : 0;
 }
 
 bool asset_has_light_range(const AssetData& a) {

@@ -32,16 +32,22 @@ struct AssetData {
     uint32_t diffuse_side = 0;
     std::vector<float> diffuse_profile;
     std::string meta;  // JSON manifest; may be empty
+    // The device profile it was judged for (format 2.4, PROF chunk); none: the default.
+    bool has_profile = false;
+    sepal_fmt_profile profile{};
 };
 
 bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string* err);
 // True when the asset uses a version-2 feature (radiance or reciprocal flag, diffuse part or
-// profile, DIFFUSE or RECIPROCAL pass); encode_asset writes version 1.0 otherwise, and 2.1
-// only for reciprocal materials.
+// profile, DIFFUSE or RECIPROCAL pass, light range, device profile); encode_asset writes
+// version 1.0 otherwise.
 bool asset_needs_version2(const AssetData& asset);
 // True when the material's light range (2.3) is set: encode_asset then writes 2.3 and the
 // 96-byte MATL chunk.
 bool asset_has_light_range(const AssetData& asset);
+// The header's minor version for a version-2 asset: 2.4 with a profile, 2.3 with a light
+// range, 2.2 for axis, 2.1 for reciprocal, else 2.0.
+uint16_t asset_minor_version(const AssetData& asset);
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
 
 }  // namespace sepal

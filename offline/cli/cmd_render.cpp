@@ -241,6 +241,15 @@ int render_model(RenderArgs& args, int framebuffer, const CommandIO& io) {
                  framebuffer == 565 ? "5/6/5" : "8/8/8");
     const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
     if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
+    // The context the emulator stands for (sepal_emulate_draw's): its framebuffer's bits.
+    sepal_caps caps = {};
+    caps.gles_version = backend == "gles1-model" ? 1 : 2;
+    caps.texture_units = caps.gles_version == 1 ? 2 : 8;
+    caps.has_blend_subtract = (mask & SEPAL_MASK_BLEND_SUBTRACT) ? 0 : 1;
+    caps.red_bits = caps.blue_bits = framebuffer == 565 ? 5 : 8;
+    caps.green_bits = framebuffer == 565 ? 6 : 8;
+    const std::string weaker = sepal_ports::profile_warning(bytes.data(), bytes.size(), caps, stats);
+    if (!weaker.empty()) std::fprintf(io.err, "sepal render: %s\n", weaker.c_str());
     std::fprintf(io.out, "png        %s\n", args.out_path.c_str());
     return kExitOk;
 }
@@ -327,6 +336,8 @@ int render_asset(RenderArgs& args, sepal_ports::GlRenderOptions opt, int framebu
     std::fprintf(io.out, "png        %s\n", out_path.c_str());
     const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, args.input);
     if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
+    const std::string weaker = sepal_ports::profile_warning(bytes.data(), bytes.size(), info.caps, info.stats);
+    if (!weaker.empty()) std::fprintf(io.err, "sepal render: %s\n", weaker.c_str());
     return kExitOk;
 }
 

@@ -33,7 +33,8 @@ std::vector<DrawCounter> draw_counters(const sepal_draw_stats& s) {
             {"exposure_clamped", s.exposure_clamped},
             {"nonfinite_clamped", s.nonfinite_clamped},
             {"negative_clamped", s.negative_clamped},
-            {"pixel_frame_fallbacks", s.pixel_frame_fallbacks}};
+            {"pixel_frame_fallbacks", s.pixel_frame_fallbacks},
+            {"weaker_context", s.weaker_context}};
 }
 
 std::string describe_counters(const sepal_draw_stats& s) {
@@ -63,6 +64,15 @@ std::string light_range_warning(const void* bytes, size_t size, const sepal_draw
                   s.dim_lights, s.dim_lights == 1 ? " is" : "s are", name.c_str(), (double)m.irradiance_min,
                   (double)m.irradiance_max, (double)m.white_level);
     return buf;
+}
+
+std::string profile_warning(const void* bytes, size_t size, const sepal_caps& caps, const sepal_draw_stats& s) {
+    if (s.weaker_context <= 0) return "";
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e = {};
+    if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) return "";
+    if (sepal_profile_check(&caps, asset.get(), nullptr, &e) == SEPAL_OK) return "";
+    return std::string("warning: ") + e.message;
 }
 
 namespace {

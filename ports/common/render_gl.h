@@ -104,6 +104,10 @@ std::string describe_counters(const sepal_draw_stats& s);
 // One line naming the asset's light range when the frame drew lights dimmer than it was
 // baked for (stats.dim_lights > 0), else "": what `sepal render` and sepal-view print.
 std::string light_range_warning(const void* bytes, size_t size, const sepal_draw_stats& s, const std::string& name);
+// One line naming what of the context (caps) is weaker than the device profile the asset
+// was judged for (stats.weaker_context > 0: sepal_profile_check's message), else "": what
+// `sepal render` and sepal-view print.
+std::string profile_warning(const void* bytes, size_t size, const sepal_caps& caps, const sepal_draw_stats& s);
 // Those counters by name, every one (zero or not), in one order: for messages and reports.
 struct DrawCounter {
     const char* name;

@@ -195,6 +195,8 @@ int main(int argc, char** argv) {
                 info.device.c_str(), info.path.c_str(), info.stats.draw_calls,
                 info.stats.fullscreen_passes, info.stats.copies, info.ms,
                 sepal_ports::describe_counters(info.stats).c_str());
+        const std::string weaker = sepal_ports::profile_warning(bytes.data(), bytes.size(), info.caps, info.stats);
+        if (!weaker.empty()) fprintf(stderr, "sepal-view: %s\n", weaker.c_str());
         return finish_headless(bytes, info.stats, asset_path, out, width, height, rgba);
     }
 

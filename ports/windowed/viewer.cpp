@@ -344,6 +344,8 @@ bool Viewer::ensure_material(std::string* err) {
         mat_stale_ = true;
         return false;
     }
+    // A context weaker than the device profile the asset was judged for: said once per material.
+    if (sepal_profile_check(&caps, shown_.get(), nullptr, &e) != SEPAL_OK) fprintf(stderr, "sepal-view: warning: %s\n", e.message);
     mat_gles_ = gles;
     mat_stale_ = false;
     return true;

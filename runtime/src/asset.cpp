@@ -15,6 +15,7 @@ static_assert(sizeof(sepal_fmt_texture) == 72, "texture layout");
 static_assert(sizeof(sepal_fmt_plan) == 32, "plan layout");
 static_assert(sizeof(sepal_fmt_pass) == 24, "pass layout");
 static_assert(sizeof(sepal_fmt_diffuse) == 16, "diffuse profile layout");
+static_assert(sizeof(sepal_fmt_profile) == 48, "device profile layout");
 
 namespace srt {
 
@@ -406,6 +407,91 @@ sepal_result check_pass(const sepal_asset* out, uint32_t i, bool reciprocal, sep
     return SEPAL_OK;
 }
 
+sepal_result parse_profile(const uint8_t* p, uint64_t size, sepal_asset* out, sepal_error* err) {
+    if (out->has_profile || size != sizeof(sepal_fmt_profile))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: PROF chunk duplicated or of size %llu (expected %zu)",
+                         (unsigned long long)size, sizeof(sepal_fmt_profile));
+    sepal_fmt_profile& f = out->profile;
+    memcpy(&f, p, sizeof f);
+    out->has_profile = 1;
+    const size_t n = strnlen(f.name, sizeof f.name);
+    bool name_ok = n > 0 && n < sizeof f.name;
+    for (size_t i = 0; i < n; ++i)
+        name_ok = name_ok && ((f.name[i] >= 'a' && f.name[i] <= 'z') || (f.name[i] >= '0' && f.name[i] <= '9') ||
+                              f.name[i] == '-');
+    for (size_t i = n; i < sizeof f.name; ++i) name_ok = name_ok && f.name[i] == 0;
+    if (!name_ok)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: PROF chunk's name is not 1..15 characters of [a-z0-9-] padded with zeros");
+    const uint32_t bits[3] = {f.red_bits, f.green_bits, f.blue_bits};
+    for (uint32_t b : bits)
+        if (b < 1 || b > 8)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: profile %s has %u framebuffer bits (1..8)",
+                             f.name, b);
+    const uint32_t side = f.max_texture_size;
+    if (f.texture_units < 1 || f.texture_units > 32 || side < 1 || side > SEPAL_FMT_MAX_TEXTURE_SIDE ||
+        (side & (side - 1)) != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: profile %s has %u texture units (1..32) and texture limit %u (a power of two, 1..%d)",
+                         f.name, f.texture_units, side, SEPAL_FMT_MAX_TEXTURE_SIDE);
+    if ((f.flags & ~SEPAL_PROFILE_KNOWN_FLAGS) != 0 || !all_zero(f.reserved, sizeof f.reserved))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: profile %s has unknown flags or reserved words", f.name);
+    return SEPAL_OK;
+}
+
+// Without a PROF chunk: the default profile, held to the asset's own largest texture.
+void default_profile(sepal_asset* out) {
+    sepal_fmt_profile& f = out->profile;
+    memset(&f, 0, sizeof f);
+    memcpy(f.name, "default", 8);
+    f.red_bits = f.green_bits = f.blue_bits = SEPAL_FMT_DEFAULT_PROFILE_BITS;
+    f.texture_units = SEPAL_FMT_DEFAULT_PROFILE_UNITS;
+    f.flags = SEPAL_PROFILE_BLEND_SUBTRACT;
+    for (uint32_t i = 0; i < out->texture_count; ++i) {
+        const sepal_fmt_texture& d = out->textures[i].desc;
+        f.max_texture_size = d.width > f.max_texture_size ? d.width : f.max_texture_size;
+        f.max_texture_size = d.height > f.max_texture_size ? d.height : f.max_texture_size;
+    }
+}
+
+// The DIFF chunk (format 2): a diffuse profile of side x side RGB samples in [0,1].
+sepal_result parse_diffuse(const sepal_fmt_header& h, const uint8_t* p, uint64_t size, sepal_asset* out,
+                           sepal_error* err) {
+    sepal_fmt_diffuse dh;
+    if (out->diffuse_profile || h.version_major < 2 || size < sizeof dh)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk duplicated, too small or in a version-1 file");
+    memcpy(&dh, p, sizeof dh);
+    if (!all_zero(dh.reserved, sizeof dh.reserved))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk's reserved words are not 0");
+    if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE ||
+        size != sizeof dh + (uint64_t)dh.side * dh.side * 3 * sizeof(float))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: diffuse profile of side %u (2..%d) in a %llu-byte chunk", dh.side,
+                         SEPAL_FMT_MAX_DIFFUSE_SIDE, (unsigned long long)size);
+    out->diffuse_profile = p + sizeof dh;
+    out->diffuse_side = dh.side;
+    for (uint32_t k = 0; k < dh.side * dh.side * 3; ++k) {
+        float v;
+        memcpy(&v, out->diffuse_profile + 4 * (size_t)k, 4);
+        if (!(v >= 0.0f && v <= 1.0f))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse profile value %g outside [0,1]",
+                             (double)v);
+    }
+    return SEPAL_OK;
+}
+
+// The default profile without a PROF chunk; every texture at or under the profile's limit.
+sepal_result finish_profile(sepal_asset* out, sepal_error* err) {
+    if (!out->has_profile) default_profile(out);
+    for (uint32_t i = 0; i < out->texture_count; ++i) {
+        const sepal_fmt_texture& d = out->textures[i].desc;
+        if (d.width > out->profile.max_texture_size || d.height > out->profile.max_texture_size)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: texture %u is %ux%u, over its profile %s's limit %u",
+                             i, d.width, d.height, out->profile.name, out->profile.max_texture_size);
+    }
+    return SEPAL_OK;
+}
+
 }  // namespace
 
 extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
@@ -465,26 +551,9 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
             plan_size = c.size;
             have_plan = true;
         } else if (c.tag == SEPAL_FMT_TAG_DIFFUSE) {
-            sepal_fmt_diffuse dh;
-            if (out->diffuse_profile || h.version_major < 2 || c.size < sizeof dh)
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk duplicated, too small or in a version-1 file");
-            memcpy(&dh, p, sizeof dh);
-            if (!all_zero(dh.reserved, sizeof dh.reserved))
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk's reserved words are not 0");
-            if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE ||
-                c.size != sizeof dh + (uint64_t)dh.side * dh.side * 3 * sizeof(float))
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: diffuse profile of side %u (2..%d) in a %llu-byte chunk", dh.side,
-                                 SEPAL_FMT_MAX_DIFFUSE_SIDE, (unsigned long long)c.size);
-            out->diffuse_profile = p + sizeof dh;
-            out->diffuse_side = dh.side;
-            for (uint32_t k = 0; k < dh.side * dh.side * 3; ++k) {
-                float v;
-                memcpy(&v, out->diffuse_profile + 4 * (size_t)k, 4);
-                if (!(v >= 0.0f && v <= 1.0f))
-                    return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse profile value %g outside [0,1]",
-                                     (double)v);
-            }
+            if (const sepal_result r = parse_diffuse(h, p, c.size, out, err)) return r;
+        } else if (c.tag == SEPAL_FMT_TAG_PROFILE) {
+            if (const sepal_result r = parse_profile(p, c.size, out, err)) return r;
         } else if (c.tag == SEPAL_FMT_TAG_META) {
             if (c.size > SEPAL_FMT_MAX_META_BYTES)
                 return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: META over %u bytes",
@@ -554,5 +623,6 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (!plan_matches_factors(*out, what, sizeof what))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: the pass plan does not draw the factors: %s (every backend must draw one f)", what);
+    if (const sepal_result r = finish_profile(out, err)) return r;
     return srt::ok(err);
 }

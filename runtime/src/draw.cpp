@@ -38,6 +38,7 @@ sepal_result prepare_frame(const sepal_draw_desc* d, const MeshView& mesh, const
                          tri.bad_index, mesh.indices[tri.bad_index], mesh.vertex_count);
     stats->below_horizon = prep.vertices.below_horizon;
     stats->dim_lights = dim_lights(m->info, mesh, *d->scene);
+    stats->weaker_context = m->weaker != 0;
     stats->fallback_tangents = prep.vertices.fallback_tangents;
     stats->bad_vertices = prep.vertices.bad_vertices;
     stats->skipped_triangles = tri.skipped;

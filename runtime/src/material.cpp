@@ -142,6 +142,7 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
     if (group > (int)info.terms) group = (int)info.terms;
     out->fused_group = group > 0 ? group : 1;
     out->subtract_by_inversion = out->has_negative_passes && !caps->has_blend_subtract;
+    sepal_profile_check(caps, asset, &out->weaker, nullptr);
     out->texture_count = asset->texture_count;
     if (asset->diffuse_profile) {
         out->diffuse_side = asset->diffuse_side;
@@ -274,6 +275,7 @@ extern "C" void sepal_material_get_info(const sepal_material* storage, sepal_mat
     out->context_lost = m->context_lost;
     out->passes = (int)m->plan.pass_count;
     out->textures = (int)m->texture_count;
+    out->weaker_context = m->weaker;
 }
 
 extern "C" void sepal_material_context_lost(sepal_material* storage) {

@@ -49,6 +49,8 @@ struct Material {
     uint32_t float_fbo, float_color, float_depth;
     // Set by sepal_material_context_lost: the GL names above belong to a dead context.
     int context_lost;
+    // SEPAL_WEAKER_* bits of the context against the asset's device profile.
+    uint32_t weaker;
 };
 static_assert(sizeof(Material) <= sizeof(sepal_material), "sepal_material's storage (SEPAL_MATERIAL_BYTES) is too small");
 static_assert(alignof(Material) <= alignof(sepal_material), "sepal_material's storage is not aligned for it");

@@ -21,6 +21,7 @@ void add_stats(sepal_draw_stats* sum, const sepal_draw_stats& s, bool first) {
     if (first) sum->exposure = s.exposure, sum->exposure_stages = s.exposure_stages;
     sum->below_horizon += s.below_horizon;
     sum->dim_lights += s.dim_lights;
+    sum->weaker_context += s.weaker_context;
     sum->fallback_tangents += s.fallback_tangents;
     sum->bad_vertices += s.bad_vertices;
     sum->skipped_triangles += s.skipped_triangles;

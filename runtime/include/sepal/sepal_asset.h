@@ -48,6 +48,10 @@ typedef struct sepal_asset {
     // memcpy: 4-byte aligned only), or NULL with side 0 (profile 1 everywhere).
     const uint8_t* diffuse_profile;
     uint32_t diffuse_side;
+    // The device profile it was judged for (format 2.4's PROF chunk), or without the chunk
+    // the default profile (sepal_format.h): has_profile says which.
+    sepal_fmt_profile profile;
+    uint32_t has_profile;
 } sepal_asset;
 
 // The diffuse profile at (cos theta_i, cos theta_o), channel c (bilinear, clamped to [0,1]

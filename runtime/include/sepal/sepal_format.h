@@ -13,6 +13,7 @@
 //   'PLAN' exactly one   sepal_fmt_plan followed by pass_count sepal_fmt_pass
 //   'DIFF' optional (v2) sepal_fmt_diffuse followed by side*side*3 floats: the shape of a
 //                        radiance material's diffuse part (see below)
+//   'PROF' optional (2.4) sepal_fmt_profile: the device profile the bake judged it for
 //   'META' optional      UTF-8 JSON for people and tools; the runtime ignores it
 //   unknown tags are skipped (forward compatibility), but still checksummed.
 // Bounds (enforced by the reader, respected by the writer): see SEPAL_FMT_MAX_*.
@@ -52,6 +53,15 @@
 // (sepal_draw_stats.dim_lights). An older asset whose META holds "white_level" W reads with
 // white_level W and irradiance_min 1/W (below it the cap no longer shows white). Writers
 // write 2.3 only for assets with a light range; older readers refuse its MATL size.
+// Version 2.4 adds the device profile (the PROF chunk, sepal_fmt_profile): the framebuffer
+// bits, texture units, texture size limit and blend subtraction the bake judged the asset
+// on (`sepal bake --target gles1:PROFILE`, docs/devices.md). The runtime compares it with
+// the context's caps (sepal_profile_check) and counts frames drawn on a weaker context
+// (sepal_draw_stats.weaker_context). An asset without the chunk was judged for the default
+// profile: SEPAL_FMT_DEFAULT_PROFILE_BITS per channel, SEPAL_FMT_DEFAULT_PROFILE_UNITS
+// units, its own largest texture, blend subtraction. Writers write 2.4 (and the chunk) only
+// for assets baked for another profile, so default bakes stay byte-identical; older readers
+// skip the chunk (unknown tags are skipped) and read the rest as before.
 //
 // Data only: constants, enums and the file's structs. The reader (sepal_asset_parse), the
 // texture coordinates of the parameterizations and the checksum are in sepal_asset.h.
@@ -67,12 +77,13 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 3
+#define SEPAL_FMT_VERSION_MINOR 4
 // The minor version that introduced reciprocal materials (2.1), the axis parameterization
 // (2.2) and the light range (2.3); other version-2 assets are 2.0.
 #define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
 #define SEPAL_FMT_VERSION_MINOR_AXIS 2
 #define SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE 3
+#define SEPAL_FMT_VERSION_MINOR_PROFILE 4
 // The MATL chunk's size before 2.3 (the material up to and including diffuse).
 #define SEPAL_FMT_MATERIAL_BYTES_V2 64u
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
@@ -100,6 +111,7 @@ extern "C" {
 #define SEPAL_FMT_TAG_PLAN SEPAL_FMT_TAG('P', 'L', 'A', 'N')
 #define SEPAL_FMT_TAG_META SEPAL_FMT_TAG('M', 'E', 'T', 'A')
 #define SEPAL_FMT_TAG_DIFFUSE SEPAL_FMT_TAG('D', 'I', 'F', 'F')
+#define SEPAL_FMT_TAG_PROFILE SEPAL_FMT_TAG('P', 'R', 'O', 'F')
 #define SEPAL_FMT_MAX_DIFFUSE_SIDE 32
 // Reciprocal materials (2.1): the runtime keeps a copy of each term's G texture (level 0,
 // 8 bits) for the per-vertex third lookup, so both are bounded: McCool's published factors
@@ -238,6 +250,23 @@ typedef struct sepal_fmt_diffuse {
     uint32_t side;         // 2..SEPAL_FMT_MAX_DIFFUSE_SIDE
     uint32_t reserved[3];  // 0
 } sepal_fmt_diffuse;
+
+// The device profile the asset was judged for (version 2.4, the PROF chunk; 48 bytes).
+// Without the chunk the reader fills the default profile (see the top).
+#define SEPAL_FMT_DEFAULT_PROFILE_BITS 8
+#define SEPAL_FMT_DEFAULT_PROFILE_UNITS 2
+#define SEPAL_FMT_PROFILE_NAME_BYTES 16
+typedef struct sepal_fmt_profile {
+    char name[SEPAL_FMT_PROFILE_NAME_BYTES];  // NUL-terminated, [a-z0-9-], not empty
+    uint32_t red_bits, green_bits, blue_bits;  // the framebuffer the bake rounded every pass to, 1..8
+    uint32_t texture_units;     // units the plan was judged with, 1..32
+    uint32_t max_texture_size;  // the side the bake held every texture to: a power of two, 1..SEPAL_FMT_MAX_TEXTURE_SIDE
+    uint32_t flags;             // SEPAL_PROFILE_* bits
+    uint32_t reserved[2];       // 0
+} sepal_fmt_profile;
+// sepal_fmt_profile.flags
+#define SEPAL_PROFILE_BLEND_SUBTRACT 1u  // judged with blend subtraction (else by inversion)
+#define SEPAL_PROFILE_KNOWN_FLAGS 1u
 
 typedef struct sepal_fmt_pass {
     uint16_t op;         // sepal_pass_op; a PRODUCT is tex0 = a term's G times tex1 = its H

@@ -96,6 +96,7 @@ typedef struct sepal_material_info {
     int context_lost;  // sepal_material_context_lost was called; restore it
     int passes;        // the plan's passes per light
     int textures;
+    uint32_t weaker_context;  // SEPAL_WEAKER_* bits of its context against the asset's profile
 } sepal_material_info;
 // Fills out (all zero for a material never created or destroyed); calls no GL.
 void sepal_material_get_info(const sepal_material* m, sepal_material_info* out);
@@ -223,7 +224,27 @@ typedef struct sepal_draw_stats {
     // CPU only: pixels whose interpolated frame was degenerate (normals or tangents of
     // the triangle's corners cancelling out): the fallback frame is used.
     int pixel_frame_fallbacks;
+    // 1 when the material's context is weaker than the device profile the asset was judged
+    // for (sepal_profile_check: fewer framebuffer bits, a smaller texture limit, fewer
+    // units): the frame is drawn, but not as the bake judged it.
+    int weaker_context;
 } sepal_draw_stats;
+
+// ---- the device profile ------------------------------------------------------------------
+// Whether a context holds the device profile an asset was judged for (asset->profile:
+// sepal_format.h's PROF chunk, or the default profile; docs/devices.md). SEPAL_OK when it
+// does; SEPAL_ERR_UNSUPPORTED with a message naming what is weaker when it does not: a
+// channel with fewer framebuffer bits, a texture limit below the one the bake held the
+// textures to, fewer texture units, or no blend subtraction for a plan that subtracts
+// (judged with it). The asset still draws (sepal_draw_stats.weaker_context counts such
+// frames), but not as the bake judged it: bake for that device's profile. Caps of 0 bits
+// or size (not reported) are not counted as weaker. weaker (may be NULL) receives the
+// SEPAL_WEAKER_* bits. Calls no GL; pure.
+#define SEPAL_WEAKER_BITS 1u
+#define SEPAL_WEAKER_TEXTURE_SIZE 2u
+#define SEPAL_WEAKER_UNITS 4u
+#define SEPAL_WEAKER_SUBTRACT 8u
+sepal_result sepal_profile_check(const sepal_caps* caps, const sepal_asset* asset, uint32_t* weaker, sepal_error* err);
 
 sepal_result sepal_draw(const sepal_draw_desc* desc, sepal_draw_stats* stats, sepal_error* err);
 
