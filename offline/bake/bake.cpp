@@ -1,4 +1,5 @@
 #include "bake/bake.h"
+#include "bake/devices.h"
 
 #include <algorithm>
 #include <atomic>
@@ -312,6 +313,59 @@ struct Factorization {
 // term's factors span too much for 8 bits (plans past 16 doublings on ward, 32x32).
 constexpr int kBakeHomomorphicTerms = 1;
 
+// The device profile the bake judges on (devices.h): "default" unless named.
+const DeviceProfile& bake_profile(const BakeOptions& o) {
+    const DeviceProfile* p = find_device_profile(o.profile.empty() ? "default" : o.profile);
+    return p ? *p : default_device_profile();
+}
+bool custom_profile(const BakeOptions& o) { return !o.profile.empty() && o.profile != "default"; }
+
+// The judge's framebuffer and capability mask: the profile's (8 bits, mask 0 by default).
+void configure_judge(const BakeOptions& o, ImageJudge* judge) {
+    const ProfileLimits l = profile_limits(bake_profile(o));
+    judge->set_framebuffer(l.bits, l.blend_subtract ? 0u : uint32_t(SEPAL_MASK_BLEND_SUBTRACT));
+}
+
+// The profile's record (format 2.4) on an asset baked for one other than the default, before
+// it is encoded (its bytes count it).
+void stamp_profile(const BakeOptions& o, AssetData* a) {
+    if (!custom_profile(o)) return;
+    a->has_profile = true;
+    a->profile = profile_record(bake_profile(o));
+}
+
+// Holds the search to the profile's texture limit: listed resolutions above it are refused,
+// the ladder's rungs and the other fixed sides are clamped to it.
+bool apply_profile(BakeOptions* o, std::string* err) {
+    if (!custom_profile(*o)) return true;
+    const DeviceProfile* p = find_device_profile(o->profile);
+    if (!p) {
+        if (err) *err = "bake: unknown device profile '" + o->profile + "' (profiles: " + device_profile_names() + ")";
+        return false;
+    }
+    if (o->target != Target::Gles1) {
+        if (err) *err = std::string("bake: device profiles are for gles1 (--target gles1:") + p->name + "), not " +
+                        target_name(o->target);
+        return false;
+    }
+    const int limit = profile_limits(*p).texture_limit;
+    for (const std::vector<int>* list : {&o->resolutions, &o->smooth_resolutions})
+        for (int r : *list)
+            if (r > limit) {
+                if (err)
+                    *err = "bake: --res " + std::to_string(r) + " is over profile " + p->name + "'s texture limit " +
+                           std::to_string(limit);
+                return false;
+            }
+    for (auto& rung : o->ladder) rung.first = std::min(rung.first, limit), rung.second = std::min(rung.second, limit);
+    o->ladder.erase(std::unique(o->ladder.begin(), o->ladder.end()), o->ladder.end());
+    o->ladder_iv = std::min(o->ladder_iv, limit);
+    o->small_rung = std::min(o->small_rung, limit);
+    o->finer_other = std::min(o->finer_other, limit);
+    o->coarse_res = std::min(o->coarse_res, limit);
+    return true;
+}
+
 // The META a candidate ships with: its bytes count in BakeCandidate::bytes (--max-bytes is
 // the file's size).
 std::string shipped_manifest(const BakeCandidate& c, const std::string& spec, const BakeOptions& o,
@@ -322,7 +376,7 @@ std::string shipped_manifest(const BakeCandidate& c, const std::string& spec, co
         fit.held_out_psnr = r.held_out_psnr;
         fit.held_out_worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
     }
-    fit.target = target_name(o.target);
+    fit.target = custom_profile(o) ? std::string(target_name(o.target)) + ":" + o.profile : target_name(o.target);
     fit.psnr = c.psnr;
     fit.views = r.views;
     if (o.radiance) fit.light_range = describe_light_range(o.light_range);
@@ -445,7 +499,7 @@ class Search {
                 q.mips = o_.mips;
                 std::vector<uint8_t> bytes;
                 const bool made = make_asset(f, k, q, &c.asset, &c.note);
-                if (made) stamp_light_range(o_, *out_, &c.asset);
+                if (made) stamp_light_range(o_, *out_, &c.asset), stamp_profile(o_, &c.asset);
                 if (!made || !encode_asset(c.asset, &bytes, &c.note)) {
                     out_->candidates.push_back(std::move(c));
                     continue;
@@ -528,9 +582,10 @@ bool held_out(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::stri
     ImageJudge judge;
     std::vector<uint8_t> bytes;
     ImageScore s;
-    if (!condition_views(conditions, &views, err) || !judge.init(brdf, views, o.judge_size, o.threads, err) ||
-        !encode_asset(out->asset, &bytes, err) || !judge.score(bytes, o.target, &s, err))
+    if (!condition_views(conditions, &views, err) || !judge.init(brdf, views, o.judge_size, o.threads, err))
         return false;
+    configure_judge(o, &judge);
+    if (!encode_asset(out->asset, &bytes, err) || !judge.score(bytes, o.target, &s, err)) return false;
     out->held_out_psnr = s.psnr;
     out->held_out_psnr_views = s.per_view;
     out->held_out_share16 = s.share_over16;
@@ -846,7 +901,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         for (const BakeMethod& row : bake_methods())
             if (row.default_method && method_allowed(row.method, o.target)) methods.push_back(row.method);
     int max_terms = 0;
-    if (!validate_options(o, methods, &max_terms, err)) return false;
+    if (!apply_profile(&o, err) || !validate_options(o, methods, &max_terms, err)) return false;
     out->cost = o.cost;
     if (out->cost.backend.empty() && !default_cost_model("gles1", &out->cost, err)) return false;
     out->counts.input = brdf.input_counts();
@@ -869,6 +924,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     ImageJudge judge, coarse_judge;
     if (!judge.init(brdf, views, o.judge_size, o.threads, err)) return false;
     if (coarse && !coarse_judge.init(brdf, views, o.coarse_size, o.threads, err)) return false;
+    configure_judge(o, &judge);
+    configure_judge(o, &coarse_judge);
     // What the factors see: f capped at --cap, and for the radiance fit f cos(theta_i) capped
     // at the views' white level minus the diffuse part. Every error is measured against the
     // original BRDF.
@@ -944,6 +1001,16 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     out->winner = best;
     BakeCandidate& w = out->candidates[size_t(best)];
     winner_notes(w, o, views.size(), out);
+    if (custom_profile(o)) {
+        const sepal_fmt_profile f = profile_record(bake_profile(o));
+        char note[240];
+        std::snprintf(note, sizeof note,
+                      "device profile %s: judged at %u/%u/%u framebuffer bits, textures at or under %u, %s; recorded "
+                      "in the asset (format 2.4)",
+                      f.name, f.red_bits, f.green_bits, f.blue_bits, f.max_texture_size,
+                      (f.flags & SEPAL_PROFILE_BLEND_SUBTRACT) ? "blend subtraction" : "subtraction by inversion");
+        out->notes.push_back(note);
+    }
     // The winner's counts: its factorization's, and its textures' and plan's (made again:
     // cheap and deterministic).
     const Factorization* fz = search.factorization_of(size_t(best));

@@ -102,6 +102,10 @@ struct BakeOptions {
     bool mips = false;
     // The image that decides: the backend the asset ships on.
     Target target = Target::Gles1;
+    // The device profile it is judged on (devices.h; gles1 only): the emulator at its
+    // framebuffer's bits, textures at or under its limit, blend subtraction as it has it;
+    // recorded in the asset (format 2.4). Empty or "default": today's bake, byte for byte.
+    std::string profile;
     // The lighting the asset must hold under (light_range.h): candidates are ranked on its
     // training conditions, the result is reported on its held-out ones, and the white level
     // follows from its dimmest light. The default: 8:1, any direction above the horizon, two

@@ -146,6 +146,8 @@ bool ImageJudge::render(const std::vector<uint8_t>& bytes, Target target, size_t
     d.scene = &v.scene;
     d.width = d.height = size_;
     d.gles_version = target == Target::Gles1 ? 1 : 2;
+    d.mask = mask_;
+    d.red_bits = bits_[0], d.green_bits = bits_[1], d.blue_bits = bits_[2];
     d.rgba = rgba.data();
     d.scratch = scratch.data();
     d.scratch_floats = scratch.size();

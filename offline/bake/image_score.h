@@ -66,12 +66,21 @@ class ImageJudge {
     // The smallest irradiance I / d^2 (largest channel) a lit, visible vertex gets in any
     // view: f cos(theta_i) above 1 / this shows white everywhere.
     double min_irradiance() const { return min_irradiance_; }
+    // The GL targets' framebuffer (the emulator's red/green/blue bits; 8 unless set) and
+    // capability mask (SEPAL_MASK_BLEND_SUBTRACT: subtraction by inversion): a device
+    // profile's (devices.h).
+    void set_framebuffer(const int bits[3], uint32_t mask) {
+        for (int c = 0; c < 3; ++c) bits_[c] = bits[c];
+        mask_ = mask;
+    }
 
   private:
     std::vector<BakeView> views_;
     std::vector<Image> refs_;  // 8-bit levels as floats
     int size_ = 0;
     double min_irradiance_ = 0;
+    int bits_[3] = {8, 8, 8};
+    uint32_t mask_ = 0;
 };
 
 // The smallest irradiance of a lit, visible vertex (see ImageJudge::min_irradiance).

@@ -1,4 +1,4 @@
-// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu]
+// sepal bake SPEC -o out.sepal [factor options] [--bits 8,16] [--target gles1|gles2|cpu|gles1:PROFILE]
 //   [--light-range R] [--light-max E] [--light-cone DEG] [--lights N] [--meshes LIST]
 //   [--white auto|none|W] [--fit radiance|brdf] [--fit-weight display|uniform] [--min-psnr D] [--max-error E]
 //   [--max-passes P] [--max-bytes B] [--bytes-db D] [--backend B] [--timings tradeoff.json]
@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "bake/bake.h"
+#include "bake/devices.h"
 #include "bake/export.h"
 #include "cli/cli.h"
 #include "cli/options.h"
@@ -94,7 +95,7 @@ void print_candidates(const BakeResult& r, FILE* out) {
 }
 
 struct BakeArgs {
-    std::string spec, out, report, export_dir, backend = "gles1", timings;
+    std::string spec, out, report, export_dir, backend = "gles1", timings, target = "gles1";
     std::string white = "auto", fit = "radiance", colour = "auto", fit_weight = "display";
     bool mips = false;
     BakeOptions o;
@@ -107,6 +108,17 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         std::fprintf(io.err, "sepal bake: %s\n", m.c_str());
         return kExitBadInput;
     };
+    // --target gles1|gles2|cpu, or gles1:PROFILE (a device profile, bake/devices.h).
+    const size_t colon = args.target.find(':');
+    const std::string backend_name = args.target.substr(0, colon);
+    if (!parse_target(backend_name, &o.target))
+        return bad("--target " + args.target + ": gles1, gles2, cpu or gles1:PROFILE");
+    if (colon != std::string::npos) {
+        o.profile = args.target.substr(colon + 1);
+        if (o.target != Target::Gles1 || !find_device_profile(o.profile))
+            return bad("--target " + args.target + ": device profiles are gles1:PROFILE with PROFILE one of " +
+                       device_profile_names() + " (sepal info --devices)");
+    }
     // The frame-time model the winner minimizes: measured by `make bench` on the target
     // (--timings), else the built-in one for the backend.
     if (!args.timings.empty() ? !read_cost_model(args.timings, args.backend, &o.cost, &err)
@@ -253,8 +265,10 @@ CommandRun setup_bake(CLI::App& app) {
                    "with --res: the other (smooth) factor's sides to try, each not above --res")
         ->delimiter(',')->check(CLI::Range(1, 256));
     // The image that decides and what the factors hold (bake.h, radiance.h).
-    app.add_option("--target", o.target, "the backend the asset ships on; candidates are ranked by PSNR there")
-        ->transform(target_names())->capture_default_str();
+    app.add_option("--target", a->target,
+                   "the backend the asset ships on (gles1, gles2, cpu), or gles1:PROFILE, a device profile "
+                   "(sepal info --devices); candidates are ranked by PSNR there")
+        ->capture_default_str();
     app.add_option("--fit", a->fit, "radiance: factor f cos(theta_i) capped at the white level, diffuse apart "
                                     "(format 2); brdf: factor f (format 1)")
         ->check(CLI::IsMember({"radiance", "brdf"}))->capture_default_str();

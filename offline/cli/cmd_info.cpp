@@ -1,5 +1,7 @@
-// sepal info SPEC|ASSET [--samples N] | sepal info --models: describe a BRDF or list the models.
+// sepal info SPEC|ASSET [--samples N] | sepal info --models | sepal info --devices: describe a
+// BRDF, list the models or the device profiles (bake --target gles1:PROFILE).
 #include "bake/asset_brdf.h"
+#include "bake/devices.h"
 #include "brdf/brdf.h"
 #include "spec/spec.h"
 #include "brdf/brdf_models.h"
@@ -20,11 +22,16 @@ struct InfoArgs {
     std::string spec;
     int samples = 128;
     bool models = false;
+    bool devices = false;
 };
 
 int run_info(const InfoArgs& a, const CommandIO& io) {
     if (a.models) {
         std::fprintf(io.out, "%s", analytic_models_help().c_str());
+        return kExitOk;
+    }
+    if (a.devices) {
+        std::fprintf(io.out, "%s", describe_device_profiles().c_str());
         return kExitOk;
     }
     std::string err;
@@ -76,12 +83,16 @@ CommandRun setup_info(CLI::App& app) {
         app.add_option("SPEC", a->spec,
                        "BRDF spec (model:param=value,...), measured file, or a .sepal asset (the BRDF it represents)");
     CLI::Option* models = app.add_flag("--models", a->models, "list the analytic models and their parameters");
+    CLI::Option* devices = app.add_flag("--devices", a->devices,
+                                        "list the device profiles (sepal bake --target gles1:PROFILE; docs/devices.md)");
     spec->excludes(models);
+    spec->excludes(devices);
+    models->excludes(devices);
     app.add_option("--samples", a->samples, "quadrature samples per albedo")
         ->check(CLI::Range(8, 4096))
         ->capture_default_str();
-    app.callback([spec, models] {
-        if (!*spec && !*models) throw CLI::RequiredError("SPEC (or --models)");
+    app.callback([spec, models, devices] {
+        if (!*spec && !*models && !*devices) throw CLI::RequiredError("SPEC (or --models or --devices)");
     });
     return [a](const CommandIO& io) { return run_info(*a, io); };
 }
