@@ -154,6 +154,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         j["spec"] = brdf->spec();
         j["seconds"] = r.seconds;
         j["target"] = target_name(r.target);
+        j["profile"] = o.profile.empty() ? "default" : o.profile;
         j["white_level"] = r.white;
         j["colour"] = colour_name(r.colour);
         j["colour_residual"] = r.colour_residual;

@@ -1,6 +1,6 @@
 // sepal-bench-fidelity: what a new user's default bake gives, measured (make bench).
 //
-//   build/bin/sepal-bench-fidelity [--out DIR] [--only NAME] [--threads N]
+//   build/bin/sepal-bench-fidelity [--out DIR] [--only NAME] [--threads N] [--ranges | --rgb565]
 //
 // For every material of the README's table and a few more chosen to be hard (sharp Phong and
 // Blinn lobes, a two-lobe Lafortune, Cook-Torrance at roughness 0.05, the bounded-albedo Ward,
@@ -23,6 +23,14 @@
 // 16:1 and --white none (8:1 conditions): bytes, passes, doublings, bake seconds, the held-out
 // PSNR on its own range's conditions and on the 16:1 range's (GL ES 1.1 emulated at the bake's
 // judge size, 128x128): DIR/light-range.json, .md and .png.
+// With --rgb565, the 16-bit framebuffer instead (bake/devices.h): every material (--only: a
+// comma-separated list) baked twice, for the default profile (8888) and for gles1:mali400
+// (5/6/5), and drawn by llvmpipe on GL ES 1.1 into an RGB565 pbuffer at 512x512 in the
+// default scene and the held-out conditions: the 565-profile asset, the 8888-profile asset on
+// 565, and the physical limit (the exact render rounded to the nearest 5/6/5 value, what a
+// 565 framebuffer could show at best), with the 8888 asset on 8888 beside them: PSNR against
+// the exact render, pooled over the held-out conditions, and in the default scene;
+// DIR/fidelity-565.json and .md.
 #include <algorithm>
 #include <sys/resource.h>
 #include <chrono>
@@ -268,6 +276,121 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
     return failures ? 1 : 0;
 }
 
+// The exact render as a 565 framebuffer shows it at best: each channel rounded to the
+// nearest 5- (red, blue) or 6-bit (green) value, widened back as a read-back does.
+sepal::Image nearest_565(const sepal::Image& exact) {
+    sepal::Image q = exact;
+    for (size_t i = 0; i < q.data.size(); ++i) {
+        const int n = i % 3 == 1 ? 6 : 5, top = (1 << n) - 1;
+        const int code = int(std::lround(std::min(1.0f, std::max(0.0f, q.data[i])) * float(top)));
+        q.data[i] = float((code << (8 - n)) | (code >> (2 * n - 8))) / 255.0f;
+    }
+    return q;
+}
+
+// The asset drawn by llvmpipe on GL ES 1.1 into a framebuffer of 8888 or 565; empty on failure.
+sepal::Image draw_gles1(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, int framebuffer,
+                        std::string* err) {
+    sepal_ports::GlRenderOptions opt;
+    opt.framebuffer = framebuffer;
+    std::vector<uint8_t> rgba;
+    sepal_ports::GlRenderInfo info;
+    if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), s, opt, &rgba, &info, err)) return {};
+    return sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
+}
+
+double psnr_of(double mse) { return mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0; }
+
+// The 16-bit framebuffer (--rgb565): see the top.
+int rgb565_main(const std::string& only, int threads, const std::string& out) {
+    std::string err;
+    std::vector<std::pair<std::string, sepal_ports::SceneSetup>> scenes(1);
+    scenes[0].first = "default";
+    for (const sepal::LightCondition& c : sepal::held_out_conditions(sepal::LightRange{})) {
+        sepal_ports::SceneSetup s;
+        s.mesh_name = c.mesh;
+        s.scene.light_count = int(c.lights.size());
+        for (size_t l = 0; l < c.lights.size(); ++l) s.scene.lights[l] = c.lights[l];
+        scenes.push_back({c.name, s});
+    }
+    for (auto& sc : scenes)
+        if (!sepal_ports::load_scene_mesh(&sc.second, &err)) {
+            std::fprintf(stderr, "bench: %s\n", err.c_str());
+            return 1;
+        }
+    const char* kinds[] = {"limit", "565 profile on 565", "8888 profile on 565", "8888 profile on 8888"};
+    JsonBuilder j;
+    j.begin_object().key("framebuffer").value("llvmpipe GL ES 1.1, RGB565 pbuffer, 512x512; the default scene and the "
+                                              "default range's held-out conditions");
+    j.key("profile").value("gles1:mali400").key("limit").value("the exact render rounded to the nearest 5/6/5 value");
+    j.key("rows").begin_array();
+    std::string md = "| material | limit dB | 565-profile on 565 dB | 8888-profile on 565 dB | 8888 on 8888 dB | "
+                     "default scene: limit / 565 / 8888-on-565 / 8888 dB | passes 565 / 8888 |\n"
+                     "|---|---:|---:|---:|---:|---|---|\n";
+    std::printf("%-22s %8s %8s %8s %8s   (held-out pooled; default scene after)\n", "material", "limit", "565",
+                "8888@565", "8888");
+    int failures = 0;
+    for (const Material& m : materials()) {
+        if (!only.empty() && ("," + only + ",").find("," + std::string(m.name) + ",") == std::string::npos) continue;
+        std::unique_ptr<sepal::Brdf> f = sepal::make_brdf(m.spec, &err);
+        std::vector<uint8_t> bytes[2];
+        int passes[2] = {0, 0};
+        bool ok = f != nullptr;
+        for (int k = 0; k < 2 && ok; ++k) {
+            sepal::BakeOptions o;
+            o.threads = threads;
+            o.profile = k == 0 ? "mali400" : "";
+            sepal::BakeResult r;
+            ok = sepal::bake(*f, o, &r, &err) && sepal::encode_asset(r.asset, &bytes[k], &err);
+            if (ok) passes[k] = int(r.asset.passes.size());
+        }
+        double held[4] = {0, 0, 0, 0}, def[4] = {0, 0, 0, 0};
+        for (size_t i = 0; i < scenes.size() && ok; ++i) {
+            const sepal_ports::SceneSetup& s = scenes[i].second;
+            sepal::Image exact;
+            ok = sepal::render_exact(*f, s.scene, s.mesh, s.width, s.height, &exact, nullptr, &err, false,
+                                     sepal::kReferenceSupersample);
+            if (!ok) break;
+            const sepal::Image ref = clamp8(exact);
+            const sepal::Image imgs[4] = {nearest_565(exact), draw_gles1(bytes[0], s, 565, &err),
+                                          draw_gles1(bytes[1], s, 565, &err), draw_gles1(bytes[1], s, 8888, &err)};
+            for (int k = 0; k < 4 && ok; ++k) {
+                ok = imgs[k].data.size() == ref.data.size();
+                const double mse = ok ? sepal::diff_images(ref, imgs[k], 16).mse : 0.0;
+                if (i == 0) def[k] = mse;
+                else held[k] += mse / double(scenes.size() - 1);
+            }
+        }
+        if (!ok) {
+            std::fprintf(stderr, "bench: %s: %s\n", m.name, err.c_str());
+            ++failures;
+            continue;
+        }
+        std::printf("%-22s %8.2f %8.2f %8.2f %8.2f   %.2f / %.2f / %.2f / %.2f; passes %d / %d\n", m.name,
+                    psnr_of(held[0]), psnr_of(held[1]), psnr_of(held[2]), psnr_of(held[3]), psnr_of(def[0]),
+                    psnr_of(def[1]), psnr_of(def[2]), psnr_of(def[3]), passes[0], passes[1]);
+        j.begin_object().key("material").value(m.name).key("spec").value(m.spec);
+        for (int k = 0; k < 4; ++k)
+            j.key(std::string("held_out_") + kinds[k]).value(psnr_of(held[k])).key(std::string("default_") + kinds[k])
+                .value(psnr_of(def[k]));
+        j.key("passes_565").value(passes[0]).key("passes_8888").value(passes[1]).end_object();
+        char row[400];
+        std::snprintf(row, sizeof row, "| %s | %.1f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f / %.1f | %d / %d |\n",
+                      m.name, psnr_of(held[0]), psnr_of(held[1]), psnr_of(held[2]), psnr_of(held[3]), psnr_of(def[0]),
+                      psnr_of(def[1]), psnr_of(def[2]), psnr_of(def[3]), passes[0], passes[1]);
+        md += row;
+    }
+    j.end_array().end_object();
+    const std::string json = j.str();
+    if (!sepal::write_file_atomic(out + "/fidelity-565.json", json.data(), json.size(), &err) ||
+        !sepal::write_file_atomic(out + "/fidelity-565.md", md.data(), md.size(), &err)) {
+        std::fprintf(stderr, "bench: %s\n", err.c_str());
+        return 1;
+    }
+    std::printf("wrote %s/fidelity-565.json and .md\n", out.c_str());
+    return failures ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -277,8 +400,12 @@ int main(int argc, char** argv) {
     cli.add_only_and_threads("one material label (with --ranges: a comma-separated list)");
     bool ranges = false;
     cli.app.add_flag("--ranges", ranges, "the light range's trade instead (light-range.json, .md, .png)");
+    bool rgb565 = false;
+    cli.app.add_flag("--rgb565", rgb565, "the RGB565 framebuffer instead: 565-profile bakes, 8888 ones and the physical "
+                                         "limit on llvmpipe's 565 pbuffer (fidelity-565.json, .md)");
     if (const int code = cli.parse(argc, argv); code >= 0) return code;
     if (ranges) return ranges_main(cli.only, cli.threads, cli.out);
+    if (rgb565) return rgb565_main(cli.only, cli.threads, cli.out);
     const std::string& only = cli.only;
     const int threads = cli.threads;
     const std::string& out = cli.out;
