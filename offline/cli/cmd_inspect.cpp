@@ -65,6 +65,13 @@ int run_inspect(const std::string& path, const CommandIO& io) {
                          white, a->header.version_major, a->header.version_minor, double(m.irradiance_min));
     } else if (m.flags & SEPAL_MATERIAL_RADIANCE)
         std::fprintf(io.out, "lights      no light range or white level recorded\n");
+    // The device profile it was judged for (2.4; without the chunk, the default).
+    const sepal_fmt_profile& dp = a->profile;
+    std::fprintf(io.out, "device      judged for profile %s%s: framebuffer %u/%u/%u bits, textures at or under %u, %u "
+                         "texture units, %s\n",
+                 dp.name, a->has_profile ? "" : " (no PROF chunk)", dp.red_bits, dp.green_bits, dp.blue_bits,
+                 dp.max_texture_size, dp.texture_units,
+                 (dp.flags & SEPAL_PROFILE_BLEND_SUBTRACT) ? "blend subtraction" : "subtraction by inversion");
     // The image figures the bake measured: held out first (conditions the search never saw).
     if (a->meta) {
         Json meta;

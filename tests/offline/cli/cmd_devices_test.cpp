@@ -52,4 +52,16 @@ TEST_CASE("sepal render warns when the context is weaker than the asset's profil
                                     &out) == 0);
         CHECK_FALSE(contains(out, "weaker"));
     }
+    // Baked for a 565 profile: inspect names it, and the 565 pbuffer draws it without a warning.
+    REQUIRE(sepal_test::run_cmd("bake", {"blinn", "--param", "gs-half", "--res", "8", "--terms", "1", "--target",
+                                         "gles1:gles1-minimum", "-o", dir + "/m.sepal"},
+                                &out) == 0);
+    CHECK(contains(out, "device profile gles1-minimum: judged at 5/6/5 framebuffer bits, textures at or under 64"));
+    REQUIRE(sepal_test::run_cmd("inspect", {dir + "/m.sepal"}, &out) == 0);
+    CHECK(contains(out, "format 2.4"));
+    CHECK(contains(out, "device      judged for profile gles1-minimum: framebuffer 5/6/5 bits, textures at or under 64"));
+    REQUIRE(sepal_test::run_cmd("render", {dir + "/m.sepal", "--backend", "gles1", "--size", "32x32", "--framebuffer",
+                                           "565", "-o", dir + "/r.png"},
+                                &out) == 0);
+    CHECK_FALSE(contains(out, "weaker"));
 }
