@@ -319,6 +319,10 @@ const DeviceProfile& bake_profile(const BakeOptions& o) {
     return p ? *p : default_device_profile();
 }
 bool custom_profile(const BakeOptions& o) { return !o.profile.empty() && o.profile != "default"; }
+// What the candidates are judged on: "gles1", or "gles1:mali400" with a device profile.
+std::string judged_on(const BakeOptions& o) {
+    return custom_profile(o) ? std::string(target_name(o.target)) + ":" + o.profile : target_name(o.target);
+}
 
 // The judge's framebuffer and capability mask: the profile's (8 bits, mask 0 by default).
 void configure_judge(const BakeOptions& o, ImageJudge* judge) {
@@ -376,7 +380,7 @@ std::string shipped_manifest(const BakeCandidate& c, const std::string& spec, co
         fit.held_out_psnr = r.held_out_psnr;
         fit.held_out_worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
     }
-    fit.target = custom_profile(o) ? std::string(target_name(o.target)) + ":" + o.profile : target_name(o.target);
+    fit.target = judged_on(o);
     fit.psnr = c.psnr;
     fit.views = r.views;
     if (o.radiance) fit.light_range = describe_light_range(o.light_range);
@@ -840,7 +844,7 @@ std::string no_winner(const std::vector<BakeCandidate>& candidates, const BakeOp
     std::snprintf(buf, sizeof buf,
                   "bake: no candidate meets the budgets (best image %.2f dB on %s, %s); allow more terms, "
                   "a higher --res, or loosen --min-psnr/--max-error/--max-passes/--max-bytes",
-                  closest, target_name(o.target), label.c_str());
+                  closest, judged_on(o).c_str(), label.c_str());
     return buf;
 }
 
@@ -850,11 +854,11 @@ void winner_notes(const BakeCandidate& w, const BakeOptions& o, size_t views, Ba
     if (budgeted(o))
         std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d pass%s per light) at %.2f dB on %s%s",
                       w.label().c_str(), w.ms, out->cost.backend.c_str(), w.passes, w.passes == 1 ? "" : "es", w.psnr,
-                      target_name(o.target), o.min_psnr >= 0 ? "" : " within --max-error");
+                      judged_on(o).c_str(), o.min_psnr >= 0 ? "" : " within --max-error");
     else
         std::snprintf(why, sizeof why, "%s: the best image on %s (%.2f dB over %zu views; within %.2g dB of the best, "
                       "the fewest passes, then bytes)",
-                      w.label().c_str(), target_name(o.target), w.psnr, views, o.tie_db);
+                      w.label().c_str(), judged_on(o).c_str(), w.psnr, views, o.tie_db);
     out->why = why;
     // A winner that misses half of f in direction space (relative cosine-weighted RMS >= 0.5)
     // may still be the best image, but a user should hear it: sharp lobes below the texel
@@ -896,6 +900,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     if (auto_terms) o.terms = {1, 2, 3, 4};
     o.climb_terms = o.climb_terms && auto_terms;
     out->target = o.target;
+    out->target_label = judged_on(o);
     std::vector<Method> methods = o.methods;
     if (methods.empty())
         for (const BakeMethod& row : bake_methods())

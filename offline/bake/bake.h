@@ -229,6 +229,7 @@ struct BakeCounts {
 struct BakeResult {
     std::vector<BakeCandidate> candidates;
     Target target = Target::Gles1;
+    std::string target_label;        // "gles1", or "gles1:PROFILE" when judged on a device profile
     std::vector<std::string> views;  // the judged (training) views' names
     double white = 0;                // the radiance fit's cap (0: none or not a radiance fit)
     double irradiance_min = 0;       // the dimmest light the asset holds for (the header's; 0: any)

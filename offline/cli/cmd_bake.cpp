@@ -90,7 +90,7 @@ void print_candidates(const BakeResult& r, FILE* out) {
                      "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
                      "of one image pair); dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
                      "prints); (c): coarse stage\n",
-                     target_name(r.target), names.c_str(), r.views.front().c_str(), target_name(r.target));
+                     r.target_label.c_str(), names.c_str(), r.views.front().c_str(), r.target_label.c_str());
     }
 }
 
@@ -233,7 +233,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         std::fprintf(io.out,
                      "held-out: %.2f dB on %s at %dx%d pooled over the %zu conditions below (worst %.2f dB; in-sample "
                      "%.2f dB, pooled over the training views) for lights %s\n",
-                     r.held_out_psnr, target_name(r.target), o.judge_size, o.judge_size, r.held_out_views.size(), worst,
+                     r.held_out_psnr, r.target_label.c_str(), o.judge_size, o.judge_size, r.held_out_views.size(), worst,
                      w.psnr,
                      describe_light_range(o.light_range).c_str());
         for (size_t i = 0; i < r.held_out_views.size(); ++i)
