@@ -86,13 +86,14 @@ CommandRun setup_info(CLI::App& app) {
     CLI::Option* devices = app.add_flag("--devices", a->devices,
                                         "list the device profiles (sepal bake --target gles1:PROFILE; docs/devices.md)");
     spec->excludes(models);
-    spec->excludes(devices);
-    models->excludes(devices);
     app.add_option("--samples", a->samples, "quadrature samples per albedo")
         ->check(CLI::Range(8, 4096))
         ->capture_default_str();
     app.callback([spec, models, devices] {
         if (!*spec && !*models && !*devices) throw CLI::RequiredError("SPEC (or --models or --devices)");
+        // Checked here, not with excludes(): CLI11 lists an option's exclusions in pointer
+        // order, which would make the generated docs/cli.md differ from run to run.
+        if (*devices && (*spec || *models)) throw CLI::ValidationError("--devices", "takes no SPEC and no --models");
     });
     return [a](const CommandIO& io) { return run_info(*a, io); };
 }

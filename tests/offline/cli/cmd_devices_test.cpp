@@ -23,6 +23,8 @@ TEST_CASE("sepal info --devices lists every profile; a bad --target names the ac
         CHECK(contains(out, std::string("\n") + p.name + " "));
         CHECK(contains(out, p.family));
     }
+    CHECK(sepal_test::run_cmd("info", {"--devices", "blinn"}, &out) == 2);
+    CHECK(contains(out, "--devices: takes no SPEC and no --models"));
     const std::string dir = sepal_test::temp_dir();
     for (const char* target : {"gles1:nope", "cpu:mali400", "gles3", "gles1:"}) {
         CAPTURE(target);
