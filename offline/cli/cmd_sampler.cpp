@@ -48,12 +48,13 @@ int run_sampler(const SamplerArgs& a, const CommandIO& io) {
         o.progress = isatty(2) != 0;  // a progress line on a terminal only
         FactoredReport r;
         if (!fit_factored(*brdf, o, &d, &r, &err)) return fail(err);
-        fit = {{"param", r.param}, {"phi_frame", r.phi_frame}, {"J", r.J}, {"K", r.K},
+        fit = {{"param", r.param}, {"axis", r.axis}, {"phi_frame", r.phi_frame}, {"J", r.J}, {"K", r.K},
                {"kl_total", r.kl_total}, {"iterations", {r.iterations1, r.iterations2}},
                {"sample_seconds", r.sample_seconds}, {"factor_seconds", r.factor_seconds},
                {"seconds", r.sample_seconds + r.factor_seconds}, {"notes", r.notes}};
-        std::fprintf(io.out, "fit        factored, %s parameterization, %s frame, %d x %d terms, KL %.4g, %.1f s\n",
-                     r.param.c_str(), r.phi_frame.c_str(), r.J, r.K, r.kl_total, r.sample_seconds + r.factor_seconds);
+        std::fprintf(io.out, "fit        factored, %s parameterization about %s, %s frame, %d x %d terms, KL %.4g, %.1f s\n",
+                     r.param.c_str(), r.axis.c_str(), r.phi_frame.c_str(), r.J, r.K, r.kl_total,
+                     r.sample_seconds + r.factor_seconds);
         for (const std::string& n : r.notes) std::fprintf(io.out, "note       %s\n", n.c_str());
     } else if (a.kind == "cosine") {
         d = make_cosine_sampler();
