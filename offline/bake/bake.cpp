@@ -532,9 +532,11 @@ bool held_out(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::stri
     out->held_out_psnr = s.psnr;
     out->held_out_psnr_views = s.per_view;
     out->held_out_share16 = s.share_over16;
+    // The flags reproduce the figure: the judge's size, not sepal render's default 512.
+    const std::string size = " --size " + std::to_string(o.judge_size) + "x" + std::to_string(o.judge_size);
     for (const LightCondition& c : conditions) {
         out->held_out_views.push_back(c.name);
-        out->held_out_flags.push_back(c.flags());
+        out->held_out_flags.push_back(c.flags() + size);
     }
     return true;
 }

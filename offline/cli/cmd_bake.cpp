@@ -210,8 +210,9 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         // The headline: conditions the search never saw, drawn from the same light range.
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
         const double worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
-        std::fprintf(io.out, "held-out: %.2f dB on %s (worst condition %.2f dB; in-sample %.2f dB) for lights %s\n",
-                     r.held_out_psnr, target_name(r.target), worst, w.psnr, describe_light_range(o.light_range).c_str());
+        std::fprintf(io.out, "held-out: %.2f dB on %s at %dx%d (worst condition %.2f dB; in-sample %.2f dB) for lights %s\n",
+                     r.held_out_psnr, target_name(r.target), o.judge_size, o.judge_size, worst, w.psnr,
+                     describe_light_range(o.light_range).c_str());
         for (size_t i = 0; i < r.held_out_views.size(); ++i)
             std::fprintf(io.out, "  %-20s %6.2f dB, %.2f%% of pixels over 16 levels  (%s)\n", r.held_out_views[i].c_str(),
                          r.held_out_psnr_views[i], 100.0 * r.held_out_share16[i], r.held_out_flags[i].c_str());

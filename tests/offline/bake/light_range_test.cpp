@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <tuple>
@@ -154,6 +155,30 @@ TEST_CASE("light range: the white level follows the dimmest light; the header sa
     REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), a.get(), &e) == SEPAL_OK);
     CHECK(a->header.version_minor == SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE);
     CHECK(std::string(a->meta, a->meta_bytes).find("\"held_out_psnr\"") != std::string::npos);
+    // The printed flags reproduce each condition's figure (the judge's size, not render's 512).
+    const std::string dir = sepal_test::temp_dir(), path = dir + "/wide.sepal";
+    REQUIRE(sepal::write_asset(path, wide.asset, &err));
+    for (size_t i = 0; i < wide.held_out_flags.size(); i += 2) {
+        const std::string& flags = wide.held_out_flags[i];
+        CAPTURE(flags);
+        CHECK(flags.find(" --size 48x48") != std::string::npos);
+        std::vector<std::string> exact = {"blinn:n=200", "--backend", "exact"}, model = {path, "--backend", "gles1-model"};
+        for (size_t p = 0, q; p < flags.size(); p = q + 1) {
+            q = flags.find(' ', p);
+            if (q == std::string::npos) q = flags.size();
+            exact.push_back(flags.substr(p, q - p));
+            model.push_back(flags.substr(p, q - p));
+        }
+        exact.insert(exact.end(), {"-o", dir + "/e.png"});
+        model.insert(model.end(), {"-o", dir + "/m.png"});
+        std::string out;
+        REQUIRE(sepal_test::run_cmd("render", exact) == 0);
+        REQUIRE(sepal_test::run_cmd("render", model) == 0);
+        REQUIRE(sepal_test::run_cmd("diff", {dir + "/e.png", dir + "/m.png"}, &out) == 0);
+        const size_t at = out.find("psnr");
+        REQUIRE(at != std::string::npos);
+        CHECK(std::strtod(out.c_str() + at + 4, nullptr) == doctest::Approx(wide.held_out_psnr_views[i]).epsilon(0.002));
+    }
     // --white none: nothing capped, so no light is too dim; the rest of the range stays.
     sepal::BakeOptions none = small_bake(8);
     none.white = -1;
