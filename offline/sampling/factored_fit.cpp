@@ -218,6 +218,34 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
 
 namespace {
 
+// S x S sub-points of every wp bin (view-frame coordinates = local coordinates for the
+// columns' wo, whose phi_o is 0 in the view frame), and each bin's solid angle (dOmega =
+// dc1 dc2). c2 (phi_p, or the angle about t or s) spans [c2_lo, c2_lo + c2_span) in Pp bins.
+void bin_points(SampleAxis axis, const std::vector<float>& z_edges, int Pp, int S, std::vector<dvec3>* points,
+                std::vector<double>* solid) {
+    const int Tp = int(z_edges.size()) - 1;
+    const bool polar = axis == SampleAxis::Normal;
+    const double c2_lo = polar ? 0.0 : -0.5 * kPi, c2_span = polar ? 2.0 * kPi : kPi;
+    points->assign(size_t(Tp) * Pp * S * S, dvec3(0.0));
+    solid->assign(size_t(Tp) * Pp, 0.0);
+    for (int i = 0; i < Tp; ++i)
+        for (int j = 0; j < Pp; ++j) {
+            const int row = i * Pp + j;
+            const double z0 = z_edges[size_t(i)], z1 = z_edges[size_t(i) + 1];
+            (*solid)[size_t(row)] = (z0 - z1) * c2_span / Pp;
+            for (int a = 0; a < S; ++a)
+                for (int b = 0; b < S; ++b) {
+                    const double c1 = z0 + (a + 0.5) / S * (z1 - z0);
+                    const double c2 = c2_lo + (j + (b + 0.5) / S) * c2_span / Pp;
+                    const double s = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+                    const double sa = s * std::sin(c2), ca = s * std::cos(c2);
+                    (*points)[(size_t(row) * S + a) * S + b] = axis == SampleAxis::Tangent     ? dvec3(c1, sa, ca)
+                                                               : axis == SampleAxis::Bitangent ? dvec3(sa, c1, ca)
+                                                                                               : dvec3(ca, sa, c1);
+                }
+        }
+}
+
 // One parameterization (opt.param is Half or Incident), the Lambert part already known.
 bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
              FactoredReport* rep, std::string* err) {
@@ -241,28 +269,9 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     const int Tp = o.n_theta_p, Pp = o.n_phi_p, To = o.n_theta_o, Po = o.n_phi_o, S = o.supersample;
     const int rows = Tp * Pp, cols = To * Po;
     const std::vector<float> z_edges = polar ? theta_bin_z_edges(Tp, o.sqrt_theta) : axis_bin_edges(Tp, o.sqrt_theta);
-    // c2 (phi_p, or the angle about t or s) spans [c2_lo, c2_lo + c2_span) in Pp bins.
-    const double c2_lo = polar ? 0.0 : -0.5 * kPi, c2_span = polar ? 2.0 * kPi : kPi;
-    // Sub-points of every bin (view-frame coordinates = local coordinates for the columns'
-    // wo, whose phi_o is 0 in the view frame), and each bin's solid angle (dOmega = dc1 dc2).
-    std::vector<dvec3> points(static_cast<size_t>(rows) * S * S);
-    std::vector<double> solid(static_cast<size_t>(rows));
-    for (int i = 0; i < Tp; ++i)
-        for (int j = 0; j < Pp; ++j) {
-            const int row = i * Pp + j;
-            const double z0 = z_edges[size_t(i)], z1 = z_edges[size_t(i) + 1];
-            solid[size_t(row)] = (z0 - z1) * c2_span / Pp;
-            for (int a = 0; a < S; ++a)
-                for (int b = 0; b < S; ++b) {
-                    const double c1 = z0 + (a + 0.5) / S * (z1 - z0);
-                    const double c2 = c2_lo + (j + (b + 0.5) / S) * c2_span / Pp;
-                    const double s = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
-                    const double sa = s * std::sin(c2), ca = s * std::cos(c2);
-                    points[(size_t(row) * S + a) * S + b] = o.axis == SampleAxis::Tangent     ? dvec3(c1, sa, ca)
-                                                            : o.axis == SampleAxis::Bitangent ? dvec3(sa, c1, ca)
-                                                                                              : dvec3(ca, sa, c1);
-                }
-        }
+    std::vector<dvec3> points;
+    std::vector<double> solid;
+    bin_points(o.axis, z_edges, Pp, S, &points, &solid);
 
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<ViewColumn> columns(static_cast<size_t>(cols));
