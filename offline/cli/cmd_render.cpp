@@ -31,7 +31,7 @@ namespace {
 
 struct RenderArgs {
     sepal_ports::SceneSetup setup;
-    std::string input, backend, out_path, float_path, mask_text, diffuse_path;
+    std::string input, backend, out_path, float_path, mask_text, diffuse_path, framebuffer;
     bool float_target = false;
     // Monte Carlo under an environment (exact backend): --env picks it.
     std::string env, sampler = "factored", mis = "auto";
@@ -57,8 +57,8 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
         else return fail("--scene: the scene file sets camera, lights, meshes and background; " + o->get_name() + " does not apply (--size does)");
     }
     if (!args.input.empty()) return fail("--scene draws the scene file's materials; give no INPUT ('" + args.input + "')");
-    if (!args.env.empty() || !args.diffuse_path.empty() || args.float_target)
-        return fail("--scene takes no --env, --diffuse or --float-target");
+    if (!args.env.empty() || !args.diffuse_path.empty() || args.float_target || !args.framebuffer.empty())
+        return fail("--scene takes no --env, --diffuse, --float-target or --framebuffer");
     const std::string backend = args.backend.empty() ? "gles1" : args.backend;
     std::string err;
     if (!args.export_dir.empty()) {
@@ -205,6 +205,47 @@ constexpr double kLargeFramePixels = double(1 << 21);
 // asset backends need less): what the refusal above is held to.
 constexpr double kRenderBytesPerPixel = 40.0;
 
+// --framebuffer: the GL backends' pbuffer, or the bits their models round to (8888 when not
+// given).
+bool framebuffer_arg(const RenderArgs& args, int* framebuffer, std::string* err) {
+    if (args.framebuffer.empty()) return true;
+    if (args.backend == "exact" || args.backend == "cpu") {
+        *err = "--framebuffer applies to the GL backends and their models (not " + args.backend + ")";
+        return false;
+    }
+    return sepal_ports::parse_framebuffer(args.framebuffer, framebuffer, err);
+}
+
+// gles1-model, gles2-model: the GL ES pipeline emulated on the CPU, rounding every pass to
+// the framebuffer's bits (8888 or 565).
+int run_render_model(RenderArgs& args, int framebuffer, const CommandIO& io) {
+    sepal_ports::SceneSetup& setup = args.setup;
+    const std::string& backend = args.backend;
+    const std::string& out_path = args.out_path;
+    std::string err;
+    std::vector<uint8_t> bytes, rgba;
+    uint32_t mask = 0;
+    sepal_draw_stats stats = {};
+    if (!args.diffuse_path.empty() || !args.float_path.empty() || args.float_target || out_path.empty())
+        err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
+    if (!err.empty() || !sepal_ports::parse_mask(args.mask_text, &mask, &err) ||
+        !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(args.input, &bytes, &err) ||
+        !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
+                                            mask, &rgba, &err, &stats, framebuffer) ||
+        !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
+    std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
+                 backend.c_str(), setup.width, setup.height, stats.doublings);
+    std::fprintf(io.out, "framebuffer %s bits per channel, no dithering (modelled)\n",
+                 framebuffer == 565 ? "5/6/5" : "8/8/8");
+    const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
+    if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
+    std::fprintf(io.out, "png        %s\n", out_path.c_str());
+    return kExitOk;
+}
+
 int run_render(RenderArgs& args, const CommandIO& io) {
     sepal_ports::SceneSetup& setup = args.setup;
     std::string chosen_why;
@@ -237,6 +278,11 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     const std::string& diffuse_path = args.diffuse_path;
     const bool float_target = args.float_target;
     std::string err;
+    int framebuffer = 8888;
+    if (!framebuffer_arg(args, &framebuffer, &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
     // A frame over 2 Mpixels takes seconds (the exact backend shades about
     // 1.3 Mpixels a second on 2 cores: 8192x8192 is close to a minute) and memory in
     // proportion: said on stderr before it starts, with progress on a terminal, and refused
@@ -264,28 +310,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     }
     sepal_ports::GlRenderOptions opt;
     const bool model = backend == "gles1-model" || backend == "gles2-model";
-    if (model) {
-        // The GL ES 1.1 emulator: what gles1 (or the gles2 multipass path) shows, on the CPU.
-        std::vector<uint8_t> bytes, rgba;
-        uint32_t mask = 0;
-        sepal_draw_stats stats = {};
-        if (!diffuse_path.empty() || !float_path.empty() || float_target || out_path.empty())
-            err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
-        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &mask, &err) ||
-            !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(args.input, &bytes, &err) ||
-            !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
-                                                mask, &rgba, &err, &stats) ||
-            !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
-            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-            return kExitBadInput;
-        }
-        std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
-                     backend.c_str(), setup.width, setup.height, stats.doublings);
-        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
-        if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
-        std::fprintf(io.out, "png        %s\n", out_path.c_str());
-        return kExitOk;
-    }
+    if (model) return run_render_model(args, framebuffer, io);
     if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") {
         std::vector<uint8_t> bytes, rgba;
         sepal_ports::GlRenderInfo info;
@@ -296,6 +321,7 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         }
         opt.diffuse = diffuse_path.empty() ? nullptr : &diffuse;
         opt.float_target = float_target;
+        opt.framebuffer = framebuffer;
         if (float_target && opt.gles_version != 2) err = "--float-target needs a gles2 backend";
         if (!float_path.empty() && backend != "cpu" && !float_target)
             err = "--float: the GL backends render 8-bit images (add --float-target on gles2 backends)";
@@ -353,6 +379,8 @@ int run_render(RenderArgs& args, const CommandIO& io) {
         std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
                      info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
                      info.stats.copies, info.stats.doublings);
+        std::fprintf(io.out, "framebuffer %d/%d/%d bits per channel, GL_DITHER %s\n", info.caps.red_bits,
+                     info.caps.green_bits, info.caps.blue_bits, info.caps.dither ? "on" : "off");
         std::fprintf(io.out, "png        %s\n", out_path.c_str());
         const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, args.input);
         if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
@@ -441,13 +469,17 @@ CommandRun setup_render(CLI::App& app) {
     app.add_option("--backend", a->backend,
                    "exact: the BRDF per pixel on the CPU; gles1, gles2, gles2-fused, gles2-fused-pixel: a baked "
                    "asset on GL ES (headless); cpu: a baked asset on the runtime's CPU backend; gles1-model, "
-                   "gles2-model: the GL ES pipeline emulated on the CPU (8-bit texels and framebuffer). Default: "
+                   "gles2-model: the GL ES pipeline emulated on the CPU (8-bit texels, the framebuffer of --framebuffer). Default: "
                    "exact for a BRDF, gles1 for an asset (cpu when its parameterization is per-pixel only)")
         ->check(CLI::IsMember(
             {"exact", "gles1", "gles2", "gles2-fused", "gles2-fused-pixel", "cpu", "gles1-model", "gles2-model"}));
     app.add_option("-o,--output", a->out_path, "the PNG to write (8-bit, clipped to [0,1])");
     app.add_option("--float", a->float_path, "also write linear floats as PFM (exact, cpu; GL with --float-target)");
     app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");
+    app.add_option("--framebuffer", a->framebuffer,
+                   "the colour buffer's bits: 8888 (default) or 565 (RGB565, as older phones and kiosk boards "
+                   "render); the GL backends draw into such a pbuffer, gles1-model and gles2-model round every "
+                   "pass to its bits");
     app.add_option("--mask", a->mask_text,
                    "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot, third-unit "
                    "(comma-separated)");

@@ -163,6 +163,7 @@ bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const
         hd.width = setup.width;
         hd.height = setup.height;
         hd.gles_version = options.gles_version;
+        hd.framebuffer = options.framebuffer;
         char msg[512];
         ctx = sepal_headless_create(&hd, msg, sizeof msg);
         if (!ctx) {
@@ -174,6 +175,7 @@ bool run_headless(const SceneSetup& setup, const GlRenderOptions& options, const
     sepal_caps caps;
     const bool have_caps =
         sepal_query_caps(options.gles_version, options.mask, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK;
+    if (have_caps) info->caps = caps;
     bool ok = have_caps && job.create(&caps, &e);
     if (ok) {
         const int timed = options.frames > 1 ? options.frames : 1, warm = options.frames > 1 ? 2 : 0;
@@ -294,7 +296,8 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
 }
 
 bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
-                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats) {
+                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats,
+                           int framebuffer) {
     auto asset = std::make_unique<sepal_asset>();
     sepal_error e = {};
     if (sepal_asset_parse(bytes, size, asset.get(), &e) != SEPAL_OK) {
@@ -302,13 +305,23 @@ bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& set
         return false;
     }
     EmulatedFrame frame;
-    const sepal_emulate_desc d = scene_emulate_desc(asset.get(), setup, gles_version, mask, &frame, stats);
+    sepal_emulate_desc d = scene_emulate_desc(asset.get(), setup, gles_version, mask, &frame, stats);
+    if (framebuffer == 565) d.red_bits = 5, d.green_bits = 6, d.blue_bits = 5;
     if (sepal_emulate_draw(&d, &e) != SEPAL_OK) {
         *err = e.message;
         return false;
     }
     rgba->swap(frame.rgba);
     return true;
+}
+
+bool parse_framebuffer(const std::string& text, int* framebuffer, std::string* err) {
+    if (text == "565" || text == "8888") {
+        *framebuffer = std::stoi(text);
+        return true;
+    }
+    *err = "--framebuffer '" + text + "': give 8888 (8 bits per channel) or 565 (RGB565: 5/6/5 bits)";
+    return false;
 }
 
 bool parse_gl_backend(const std::string& name, GlRenderOptions* o) {

@@ -26,6 +26,7 @@ struct GlRenderInfo {
     std::string device;  // EGL platform, renderer and version
     std::string path;    // e.g. "two texture units, blend subtract"
     double ms = 0;       // time of sepal_draw plus glFinish per frame (median over options.frames)
+    sepal_caps caps = {};  // the context's capabilities (framebuffer bits, dither), mask applied
     // With options.float_target: the frame as linear RGB floats, top row first (values the
     // half-float target overflowed are clamped and counted in stats.nonfinite_clamped).
     std::vector<float> float_rgb;
@@ -43,6 +44,7 @@ struct GlRenderOptions {
     sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
     const Rgba8Image* diffuse = nullptr;  // optional diffuse map
     bool float_target = false;            // GL ES 2: draw into a half-float target
+    int framebuffer = 8888;               // the pbuffer's colour buffer: 8888 or 565 (sepal_headless.h)
     // Frames to draw: with more than 1, two extra warm-up frames come first and
     // GlRenderInfo::ms is the median of the timed ones (benchmarks).
     int frames = 1;
@@ -83,8 +85,12 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
                       std::vector<float>* rgb, double* ms, std::string* err, sepal_draw_stats* stats = nullptr);
 // The GL ES 1.1 emulator (sepal_emulate_draw): what gles1 (gles_version 1) or the gles2
 // multipass path (2) shows, computed on the CPU; RGBA8, top row first. mask: SEPAL_MASK_*.
+// framebuffer: 8888 or 565, the colour buffer's bits it rounds every pass to.
 bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
-                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats = nullptr);
+                           std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats = nullptr,
+                           int framebuffer = 8888);
+// Parses --framebuffer's value: "565" or "8888"; false with a message naming both otherwise.
+bool parse_framebuffer(const std::string& text, int* framebuffer, std::string* err);
 // Parses a backend name (gles1, gles2, gles2-fused, gles2-fused-pixel) into options;
 // false for others (cpu is not a GL backend).
 bool parse_gl_backend(const std::string& name, GlRenderOptions* options);

@@ -93,20 +93,38 @@ extern "C" sepal_headless_context* sepal_headless_create(const sepal_headless_de
                 sepal_ports::egl_error_name(eglGetError()));
         return nullptr;
     }
+    if (d.framebuffer != 0 && d.framebuffer != 8888 && d.framebuffer != 565) {
+        set_error(err, err_len, "framebuffer %d is not 8888 or 565", d.framebuffer);
+        return nullptr;
+    }
+    const bool rgb565 = d.framebuffer == 565;
     const EGLint renderable = d.gles_version == 1 ? EGL_OPENGL_ES_BIT : EGL_OPENGL_ES2_BIT;
+    const EGLint want[4] = {rgb565 ? 5 : 8, rgb565 ? 6 : 8, rgb565 ? 5 : 8, rgb565 ? 0 : 8};
     const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
                                      EGL_RENDERABLE_TYPE, renderable,
-                                     EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
-                                     EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, d.depth_bits,
+                                     EGL_RED_SIZE, want[0], EGL_GREEN_SIZE, want[1], EGL_BLUE_SIZE, want[2],
+                                     EGL_ALPHA_SIZE, want[3], EGL_DEPTH_SIZE, d.depth_bits,
                                      EGL_NONE};
-    EGLConfig config;
+    // EGL sorts deeper colour buffers first: 565 must pick its exact match from the list.
+    EGLConfig configs[128];
     EGLint num_configs = 0;
-    if (!eglChooseConfig(display, config_attribs, &config, 1, &num_configs) ||
-        num_configs < 1) {
+    EGLConfig config = nullptr;
+    if (eglChooseConfig(display, config_attribs, configs, rgb565 ? 128 : 1, &num_configs))
+        for (EGLint i = 0; i < num_configs && !config; ++i) {
+            const EGLint attribs[4] = {EGL_RED_SIZE, EGL_GREEN_SIZE, EGL_BLUE_SIZE, EGL_ALPHA_SIZE};
+            bool exact = true;
+            for (int k = 0; k < 4 && rgb565; ++k) {
+                EGLint v = -1;
+                exact = exact && eglGetConfigAttrib(display, configs[i], attribs[k], &v) && v == want[k];
+            }
+            if (exact) config = configs[i];
+        }
+    if (!config) {
         set_error(err, err_len,
-                "EGL platform '%s' has no RGBA8 pbuffer config with %d depth bits for GL ES %d "
+                "EGL platform '%s' has no %s pbuffer config with %d depth bits for GL ES %d "
                 "(vendor %s)",
-                platform, d.depth_bits, d.gles_version, eglQueryString(display, EGL_VENDOR));
+                platform, rgb565 ? "RGB565" : "RGBA8", d.depth_bits, d.gles_version,
+                eglQueryString(display, EGL_VENDOR));
         return nullptr;
     }
     const EGLint surface_attribs[] = {EGL_WIDTH, d.width, EGL_HEIGHT, d.height, EGL_NONE};

@@ -12,8 +12,13 @@
 //
 // Limits: one context per process at a time is what the tests use; nothing stops
 // more, but each is made current on create and callers must re-bind with
-// sepal_headless_make_current. The context draws into an EGL pbuffer (RGBA8, depth 24 or 16),
-// so no framebuffer-object extension is needed for the default target.
+// sepal_headless_make_current. The context draws into an EGL pbuffer, so no
+// framebuffer-object extension is needed for the default target. Its colour buffer:
+// framebuffer 0 or 8888 asks EGL for at least 8/8/8/8 bits (RGBA8 on Mesa); 565 takes the
+// first config with exactly 5/6/5 bits and no alpha (RGB565, as older phones and kiosk boards
+// render; Mesa's surfaceless platform offers it for GL ES 1 and 2), GL_DITHER left on as GL
+// ES starts. Depth: at least depth_bits. read_rgba widens 565 to 8 bits as GL does.
+// Not every EGL has a 565 pbuffer config: create then fails and says so.
 // Platform order: EGL_MESA_platform_surfaceless, then EGL_EXT_platform_device, then
 // the default display. SEPAL_EGL_PLATFORM=surfaceless|device|default forces one.
 // This is the only place in sepal that talks to EGL for offscreen work.
@@ -35,6 +40,7 @@ typedef struct sepal_headless_desc {
     int height;        // pixels; 0 means 256
     int gles_version;  // 1 (GL ES 1.1 common profile) or 2 (GL ES 2.0); 0 means 1
     int depth_bits;    // minimum depth bits; 0 means 16
+    int framebuffer;   // colour buffer: 0 or 8888 (RGBA8), 565 (RGB565)
 } sepal_headless_desc;
 
 typedef struct sepal_headless_context sepal_headless_context;

@@ -62,6 +62,14 @@ extern "C" sepal_result sepal_query_caps(int gles_version, uint32_t mask, sepal_
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     out->texture_units = units;
     out->max_texture_size = max_size;
+    GLint bits[3] = {0, 0, 0};
+    glGetIntegerv(GL_RED_BITS, &bits[0]);
+    glGetIntegerv(GL_GREEN_BITS, &bits[1]);
+    glGetIntegerv(GL_BLUE_BITS, &bits[2]);
+    out->red_bits = bits[0];
+    out->green_bits = bits[1];
+    out->blue_bits = bits[2];
+    out->dither = glIsEnabled(GL_DITHER) ? 1 : 0;
     if (gles_version == 1) {
         out->has_blend_subtract = srt::has_extension(ext, "GL_OES_blend_subtract");
         out->has_fbo = srt::has_extension(ext, "GL_OES_framebuffer_object");

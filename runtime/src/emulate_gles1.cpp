@@ -14,9 +14,12 @@
 //   quad's texture-coordinate differences (rho = the longer of the x and y derivatives);
 // - combiner: stage 0 colour x tex0 (x RGB_SCALE for one-texture passes), stage 1 x tex1 x
 //   RGB_SCALE, each clamped to [0,1]; untextured passes are the colour alone;
-// - framebuffer: 8 bits per channel; each pass's fragment rounded to 8 bits and added with
-//   saturation (or subtracted, clamped at 0); doublings, inversions and stages exactly as
-//   the executor's schedule (draw_internal.h's gles1_schedule);
+// - framebuffer: n bits per channel (the desc's, 8 by default); each pass's fragment
+//   rounded to 8 bits and added to the stored value widened to 8 bits with saturation (or
+//   subtracted, clamped at 0), the sum truncated to n bits (llvmpipe blends an RGB565
+//   buffer in 8 bits and keeps the top bits, with or without GL_DITHER); doublings,
+//   inversions and stages exactly as the executor's schedule (draw_internal.h's
+//   gles1_schedule), each stored the same way;
 // - the background quad where no triangle covers a pixel.
 // Not modelled: the one-texture-unit path and diffuse texture maps (refused).
 #include <math.h>
@@ -138,6 +141,23 @@ struct TriangleSetup {
 inline float clamp01(float v) { return v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v; }
 inline int to8(float v) { return (int)(clamp01(v) * 255.0f + 0.5f); }
 
+// An 8-bit value as an n-bit channel stores it (its top n bits) and reads it back widened
+// to 8 bits by repeating those bits (31 -> 255, 16 -> 132 for 5 bits): per channel, a
+// table of the 256 results. 8 bits: the identity.
+struct Channels {
+    int bits[3];
+    uint8_t stored[3][256];
+    void set() {
+        for (int c = 0; c < 3; ++c)
+            for (int v = 0; v < 256; ++v) {
+                const int n = bits[c], code = v >> (8 - n);
+                int wide = 0;
+                for (int filled = 0; filled < 8; filled += n) wide |= (code << (8 - n)) >> filled;
+                stored[c][v] = (uint8_t)wide;
+            }
+    }
+};
+
 }  // namespace
 
 extern "C" size_t sepal_emulate_scratch_floats(int width, int height, int vertex_count, int light_count) {
@@ -152,6 +172,26 @@ extern "C" size_t sepal_emulate_scratch_floats(int width, int height, int vertex
 
 namespace {
 
+// The desc's version, mask, size and framebuffer bits (0 means 8), checked; out gets the bits'
+// tables.
+sepal_result check_desc(const sepal_emulate_desc* e, Channels* out, sepal_error* err) {
+    if (e->gles_version != 1 && e->gles_version != 2)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: gles_version %d (1 or 2)", e->gles_version);
+    if (e->mask & SEPAL_MASK_MULTITEXTURE)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "emulate: the one-texture-unit path is not emulated");
+    if (e->width < 1 || e->height < 1 || e->width > 8192 || e->height > 8192)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: %dx%d out of 1..8192", e->width, e->height);
+    const int given[3] = {e->red_bits, e->green_bits, e->blue_bits};
+    for (int c = 0; c < 3; ++c) {
+        out->bits[c] = given[c] == 0 ? 8 : given[c];
+        if (out->bits[c] < 1 || out->bits[c] > 8)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "emulate: framebuffer bits %d/%d/%d (each 1..8, or 0 for 8)", given[0], given[1], given[2]);
+    }
+    out->set();
+    return SEPAL_OK;
+}
+
 // One object: mesh its vertices (e->mesh is not read), e->scene in its shading space,
 // modelview and proj its matrices. keep: the frame's depth (kept_depth) and colour stay
 // where the object is not in front; otherwise the framebuffer starts cleared and gets the
@@ -159,13 +199,10 @@ namespace {
 sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& mesh, const float modelview[16],
                             const float proj[16], float* kept_depth, sepal_error* err) {
     const bool keep = kept_depth != nullptr;
-    if (e->gles_version != 1 && e->gles_version != 2)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: gles_version %d (1 or 2)", e->gles_version);
-    if (e->mask & SEPAL_MASK_MULTITEXTURE)
-        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "emulate: the one-texture-unit path is not emulated");
+    Channels fbc;
+    const sepal_result checked = check_desc(e, &fbc, err);
+    if (checked != SEPAL_OK) return checked;
     const int W = e->width, H = e->height;
-    if (W < 1 || H < 1 || W > 8192 || H > 8192)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: %dx%d out of 1..8192", W, H);
     const int n = mesh.vertex_count, lights = e->scene->light_count;
     const size_t need = sepal_emulate_scratch_floats(W, H, n, lights);
     if (need == 0 || e->scratch_floats < need)
@@ -178,6 +215,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     caps.max_texture_size = 8192;
     caps.has_blend_subtract = (e->mask & SEPAL_MASK_BLEND_SUBTRACT) ? 0 : 1;
     caps.mask = e->mask;
+    caps.red_bits = fbc.bits[0], caps.green_bits = fbc.bits[1], caps.blue_bits = fbc.bits[2];
     srt::Material m;
     sepal_result r = srt::material_plan(&caps, e->asset, W, H, &m, err);
     if (r != SEPAL_OK) return r;
@@ -272,7 +310,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
         steps[k++] = {srt::Gles1Step::kDouble, stats->doublings, 0, 0.0f, false};
         step_count = k;
     }
-    // The framebuffer, 8 bits per channel.
+    // The framebuffer: per channel the stored value widened to 8 bits (fbc says how).
     // The object's pixels start from 0 (the black pre-pass, or the first pass replacing);
     // the rest is kept (a frame) or cleared (sepal_emulate_draw).
     uint8_t* fb = e->rgba;
@@ -285,8 +323,8 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
             for (size_t p = 0; p < (size_t)W * H; ++p)
                 for (int c = 0; c < 3 && tri[p] >= 0.0f; ++c) {
                     int v = fb[4 * p + c];
-                    if (step.kind == srt::Gles1Step::kInvert) v = 255 - v;
-                    else for (int k = 0; k < step.count && v < 255; ++k) v = v * 2 > 255 ? 255 : v * 2;
+                    if (step.kind == srt::Gles1Step::kInvert) v = fbc.stored[c][255 - v];
+                    else for (int k = 0; k < step.count && v < 255; ++k) v = fbc.stored[c][v * 2 > 255 ? 255 : v * 2];
                     fb[4 * p + c] = (uint8_t)v;
                 }
             continue;
@@ -360,7 +398,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
                         const int src = to8(value[ch]);
                         int v = fb[4 * p + ch];
                         v = subtract ? (v - src < 0 ? 0 : v - src) : (v + src > 255 ? 255 : v + src);
-                        fb[4 * p + ch] = (uint8_t)v;
+                        fb[4 * p + ch] = fbc.stored[ch][v];
                     }
                 }
             }
@@ -368,7 +406,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     if (background && !keep)
         for (size_t p = 0; p < (size_t)W * H; ++p)
             if (tri[p] < 0.0f)
-                for (int c = 0; c < 3; ++c) fb[4 * p + c] = (uint8_t)to8(bg[c]);
+                for (int c = 0; c < 3; ++c) fb[4 * p + c] = fbc.stored[c][to8(bg[c])];
     return srt::ok(err);
 }
 

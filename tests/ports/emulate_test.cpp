@@ -16,6 +16,7 @@
 
 #include "bake/bake.h"
 #include "common/render_gl.h"
+#include "common/scene_draw.h"
 #include "common/scene_flags.h"
 #include "reference/render_exact.h"
 #include "material_fixtures.h"
@@ -45,10 +46,11 @@ sepal_ports::SceneSetup scene(const std::vector<std::string>& flags, const char*
 }
 
 sepal::Image gl(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, const char* backend,
-                uint32_t mask = 0, int* doublings = nullptr) {
+                uint32_t mask = 0, int* doublings = nullptr, int framebuffer = 8888) {
     sepal_ports::GlRenderOptions opt;
     REQUIRE(sepal_ports::parse_gl_backend(backend, &opt));
     opt.mask = mask;
+    opt.framebuffer = framebuffer;
     std::vector<uint8_t> rgba;
     sepal_ports::GlRenderInfo info;
     std::string err;
@@ -58,12 +60,12 @@ sepal::Image gl(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup
 }
 
 sepal::Image emulated(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, int gles_version,
-                      uint32_t mask = 0, int* doublings = nullptr) {
+                      uint32_t mask = 0, int* doublings = nullptr, int framebuffer = 8888) {
     std::vector<uint8_t> rgba;
     std::string err;
     sepal_draw_stats stats = {};
     REQUIRE_MESSAGE(sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), s, gles_version, mask, &rgba, &err,
-                                                       &stats),
+                                                       &stats, framebuffer),
                     err);
     if (doublings) *doublings = stats.doublings;
     return sepal::to_rgb(sepal::image_from_rgba8(rgba.data(), s.width, s.height));
@@ -118,6 +120,103 @@ TEST_CASE("emulator: matches llvmpipe's GL ES 1.1 on non-negative plans, every p
                 CHECK(d.share_over <= 0.001);
             }
     CHECK(doubled > 0);  // the doublings were exercised
+}
+
+TEST_CASE("emulator: an RGB565 framebuffer, held to llvmpipe's RGB565 renders on non-negative plans") {
+    // The 8-bit test's assets and scenes, drawn into llvmpipe's 565 pbuffer and emulated at
+    // 5/6/5 bits. The model's fragments match llvmpipe's to +-2 8-bit levels (the 8-bit
+    // test's tolerance); one level across a 5-bit step moves the stored value by 8 levels,
+    // which every later doubling doubles. Measured (PSNR over 8-bit levels): 51.7-61.7 dB
+    // without doublings, 40.9-53.2 dB with 1-2; the 8-bit model on the 565 image 28.6 dB.
+    const char* const ward = "ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15";
+    const std::vector<std::vector<uint8_t>> assets = {
+        encode(bake_one(ward, sepal::Param::GsHalf, sepal::Method::NMF, 2, true)),
+        encode(bake_one("ashikhmin-shirley", sepal::Param::ViewHalf, sepal::Method::ACLS, 1, true)),
+        encode(bake_one("blinn", sepal::Param::GsHalf, sepal::Method::NMF, 2, false)),
+    };
+    const std::vector<std::vector<std::string>> scenes = {
+        {},
+        {"--mesh", "torus"},
+        {"--light", "point:2,-2.5,3:30", "--light", "dir:-1,-0.2,0.5:1.5"},
+        {"--light", "point:3.83,1.91,0.96:60", "--background", "0.1,0.2,0.3"},
+    };
+    double worst[2] = {1e9, 1e9}, worst8 = 1e9;  // without doublings, with
+    for (size_t a = 0; a < assets.size(); ++a)
+        for (const auto& flags : scenes) {
+            CAPTURE(a);
+            CAPTURE(flags.size());
+            const sepal_ports::SceneSetup s = scene(flags);
+            int dg = -1, de = -2;
+            const sepal::Image real = gl(assets[a], s, "gles1", 0, &dg, 565);
+            const sepal::Image emu = emulated(assets[a], s, 1, 0, &de, 565);
+            CHECK(dg == de);
+            const sepal::ImageDiff d = sepal::diff_images(real, emu, 8);
+            CAPTURE(dg);
+            CAPTURE(d.psnr);
+            CAPTURE(d.max_diff);
+            CHECK(d.psnr >= (dg > 0 ? 39.0 : 45.0));
+            CHECK(d.share_over <= (dg > 0 ? 0.02 : 0.005));
+            worst[dg > 0] = std::min(worst[dg > 0], d.psnr);
+            // The 8-bit model is far from the 565 image: the test tells them apart.
+            worst8 = std::min(worst8, sepal::diff_images(real, emulated(assets[a], s, 1, 0, nullptr, 8888), 8).psnr);
+        }
+    MESSAGE("565 model vs llvmpipe RGB565, worst PSNR: " << worst[0] << " dB without doublings, " << worst[1]
+                                                         << " dB with; the 8-bit model on the 565 image " << worst8
+                                                         << " dB");
+    CHECK(worst[1] < 1e9);  // the doublings were exercised
+    CHECK(worst8 < std::min(worst[0], worst[1]) - 6.0);
+    // The GL ES 2 multipass path on 565 (measured 54.0 dB).
+    const sepal_ports::SceneSetup s = scene({});
+    const sepal::ImageDiff d2 = sepal::diff_images(gl(assets[0], s, "gles2", 0, nullptr, 565),
+                                                   emulated(assets[0], s, 2, 0, nullptr, 565), 8);
+    CAPTURE(d2.psnr);
+    CHECK(d2.psnr >= 45.0);
+    // A signed plan (bias passes, subtraction, and inversion without it) at 3 doublings:
+    // measured 32.8 dB (36-38 dB in 8 bits).
+    const std::vector<uint8_t> sgn = encode(bake_one(ward, sepal::Param::GsHalf, sepal::Method::SVD, 3, true));
+    for (uint32_t mask : {0u, uint32_t(SEPAL_MASK_BLEND_SUBTRACT)}) {
+        CAPTURE(mask);
+        const sepal::ImageDiff d = sepal::diff_images(gl(sgn, s, "gles1", mask, nullptr, 565),
+                                                      emulated(sgn, s, 1, mask, nullptr, 565), 8);
+        CAPTURE(d.psnr);
+        CHECK(d.psnr >= 30.0);
+    }
+}
+
+TEST_CASE("emulator: framebuffer bits, 0 as 8 and out-of-range refused") {
+    const std::vector<uint8_t> bytes =
+        encode(bake_one("blinn", sepal::Param::GsHalf, sepal::Method::NMF, 2, false));
+    const sepal_ports::SceneSetup s = scene({}, "32x32");
+    auto asset = std::make_unique<sepal_asset>();
+    sepal_error e = {};
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), asset.get(), &e) == SEPAL_OK);
+    sepal_ports::EmulatedFrame f0, f8, f5;
+    sepal_emulate_desc d0 = sepal_ports::scene_emulate_desc(asset.get(), s, 1, 0, &f0, nullptr);
+    sepal_emulate_desc d8 = sepal_ports::scene_emulate_desc(asset.get(), s, 1, 0, &f8, nullptr);
+    sepal_emulate_desc d5 = sepal_ports::scene_emulate_desc(asset.get(), s, 1, 0, &f5, nullptr);
+    d8.red_bits = d8.green_bits = d8.blue_bits = 8;
+    d5.red_bits = d5.green_bits = d5.blue_bits = 5;
+    REQUIRE(sepal_emulate_draw(&d0, &e) == SEPAL_OK);
+    REQUIRE(sepal_emulate_draw(&d8, &e) == SEPAL_OK);
+    REQUIRE(sepal_emulate_draw(&d5, &e) == SEPAL_OK);
+    CHECK(f0.rgba == f8.rgba);
+    // 5 bits: every channel one of the 32 values a 5-bit channel reads back as.
+    int off = 0, lit = 0;
+    for (size_t i = 0; i < f5.rgba.size(); ++i) {
+        if (i % 4 == 3) continue;
+        const int v = f5.rgba[i], code = v >> 3;
+        off += v != ((code << 3) | (code >> 2));
+        lit += v > 0;
+    }
+    CHECK(off == 0);
+    CHECK(lit > 100);
+    CHECK(f5.rgba != f8.rgba);
+    for (int bad : {9, -1}) {
+        sepal_emulate_desc d = d5;
+        d.green_bits = bad;
+        CHECK(sepal_emulate_draw(&d, &e) == SEPAL_ERR_INVALID_ARGUMENT);
+        CHECK(std::string(e.message).find("framebuffer bits 5/" + std::to_string(bad) + "/5") != std::string::npos);
+    }
 }
 
 TEST_CASE("emulator: GL ES 2 multipass, and signed plans within their documented tolerance") {

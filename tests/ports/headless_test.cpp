@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include <GLES/gl.h>
 #include <GLES2/gl2.h>
 
 #include "common/scene_draw.h"
@@ -24,6 +25,21 @@ sepal::Tolerance quad_tolerance() {
     t.max_share = 0.01;  // 1% of pixels may exceed it (triangle edges, texel centres)
     t.min_psnr = 40;
     return t;
+}
+
+// A horizontal ramp of vertex colours, 0 at the left edge to 1 at the right, over the
+// viewport (GL ES 1.1, identity matrices).
+void draw_color_ramp_gles1() {
+    static const float kPos[] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    static const float kColor[] = {0, 0, 0, 1, 1, 1, 1, 1, 0, 0, 0, 1, 1, 1, 1, 1};
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glVertexPointer(2, GL_FLOAT, 0, kPos);
+    glColorPointer(4, GL_FLOAT, 0, kColor);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glDisableClientState(GL_COLOR_ARRAY);
 }
 }  // namespace
 
@@ -196,4 +212,72 @@ TEST_CASE("headless: context loss: the material forgets its GL objects and is re
     sepal_material_info mi;
     sepal_material_get_info(material.get(), &mi);
     CHECK(mi.created == 0);
+}
+
+TEST_CASE("headless: an RGB565 pbuffer, and the caps read its 5/6/5 bits and GL_DITHER") {
+    for (int version : {1, 2})
+        for (int framebuffer : {565, 8888, 0}) {
+            CAPTURE(version);
+            CAPTURE(framebuffer);
+            sepal_headless_desc d = {};
+            d.width = 8;
+            d.height = 4;
+            d.gles_version = version;
+            d.framebuffer = framebuffer;
+            char err[512];
+            sepal_headless_context* c = sepal_headless_create(&d, err, sizeof err);
+            REQUIRE_MESSAGE(c, err);
+            sepal_caps caps;
+            sepal_error e = {};
+            REQUIRE_MESSAGE(sepal_query_caps(version, 0, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK,
+                            e.message);
+            const bool rgb565 = framebuffer == 565;
+            CHECK(caps.red_bits == (rgb565 ? 5 : 8));
+            CHECK(caps.green_bits == (rgb565 ? 6 : 8));
+            CHECK(caps.blue_bits == (rgb565 ? 5 : 8));
+            CHECK(caps.dither == 1);  // GL ES starts with GL_DITHER on
+            glDisable(GL_DITHER);
+            REQUIRE(sepal_query_caps(version, 0, sepal_headless_get_proc_address, &caps, &e) == SEPAL_OK);
+            CHECK(caps.dither == 0);
+            // A clear of 0.5 reads back as the channel stores it: 15 of 31 widened to 123
+            // (5 bits), 31 of 63 to 125 (6 bits); 128 in 8 bits.
+            glClearColor(0.5f, 0.5f, 0.5f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            std::vector<uint8_t> px(8 * 4 * 4);
+            REQUIRE(sepal_headless_read_rgba(c, px.data()));
+            CAPTURE(int(px[0]));
+            CAPTURE(int(px[1]));
+            if (rgb565) {
+                CHECK((px[0] == 123 || px[0] == 132));  // 15 or 16 of 31: GL leaves the rounding open
+                CHECK((px[1] == 125 || px[1] == 130));
+            } else {
+                CHECK((px[0] == 127 || px[0] == 128));
+            }
+            sepal_headless_destroy(c);
+        }
+    // GL_DITHER on llvmpipe: a smooth ramp drawn with it on and off stores the same values
+    // (GL leaves dithering to the implementation; llvmpipe truncates either way).
+    sepal_headless_desc r = {};
+    r.width = 256;
+    r.height = 4;
+    r.framebuffer = 565;
+    char msg[512];
+    sepal_headless_context* c = sepal_headless_create(&r, msg, sizeof msg);
+    REQUIRE_MESSAGE(c, msg);
+    std::vector<uint8_t> on(256 * 4 * 4), off(on.size());
+    for (std::vector<uint8_t>* px : {&on, &off}) {
+        if (px == &off) glDisable(GL_DITHER);
+        draw_color_ramp_gles1();
+        REQUIRE(sepal_headless_read_rgba(c, px->data()));
+    }
+    sepal_headless_destroy(c);
+    if (sepal_test::reference_renderer()) CHECK(on == off);
+    int levels = 0;
+    for (int i = 1; i < 256; ++i) levels += on[4 * i] != on[4 * (i - 1)];
+    CHECK(levels == 31);  // 32 values of a 5-bit channel across the ramp
+    sepal_headless_desc d = {};
+    d.framebuffer = 4444;
+    char err[512];
+    CHECK(sepal_headless_create(&d, err, sizeof err) == nullptr);
+    CHECK(std::strstr(err, "framebuffer 4444 is not 8888 or 565") != nullptr);
 }

@@ -76,6 +76,15 @@ typedef struct sepal_caps {
     // the GL ES 2 paths can draw into one to measure what the 8-bit framebuffer costs
     // (sepal_material_create_float_target).
     int has_float_target;
+    // The colour buffer bound when the caps were read (the window's or pbuffer's, normally):
+    // bits per channel (GL_RED_BITS, GL_GREEN_BITS, GL_BLUE_BITS; 5/6/5 on an RGB565 surface)
+    // and whether GL_DITHER is enabled (GL ES enables it by default). A multipass frame is
+    // rounded to these bits after every pass: sepal_emulate_desc takes them to show what the
+    // device shows. The frame's exposure, staging and doublings do not depend on them: the
+    // exposure keeps every pass and partial sum at or below 1.0, the framebuffer's white at
+    // any bit depth, and the doublings are the plan's (chosen by the bake for its target).
+    int red_bits, green_bits, blue_bits;
+    int dither;
     uint32_t mask;           // the mask that was applied
     // Extension entry points, from the port's loader (NULL when unavailable).
     void (*blend_equation)(unsigned int mode);  // glBlendEquationOES / glBlendEquation
