@@ -349,6 +349,8 @@ class Search {
            const ErrorEvaluator& ev, std::function<int64_t()> capped_count)
         : brdf_(brdf), o_(o), out_(out), source_(source), plain_(plain), ev_(ev), capped_count_(std::move(capped_count)) {}
 
+    BakeResult* result() const { return out_; }
+
     // Best PSNR of the candidates appended since `first`.
     double best_since(size_t first) const {
         double b = -1e30;
@@ -607,6 +609,229 @@ double colour_residual(const Brdf& f) {
     return std::sqrt(residual / total);
 }
 
+namespace {
+
+using Pair = std::tuple<Param, HemiMap, Method>;
+
+// The coarse stage: every (param, map, method) at coarse_res, ranked (all_pairs), and the
+// best few kept (pairs).
+void coarse_stage(Search& search, const BakeOptions& o, int max_terms, const ImageJudge& coarse_judge,
+                  std::vector<Pair>* pairs_out, std::vector<Pair>* all_pairs) {
+    std::vector<Pair>& pairs = *pairs_out;
+    BakeResult* out = search.result();
+    std::vector<double> best(pairs.size(), -1e30);
+    for (size_t i = 0; i < pairs.size(); ++i) {
+        const size_t first = out->candidates.size();
+        std::vector<int> coarse_terms;
+        for (int k : o.terms)
+            if (k <= o.coarse_terms) coarse_terms.push_back(k);
+        if (coarse_terms.empty()) coarse_terms.push_back(std::min(max_terms, o.coarse_terms));
+        search.run(std::get<0>(pairs[i]), std::get<1>(pairs[i]), o.coarse_res, o.coarse_res, std::get<2>(pairs[i]),
+                   coarse_terms, true, coarse_judge);
+        for (size_t c = first; c < out->candidates.size(); ++c)
+            if (out->candidates[c].ok) best[i] = std::max(best[i], out->candidates[c].psnr);
+    }
+    std::vector<size_t> order(pairs.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return best[a] > best[b]; });
+    // Two families, each keeping its best and those within keep_db of it (at most keep):
+    // Kautz-McCool's parameterizations with homomorphic, and axis, which is kept only
+    // within keep_db of the best overall. At 16 texels axis's rank does not predict its
+    // rank against the half-angle ones on the ladder (blinn: axis led the coarse stage by
+    // 1.8 dB and took a half-angle pair's place, 49.4 -> 46.4 dB; gs-half wins at 64/16).
+    auto is_axis = [](const std::tuple<Param, HemiMap, Method>& q) { return std::get<0>(q) == Param::Axis; };
+    double family_best[2] = {-1e30, -1e30};
+    for (size_t i : order) family_best[is_axis(pairs[i])] = std::max(family_best[is_axis(pairs[i])], best[i]);
+    int family_kept[2] = {0, 0};
+    std::vector<std::tuple<Param, HemiMap, Method>> kept, ranked;
+    for (size_t i : order) {
+        ranked.push_back(pairs[i]);
+        const int f = is_axis(pairs[i]);
+        if (family_kept[f] < std::max(1, o.keep) && best[i] > -1e30 && best[i] >= family_best[f] - o.keep_db &&
+            (f == 0 || best[i] >= best[order[0]] - o.keep_db)) {
+            kept.push_back(pairs[i]);
+            ++family_kept[f];
+        }
+    }
+    *all_pairs = ranked;
+    if (!kept.empty()) pairs = kept;
+}
+
+// Listed resolutions: every one (the grid), no climbing.
+void grid(Search& search, const BakeOptions& o, const std::vector<int>& terms, const ImageJudge& judge,
+          const std::vector<Pair>& pairs) {
+    for (const auto& p : pairs)
+        for (int res : o.resolutions) {
+            // The sharp factor (half-angle, axis's G) at res with the other one at each of smooth_resolutions not
+            // above it (or at res too); iv's two factors always alike.
+            std::vector<int> others = {res};
+            if (!o.smooth_resolutions.empty() && sharp_factor(std::get<0>(p)) >= 0) {
+                others.clear();
+                for (int r : o.smooth_resolutions)
+                    if (r <= res) others.push_back(r);
+            }
+            for (int other : others)
+                search.run(std::get<0>(p), std::get<1>(p), res, other, std::get<2>(p), terms, false, judge);
+        }
+}
+
+// The ladder: every kept pair on its first rung; the best one with a sharp factor
+// (half-angle, axis's G) climbs while a rung gains climb_db (a sharper lobe needs a finer
+// sharp factor; iv has no such factor and stays on its rung).
+void ladder(Search& search, const BakeOptions& o, const std::vector<int>& terms, const ImageJudge& judge,
+            std::vector<Pair> pairs, const std::vector<Pair>& all_pairs) {
+    BakeResult* out = search.result();
+    auto best_since = [&search](size_t first) { return search.best_since(first); };
+    // The climber: the best pair with a sharp factor on the first rung, a sum-of-products one
+    // (its term count grows on the way) before a homomorphic one (one product).
+    auto climber_rank = [](const std::tuple<Param, HemiMap, Method>& q) {
+        return sharp_factor(std::get<0>(q)) < 0 ? 0 : std::get<2>(q) == Method::Homomorphic ? 1 : 2;
+    };
+    double top = -1e30;
+    int top_pair = -1, top_rank = 0;
+    std::vector<double> rung_best(pairs.size());
+    for (size_t i = 0; i < pairs.size(); ++i) {
+        const Param param = std::get<0>(pairs[i]);
+        const bool sharp = sharp_factor(param) >= 0;
+        const auto rung = sharp ? o.ladder[0] : std::make_pair(o.ladder_iv, o.ladder_iv);
+        const size_t first = out->candidates.size();
+        search.run(param, std::get<1>(pairs[i]), rung.first, rung.second, std::get<2>(pairs[i]), terms, false, judge);
+        rung_best[i] = best_since(first);
+        const int rank = climber_rank(pairs[i]);
+        if (rank > 0 && (rank > top_rank || (rank == top_rank && rung_best[i] > top)))
+            top = rung_best[i], top_pair = int(i), top_rank = rank;
+    }
+    // A sum-of-products half-angle pair always reaches the first rung: the coarse stage's
+    // 16 texels resolve no narrow lobe (ward's ay = 0.02 is 22.9-26 dB in every
+    // parameterization there, axis or iv ahead), and only a half-angle factor resolves a
+    // narrow isotropic lobe on the finer rungs (ward: gs-half 128/8 39.8 dB, axis 25.7).
+    auto half_sop = [](const std::tuple<Param, HemiMap, Method>& q) {
+        return half_angle_factor(std::get<0>(q)) >= 0 && std::get<2>(q) != Method::Homomorphic;
+    };
+    if (o.coarse_res > 0 && std::none_of(pairs.begin(), pairs.end(), half_sop))
+        for (const auto& q : all_pairs)
+            if (half_sop(q)) {
+                pairs.push_back(q);
+                const size_t first = out->candidates.size();
+                search.run(std::get<0>(q), std::get<1>(q), o.ladder[0].first, o.ladder[0].second, std::get<2>(q),
+                           terms, false, judge);
+                rung_best.push_back(best_since(first));
+                if (top_rank < 2 || rung_best.back() > top)
+                    top = rung_best.back(), top_pair = int(pairs.size() - 1), top_rank = 2;
+                break;
+            }
+    // A narrow isotropic lobe is resolved only by a half-angle factor on the finer rungs:
+    // within tie_db of axis on the first rung the half-angle pair climbs (phong n=1000
+    // under the 8:1 range: axis 29.44 dB against vh 29.35, axis 64/16 29.9 dB, vh 8/128
+    // 39.0). Further behind it does not (lafortune: axis 42.79, gs-half 42.45; climbed,
+    // gs-half 128/8 won by 0.9 dB at 7 times the bytes).
+    if (top_pair >= 0 && std::get<0>(pairs[size_t(top_pair)]) == Param::Axis) {
+        int half = -1;
+        for (size_t i = 0; i < pairs.size(); ++i)
+            if (half_sop(pairs[i]) && (half < 0 || rung_best[i] > rung_best[size_t(half)])) half = int(i);
+        if (half >= 0 && rung_best[size_t(half)] >= top - o.tie_db) top_pair = half;
+    }
+    if (top_pair >= 0) {
+        const auto& p = pairs[size_t(top_pair)];
+        search.climb(std::get<0>(p), std::get<1>(p), std::get<2>(p), rung_best[size_t(top_pair)], terms, judge);
+    }
+    if (o.max_bytes > 0)
+        for (const auto& q : pairs)
+            search.run(std::get<0>(q), std::get<1>(q), o.small_rung, o.small_rung, std::get<2>(q), terms, false,
+                       judge);
+}
+
+// More terms, while the largest term count still paid: the best candidate's configuration
+// with each of more_terms (a new factorization, warm-started term by term as always).
+void more_terms(Search& search, const BakeOptions& o, const std::vector<int>& terms, const ImageJudge& judge) {
+    BakeResult* out = search.result();
+    const int w = choose_winner(&out->candidates, o);
+    if (w >= 0) {
+        const BakeCandidate b = out->candidates[size_t(w)];
+        double previous = -1e30;
+        for (const BakeCandidate& c : out->candidates)
+            if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
+                c.res_h == b.res_h && c.method == b.method && c.terms == terms.back() - 1)
+                previous = c.psnr;
+        double at_max = -1e30;
+        for (const BakeCandidate& c : out->candidates)
+            if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
+                c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
+                at_max = c.psnr;
+        if (b.psnr < o.goal_db && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
+            const int sharp = sharp_factor(b.param);
+            const int res = sharp == 1 ? b.res_h : b.res, other = sharp == 1 ? b.res : b.res_h;
+            std::vector<int> more;
+            for (int k : o.more_terms)
+                if (k > terms.back() && k <= SEPAL_FMT_MAX_TERMS) more.push_back(k);
+            if (!more.empty()) search.run(b.param, b.map, res, other, b.method, more, false, judge);
+        }
+    }
+}
+
+// Why no candidate won: every one failed (the first reason; all are listed), or none met
+// the budgets.
+std::string no_winner(const std::vector<BakeCandidate>& candidates, const BakeOptions& o) {
+    double closest = -1e30;
+    std::string label;
+    for (const BakeCandidate& c : candidates)
+        if (c.ok && !c.coarse && c.psnr > closest) closest = c.psnr, label = c.label();
+    if (label.empty()) {
+        for (const BakeCandidate& c : candidates)
+            if (!c.ok) return "bake: every candidate failed; " + c.label() + ": " + c.note;
+        return "bake: no candidate";
+    }
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "bake: no candidate meets the budgets (best image %.2f dB on %s, %s); allow more terms, "
+                  "a higher --res, or loosen --min-psnr/--max-error/--max-passes/--max-bytes",
+                  closest, target_name(o.target), label.c_str());
+    return buf;
+}
+
+// Why the winner won, and a note when it misses half of f in direction space.
+void winner_notes(const BakeCandidate& w, const BakeOptions& o, size_t views, BakeResult* out) {
+    char why[320];
+    if (budgeted(o))
+        std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d pass%s per light) at %.2f dB on %s%s",
+                      w.label().c_str(), w.ms, out->cost.backend.c_str(), w.passes, w.passes == 1 ? "" : "es", w.psnr,
+                      target_name(o.target), o.min_psnr >= 0 ? "" : " within --max-error");
+    else
+        std::snprintf(why, sizeof why, "%s: the best image on %s (%.2f dB over %zu views; within %.2g dB of the best, "
+                      "the fewest passes, then bytes)",
+                      w.label().c_str(), target_name(o.target), w.psnr, views, o.tie_db);
+    out->why = why;
+    // A winner that misses half of f in direction space (relative cosine-weighted RMS >= 0.5)
+    // may still be the best image, but a user should hear it: sharp lobes below the texel
+    // size, grazing peaks, or a cap account for it (README "Extremes").
+    if (w.error_quantized >= 0.5) {
+        char buf[360];
+        std::snprintf(buf, sizeof buf,
+                      "the winner's relative error is %.3g (>= 0.5) over uniform direction pairs: f has detail the "
+                      "factors do not hold (lobes narrower than a texel, grazing peaks%s); the image figure is %.2f dB",
+                      w.error_quantized, o.radiance || o.cap > 0 ? ", or the white level or --cap" : "", w.psnr);
+        out->notes.push_back(buf);
+    }
+}
+
+// The radiance fit's note: the cap's share of the samples and the diffuse part.
+void radiance_note(const RadianceBrdf& radiance, BakeResult* out) {
+    char note[320];
+    char cap[96] = "not capped";
+    if (out->white > 0)
+        std::snprintf(cap, sizeof cap, "capped at %.3g/sr (white under every light of the range), %.3g%% of the samples",
+                      out->white,
+                      radiance.evaluations() ? 100.0 * double(radiance.capped()) / double(radiance.evaluations()) : 0.0);
+    std::snprintf(note, sizeof note, "radiance fit: f cos(theta_i) %s; diffuse part %.3g %.3g %.3g /sr%s drawn untextured",
+                  cap,
+                  out->diffuse.scale.x, out->diffuse.scale.y, out->diffuse.scale.z,
+                  out->diffuse.side ? " at most, a profile over the two cosines," : "");
+    out->notes.push_back(note);
+    out->capped_share = radiance.evaluations() ? double(radiance.capped()) / double(radiance.evaluations()) : 0.0;
+}
+
+}  // namespace
+
 bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::string* err) {
     const auto start = std::chrono::steady_clock::now();
     *out = BakeResult{};
@@ -692,209 +917,33 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     Search search(brdf, o, out, source, base, ev, [&]() { return capped.capped() + radiance.capped(); });
     // Coarse: every (param, map, method) at coarse_res; keep the best few. Homomorphic has its
     // own (vh, parabolic): one pair, whatever the lists.
-    std::vector<std::tuple<Param, HemiMap, Method>> pairs;
+    std::vector<Pair> pairs;
     for (Param param : o.params)
         for (HemiMap map : o.maps)
             for (Method method : methods)
                 if (method != Method::Homomorphic) pairs.push_back({param, map, method});
     for (Method method : methods)
         if (method == Method::Homomorphic) pairs.push_back({Param::ViewHalf, HemiMap::Parabolic, method});
-    std::vector<std::tuple<Param, HemiMap, Method>> all_pairs = pairs;  // by coarse rank
-    if (coarse) {
-        std::vector<double> best(pairs.size(), -1e30);
-        for (size_t i = 0; i < pairs.size(); ++i) {
-            const size_t first = out->candidates.size();
-            std::vector<int> coarse_terms;
-            for (int k : o.terms)
-                if (k <= o.coarse_terms) coarse_terms.push_back(k);
-            if (coarse_terms.empty()) coarse_terms.push_back(std::min(max_terms, o.coarse_terms));
-            search.run(std::get<0>(pairs[i]), std::get<1>(pairs[i]), o.coarse_res, o.coarse_res, std::get<2>(pairs[i]),
-                       coarse_terms, true, coarse_judge);
-            for (size_t c = first; c < out->candidates.size(); ++c)
-                if (out->candidates[c].ok) best[i] = std::max(best[i], out->candidates[c].psnr);
-        }
-        std::vector<size_t> order(pairs.size());
-        for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return best[a] > best[b]; });
-        // Two families, each keeping its best and those within keep_db of it (at most keep):
-        // Kautz-McCool's parameterizations with homomorphic, and axis, which is kept only
-        // within keep_db of the best overall. At 16 texels axis's rank does not predict its
-        // rank against the half-angle ones on the ladder (blinn: axis led the coarse stage by
-        // 1.8 dB and took a half-angle pair's place, 49.4 -> 46.4 dB; gs-half wins at 64/16).
-        auto is_axis = [](const std::tuple<Param, HemiMap, Method>& q) { return std::get<0>(q) == Param::Axis; };
-        double family_best[2] = {-1e30, -1e30};
-        for (size_t i : order) family_best[is_axis(pairs[i])] = std::max(family_best[is_axis(pairs[i])], best[i]);
-        int family_kept[2] = {0, 0};
-        std::vector<std::tuple<Param, HemiMap, Method>> kept, ranked;
-        for (size_t i : order) {
-            ranked.push_back(pairs[i]);
-            const int f = is_axis(pairs[i]);
-            if (family_kept[f] < std::max(1, o.keep) && best[i] > -1e30 && best[i] >= family_best[f] - o.keep_db &&
-                (f == 0 || best[i] >= best[order[0]] - o.keep_db)) {
-                kept.push_back(pairs[i]);
-                ++family_kept[f];
-            }
-        }
-        all_pairs = ranked;
-        if (!kept.empty()) pairs = kept;
-    }
-    auto best_since = [&search](size_t first) { return search.best_since(first); };
+    std::vector<Pair> all_pairs = pairs;  // by coarse rank
+    if (coarse) coarse_stage(search, o, max_terms, coarse_judge, &pairs, &all_pairs);
     std::vector<int> terms = o.terms;
     std::sort(terms.begin(), terms.end());
     terms.erase(std::unique(terms.begin(), terms.end()), terms.end());
-    if (!o.resolutions.empty()) {
-        // Listed resolutions: every one (the grid), no climbing.
-        for (const auto& p : pairs)
-            for (int res : o.resolutions) {
-                // The sharp factor (half-angle, axis's G) at res with the other one at each of smooth_resolutions not
-                // above it (or at res too); iv's two factors always alike.
-                std::vector<int> others = {res};
-                if (!o.smooth_resolutions.empty() && sharp_factor(std::get<0>(p)) >= 0) {
-                    others.clear();
-                    for (int r : o.smooth_resolutions)
-                        if (r <= res) others.push_back(r);
-                }
-                for (int other : others)
-                    search.run(std::get<0>(p), std::get<1>(p), res, other, std::get<2>(p), terms, false, judge);
-            }
-    } else {
-        // The ladder: every kept pair on its first rung; the best one with a sharp factor
-        // (half-angle, axis's G) climbs while a rung gains climb_db (a sharper lobe needs a
-        // finer sharp factor; iv has no such factor and stays on its rung).
-        // The climber: the best pair with a sharp factor on the first rung, a sum-of-products one
-        // (its term count grows on the way) before a homomorphic one (one product).
-        auto climber_rank = [](const std::tuple<Param, HemiMap, Method>& q) {
-            return sharp_factor(std::get<0>(q)) < 0 ? 0 : std::get<2>(q) == Method::Homomorphic ? 1 : 2;
-        };
-        double top = -1e30;
-        int top_pair = -1, top_rank = 0;
-        std::vector<double> rung_best(pairs.size());
-        for (size_t i = 0; i < pairs.size(); ++i) {
-            const Param param = std::get<0>(pairs[i]);
-            const bool sharp = sharp_factor(param) >= 0;
-            const auto rung = sharp ? o.ladder[0] : std::make_pair(o.ladder_iv, o.ladder_iv);
-            const size_t first = out->candidates.size();
-            search.run(param, std::get<1>(pairs[i]), rung.first, rung.second, std::get<2>(pairs[i]), terms, false, judge);
-            rung_best[i] = best_since(first);
-            const int rank = climber_rank(pairs[i]);
-            if (rank > 0 && (rank > top_rank || (rank == top_rank && rung_best[i] > top)))
-                top = rung_best[i], top_pair = int(i), top_rank = rank;
-        }
-        // A sum-of-products half-angle pair always reaches the first rung: the coarse stage's
-        // 16 texels resolve no narrow lobe (ward's ay = 0.02 is 22.9-26 dB in every
-        // parameterization there, axis or iv ahead), and only a half-angle factor resolves a
-        // narrow isotropic lobe on the finer rungs (ward: gs-half 128/8 39.8 dB, axis 25.7).
-        auto half_sop = [](const std::tuple<Param, HemiMap, Method>& q) {
-            return half_angle_factor(std::get<0>(q)) >= 0 && std::get<2>(q) != Method::Homomorphic;
-        };
-        if (o.coarse_res > 0 && std::none_of(pairs.begin(), pairs.end(), half_sop))
-            for (const auto& q : all_pairs)
-                if (half_sop(q)) {
-                    pairs.push_back(q);
-                    const size_t first = out->candidates.size();
-                    search.run(std::get<0>(q), std::get<1>(q), o.ladder[0].first, o.ladder[0].second, std::get<2>(q),
-                               terms, false, judge);
-                    rung_best.push_back(best_since(first));
-                    if (top_rank < 2 || rung_best.back() > top)
-                        top = rung_best.back(), top_pair = int(pairs.size() - 1), top_rank = 2;
-                    break;
-                }
-        // A narrow isotropic lobe is resolved only by a half-angle factor on the finer rungs:
-        // within tie_db of axis on the first rung the half-angle pair climbs (phong n=1000
-        // under the 8:1 range: axis 29.44 dB against vh 29.35, axis 64/16 29.9 dB, vh 8/128
-        // 39.0). Further behind it does not (lafortune: axis 42.79, gs-half 42.45; climbed,
-        // gs-half 128/8 won by 0.9 dB at 7 times the bytes).
-        if (top_pair >= 0 && std::get<0>(pairs[size_t(top_pair)]) == Param::Axis) {
-            int half = -1;
-            for (size_t i = 0; i < pairs.size(); ++i)
-                if (half_sop(pairs[i]) && (half < 0 || rung_best[i] > rung_best[size_t(half)])) half = int(i);
-            if (half >= 0 && rung_best[size_t(half)] >= top - o.tie_db) top_pair = half;
-        }
-        if (top_pair >= 0) {
-            const auto& p = pairs[size_t(top_pair)];
-            search.climb(std::get<0>(p), std::get<1>(p), std::get<2>(p), rung_best[size_t(top_pair)], terms, judge);
-        }
-        if (o.max_bytes > 0)
-            for (const auto& q : pairs)
-                search.run(std::get<0>(q), std::get<1>(q), o.small_rung, o.small_rung, std::get<2>(q), terms, false,
-                           judge);
-    }
-    // More terms, while the largest term count still paid: the best candidate's configuration
-    // with each of more_terms (a new factorization, warm-started term by term as always).
-    if (o.climb_terms && !o.more_terms.empty()) {
-        const int w = choose_winner(&out->candidates, o);
-        if (w >= 0) {
-            const BakeCandidate b = out->candidates[size_t(w)];
-            double previous = -1e30;
-            for (const BakeCandidate& c : out->candidates)
-                if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
-                    c.res_h == b.res_h && c.method == b.method && c.terms == terms.back() - 1)
-                    previous = c.psnr;
-            double at_max = -1e30;
-            for (const BakeCandidate& c : out->candidates)
-                if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
-                    c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
-                    at_max = c.psnr;
-            if (b.psnr < o.goal_db && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
-                const int sharp = sharp_factor(b.param);
-                const int res = sharp == 1 ? b.res_h : b.res, other = sharp == 1 ? b.res : b.res_h;
-                std::vector<int> more;
-                for (int k : o.more_terms)
-                    if (k > terms.back() && k <= SEPAL_FMT_MAX_TERMS) more.push_back(k);
-                if (!more.empty()) search.run(b.param, b.map, res, other, b.method, more, false, judge);
-            }
-        }
-    }
+    if (!o.resolutions.empty()) grid(search, o, terms, judge, pairs);
+    else ladder(search, o, terms, judge, pairs, all_pairs);
+    if (o.climb_terms && !o.more_terms.empty()) more_terms(search, o, terms, judge);
     if (o.progress && isatty(2)) std::fprintf(stderr, "\r%80s\r", "");
     const int best = choose_winner(&out->candidates, o);
     mark_front(&out->candidates, o);
     out->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out->capped_share = capped.share();
     if (best < 0) {
-        double closest = -1e30;
-        std::string label;
-        for (const BakeCandidate& c : out->candidates)
-            if (c.ok && !c.coarse && c.psnr > closest) closest = c.psnr, label = c.label();
-        if (err && label.empty()) {
-            // Not one candidate could be made: say why (the first reason; all are listed).
-            for (const BakeCandidate& c : out->candidates)
-                if (!c.ok) {
-                    *err = "bake: every candidate failed; " + c.label() + ": " + c.note;
-                    break;
-                }
-        } else if (err) {
-            char buf[320];
-            std::snprintf(buf, sizeof buf,
-                          "bake: no candidate meets the budgets (best image %.2f dB on %s, %s); allow more terms, "
-                          "a higher --res, or loosen --min-psnr/--max-error/--max-passes/--max-bytes",
-                          closest, target_name(o.target), label.c_str());
-            *err = buf;
-        }
+        if (err) *err = no_winner(out->candidates, o);
         return false;
     }
     out->winner = best;
     BakeCandidate& w = out->candidates[size_t(best)];
-    char why[320];
-    if (budgeted(o))
-        std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d pass%s per light) at %.2f dB on %s%s",
-                      w.label().c_str(), w.ms, out->cost.backend.c_str(), w.passes, w.passes == 1 ? "" : "es", w.psnr,
-                      target_name(o.target), o.min_psnr >= 0 ? "" : " within --max-error");
-    else
-        std::snprintf(why, sizeof why, "%s: the best image on %s (%.2f dB over %zu views; within %.2g dB of the best, "
-                      "the fewest passes, then bytes)",
-                      w.label().c_str(), target_name(o.target), w.psnr, views.size(), o.tie_db);
-    out->why = why;
-    // A winner that misses half of f in direction space (relative cosine-weighted RMS >= 0.5)
-    // may still be the best image, but a user should hear it: sharp lobes below the texel
-    // size, grazing peaks, or a cap account for it (README "Extremes").
-    if (w.error_quantized >= 0.5) {
-        char buf[360];
-        std::snprintf(buf, sizeof buf,
-                      "the winner's relative error is %.3g (>= 0.5) over uniform direction pairs: f has detail the "
-                      "factors do not hold (lobes narrower than a texel, grazing peaks%s); the image figure is %.2f dB",
-                      w.error_quantized, o.radiance || o.cap > 0 ? ", or the white level or --cap" : "", w.psnr);
-        out->notes.push_back(buf);
-    }
+    winner_notes(w, o, views.size(), out);
     // The winner's counts: its factorization's, and its textures' and plan's (made again:
     // cheap and deterministic).
     const Factorization* fz = search.factorization_of(size_t(best));
@@ -907,20 +956,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         if (make_asset(fz->result.by_terms[size_t(w.terms - 1)], w.terms, q, &again, &aerr, &out->counts))
             record_counts(fz->result, fz->capped, ev.reference_rms(), out);
     }
-    if (o.radiance) {
-        char note[320];
-        char cap[96] = "not capped";
-        if (out->white > 0)
-            std::snprintf(cap, sizeof cap, "capped at %.3g/sr (white under every light of the range), %.3g%% of the samples",
-                          out->white,
-                          radiance.evaluations() ? 100.0 * double(radiance.capped()) / double(radiance.evaluations()) : 0.0);
-        std::snprintf(note, sizeof note, "radiance fit: f cos(theta_i) %s; diffuse part %.3g %.3g %.3g /sr%s drawn untextured",
-                      cap,
-                      out->diffuse.scale.x, out->diffuse.scale.y, out->diffuse.scale.z,
-                      out->diffuse.side ? " at most, a profile over the two cosines," : "");
-        out->notes.push_back(note);
-        out->capped_share = radiance.evaluations() ? double(radiance.capped()) / double(radiance.evaluations()) : 0.0;
-    }
+    if (o.radiance) radiance_note(radiance, out);
     out->asset = w.asset;
     if (o.held_out && !held_out(brdf, o, out, err)) return false;
     out->asset.material.error_float = float(w.error_float * ev.reference_rms());

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bake/asset_brdf.h"
 #include "util/image.h"
 #include "util/io.h"
 #include "util/json.h"
@@ -16,7 +17,48 @@ struct ExportInfo {
     std::string source, param, map, colour, method;
     int terms = 0;
     float ratio[3] = {1, 1, 1};
+    // What the textures' sum is drawn with (the material's flags, diffuse part, white level
+    // and light range): without it nobody outside the runtime can recompute what they stand for.
+    bool radiance = false, reciprocal = false;
+    double diffuse[3] = {0, 0, 0};
+    int diffuse_side = 0;
+    const float* diffuse_profile = nullptr;  // side * side * 3, index (j * side + i) * 3 + c
+    double white_level = 0;
+    const sepal_fmt_material* range = nullptr;  // light range (format 2.3), when declared
 };
+
+// The manifest's account of how the textures are drawn, and the diffuse profile as a PFM.
+bool export_shading(const ExportInfo& info, const std::string& dir, Json* manifest, std::string* err) {
+    Json& m = *manifest;
+    m["radiance"] = info.radiance;
+    m["reciprocal"] = info.reciprocal;
+    m["diffuse"] = {info.diffuse[0], info.diffuse[1], info.diffuse[2]};
+    if (info.diffuse_side > 0) {
+        const int n = info.diffuse_side;
+        Image img(n, n, 3);
+        for (int y = 0; y < n; ++y)  // image row y shows profile row (cos_o index) n - 1 - y
+            for (int i = 0; i < n * 3; ++i)
+                img.data[size_t(y) * n * 3 + i] = info.diffuse_profile[size_t(n - 1 - y) * n * 3 + i];
+        if (!write_pfm(dir + "/diffuse_profile.pfm", img, err)) return false;
+        m["diffuse_profile"] = {{"file", "diffuse_profile.pfm"},
+                                {"side", n},
+                                {"layout", "RGB in [0,1]; column i at cos(theta_i) = i / (side - 1), row j from the "
+                                           "bottom at cos(theta_o) = j / (side - 1); bilinear between nodes"}};
+    } else {
+        m["diffuse_profile"] = nullptr;
+    }
+    m["white_level"] = info.white_level > 0 ? Json(info.white_level) : Json(nullptr);
+    if (info.range)
+        m["light_range"] = {{"irradiance_min", double(info.range->irradiance_min)},
+                            {"irradiance_max", double(info.range->irradiance_max)},
+                            {"cone_degrees", double(info.range->cone_degrees)},
+                            {"max_lights", int(info.range->max_lights)}};
+    m["evaluation"] = "f_c cos(theta_i) = " +
+                      evaluation_formula(info.radiance, info.reciprocal, info.diffuse_side > 0, info.white_level > 0) +
+                      ", per channel c; G_k, H_k = scale * q + bias sampled bilinearly at the pair's coordinates "
+                      "(param, map); `sepal eval ASSET` prints it";
+    return true;
+}
 
 const char* kParamNames[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis"};
 
@@ -30,6 +72,7 @@ bool export_textures(const std::vector<AssetTexture>& textures, const ExportInfo
     manifest["layout"] =
         "term<k>_<G|H>_mip<l>.png: stored codes q in [0,1] per MIP level, value = scale * q + bias per channel; "
         "term<k>_<G|H>.pfm: level-0 values; images flipped so v grows upwards (bottom row = texture row 0)";
+    if (!export_shading(info, dir, &manifest, err)) return false;
     manifest["textures"] = Json::array();
     for (const AssetTexture& t : textures) {
         const sepal_fmt_texture& d = t.desc;
@@ -125,6 +168,15 @@ bool export_asset(const AssetData& a, const std::string& dir, std::string* err) 
     info.colour = a.material.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance";
     info.terms = int(a.material.terms);
     std::copy(a.material.ratio, a.material.ratio + 3, info.ratio);
+    info.radiance = (a.material.flags & SEPAL_MATERIAL_RADIANCE) != 0;
+    info.reciprocal = (a.material.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
+    std::copy(a.material.diffuse, a.material.diffuse + 3, info.diffuse);
+    if (a.diffuse_side > 0 && a.diffuse_profile.size() == size_t(a.diffuse_side) * a.diffuse_side * 3) {
+        info.diffuse_side = int(a.diffuse_side);
+        info.diffuse_profile = a.diffuse_profile.data();
+    }
+    info.white_level = a.material.white_level;
+    if (asset_has_light_range(a)) info.range = &a.material;
     return export_textures(a.textures, info, dir, err);
 }
 
@@ -137,6 +189,13 @@ bool export_factored(const Factored& f, const std::string& dir, std::string* err
     info.method = f.method;
     info.terms = f.term_count();
     info.ratio[0] = float(f.ratio.x), info.ratio[1] = float(f.ratio.y), info.ratio[2] = float(f.ratio.z);
+    info.radiance = f.radiance;
+    info.reciprocal = f.form == Form::Reciprocal;
+    for (int c = 0; c < 3; ++c) info.diffuse[c] = f.diffuse[c];
+    if (f.diffuse_side > 0 && f.diffuse_profile.size() == size_t(f.diffuse_side) * f.diffuse_side * 3) {
+        info.diffuse_side = f.diffuse_side;
+        info.diffuse_profile = f.diffuse_profile.data();
+    }
     std::vector<AssetTexture> textures;
     for (int k = 0; k < f.term_count(); ++k) {
         textures.push_back(codes16(f.terms[size_t(k)].g, k, true));

@@ -14,9 +14,14 @@
 //                                 and is not quantized: its float factors are written as
 //                                 16-bit codes of level 0 with their own scale and bias.
 //   DIR/term<k>_<G|H>.pfm         level 0 as the values it stands for (float PFM)
+//   DIR/diffuse_profile.pfm       the diffuse part's profile over (cos_i, cos_o), when there is one
 //   DIR/manifest.json             source, parameterization, map, colour, method, terms, colour
-//                                 ratio, and per texture: term, role, size, levels, channels,
-//                                 bits, scale, bias and its files (manifest "layout" says how)
+//                                 ratio; how the textures are drawn: the radiance and reciprocal
+//                                 flags, the diffuse part, its profile, the white level, the
+//                                 light range and the formula ("evaluation", as `sepal eval
+//                                 ASSET` computes it); and per texture: term, role, size, levels,
+//                                 channels, bits, scale, bias and its files ("layout" says how).
+//                                 docs/format.md, "Export", is the reference.
 // Images are flipped so that v grows upwards: texture row 0 (v = 0) is the image's bottom row,
 // as the texture is drawn. Files are written atomically; equal inputs give equal bytes.
 #pragma once

@@ -10,6 +10,7 @@
 #include "reference/render_exact.h"
 #include "sepal/sepal_asset.h"
 #include "sepal/sepal_material.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace sepal {
 namespace {

@@ -63,6 +63,36 @@ void print_counts(const BakeResult& r, std::FILE* out) {
     for (const std::string& n : r.notes) std::fprintf(out, "note: %s\n", n.c_str());
 }
 
+// The candidates, for people, whether or not one won: the image first, the direction-
+// space error as a diagnostic.
+void print_candidates(const BakeResult& r, FILE* out) {
+    if (!r.candidates.empty())
+        std::fprintf(out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
+                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
+    for (size_t i = 0; i < r.candidates.size(); ++i) {
+        const BakeCandidate& c = r.candidates[i];
+        const std::string label = c.label() + (c.coarse ? " (c)" : "");
+        if (!c.ok) {
+            std::fprintf(out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
+            continue;
+        }
+        std::fprintf(out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
+                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
+                     c.on_front ? "*" : " ",
+                     int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
+                     c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
+    }
+    if (!r.views.empty()) {
+        std::string names;
+        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
+        std::fprintf(out,
+                     "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
+                     "of one image pair); dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
+                     "prints); (c): coarse stage\n",
+                     target_name(r.target), names.c_str(), r.views.front().c_str(), target_name(r.target));
+    }
+}
+
 struct BakeArgs {
     std::string spec, out, report, export_dir, backend = "gles1", timings;
     std::string white = "auto", fit = "radiance", colour = "auto", fit_weight = "display";
@@ -106,30 +136,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         return bad(err);
     BakeResult r;
     const bool ok = bake(*brdf, o, &r, &err);
-    // The candidates, for people, whether or not one won: the image first, the direction-
-    // space error as a diagnostic.
-    if (!r.candidates.empty())
-        std::fprintf(io.out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
-                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
-    for (size_t i = 0; i < r.candidates.size(); ++i) {
-        const BakeCandidate& c = r.candidates[i];
-        const std::string label = c.label() + (c.coarse ? " (c)" : "");
-        if (!c.ok) {
-            std::fprintf(io.out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
-            continue;
-        }
-        std::fprintf(io.out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
-                     c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
-                     c.on_front ? "*" : " ",
-                     int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
-                     c.non_negative ? "" : (int(i) == r.winner ? " (signed)" : ""));
-    }
-    if (!r.views.empty()) {
-        std::string names;
-        for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
-        std::fprintf(io.out, "PSNR: on %s against the exact render, pooled over the training views %s; (c): coarse stage\n",
-                     target_name(r.target), names.c_str());
-    }
+    print_candidates(r, io.out);
     if (!args.report.empty()) {
         Json j;
         j["spec"] = brdf->spec();
@@ -210,8 +217,11 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         // The headline: conditions the search never saw, drawn from the same light range.
         const BakeCandidate& w = r.candidates[size_t(r.winner)];
         const double worst = *std::min_element(r.held_out_psnr_views.begin(), r.held_out_psnr_views.end());
-        std::fprintf(io.out, "held-out: %.2f dB on %s at %dx%d (worst condition %.2f dB; in-sample %.2f dB) for lights %s\n",
-                     r.held_out_psnr, target_name(r.target), o.judge_size, o.judge_size, worst, w.psnr,
+        std::fprintf(io.out,
+                     "held-out: %.2f dB on %s at %dx%d pooled over the %zu conditions below (worst %.2f dB; in-sample "
+                     "%.2f dB, pooled over the training views) for lights %s\n",
+                     r.held_out_psnr, target_name(r.target), o.judge_size, o.judge_size, r.held_out_views.size(), worst,
+                     w.psnr,
                      describe_light_range(o.light_range).c_str());
         for (size_t i = 0; i < r.held_out_views.size(); ++i)
             std::fprintf(io.out, "  %-20s %6.2f dB, %.2f%% of pixels over 16 levels  (%s)\n", r.held_out_views[i].c_str(),
@@ -308,7 +318,7 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--max-memory", o.max_memory_mb, "refuse factorizations above this estimate, MB")
         ->check(positive())->capture_default_str();
     app.add_option("--report", a->report, "write every candidate, the budgets and the counts as JSON");
-    app.add_option("--export", a->export_dir, "write every texture as PNG per MIP level (16-bit for --bits 16), level 0 as PFM, and manifest.json into DIR");
+    app.add_option("--export", a->export_dir, "write every texture as PNG per MIP level (16-bit for --bits 16), level 0 as PFM, the diffuse profile as PFM, and manifest.json (flags, diffuse part, white level, light range, the evaluation formula: docs/format.md) into DIR");
     return [a](const CommandIO& io) { return run_bake(*a, io); };
 }
 

@@ -45,7 +45,7 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
     if (std::isinf(d.psnr))
         std::fprintf(io.out, "psnr       inf dB (identical)\n");
     else
-        std::fprintf(io.out, "psnr       %.2f dB\n", d.psnr);
+        std::fprintf(io.out, "psnr       %.2f dB (of this image pair; the bake's figures pool several views)\n", d.psnr);
     std::fprintf(io.out, "max diff   %.2f (8-bit units)\n", d.max_diff);
     std::fprintf(io.out, "over %-6g %.4f%% of pixels (%lld of %lld)\n", d.threshold,
                  100.0 * d.share_over, (long long)d.pixels_over, (long long)d.pixels);

@@ -1,4 +1,5 @@
-// sepal info SPEC [--samples N] | sepal info --models: describe a BRDF or list the models.
+// sepal info SPEC|ASSET [--samples N] | sepal info --models: describe a BRDF or list the models.
+#include "bake/asset_brdf.h"
 #include "brdf/brdf.h"
 #include "spec/spec.h"
 #include "brdf/brdf_models.h"
@@ -6,6 +7,7 @@
 #include "brdf/brdf_util.h"
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "util/io.h"
 #include "util/parallel.h"
 #include "util/progress.h"
 
@@ -26,7 +28,10 @@ int run_info(const InfoArgs& a, const CommandIO& io) {
         return kExitOk;
     }
     std::string err;
-    std::unique_ptr<Brdf> f = make_brdf(a.spec, &err);
+    // An asset is described as the BRDF it represents (bake/asset_brdf.h): its albedo
+    // beside its source's (`sepal info SOURCE`) says what the bake kept.
+    std::unique_ptr<Brdf> f =
+        file_extension(a.spec) == "sepal" ? AssetBrdf::load(a.spec, &err) : make_brdf(a.spec, &err);
     if (!f) {
         std::fprintf(io.err, "sepal info: %s\n", err.c_str());
         return kExitBadInput;
@@ -67,7 +72,9 @@ int run_info(const InfoArgs& a, const CommandIO& io) {
 
 CommandRun setup_info(CLI::App& app) {
     auto a = std::make_shared<InfoArgs>();
-    CLI::Option* spec = app.add_option("SPEC", a->spec, "BRDF spec (model:param=value,...) or measured file");
+    CLI::Option* spec =
+        app.add_option("SPEC", a->spec,
+                       "BRDF spec (model:param=value,...), measured file, or a .sepal asset (the BRDF it represents)");
     CLI::Option* models = app.add_flag("--models", a->models, "list the analytic models and their parameters");
     spec->excludes(models);
     app.add_option("--samples", a->samples, "quadrature samples per albedo")

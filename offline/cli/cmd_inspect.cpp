@@ -80,10 +80,13 @@ int run_inspect(const std::string& path, const CommandIO& io) {
             if (fit.contains("held_out_worst") && fit["held_out_worst"].is_string())
                 worst = std::strtod(fit["held_out_worst"].get<std::string>().c_str(), nullptr);
             if (held >= 0)
-                std::fprintf(io.out, "image       held-out %.2f dB on %s, emulated at the bake's judge size (worst condition %.2f dB), in-sample %.2f dB\n",
+                std::fprintf(io.out,
+                             "image       held-out %.2f dB on %s, emulated at the bake's judge size, pooled over its "
+                             "held-out conditions (worst %.2f dB), in-sample %.2f dB pooled over its training views "
+                             "(sepal diff: one image pair)\n",
                              held, target.c_str(), worst, in);
             else if (in >= 0)
-                std::fprintf(io.out, "image       in-sample %.2f dB on %s (the views the bake chose on; no held-out figure)\n",
+                std::fprintf(io.out, "image       in-sample %.2f dB on %s pooled over the views the bake chose on (no held-out figure)\n",
                              in, target.c_str());
         }
     }

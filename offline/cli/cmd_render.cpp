@@ -111,7 +111,7 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
         SceneGlInfo info;
         if (!render_scene_gl(scene, fr, o, &rgba, &info, &err)) return fail(err);
         line = info.device + "; " + std::to_string(info.stats.draw_calls) + " draws, " +
-               std::to_string(info.stats.doublings) + " doublings";
+               std::to_string(info.stats.doublings) + " doublings in this scene's frame";
     } else {
         return fail("unknown backend '" + backend + "'");
     }
@@ -216,61 +216,38 @@ bool framebuffer_arg(const RenderArgs& args, int* framebuffer, std::string* err)
     return sepal_ports::parse_framebuffer(args.framebuffer, framebuffer, err);
 }
 
-// gles1-model, gles2-model: the GL ES pipeline emulated on the CPU, rounding every pass to
-// the framebuffer's bits (8888 or 565).
-int run_render_model(RenderArgs& args, int framebuffer, const CommandIO& io) {
+// The GL ES 1.1 emulator (gles1-model, gles2-model): what gles1 (or the gles2 multipass
+// path) shows, on the CPU, rounding every pass to the framebuffer's bits (8888 or 565).
+int render_model(RenderArgs& args, int framebuffer, const CommandIO& io) {
     sepal_ports::SceneSetup& setup = args.setup;
     const std::string& backend = args.backend;
-    const std::string& out_path = args.out_path;
     std::string err;
     std::vector<uint8_t> bytes, rgba;
     uint32_t mask = 0;
     sepal_draw_stats stats = {};
-    if (!args.diffuse_path.empty() || !args.float_path.empty() || args.float_target || out_path.empty())
+    if (!args.diffuse_path.empty() || !args.float_path.empty() || args.float_target || args.out_path.empty())
         err = backend + " writes an 8-bit PNG (-o) and takes no --diffuse, --float or --float-target";
     if (!err.empty() || !sepal_ports::parse_mask(args.mask_text, &mask, &err) ||
         !sepal_ports::load_scene_mesh(&setup, &err) || !sepal_ports::read_asset_file(args.input, &bytes, &err) ||
         !sepal_ports::render_asset_emulated(bytes.data(), bytes.size(), setup, backend == "gles1-model" ? 1 : 2,
                                             mask, &rgba, &err, &stats, framebuffer) ||
-        !write_png(out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
+        !write_png(args.out_path, to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height)), &err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
-    std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings\n",
+    std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings in this scene's frame\n",
                  backend.c_str(), setup.width, setup.height, stats.doublings);
     std::fprintf(io.out, "framebuffer %s bits per channel, no dithering (modelled)\n",
                  framebuffer == 565 ? "5/6/5" : "8/8/8");
     const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
     if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
-    std::fprintf(io.out, "png        %s\n", out_path.c_str());
+    std::fprintf(io.out, "png        %s\n", args.out_path.c_str());
     return kExitOk;
 }
 
-int run_render(RenderArgs& args, const CommandIO& io) {
+// An asset on a GL backend (headless) or the CPU backend; opt: the GL backend's options.
+int render_asset(RenderArgs& args, sepal_ports::GlRenderOptions opt, int framebuffer, const CommandIO& io) {
     sepal_ports::SceneSetup& setup = args.setup;
-    std::string chosen_why;
-    if (args.backend.empty()) {
-        std::string err;
-        if (!default_backend(args.input, &args.backend, &chosen_why, &err)) {
-            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-            return kExitBadInput;
-        }
-        if (args.backend != "exact")  // an asset: say which of several backends it got
-            std::fprintf(io.out, "backend    %s: %s (--backend picks another)\n", args.backend.c_str(),
-                         chosen_why.c_str());
-    } else if (args.backend == "exact" && file_extension(args.input) == "sepal") {
-        std::fprintf(io.err,
-                     "sepal render: %s is a baked asset; --backend exact renders a BRDF spec or measured file. "
-                     "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, gles1-model, gles2-model) or leave "
-                     "--backend out\n",
-                     args.input.c_str());
-        return kExitBadInput;
-    }
-    if (args.supersample != kReferenceSupersample && (args.backend != "exact" || !args.env.empty())) {
-        std::fprintf(io.err, "sepal render: --supersample applies to the exact backend without --env (got %s%s)\n",
-                     args.backend.c_str(), args.env.empty() ? "" : " with --env");
-        return kExitBadInput;
-    }
     const std::string& backend = args.backend;
     const std::string& out_path = args.out_path;
     const std::string& float_path = args.float_path;
@@ -278,120 +255,89 @@ int run_render(RenderArgs& args, const CommandIO& io) {
     const std::string& diffuse_path = args.diffuse_path;
     const bool float_target = args.float_target;
     std::string err;
-    int framebuffer = 8888;
-    if (!framebuffer_arg(args, &framebuffer, &err)) {
+    std::vector<uint8_t> bytes, rgba;
+    sepal_ports::GlRenderInfo info;
+    sepal_ports::Rgba8Image diffuse;
+    if (!diffuse_path.empty() && !sepal_ports::read_diffuse_png(diffuse_path, &diffuse, &err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
-    // A frame over 2 Mpixels takes seconds (the exact backend shades about
-    // 1.3 Mpixels a second on 2 cores: 8192x8192 is close to a minute) and memory in
-    // proportion: said on stderr before it starts, with progress on a terminal, and refused
-    // when its buffers cannot fit in this machine's memory.
-    const double pixels = double(setup.width) * double(setup.height);
-    const double need_mb = pixels * kRenderBytesPerPixel / (1024.0 * 1024.0);
-    const double physical_mb = physical_memory_mb();
-    if (physical_mb > 0 && need_mb > physical_mb) {
-        std::fprintf(io.err, "sepal render: --size %dx%d needs about %.0f MB; this machine has %.0f MB of memory\n",
-                     setup.width, setup.height, need_mb, physical_mb);
-        return kExitBadInput;
-    }
-    const bool large = pixels > kLargeFramePixels;
-    if (large)
-        std::fprintf(io.err, "sepal render: %dx%d is %.1f Mpixels (about %.0f MB): this can take a minute%s\n",
-                     setup.width, setup.height, pixels / 1e6, need_mb,
-                     isatty(fileno(io.err)) ? "" : " (progress is shown on a terminal)");
-    if (out_path.empty() && float_path.empty()) {
-        std::fprintf(io.err, "sepal render: give -o out.png or --float out.pfm\n");
-        return kExitBadInput;
-    }
-    if (!check_output("-o", out_path, &err) || !check_output("--float", float_path, &err)) {
+    opt.diffuse = diffuse_path.empty() ? nullptr : &diffuse;
+    opt.float_target = float_target;
+    opt.framebuffer = framebuffer;
+    if (float_target && opt.gles_version != 2) err = "--float-target needs a gles2 backend";
+    if (!float_path.empty() && backend != "cpu" && !float_target)
+        err = "--float: the GL backends render 8-bit images (add --float-target on gles2 backends)";
+    if (err.empty() && file_extension(args.input) != "sepal")
+        err = "backend " + backend + " renders a baked asset (.sepal); '" + args.input + "' is not one";
+    if (!err.empty() || !sepal_ports::parse_mask(mask_text, &opt.mask, &err) ||
+        !sepal_ports::load_scene_mesh(&setup, &err) ||
+        !sepal_ports::read_asset_file(args.input, &bytes, &err)) {
         std::fprintf(io.err, "sepal render: %s\n", err.c_str());
         return kExitBadInput;
     }
-    sepal_ports::GlRenderOptions opt;
-    const bool model = backend == "gles1-model" || backend == "gles2-model";
-    if (model) return run_render_model(args, framebuffer, io);
-    if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") {
-        std::vector<uint8_t> bytes, rgba;
-        sepal_ports::GlRenderInfo info;
-        sepal_ports::Rgba8Image diffuse;
-        if (!diffuse_path.empty() && !sepal_ports::read_diffuse_png(diffuse_path, &diffuse, &err)) {
+    if (backend == "cpu") {
+        std::vector<float> rgb;
+        double ms = 0;
+        sepal_draw_stats stats = {};
+        if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, opt.diffuse, &rgb, &ms, &err,
+                                           &stats)) {
             std::fprintf(io.err, "sepal render: %s\n", err.c_str());
             return kExitBadInput;
         }
-        opt.diffuse = diffuse_path.empty() ? nullptr : &diffuse;
-        opt.float_target = float_target;
-        opt.framebuffer = framebuffer;
-        if (float_target && opt.gles_version != 2) err = "--float-target needs a gles2 backend";
-        if (!float_path.empty() && backend != "cpu" && !float_target)
-            err = "--float: the GL backends render 8-bit images (add --float-target on gles2 backends)";
-        if (err.empty() && file_extension(args.input) != "sepal")
-            err = "backend " + backend + " renders a baked asset (.sepal); '" + args.input + "' is not one";
-        if (!err.empty() || !sepal_ports::parse_mask(mask_text, &opt.mask, &err) ||
-            !sepal_ports::load_scene_mesh(&setup, &err) ||
-            !sepal_ports::read_asset_file(args.input, &bytes, &err)) {
-            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-            return kExitBadInput;
-        }
-        if (backend == "cpu") {
-            std::vector<float> rgb;
-            double ms = 0;
-            sepal_draw_stats stats = {};
-            if (!sepal_ports::render_asset_cpu(bytes.data(), bytes.size(), setup, opt.diffuse, &rgb, &ms, &err,
-                                               &stats)) {
-                std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-                return kExitBadInput;
-            }
-            const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
-            if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
-            Image img(setup.width, setup.height, 3);
-            img.data = rgb;
-            int64_t clipped = 0;
-            OutputGuard written;
-            if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
-                (!float_path.empty() && !write_pfm(float_path, img, &err)) || !written.commit(&err)) {
-                std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-                return kExitBadInput;
-            }
-            std::fprintf(io.out, "backend    cpu, %dx%d, %.1f ms\n", setup.width, setup.height, ms);
-            if (!out_path.empty())
-                std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
-                             (long long)clipped);
-            if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
-            return kExitOk;
-        }
-        if (out_path.empty() ||
-            !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba, &info, &err)) {
-            std::fprintf(io.err, "sepal render: %s\n", out_path.empty() ? "-o out.png is required" : err.c_str());
-            return kExitBadInput;
-        }
-        const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
-        Image fimg(setup.width, setup.height, 3);
-        fimg.data = info.float_rgb;
-        OutputGuard written;
-        if (!write_png(out_path, img, &err) || (!float_path.empty() && !write_pfm(float_path, fimg, &err)) ||
-            !written.commit(&err)) {
-            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
-            return kExitBadInput;
-        }
-        std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
-                     info.device.c_str());
-        std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings\n",
-                     info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
-                     info.stats.copies, info.stats.doublings);
-        std::fprintf(io.out, "framebuffer %d/%d/%d bits per channel, GL_DITHER %s\n", info.caps.red_bits,
-                     info.caps.green_bits, info.caps.blue_bits, info.caps.dither ? "on" : "off");
-        std::fprintf(io.out, "png        %s\n", out_path.c_str());
-        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, args.input);
+        const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
         if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
+        Image img(setup.width, setup.height, 3);
+        img.data = rgb;
+        int64_t clipped = 0;
+        OutputGuard written;
+        if ((!out_path.empty() && !write_png(out_path, img, &err, &clipped)) ||
+            (!float_path.empty() && !write_pfm(float_path, img, &err)) || !written.commit(&err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        std::fprintf(io.out, "backend    cpu, %dx%d, %.1f ms\n", setup.width, setup.height, ms);
+        if (!out_path.empty())
+            std::fprintf(io.out, "png        %s (%lld channel values clipped to [0,1])\n", out_path.c_str(),
+                         (long long)clipped);
+        if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
         return kExitOk;
     }
-    if (backend != "exact") {
-        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, "
-                     "gles1-model, gles2-model)\n",
-                     backend.c_str());
+    if (out_path.empty() ||
+        !sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba, &info, &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", out_path.empty() ? "-o out.png is required" : err.c_str());
         return kExitBadInput;
     }
+    const Image img = to_rgb(image_from_rgba8(rgba.data(), setup.width, setup.height));
+    Image fimg(setup.width, setup.height, 3);
+    fimg.data = info.float_rgb;
+    OutputGuard written;
+    if (!write_png(out_path, img, &err) || (!float_path.empty() && !write_pfm(float_path, fimg, &err)) ||
+        !written.commit(&err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
+    std::fprintf(io.out, "backend    %s, %dx%d, %.2f ms (%s)\n", backend.c_str(), setup.width, setup.height, info.ms,
+                 info.device.c_str());
+    std::fprintf(io.out, "path       %s: %d draws, %d full-screen passes, %d copies, %d doublings in this scene's frame\n",
+                 info.path.c_str(), info.stats.draw_calls, info.stats.fullscreen_passes,
+                 info.stats.copies, info.stats.doublings);
+    std::fprintf(io.out, "framebuffer %d/%d/%d bits per channel, GL_DITHER %s\n", info.caps.red_bits,
+                 info.caps.green_bits, info.caps.blue_bits, info.caps.dither ? "on" : "off");
+    std::fprintf(io.out, "png        %s\n", out_path.c_str());
+    const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), info.stats, args.input);
+    if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
+    return kExitOk;
+}
+
+// The exact backend: a BRDF spec or measured file per pixel (or Monte Carlo under --env).
+int render_exact_backend(RenderArgs& args, bool large, const CommandIO& io) {
+    sepal_ports::SceneSetup& setup = args.setup;
+    const std::string& out_path = args.out_path;
+    const std::string& float_path = args.float_path;
+    const std::string& mask_text = args.mask_text;
+    const std::string& diffuse_path = args.diffuse_path;
+    std::string err;
     if (!mask_text.empty() || !diffuse_path.empty()) {
         std::fprintf(io.err, "sepal render: --mask and --diffuse apply to the baked-asset backends only\n");
         return kExitBadInput;
@@ -433,6 +379,74 @@ int run_render(RenderArgs& args, const CommandIO& io) {
                      (long long)clipped);
     if (!float_path.empty()) std::fprintf(io.out, "pfm        %s\n", float_path.c_str());
     return kExitOk;
+}
+
+int run_render(RenderArgs& args, const CommandIO& io) {
+    sepal_ports::SceneSetup& setup = args.setup;
+    std::string chosen_why;
+    if (args.backend.empty()) {
+        std::string err;
+        if (!default_backend(args.input, &args.backend, &chosen_why, &err)) {
+            std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+            return kExitBadInput;
+        }
+        if (args.backend != "exact")  // an asset: say which of several backends it got
+            std::fprintf(io.out, "backend    %s: %s (--backend picks another)\n", args.backend.c_str(),
+                         chosen_why.c_str());
+    } else if (args.backend == "exact" && file_extension(args.input) == "sepal") {
+        std::fprintf(io.err,
+                     "sepal render: %s is a baked asset; --backend exact renders a BRDF spec or measured file. "
+                     "Give an asset backend (gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, gles1-model, gles2-model) or leave "
+                     "--backend out\n",
+                     args.input.c_str());
+        return kExitBadInput;
+    }
+    if (args.supersample != kReferenceSupersample && (args.backend != "exact" || !args.env.empty())) {
+        std::fprintf(io.err, "sepal render: --supersample applies to the exact backend without --env (got %s%s)\n",
+                     args.backend.c_str(), args.env.empty() ? "" : " with --env");
+        return kExitBadInput;
+    }
+    const std::string& backend = args.backend;
+    const std::string& out_path = args.out_path;
+    const std::string& float_path = args.float_path;
+    std::string err;
+    // A frame over 2 Mpixels takes seconds (the exact backend shades about
+    // 1.3 Mpixels a second on 2 cores: 8192x8192 is close to a minute) and memory in
+    // proportion: said on stderr before it starts, with progress on a terminal, and refused
+    // when its buffers cannot fit in this machine's memory.
+    const double pixels = double(setup.width) * double(setup.height);
+    const double need_mb = pixels * kRenderBytesPerPixel / (1024.0 * 1024.0);
+    const double physical_mb = physical_memory_mb();
+    if (physical_mb > 0 && need_mb > physical_mb) {
+        std::fprintf(io.err, "sepal render: --size %dx%d needs about %.0f MB; this machine has %.0f MB of memory\n",
+                     setup.width, setup.height, need_mb, physical_mb);
+        return kExitBadInput;
+    }
+    const bool large = pixels > kLargeFramePixels;
+    if (large)
+        std::fprintf(io.err, "sepal render: %dx%d is %.1f Mpixels (about %.0f MB): this can take a minute%s\n",
+                     setup.width, setup.height, pixels / 1e6, need_mb,
+                     isatty(fileno(io.err)) ? "" : " (progress is shown on a terminal)");
+    if (out_path.empty() && float_path.empty()) {
+        std::fprintf(io.err, "sepal render: give -o out.png or --float out.pfm\n");
+        return kExitBadInput;
+    }
+    int framebuffer = 8888;
+    if (!check_output("-o", out_path, &err) || !check_output("--float", float_path, &err) ||
+        !framebuffer_arg(args, &framebuffer, &err)) {
+        std::fprintf(io.err, "sepal render: %s\n", err.c_str());
+        return kExitBadInput;
+    }
+    if (backend == "gles1-model" || backend == "gles2-model") return render_model(args, framebuffer, io);
+    sepal_ports::GlRenderOptions opt;
+    if (sepal_ports::parse_gl_backend(backend, &opt) || backend == "cpu") return render_asset(args, opt, framebuffer, io);
+    if (backend != "exact") {
+        std::fprintf(io.err, "sepal render: unknown backend '%s' (exact, gles1, gles2, gles2-fused, gles2-fused-pixel, cpu, "
+                     "gles1-model, gles2-model)\n",
+                     backend.c_str());
+        return kExitBadInput;
+    }
+    return render_exact_backend(args, large, io);
 }
 
 // A scene file, or one material in a scene of flags.

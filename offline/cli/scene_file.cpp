@@ -13,6 +13,7 @@
 #include "spec/spec.h"
 #include "util/io.h"
 #include "util/json.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace sepal {
 namespace {

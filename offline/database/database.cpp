@@ -79,6 +79,108 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Sums the chunks' Gram matrices (linear, log) in chunk order (thread-count independent),
+// then mirrors the lower halves.
+void sum_grams(const std::vector<double>& part, size_t chunks, size_t K, std::vector<double>* gram,
+               std::vector<double>* gram_log) {
+    gram->assign(K * K, 0.0);
+    gram_log->assign(K * K, 0.0);
+    for (size_t ch = 0; ch < chunks; ++ch)
+        for (size_t i = 0; i < K * K; ++i) {
+            (*gram)[i] += part[ch * 2 * K * K + i];
+            (*gram_log)[i] += part[ch * 2 * K * K + K * K + i];
+        }
+    // rankUpdate filled the column-major lower triangle: (row b, col a) at a * K + b, b > a.
+    for (size_t a = 0; a < K; ++a)
+        for (size_t b = a + 1; b < K; ++b) {
+            (*gram)[b * K + a] = (*gram)[a * K + b];
+            (*gram_log)[b * K + a] = (*gram_log)[a * K + b];
+        }
+}
+
+// Planning pool: stratified random over the V valid cells (in grid order, so spread over
+// theta_h, which the sqrt spacing already makes dense near the specular peak).
+std::vector<uint32_t> planning_pool(size_t V, size_t pool_cells) {
+    std::vector<uint32_t> pool;
+    const size_t P = std::min(std::max<size_t>(pool_cells, 1), V);
+    for (size_t i = 0; i < P; ++i) {
+        const double u = P == V ? 0.0 : counter_uniform(0x5eba1db, i);
+        pool.push_back(uint32_t(std::min(V - 1, size_t((double(i) + u) * double(V) / double(P)))));
+    }
+    return pool;
+}
+
+// Everything but the table, which the workers wrote: header, names, valid cells, Gram
+// matrices, the planning pool's cells and rows; checksums last.
+void write_tables(const NbrdfSet& set, const std::vector<int>& idx, const DatabaseGrid& g, const Layout& l,
+                  uint64_t names_hash, const std::vector<uint32_t>& valid, const std::vector<uint32_t>& pool,
+                  const std::vector<double>& gram, const std::vector<double>& gram_log, uint8_t* base) {
+    const size_t K = idx.size(), V = valid.size(), P = pool.size(), R = 3 * V;
+    const float* table = reinterpret_cast<const float*>(base + l.table);
+    Header h;
+    std::memset(&h, 0, sizeof h);
+    std::memcpy(h.magic, kMagic, 8);
+    h.version = kVersion;
+    h.k = uint32_t(K);
+    h.nh = uint32_t(g.n_theta_h);
+    h.nd = uint32_t(g.n_theta_d);
+    h.np = uint32_t(g.n_phi_d);
+    h.valid = V;
+    h.pool = P;
+    h.json_hash = set.content_hash();
+    h.names_hash = names_hash;
+    h.off_names = l.names;
+    h.off_valid = l.valid;
+    h.off_gram = l.gram;
+    h.off_pool_cells = l.pool_cells;
+    h.off_pool = l.pool;
+    h.off_table = l.table;
+    h.total = l.total;
+    for (size_t k = 0; k < K; ++k) {
+        const std::string& n = set.materials()[size_t(idx[k])].name();
+        std::memcpy(base + l.names + k * kNameBytes, n.data(), n.size());
+    }
+    std::memcpy(base + l.valid, valid.data(), V * 4);
+    std::memcpy(base + l.gram, gram.data(), K * K * 8);
+    std::memcpy(base + l.gram + K * K * 8, gram_log.data(), K * K * 8);
+    std::memcpy(base + l.pool_cells, pool.data(), P * 4);
+    float* pool_rows = reinterpret_cast<float*>(base + l.pool);
+    for (size_t i = 0; i < 3 * P; ++i)
+        for (size_t k = 0; k < K; ++k)
+            pool_rows[i * K + k] = table[k * R + 3 * size_t(pool[i / 3]) + i % 3];
+    h.table_checksum = hash_bytes(table, R * K * sizeof(float));
+    h.meta_checksum = hash_bytes(base + sizeof(Header), l.table - sizeof(Header),
+                                 hash_bytes(&h, sizeof h));
+    std::memcpy(base, &h, sizeof h);
+}
+
+// The materials, by index into the set (all when `names` is empty), and the hash of their
+// names; false with the reason for an unknown, repeated or over-long name.
+bool select_materials(const NbrdfSet& set, const std::vector<std::string>& names, std::vector<int>* out,
+                      uint64_t* names_hash, std::string* why) {
+    std::vector<int>& idx = *out;
+    if (names.empty()) {
+        for (size_t k = 0; k < set.size(); ++k) idx.push_back(int(k));
+    } else {
+        for (const std::string& n : names) {
+            const int i = set.find(n);
+            if (i < 0) return *why = "unknown material '" + n + "' (not in " + set.path() + ")", false;
+            for (int j : idx)
+                if (j == i) return *why = "material '" + n + "' is listed twice", false;
+            idx.push_back(i);
+        }
+    }
+    if (idx.empty() || idx.size() > 256) return *why = "1..256 materials, not " + std::to_string(idx.size()), false;
+    std::string names_blob;
+    for (int i : idx) {
+        const std::string& n = set.materials()[size_t(i)].name();
+        if (n.size() >= kNameBytes) return *why = "material name '" + n + "' is over 63 bytes", false;
+        names_blob += n + '\n';
+    }
+    *names_hash = hash_bytes(names_blob.data(), names_blob.size());
+    return true;
+}
+
 }  // namespace
 
 std::string default_database_cache_dir() {
@@ -197,27 +299,10 @@ std::unique_ptr<BrdfDatabase> BrdfDatabase::open(const NbrdfSet& set, const Data
         g.n_theta_d > 512 || g.n_phi_d > 512 || g.cells() > (size_t(1) << 24))
         return fail("grid " + std::to_string(g.n_theta_h) + " x " + std::to_string(g.n_theta_d) +
                     " x " + std::to_string(g.n_phi_d) + " is outside 1..512 per axis, 2^24 cells");
-    // The materials, by index into the set.
     std::vector<int> idx;
-    if (o.materials.empty()) {
-        for (size_t k = 0; k < set.size(); ++k) idx.push_back(int(k));
-    } else {
-        for (const std::string& n : o.materials) {
-            const int i = set.find(n);
-            if (i < 0) return fail("unknown material '" + n + "' (not in " + set.path() + ")");
-            for (int j : idx)
-                if (j == i) return fail("material '" + n + "' is listed twice");
-            idx.push_back(i);
-        }
-    }
-    if (idx.empty() || idx.size() > 256) return fail("1..256 materials, not " + std::to_string(idx.size()));
-    std::string names_blob;
-    for (int i : idx) {
-        const std::string& n = set.materials()[size_t(i)].name();
-        if (n.size() >= kNameBytes) return fail("material name '" + n + "' is over 63 bytes");
-        names_blob += n + '\n';
-    }
-    const uint64_t names_hash = hash_bytes(names_blob.data(), names_blob.size());
+    uint64_t names_hash = 0;
+    std::string why;
+    if (!select_materials(set, o.materials, &idx, &names_hash, &why)) return fail(why);
     uint64_t key = hash_bytes(&kVersion, sizeof kVersion, set.content_hash() ^ names_hash);
     const int dims[4] = {g.n_theta_h, g.n_theta_d, g.n_phi_d, int(o.pool_cells)};
     key = hash_bytes(dims, sizeof dims, key);
@@ -250,14 +335,8 @@ std::unique_ptr<BrdfDatabase> BrdfDatabase::open(const NbrdfSet& set, const Data
     }
     const size_t V = valid.size();
     if (V == 0) return fail("the grid has no cell with both directions above the horizon");
-    // Planning pool: stratified random over the valid cells (in grid order, so spread over
-    // theta_h, which the sqrt spacing already makes dense near the specular peak).
-    std::vector<uint32_t> pool;
-    const size_t P = std::min(std::max<size_t>(o.pool_cells, 1), V);
-    for (size_t i = 0; i < P; ++i) {
-        const double u = P == V ? 0.0 : counter_uniform(0x5eba1db, i);
-        pool.push_back(uint32_t(std::min(V - 1, size_t((double(i) + u) * double(V) / double(P)))));
-    }
+    const std::vector<uint32_t> pool = planning_pool(V, o.pool_cells);
+    const size_t P = pool.size();
     const Layout l = layout(K, V, P);
     if (!make_dirs(dir, err)) return nullptr;
     // The space is said and reserved before the work: the table is written through a mapping,
@@ -340,55 +419,10 @@ std::unique_ptr<BrdfDatabase> BrdfDatabase::open(const NbrdfSet& set, const Data
             }
         }
     });
-    // Sum the chunks in chunk order (thread-count independent), then mirror the lower halves.
-    std::vector<double> gram(K * K, 0.0), gram_log(K * K, 0.0);
-    for (size_t ch = 0; ch < chunks; ++ch)
-        for (size_t i = 0; i < K * K; ++i) {
-            gram[i] += part[ch * 2 * K * K + i];
-            gram_log[i] += part[ch * 2 * K * K + K * K + i];
-        }
-    // rankUpdate filled the column-major lower triangle: (row b, col a) at a * K + b, b > a.
-    for (size_t a = 0; a < K; ++a)
-        for (size_t b = a + 1; b < K; ++b) {
-            gram[b * K + a] = gram[a * K + b];
-            gram_log[b * K + a] = gram_log[a * K + b];
-        }
+    std::vector<double> gram, gram_log;
+    sum_grams(part, chunks, K, &gram, &gram_log);
 
-    Header h;
-    std::memset(&h, 0, sizeof h);
-    std::memcpy(h.magic, kMagic, 8);
-    h.version = kVersion;
-    h.k = uint32_t(K);
-    h.nh = uint32_t(g.n_theta_h);
-    h.nd = uint32_t(g.n_theta_d);
-    h.np = uint32_t(g.n_phi_d);
-    h.valid = V;
-    h.pool = P;
-    h.json_hash = set.content_hash();
-    h.names_hash = names_hash;
-    h.off_names = l.names;
-    h.off_valid = l.valid;
-    h.off_gram = l.gram;
-    h.off_pool_cells = l.pool_cells;
-    h.off_pool = l.pool;
-    h.off_table = l.table;
-    h.total = l.total;
-    for (size_t k = 0; k < K; ++k) {
-        const std::string& n = set.materials()[size_t(idx[k])].name();
-        std::memcpy(base + l.names + k * kNameBytes, n.data(), n.size());
-    }
-    std::memcpy(base + l.valid, valid.data(), V * 4);
-    std::memcpy(base + l.gram, gram.data(), K * K * 8);
-    std::memcpy(base + l.gram + K * K * 8, gram_log.data(), K * K * 8);
-    std::memcpy(base + l.pool_cells, pool.data(), P * 4);
-    float* pool_rows = reinterpret_cast<float*>(base + l.pool);
-    for (size_t i = 0; i < 3 * P; ++i)
-        for (size_t k = 0; k < K; ++k)
-            pool_rows[i * K + k] = table[k * R + 3 * size_t(pool[i / 3]) + i % 3];
-    h.table_checksum = hash_bytes(table, R * K * sizeof(float));
-    h.meta_checksum = hash_bytes(base + sizeof(Header), l.table - sizeof(Header),
-                                 hash_bytes(&h, sizeof h));
-    std::memcpy(base, &h, sizeof h);
+    write_tables(set, idx, g, l, names_hash, valid, pool, gram, gram_log, base);
     const bool synced = msync(m, l.total, MS_SYNC) == 0;
     const std::string sync_why = synced ? "" : std::strerror(errno);
     munmap(m, l.total);

@@ -246,6 +246,85 @@ void bin_points(SampleAxis axis, const std::vector<float>& z_edges, int Pp, int 
         }
 }
 
+// The stored sampler's own divergence from the data (both levels, float rounding), relative
+// to the data's mass: KL is invariant under a change of variables, so this compares
+// parameterizations.
+double stored_kl(const SamplerData& d, const Eigen::MatrixXd& Y, int L, int Tp, int Pp) {
+    const int rows = int(Y.rows()), cols = int(Y.cols());
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, cols);
+    for (int l = 0; l < L; ++l) {
+        const float* uc = &d.u_cdf[size_t(l) * (Tp + 1)];
+        const float* vc = &d.v_cdf[size_t(l) * (Pp + 1)];
+        for (int i = 0; i < Tp; ++i)
+            for (int p = 0; p < Pp; ++p) {
+                const double m = double(uc[i + 1] - uc[i]) * double(vc[p + 1] - vc[p]);
+                if (m > 0)
+                    for (int c = 0; c < cols; ++c) X(i * Pp + p, c) += m * d.F[size_t(l) * cols + c];
+            }
+    }
+    const double total = Y.sum();
+    return total > 0 ? kl_divergence(Y, X) / total : 0.0;
+}
+
+// The colour factors of d from the columns' RGB and the luminance Y.
+void fit_colour(const std::vector<ViewColumn>& columns, const Eigen::MatrixXd& Y, int Tp, int Pp, SamplerData* out) {
+    SamplerData& d = *out;
+    const int rows = int(Y.rows()), cols = int(Y.cols());
+    // f_c / f_lum ~= a_c(wo) b_c(theta_p) c_c(phi_p): alternating closed-form updates, each
+    // the KL-optimal factor given the others with the luminance mass as exposure.
+    d.colour_a.assign(size_t(3) * cols, 1.0f);
+    d.colour_b.assign(size_t(3) * Tp, 1.0f);
+    d.colour_c.assign(size_t(3) * Pp, 1.0f);
+    for (int ch = 0; ch < 3; ++ch) {
+        std::vector<double> a(static_cast<size_t>(cols), 1.0), b(static_cast<size_t>(Tp), 1.0), cc(static_cast<size_t>(Pp), 1.0);
+        auto channel = [&](int c, int row) { return double(columns[size_t(c)].rgb[size_t(row) * 3 + ch]); };
+        for (int pass = 0; pass < 20; ++pass) {
+            std::vector<double> num(static_cast<size_t>(cols), 0.0), den(static_cast<size_t>(cols), 0.0);
+            for (int c = 0; c < cols; ++c)
+                for (int row = 0; row < rows; ++row) {
+                    num[size_t(c)] += channel(c, row);
+                    den[size_t(c)] += Y(row, c) * b[size_t(row / Pp)] * cc[size_t(row % Pp)];
+                }
+            for (int c = 0; c < cols; ++c) a[size_t(c)] = den[size_t(c)] > 0 ? num[size_t(c)] / den[size_t(c)] : 1.0;
+            std::vector<double> nb(static_cast<size_t>(Tp), 0.0), db(static_cast<size_t>(Tp), 0.0), nc(static_cast<size_t>(Pp), 0.0), dc(static_cast<size_t>(Pp), 0.0);
+            for (int c = 0; c < cols; ++c)
+                for (int row = 0; row < rows; ++row) {
+                    nb[size_t(row / Pp)] += channel(c, row);
+                    db[size_t(row / Pp)] += Y(row, c) * a[size_t(c)] * cc[size_t(row % Pp)];
+                }
+            for (int i = 0; i < Tp; ++i) b[size_t(i)] = db[size_t(i)] > 0 ? nb[size_t(i)] / db[size_t(i)] : 1.0;
+            for (int c = 0; c < cols; ++c)
+                for (int row = 0; row < rows; ++row) {
+                    nc[size_t(row % Pp)] += channel(c, row);
+                    dc[size_t(row % Pp)] += Y(row, c) * a[size_t(c)] * b[size_t(row / Pp)];
+                }
+            for (int p = 0; p < Pp; ++p) cc[size_t(p)] = dc[size_t(p)] > 0 ? nc[size_t(p)] / dc[size_t(p)] : 1.0;
+        }
+        for (int c = 0; c < cols; ++c) d.colour_a[size_t(ch) * cols + c] = float(a[size_t(c)]);
+        for (int i = 0; i < Tp; ++i) d.colour_b[size_t(ch) * Tp + i] = float(b[size_t(i)]);
+        for (int p = 0; p < Pp; ++p) d.colour_c[size_t(ch) * Pp + p] = float(cc[size_t(p)]);
+    }
+}
+
+// When no bin saw anything above the Lambert part: true for a Lambert BRDF, but also for a
+// lobe narrower than a bin (a near-mirror), which cosine samples would never find; false
+// with the reason for the latter.
+bool lobe_sampled(const Brdf& brdf, const glm::dvec3& diffuse, std::string* err) {
+    const dvec3 albedo = directional_albedo(brdf, kPi / 6, 64);
+    for (int c = 0; c < 3; ++c)
+        if (albedo[c] > 1.01 * kPi * diffuse[c] + 1e-3) {
+            char m[320];
+            std::snprintf(m, sizeof m,
+                          "factored sampler: %s has albedo %.3g at 30 degrees (channel %d) but its Lambert part "
+                          "only %.3g: the rest is a lobe narrower than the sampler's bins, which it would never "
+                          "sample; use --kind analytic (the model's own lobe) or lafortune",
+                          brdf.spec().c_str(), albedo[c], c, kPi * diffuse[c]);
+            if (err) *err = m;
+            return false;
+        }
+    return true;
+}
+
 // One parameterization (opt.param is Half or Incident), the Lambert part already known.
 bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
              FactoredReport* rep, std::string* err) {
@@ -383,60 +462,9 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     }
     r.kl_level2 = mass1 > 0 ? kl2 / mass1 : 0.0;
     r.iterations2 = it2;
-    {
-        // The stored sampler's own divergence from the data (both levels, float rounding):
-        // KL is invariant under a change of variables, so this compares parameterizations.
-        Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, cols);
-        for (int l = 0; l < L; ++l) {
-            const float* uc = &d.u_cdf[size_t(l) * (Tp + 1)];
-            const float* vc = &d.v_cdf[size_t(l) * (Pp + 1)];
-            for (int i = 0; i < Tp; ++i)
-                for (int p = 0; p < Pp; ++p) {
-                    const double m = double(uc[i + 1] - uc[i]) * double(vc[p + 1] - vc[p]);
-                    if (m > 0)
-                        for (int c = 0; c < cols; ++c) X(i * Pp + p, c) += m * d.F[size_t(l) * cols + c];
-                }
-        }
-        const double total = Y.sum();
-        r.kl_total = total > 0 ? kl_divergence(Y, X) / total : 0.0;
-    }
+    r.kl_total = stored_kl(d, Y, L, Tp, Pp);
 
-    if (colour) {
-        // f_c / f_lum ~= a_c(wo) b_c(theta_p) c_c(phi_p): alternating closed-form updates, each
-        // the KL-optimal factor given the others with the luminance mass as exposure.
-        d.colour_a.assign(size_t(3) * cols, 1.0f);
-        d.colour_b.assign(size_t(3) * Tp, 1.0f);
-        d.colour_c.assign(size_t(3) * Pp, 1.0f);
-        for (int ch = 0; ch < 3; ++ch) {
-            std::vector<double> a(static_cast<size_t>(cols), 1.0), b(static_cast<size_t>(Tp), 1.0), cc(static_cast<size_t>(Pp), 1.0);
-            auto channel = [&](int c, int row) { return double(columns[size_t(c)].rgb[size_t(row) * 3 + ch]); };
-            for (int pass = 0; pass < 20; ++pass) {
-                std::vector<double> num(static_cast<size_t>(cols), 0.0), den(static_cast<size_t>(cols), 0.0);
-                for (int c = 0; c < cols; ++c)
-                    for (int row = 0; row < rows; ++row) {
-                        num[size_t(c)] += channel(c, row);
-                        den[size_t(c)] += Y(row, c) * b[size_t(row / Pp)] * cc[size_t(row % Pp)];
-                    }
-                for (int c = 0; c < cols; ++c) a[size_t(c)] = den[size_t(c)] > 0 ? num[size_t(c)] / den[size_t(c)] : 1.0;
-                std::vector<double> nb(static_cast<size_t>(Tp), 0.0), db(static_cast<size_t>(Tp), 0.0), nc(static_cast<size_t>(Pp), 0.0), dc(static_cast<size_t>(Pp), 0.0);
-                for (int c = 0; c < cols; ++c)
-                    for (int row = 0; row < rows; ++row) {
-                        nb[size_t(row / Pp)] += channel(c, row);
-                        db[size_t(row / Pp)] += Y(row, c) * a[size_t(c)] * cc[size_t(row % Pp)];
-                    }
-                for (int i = 0; i < Tp; ++i) b[size_t(i)] = db[size_t(i)] > 0 ? nb[size_t(i)] / db[size_t(i)] : 1.0;
-                for (int c = 0; c < cols; ++c)
-                    for (int row = 0; row < rows; ++row) {
-                        nc[size_t(row % Pp)] += channel(c, row);
-                        dc[size_t(row % Pp)] += Y(row, c) * a[size_t(c)] * b[size_t(row / Pp)];
-                    }
-                for (int p = 0; p < Pp; ++p) cc[size_t(p)] = dc[size_t(p)] > 0 ? nc[size_t(p)] / dc[size_t(p)] : 1.0;
-            }
-            for (int c = 0; c < cols; ++c) d.colour_a[size_t(ch) * cols + c] = float(a[size_t(c)]);
-            for (int i = 0; i < Tp; ++i) d.colour_b[size_t(ch) * Tp + i] = float(b[size_t(i)]);
-            for (int p = 0; p < Pp; ++p) d.colour_c[size_t(ch) * Pp + p] = float(cc[size_t(p)]);
-        }
-    }
+    if (colour) fit_colour(columns, Y, Tp, Pp, &d);
     r.factor_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     r.dense_bytes = double(rows) * cols * 4.0;
     std::vector<uint8_t> bytes;
@@ -444,22 +472,7 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     r.sampler_bytes = bytes.size();
     bool any = false;
     for (float f : d.F) any = any || f > 0;
-    if (!any) {
-        // No bin saw anything above the Lambert part: true for a Lambert BRDF, but also for a
-        // lobe narrower than a bin (a near-mirror), which cosine samples would never find.
-        const dvec3 albedo = directional_albedo(brdf, kPi / 6, 64);
-        for (int c = 0; c < 3; ++c)
-            if (albedo[c] > 1.01 * kPi * diffuse[c] + 1e-3) {
-                char m[320];
-                std::snprintf(m, sizeof m,
-                              "factored sampler: %s has albedo %.3g at 30 degrees (channel %d) but its Lambert part "
-                              "only %.3g: the rest is a lobe narrower than the sampler's bins, which it would never "
-                              "sample; use --kind analytic (the model's own lobe) or lafortune",
-                              brdf.spec().c_str(), albedo[c], c, kPi * diffuse[c]);
-                if (err) *err = m;
-                return false;
-            }
-    }
+    if (!any && !lobe_sampled(brdf, diffuse, err)) return false;
     if (!any)
         r.notes.push_back(diffuse != dvec3(0.0) ? "the BRDF is its Lambert part: cosine sampling, exact for it"
                                                 : "the BRDF is 0 everywhere sampled: the sampler falls back to cosine sampling");

@@ -14,6 +14,7 @@
 
 // stb_image reads diffuse maps (compiled once: third_party/stb/stb.cpp).
 #include <stb/stb_image.h>
+#include "sepal/internal/sepal_emulate.h"
 
 namespace sepal_ports {
 

@@ -14,6 +14,7 @@
 
 #include "common/scene_flags.h"
 #include "sepal/sepal_material.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace sepal_ports {
 

@@ -230,22 +230,12 @@ void meta_white_level(const char* meta, uint32_t bytes, sepal_fmt_material* m) {
         return;
     }
 }
-}  // namespace
-
-extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
-                                      sepal_error* err) {
-    const uint16_t probe = 1;
-    if (*(const uint8_t*)&probe != 1)
-        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "asset: big-endian hosts are not supported");
-    if (!out) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: NULL argument");
-    memset(out, 0, sizeof *out);
-    if (size < sizeof(sepal_fmt_header))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                         "asset: %zu bytes is too short for the 64-byte header (truncated?)", size);
-    if (!bytes) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: NULL bytes");
-    const uint8_t* base = (const uint8_t*)bytes;
-    sepal_fmt_header& h = out->header;
+// The header and the chunk table's bounds and checksum; table_end: where the table ends.
+sepal_result parse_header(const uint8_t* base, size_t size, sepal_fmt_header* hp, uint64_t* table_end_out,
+                          sepal_error* err) {
+    sepal_fmt_header& h = *hp;
     memcpy(&h, base, sizeof h);
+    uint64_t& table_end = *table_end_out;
     if (memcmp(h.magic, SEPAL_FMT_MAGIC, 8) != 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: bad magic (not a .sepal file)");
     if (h.version_major < SEPAL_FMT_VERSION_MAJOR_OLDEST || h.version_major > SEPAL_FMT_VERSION_MAJOR)
@@ -263,7 +253,7 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (h.chunk_count < 1 || h.chunk_count > SEPAL_FMT_MAX_CHUNKS)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u chunks (1..%d)", h.chunk_count,
                          SEPAL_FMT_MAX_CHUNKS);
-    const uint64_t table_end = sizeof(sepal_fmt_header) + (uint64_t)h.chunk_count * sizeof(sepal_fmt_chunk);
+    table_end = sizeof(sepal_fmt_header) + (uint64_t)h.chunk_count * sizeof(sepal_fmt_chunk);
     if (table_end > size)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: chunk table runs past the end of the file");
     // The header checksum covers the header (with the checksum field 0) and the table.
@@ -277,6 +267,162 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (h.flags != 0 || !all_zero(h.reserved, sizeof h.reserved))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: header flags 0x%x or reserved bytes not 0 (must be 0)",
                          h.flags);
+    return SEPAL_OK;
+}
+
+// The material chunk's values against the header's version (an older asset's white level
+// from its META); reciprocal, has_diffuse: what the plan must then draw.
+sepal_result check_material(const sepal_fmt_header& h, sepal_asset* out, bool* reciprocal_out, bool* has_diffuse_out,
+                            sepal_error* err) {
+    sepal_fmt_material& m = out->material;
+    {
+        const float range[4] = {m.white_level, m.irradiance_min, m.irradiance_max, m.cone_degrees};
+        for (float v : range)
+            if (!(v >= 0.0f && v <= SEPAL_FMT_MAX_FACTOR))
+                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                                 "asset: light range value %g (white level, irradiances, cone) outside 0..%g",
+                                 (double)v, (double)SEPAL_FMT_MAX_FACTOR);
+        if (m.irradiance_min > m.irradiance_max || m.cone_degrees > 180.0f || m.max_lights > SEPAL_MAX_LIGHTS ||
+            !all_zero(m.reserved1, sizeof m.reserved1))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: light range irradiance %g..%g, cone %g degrees (0..180), %u lights (0..%d) "
+                             "or reserved words not 0",
+                             (double)m.irradiance_min, (double)m.irradiance_max, (double)m.cone_degrees,
+                             m.max_lights, SEPAL_MAX_LIGHTS);
+        if (m.white_level == 0.0f && m.irradiance_min == 0.0f) meta_white_level(out->meta, out->meta_bytes, &m);
+    }
+    if (m.param >= SEPAL_PARAM_COUNT || m.map >= SEPAL_MAP_COUNT || m.color_mode >= SEPAL_COLOR_COUNT)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: unknown parameterization %u, map %u or colour mode %u", m.param,
+                         m.map, m.color_mode);
+    for (int c = 0; c < 3; ++c)
+        if (!(m.ratio[c] >= 0.0f && m.ratio[c] <= SEPAL_FMT_MAX_RATIO))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio %g outside 0..%g",
+                             (double)m.ratio[c], (double)SEPAL_FMT_MAX_RATIO);
+    if (m.reserved0 != 0)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: material reserved word is 0x%x (must be 0)",
+                         m.reserved0);
+    if (!(m.ratio[0] + m.ratio[1] + m.ratio[2] > 0.0f))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio is all zero");
+    // The bake's error figures: a number, or NaN when not measured; never infinite.
+    if (isinf(m.error_quantized) || isinf(m.error_float) || isinf(m.error_relative))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: error figures %g %g %g: finite, or NaN (not measured)",
+                         (double)m.error_quantized, (double)m.error_float, (double)m.error_relative);
+    if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
+                         m.channels, m.color_mode);
+    if (m.param == SEPAL_PARAM_AXIS &&
+        (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_AXIS)))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: the axis parameterization needs version 2.2 (this file is %u.%u)", h.version_major,
+                         h.version_minor);
+    // Version 1 left these words reserved (written as 0).
+    if (h.version_major < 2 && !all_zero(&m.flags, sizeof m.flags + sizeof m.diffuse))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: a version-1 material with flags or a diffuse part (reserved in version 1: must be 0)");
+    if (m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: unknown material flags 0x%x",
+                         m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS);
+    // Reciprocal materials (2.1): not radiance ones, a bounded copy for the runtime.
+    const bool reciprocal = *reciprocal_out = (m.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
+    if (reciprocal && (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_RECIPROCAL) ||
+                       (m.flags & SEPAL_MATERIAL_RADIANCE) || m.terms > SEPAL_FMT_MAX_RECIPROCAL_TERMS))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: a reciprocal material needs version 2.1 (this file is %u.%u), no radiance flag, "
+                         "and at most %d terms (it has %u)",
+                         h.version_major, h.version_minor, SEPAL_FMT_MAX_RECIPROCAL_TERMS, m.terms);
+    bool& has_diffuse = *has_diffuse_out;
+    has_diffuse = false;
+    for (int c = 0; c < 3; ++c) {
+        if (!(m.diffuse[c] >= 0.0f && m.diffuse[c] <= SEPAL_FMT_MAX_RATIO))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse %g outside 0..%g",
+                             (double)m.diffuse[c], (double)SEPAL_FMT_MAX_RATIO);
+        has_diffuse = has_diffuse || m.diffuse[c] > 0.0f;
+    }
+    if (m.terms < 1 || m.terms > SEPAL_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u terms (1..%d), %u channels (1 or 3)",
+                         m.terms, SEPAL_FMT_MAX_TERMS, m.channels);
+    return SEPAL_OK;
+}
+
+// Pass i of the plan: op, blend, texture slots and what they hold, colour, scale, order.
+sepal_result check_pass(const sepal_asset* out, uint32_t i, bool reciprocal, sepal_error* err) {
+    const sepal_fmt_pass& p = out->passes[i];
+    const sepal_fmt_plan& plan = out->plan;
+    const sepal_fmt_header& h = out->header;
+    const int needs = p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
+    if (p.op >= SEPAL_OP_COUNT || p.blend >= SEPAL_BLEND_COUNT || (p.op == SEPAL_OP_DIFFUSE && h.version_major < 2))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has unknown op %u or blend %u",
+                         i, p.op, p.blend);
+    // A reciprocal material draws RECIPROCAL passes only (or the all-zero plan's one
+    // CONSTANT pass); the op needs the material (and so version 2.1).
+    if (reciprocal ? !(p.op == SEPAL_OP_RECIPROCAL || (p.op == SEPAL_OP_CONSTANT && plan.pass_count == 1))
+                   : p.op == SEPAL_OP_RECIPROCAL)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has op %u in a %s material", i, p.op,
+                         reciprocal ? "reciprocal" : "non-reciprocal");
+    if (p.op == SEPAL_OP_DIFFUSE && p.blend != SEPAL_BLEND_ADD)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u subtracts the diffuse part", i);
+    const uint16_t tex[2] = {p.tex0, p.tex1};
+    for (int k = 0; k < 2; ++k) {
+        const bool used = k < needs;
+        if (used ? tex[k] >= out->texture_count : tex[k] != SEPAL_FMT_NO_TEXTURE)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: pass %u texture slot %d is %u (%u textures; unused slots "
+                             "must be 0xFFFF)",
+                             i, k, tex[k], out->texture_count);
+    }
+    if (p.op == SEPAL_OP_RECIPROCAL) {
+        const sepal_fmt_texture& g = out->textures[p.tex0].desc;
+        const sepal_fmt_texture& hh = out->textures[p.tex1].desc;
+        if (p.blend != SEPAL_BLEND_ADD || g.role != SEPAL_ROLE_G || hh.role != SEPAL_ROLE_H || g.term != hh.term)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: reciprocal pass %u must add one term's G (tex0) and H (tex1) texture", i);
+    }
+    // A product is one term's G (slot 0) times the same term's H (slot 1): what the CPU
+    // backend and the fused shaders sum (G_k H_k), so the plan paths draw the same thing.
+    if (p.op == SEPAL_OP_PRODUCT) {
+        const sepal_fmt_texture& a = out->textures[p.tex0].desc;
+        const sepal_fmt_texture& b = out->textures[p.tex1].desc;
+        if (a.role != SEPAL_ROLE_G || b.role != SEPAL_ROLE_H || a.term != b.term)
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: pass %u multiplies texture %u (term %u %s) by texture %u (term %u %s); a product "
+                             "is one term's G times its H",
+                             i, p.tex0, a.term, a.role == SEPAL_ROLE_G ? "G" : "H", p.tex1, b.term,
+                             b.role == SEPAL_ROLE_G ? "G" : "H");
+    }
+    for (int c = 0; c < 3; ++c)
+        if (!(p.color[c] >= 0.0f && p.color[c] <= 1.0f))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: pass %u colour %g outside [0,1]", i, (double)p.color[c]);
+    if (p.rgb_scale != 1 && p.rgb_scale != 2 && p.rgb_scale != 4)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
+                         p.rgb_scale);
+    // Every add before every subtract, so no partial sum clamps at 0 in a [0,1]
+    // framebuffer: part of what a valid plan is, for every backend (the GL ones cannot
+    // draw it otherwise; the CPU one would draw what GL cannot).
+    if (p.blend == SEPAL_BLEND_ADD && i > 0 && out->passes[i - 1].blend == SEPAL_BLEND_SUBTRACT)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: pass %u adds after pass %u subtracts (a plan adds everything first)", i, i - 1);
+    return SEPAL_OK;
+}
+
+}  // namespace
+
+extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out,
+                                      sepal_error* err) {
+    const uint16_t probe = 1;
+    if (*(const uint8_t*)&probe != 1)
+        return srt::fail(err, SEPAL_ERR_UNSUPPORTED, "asset: big-endian hosts are not supported");
+    if (!out) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: NULL argument");
+    memset(out, 0, sizeof *out);
+    if (size < sizeof(sepal_fmt_header))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: %zu bytes is too short for the 64-byte header (truncated?)", size);
+    if (!bytes) return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: NULL bytes");
+    const uint8_t* base = (const uint8_t*)bytes;
+    sepal_fmt_header& h = out->header;
+    uint64_t table_end = 0;
+    if (const sepal_result r = parse_header(base, size, &h, &table_end, err)) return r;
     bool have_material = false, have_plan = false;
     const uint8_t* plan_payload = nullptr;
     uint64_t plan_size = 0;
@@ -350,73 +496,9 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     if (!have_material || !have_plan || out->texture_count == 0)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: missing %s chunk",
                          !have_material ? "MATL" : !have_plan ? "PLAN" : "TEXR");
-    sepal_fmt_material& m = out->material;
-    {
-        const float range[4] = {m.white_level, m.irradiance_min, m.irradiance_max, m.cone_degrees};
-        for (float v : range)
-            if (!(v >= 0.0f && v <= SEPAL_FMT_MAX_FACTOR))
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: light range value %g (white level, irradiances, cone) outside 0..%g",
-                                 (double)v, (double)SEPAL_FMT_MAX_FACTOR);
-        if (m.irradiance_min > m.irradiance_max || m.cone_degrees > 180.0f || m.max_lights > SEPAL_MAX_LIGHTS ||
-            !all_zero(m.reserved1, sizeof m.reserved1))
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                             "asset: light range irradiance %g..%g, cone %g degrees (0..180), %u lights (0..%d) "
-                             "or reserved words not 0",
-                             (double)m.irradiance_min, (double)m.irradiance_max, (double)m.cone_degrees,
-                             m.max_lights, SEPAL_MAX_LIGHTS);
-        if (m.white_level == 0.0f && m.irradiance_min == 0.0f) meta_white_level(out->meta, out->meta_bytes, &m);
-    }
-    if (m.param >= SEPAL_PARAM_COUNT || m.map >= SEPAL_MAP_COUNT || m.color_mode >= SEPAL_COLOR_COUNT)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                         "asset: unknown parameterization %u, map %u or colour mode %u", m.param,
-                         m.map, m.color_mode);
-    for (int c = 0; c < 3; ++c)
-        if (!(m.ratio[c] >= 0.0f && m.ratio[c] <= SEPAL_FMT_MAX_RATIO))
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio %g outside 0..%g",
-                             (double)m.ratio[c], (double)SEPAL_FMT_MAX_RATIO);
-    if (m.reserved0 != 0)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: material reserved word is 0x%x (must be 0)",
-                         m.reserved0);
-    if (!(m.ratio[0] + m.ratio[1] + m.ratio[2] > 0.0f))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: colour ratio is all zero");
-    // The bake's error figures: a number, or NaN when not measured; never infinite.
-    if (isinf(m.error_quantized) || isinf(m.error_float) || isinf(m.error_relative))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: error figures %g %g %g: finite, or NaN (not measured)",
-                         (double)m.error_quantized, (double)m.error_float, (double)m.error_relative);
-    if ((m.channels == 1) != (m.color_mode == SEPAL_COLOR_LUMINANCE))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u channels with colour mode %u (luminance has 1)",
-                         m.channels, m.color_mode);
-    if (m.param == SEPAL_PARAM_AXIS &&
-        (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_AXIS)))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                         "asset: the axis parameterization needs version 2.2 (this file is %u.%u)", h.version_major,
-                         h.version_minor);
-    // Version 1 left these words reserved (written as 0).
-    if (h.version_major < 2 && !all_zero(&m.flags, sizeof m.flags + sizeof m.diffuse))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                         "asset: a version-1 material with flags or a diffuse part (reserved in version 1: must be 0)");
-    if (m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS)
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: unknown material flags 0x%x",
-                         m.flags & ~SEPAL_MATERIAL_KNOWN_FLAGS);
-    // Reciprocal materials (2.1): not radiance ones, a bounded copy for the runtime.
-    const bool reciprocal = (m.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
-    if (reciprocal && (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_RECIPROCAL) ||
-                       (m.flags & SEPAL_MATERIAL_RADIANCE) || m.terms > SEPAL_FMT_MAX_RECIPROCAL_TERMS))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                         "asset: a reciprocal material needs version 2.1 (this file is %u.%u), no radiance flag, "
-                         "and at most %d terms (it has %u)",
-                         h.version_major, h.version_minor, SEPAL_FMT_MAX_RECIPROCAL_TERMS, m.terms);
-    bool has_diffuse = false;
-    for (int c = 0; c < 3; ++c) {
-        if (!(m.diffuse[c] >= 0.0f && m.diffuse[c] <= SEPAL_FMT_MAX_RATIO))
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: diffuse %g outside 0..%g",
-                             (double)m.diffuse[c], (double)SEPAL_FMT_MAX_RATIO);
-        has_diffuse = has_diffuse || m.diffuse[c] > 0.0f;
-    }
-    if (m.terms < 1 || m.terms > SEPAL_FMT_MAX_TERMS || (m.channels != 1 && m.channels != 3))
-        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: %u terms (1..%d), %u channels (1 or 3)",
-                         m.terms, SEPAL_FMT_MAX_TERMS, m.channels);
+    const sepal_fmt_material& m = out->material;
+    bool reciprocal = false, has_diffuse = false;
+    if (const sepal_result r = check_material(h, out, &reciprocal, &has_diffuse, err)) return r;
     // Every term has exactly one G and one H texture, with the material's channels.
     uint32_t seen[SEPAL_FMT_MAX_TERMS][SEPAL_ROLE_COUNT] = {};
     for (uint32_t i = 0; i < out->texture_count; ++i) {
@@ -457,63 +539,8 @@ extern "C" sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_
     memcpy(out->passes, plan_payload + sizeof(sepal_fmt_plan), plan.pass_count * sizeof(sepal_fmt_pass));
     uint32_t diffuse_passes = 0;
     for (uint32_t i = 0; i < plan.pass_count; ++i) {
-        const sepal_fmt_pass& p = out->passes[i];
-        const int needs = p.op == SEPAL_OP_PRODUCT || p.op == SEPAL_OP_RECIPROCAL ? 2 : p.op == SEPAL_OP_TEXTURE ? 1 : 0;
-        if (p.op >= SEPAL_OP_COUNT || p.blend >= SEPAL_BLEND_COUNT || (p.op == SEPAL_OP_DIFFUSE && h.version_major < 2))
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has unknown op %u or blend %u",
-                             i, p.op, p.blend);
-        // A reciprocal material draws RECIPROCAL passes only (or the all-zero plan's one
-        // CONSTANT pass); the op needs the material (and so version 2.1).
-        if (reciprocal ? !(p.op == SEPAL_OP_RECIPROCAL || (p.op == SEPAL_OP_CONSTANT && plan.pass_count == 1))
-                       : p.op == SEPAL_OP_RECIPROCAL)
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u has op %u in a %s material", i, p.op,
-                             reciprocal ? "reciprocal" : "non-reciprocal");
-        if (p.op == SEPAL_OP_DIFFUSE) {
-            ++diffuse_passes;
-            if (p.blend != SEPAL_BLEND_ADD)
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u subtracts the diffuse part", i);
-        }
-        const uint16_t tex[2] = {p.tex0, p.tex1};
-        for (int k = 0; k < 2; ++k) {
-            const bool used = k < needs;
-            if (used ? tex[k] >= out->texture_count : tex[k] != SEPAL_FMT_NO_TEXTURE)
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: pass %u texture slot %d is %u (%u textures; unused slots "
-                                 "must be 0xFFFF)",
-                                 i, k, tex[k], out->texture_count);
-        }
-        if (p.op == SEPAL_OP_RECIPROCAL) {
-            const sepal_fmt_texture& g = out->textures[p.tex0].desc;
-            const sepal_fmt_texture& hh = out->textures[p.tex1].desc;
-            if (p.blend != SEPAL_BLEND_ADD || g.role != SEPAL_ROLE_G || hh.role != SEPAL_ROLE_H || g.term != hh.term)
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: reciprocal pass %u must add one term's G (tex0) and H (tex1) texture", i);
-        }
-        // A product is one term's G (slot 0) times the same term's H (slot 1): what the CPU
-        // backend and the fused shaders sum (G_k H_k), so the plan paths draw the same thing.
-        if (p.op == SEPAL_OP_PRODUCT) {
-            const sepal_fmt_texture& a = out->textures[p.tex0].desc;
-            const sepal_fmt_texture& b = out->textures[p.tex1].desc;
-            if (a.role != SEPAL_ROLE_G || b.role != SEPAL_ROLE_H || a.term != b.term)
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: pass %u multiplies texture %u (term %u %s) by texture %u (term %u %s); a product "
-                                 "is one term's G times its H",
-                                 i, p.tex0, a.term, a.role == SEPAL_ROLE_G ? "G" : "H", p.tex1, b.term,
-                                 b.role == SEPAL_ROLE_G ? "G" : "H");
-        }
-        for (int c = 0; c < 3; ++c)
-            if (!(p.color[c] >= 0.0f && p.color[c] <= 1.0f))
-                return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                                 "asset: pass %u colour %g outside [0,1]", i, (double)p.color[c]);
-        if (p.rgb_scale != 1 && p.rgb_scale != 2 && p.rgb_scale != 4)
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: pass %u rgb_scale %u (1, 2 or 4)", i,
-                             p.rgb_scale);
-        // Every add before every subtract, so no partial sum clamps at 0 in a [0,1]
-        // framebuffer: part of what a valid plan is, for every backend (the GL ones cannot
-        // draw it otherwise; the CPU one would draw what GL cannot).
-        if (p.blend == SEPAL_BLEND_ADD && i > 0 && out->passes[i - 1].blend == SEPAL_BLEND_SUBTRACT)
-            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                             "asset: pass %u adds after pass %u subtracts (a plan adds everything first)", i, i - 1);
+        if (const sepal_result r = check_pass(out, i, reciprocal, err)) return r;
+        if (out->passes[i].op == SEPAL_OP_DIFFUSE) ++diffuse_passes;
     }
     if (out->diffuse_profile && !has_diffuse)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: a diffuse profile without a diffuse part");

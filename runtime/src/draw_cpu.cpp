@@ -16,8 +16,7 @@ constexpr int kVaryings = 12;  // world position 3, normal 3, tangent 4, uv 2
 
 struct Shader {
     const sepal_asset* asset;
-    const sepal_asset_texture* g[SEPAL_FMT_MAX_TERMS];  // per term, found once per frame
-    const sepal_asset_texture* h[SEPAL_FMT_MAX_TERMS];
+    srt::AssetTerms terms;  // found once per frame
     const sepal_scene* scene;
     float* color;
     int width;
@@ -40,36 +39,6 @@ float diffuse_sample(const Shader& s, float u, float v, int c) {
     return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
 }
 
-float texel(const sepal_asset_texture& t, int i, int j, int c) {
-    const sepal_fmt_texture& d = t.desc;
-    const size_t idx = ((size_t)j * d.width + (size_t)i) * d.channels + (size_t)c;
-    float q;
-    if (d.bits == 8) {
-        q = (float)t.level_data[0][idx] / 255.0f;
-    } else {
-        uint16_t v;
-        memcpy(&v, t.level_data[0] + 2 * idx, 2);
-        q = (float)v / 65535.0f;
-    }
-    return d.scale[c] * q + d.bias[c];
-}
-
-// GL_LINEAR at level 0: texel centres at (i + 0.5) / N, clamped or wrapped at the edges.
-float sample(const sepal_asset_texture& t, float u, float v, int c, bool wrap) {
-    const int w = (int)t.desc.width, h = (int)t.desc.height;
-    const float x = u * (float)w - 0.5f, y = v * (float)h - 0.5f;
-    const float fx = floorf(x), fy = floorf(y);
-    const float ax = x - fx, ay = y - fy;
-    int x0 = (int)fx, y0 = (int)fy, x1 = x0 + 1, y1 = y0 + 1;
-    auto fix = [wrap](int k, int n) {
-        if (wrap) return ((k % n) + n) % n;
-        return k < 0 ? 0 : k >= n ? n - 1 : k;
-    };
-    x0 = fix(x0, w), x1 = fix(x1, w), y0 = fix(y0, h), y1 = fix(y1, h);
-    return (1 - ay) * ((1 - ax) * texel(t, x0, y0, c) + ax * texel(t, x1, y0, c)) +
-           ay * ((1 - ax) * texel(t, x0, y1, c) + ax * texel(t, x1, y1, c));
-}
-
 void shade(void* user, int x, int y, float, const float* v) {
     Shader& s = *static_cast<Shader*>(user);
     const sepal_asset& a = *s.asset;
@@ -81,43 +50,22 @@ void shade(void* user, int x, int y, float, const float* v) {
     srt::normalize3(to_eye);
     float wo[3];
     fr.to_local(to_eye, wo);
-    const bool wraps_h = a.material.param == SEPAL_PARAM_ELEV_AZIM;
-    const int channels = (int)a.material.channels;
     float sum[3] = {0, 0, 0};
     for (int l = 0; l < s.scene->light_count; ++l) {
         const sepal_light& light = s.scene->lights[l];
         float to_light[3], wi[3];
         const float falloff = srt::light_direction(light, v, to_light);
         fr.to_local(to_light, wi);
-        float guv[2], huv[2];
-        if (srt::param_texcoords((sepal_param)a.material.param, (sepal_hemi_map)a.material.map, wi, wo, guv, huv, true,
-                                 &s.st.param_fallbacks) <= 0) {
+        float f_cos[3];
+        srt::PairCounts counts;
+        const bool above = srt::eval_pair(a, s.terms, wi, wo, f_cos, &counts);
+        s.st.param_fallbacks += counts.param_fallbacks;
+        s.st.negative_clamped += counts.negative_clamped;
+        if (!above) {
             ++s.st.below_horizon;
             continue;
         }
-        // Reciprocal materials (format 2.1) read G a second time at the swapped pair (wo, wi).
-        const bool reciprocal = (a.material.flags & SEPAL_MATERIAL_RECIPROCAL) != 0;
-        float g2uv[2] = {0, 0}, unused[2];
-        if (reciprocal)
-            srt::param_texcoords((sepal_param)a.material.param, (sepal_hemi_map)a.material.map, wo, wi, g2uv, unused,
-                                 true, nullptr);
-        float f[3] = {0, 0, 0};
-        for (uint32_t k = 0; k < a.material.terms; ++k)
-            for (int c = 0; c < channels; ++c)
-                f[c] += sample(*s.g[k], guv[0], guv[1], c, false) * sample(*s.h[k], huv[0], huv[1], c, wraps_h) *
-                        (reciprocal ? sample(*s.g[k], g2uv[0], g2uv[1], c, false) : 1.0f);
-        if (channels == 1) f[1] = f[2] = f[0];
-        for (int c = 0; c < 3; ++c) f[c] *= a.material.ratio[c];
-        // A signed factorization can dip below 0 where f is near 0: clamp per light, as
-        // the fused shaders do (a BRDF is never negative).
-        if (f[0] < 0.0f || f[1] < 0.0f || f[2] < 0.0f) ++s.st.negative_clamped;
-        // Radiance materials hold cos(theta_i) in their factors and add the diffuse part.
-        const bool radiance = (a.material.flags & SEPAL_MATERIAL_RADIANCE) != 0;
-        float prof[3];
-        srt::diffuse_profile_rgb(a.diffuse_profile, a.diffuse_side, wi[2], wo[2], prof);
-        for (int c = 0; c < 3; ++c)
-            sum[c] += ((f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? 1.0f : wi[2]) + a.material.diffuse[c] * wi[2] * prof[c]) *
-                      falloff * light.intensity[c];
+        for (int c = 0; c < 3; ++c) sum[c] += f_cos[c] * falloff * light.intensity[c];
     }
     float* out = s.color + ((size_t)y * (size_t)s.width + (size_t)x) * 3;
     for (int c = 0; c < 3; ++c) {
@@ -215,10 +163,7 @@ sepal_result cpu_object(const sepal_cpu_desc* d, const srt::MeshView& mesh, cons
         s.diffuse_w = d->diffuse_width;
         s.diffuse_h = d->diffuse_height;
     }
-    for (uint32_t i = 0; i < d->asset->texture_count; ++i) {
-        const sepal_fmt_texture& t = d->asset->textures[i].desc;
-        (t.role == SEPAL_ROLE_G ? s.g : s.h)[t.term] = &d->asset->textures[i];
-    }
+    srt::find_terms(*d->asset, &s.terms);
     sepal_raster_desc rd = {};
     rd.clip = clip;
     rd.vertex_count = n;

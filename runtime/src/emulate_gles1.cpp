@@ -27,6 +27,7 @@
 
 #include "draw_internal.h"
 #include "sepal/sepal_raster.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace {
 
@@ -172,6 +173,90 @@ extern "C" size_t sepal_emulate_scratch_floats(int width, int height, int vertex
 
 namespace {
 
+// Clip positions, as the GL pipeline computes them (proj * view * position); NaN for
+// vertices GL would not draw.
+void clip_positions(const srt::MeshView& mesh, const srt::FramePrep& prep, float* clip) {
+    float mvp[16];
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) {
+            float s = 0.0f;
+            for (int k = 0; k < 4; ++k) s += prep.proj[k * 4 + row] * prep.view[c * 4 + k];
+            mvp[c * 4 + row] = s;
+        }
+    for (int i = 0; i < mesh.vertex_count; ++i) {
+        const float* p = mesh.position(i);  // object space, as GL takes it
+        for (int row = 0; row < 4; ++row)
+            clip[4 * (size_t)i + row] = mvp[row] * p[0] + mvp[4 + row] * p[1] + mvp[8 + row] * p[2] + mvp[12 + row];
+        sepal_vertex v;
+        mesh.load(i, &v);
+        if (!srt::vertex_usable(v))
+            for (int k = 0; k < 4; ++k) clip[4 * (size_t)i + k] = NAN;  // never drawn, as in GL
+    }
+}
+
+// Coverage: the front-most triangle per pixel (depth LESS, as the pre-pass) into tri (-1:
+// none); clear: start from a cleared depth buffer.
+sepal_result coverage(const srt::MeshView& mesh, const float* clip, int W, int H, float* depth, bool clear,
+                      float* tri, sepal_error* err) {
+    for (size_t p = 0; p < (size_t)W * H; ++p) tri[p] = -1.0f;
+    sepal_raster_target target = {W, H, depth};
+    if (clear) sepal_raster_clear_depth(&target);
+    Coverage cov = {tri, W};
+    const int tris = mesh.index_count / 3;
+    for (int t = 0; t < tris; ++t) {
+        const uint16_t* idx = mesh.indices + 3 * t;
+        float local_clip[12], var[3];
+        for (int k = 0; k < 3; ++k) {
+            memcpy(local_clip + 4 * k, clip + 4 * (size_t)idx[k], 4 * sizeof(float));
+            var[k] = (float)t;  // constant over the triangle: exact after interpolation
+        }
+        static const uint16_t kLocal[3] = {0, 1, 2};
+        sepal_raster_desc rd = {};
+        rd.clip = local_clip;
+        rd.vertex_count = 3;
+        rd.varyings = var;
+        rd.varying_count = 1;
+        rd.varying_stride = 1;
+        rd.indices = kLocal;
+        rd.index_count = 3;
+        rd.cull = SEPAL_CULL_BACK;
+        rd.depth_func = SEPAL_DEPTH_LESS;
+        rd.fragment = record;
+        rd.user = &cov;
+        if (const sepal_result r = sepal_raster_triangles(&target, &rd, err)) return r;
+    }
+    return SEPAL_OK;
+}
+
+// Step list for GL ES 2 multipass: the plan's order, inversion around subtractions, the
+// frame's doublings at the end (draw_gles2's multipass + final doublings). Returns the count.
+int gles2_steps(const srt::Material& m, float exposure, int doublings, srt::Gles1Step* steps) {
+    int k = 0;
+    bool inverted = false;
+    for (uint32_t p = 0; p < m.plan.pass_count; ++p) {
+        if (m.passes[p].blend == SEPAL_BLEND_SUBTRACT && m.subtract_by_inversion && !inverted) {
+            steps[k++] = {srt::Gles1Step::kInvert, 0, 0, 0.0f, false};
+            inverted = true;
+        }
+        steps[k++] = {srt::Gles1Step::kPass, 0, (uint16_t)p, exposure, inverted};
+    }
+    if (inverted) steps[k++] = {srt::Gles1Step::kInvert, 0, 0, 0.0f, true};
+    steps[k++] = {srt::Gles1Step::kDouble, doublings, 0, 0.0f, false};
+    return k;
+}
+
+// Doublings and inversions: drawn over the object's mesh, its pixels only, each result
+// stored at the framebuffer's bits.
+void fullscreen_step(const srt::Gles1Step& step, const float* tri, size_t pixels, const Channels& fbc, uint8_t* fb) {
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3 && tri[p] >= 0.0f; ++c) {
+            int v = fb[4 * p + c];
+            if (step.kind == srt::Gles1Step::kInvert) v = fbc.stored[c][255 - v];
+            else for (int k = 0; k < step.count && v < 255; ++k) v = fbc.stored[c][v * 2 > 255 ? 255 : v * 2];
+            fb[4 * p + c] = (uint8_t)v;
+        }
+}
+
 // The desc's version, mask, size and framebuffer bits (0 means 8), checked; out gets the bits'
 // tables.
 sepal_result check_desc(const sepal_emulate_desc* e, Channels* out, sepal_error* err) {
@@ -200,8 +285,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
                             const float proj[16], float* kept_depth, sepal_error* err) {
     const bool keep = kept_depth != nullptr;
     Channels fbc;
-    const sepal_result checked = check_desc(e, &fbc, err);
-    if (checked != SEPAL_OK) return checked;
+    if (const sepal_result checked = check_desc(e, &fbc, err)) return checked;
     const int W = e->width, H = e->height;
     const int n = mesh.vertex_count, lights = e->scene->light_count;
     const size_t need = sepal_emulate_scratch_floats(W, H, n, lights);
@@ -236,51 +320,8 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     sepal_draw_stats local;
     sepal_draw_stats* stats = e->stats ? e->stats : &local;
     if ((r = srt::prepare_frame(&d, mesh, modelview, proj, false, &prep, stats, err)) != SEPAL_OK) return r;
-    // Clip positions, as the GL pipeline computes them (proj * view * position).
-    float mvp[16];
-    for (int c = 0; c < 4; ++c)
-        for (int row = 0; row < 4; ++row) {
-            float s = 0.0f;
-            for (int k = 0; k < 4; ++k) s += prep.proj[k * 4 + row] * prep.view[c * 4 + k];
-            mvp[c * 4 + row] = s;
-        }
-    for (int i = 0; i < n; ++i) {
-        const float* p = mesh.position(i);  // object space, as GL takes it
-        for (int row = 0; row < 4; ++row)
-            clip[4 * (size_t)i + row] = mvp[row] * p[0] + mvp[4 + row] * p[1] + mvp[8 + row] * p[2] + mvp[12 + row];
-        sepal_vertex v;
-        mesh.load(i, &v);
-        if (!srt::vertex_usable(v))
-            for (int k = 0; k < 4; ++k) clip[4 * (size_t)i + k] = NAN;  // never drawn, as in GL
-    }
-    // Coverage: the front-most triangle per pixel (depth LESS, as the pre-pass).
-    for (size_t p = 0; p < (size_t)W * H; ++p) tri[p] = -1.0f;
-    sepal_raster_target target = {W, H, depth};
-    if (!keep) sepal_raster_clear_depth(&target);
-    Coverage cov = {tri, W};
-    const int tris = mesh.index_count / 3;
-    for (int t = 0; t < tris; ++t) {
-        const uint16_t* idx = mesh.indices + 3 * t;
-        float local_clip[12], var[3];
-        for (int k = 0; k < 3; ++k) {
-            memcpy(local_clip + 4 * k, clip + 4 * (size_t)idx[k], 4 * sizeof(float));
-            var[k] = (float)t;  // constant over the triangle: exact after interpolation
-        }
-        static const uint16_t kLocal[3] = {0, 1, 2};
-        sepal_raster_desc rd = {};
-        rd.clip = local_clip;
-        rd.vertex_count = 3;
-        rd.varyings = var;
-        rd.varying_count = 1;
-        rd.varying_stride = 1;
-        rd.indices = kLocal;
-        rd.index_count = 3;
-        rd.cull = SEPAL_CULL_BACK;
-        rd.depth_func = SEPAL_DEPTH_LESS;
-        rd.fragment = record;
-        rd.user = &cov;
-        if ((r = sepal_raster_triangles(&target, &rd, err)) != SEPAL_OK) return r;
-    }
+    clip_positions(mesh, prep, clip);
+    if ((r = coverage(mesh, clip, W, H, depth, !keep, tri, err)) != SEPAL_OK) return r;
     // Textures as GL holds them.
     Tex tex[SEPAL_FMT_MAX_TEXTURES];
     for (uint32_t i = 0; i < e->asset->texture_count; ++i)
@@ -294,22 +335,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     // Per light and pass, the vertex colours; computed pass by pass below. Pixels are then
     // independent: every GL operation of the plan is per pixel (blending, full-screen
     // doublings and inversions), so each pixel runs the whole schedule.
-    // Step list for GL ES 2 multipass: the plan's order, inversion around subtractions,
-    // the frame's doublings at the end (draw_gles2's multipass + final doublings).
-    if (e->gles_version == 2) {
-        int k = 0;
-        bool inverted = false;
-        for (uint32_t p = 0; p < m.plan.pass_count; ++p) {
-            if (m.passes[p].blend == SEPAL_BLEND_SUBTRACT && m.subtract_by_inversion && !inverted) {
-                steps[k++] = {srt::Gles1Step::kInvert, 0, 0, 0.0f, false};
-                inverted = true;
-            }
-            steps[k++] = {srt::Gles1Step::kPass, 0, (uint16_t)p, prep.exposure, inverted};
-        }
-        if (inverted) steps[k++] = {srt::Gles1Step::kInvert, 0, 0, 0.0f, true};
-        steps[k++] = {srt::Gles1Step::kDouble, stats->doublings, 0, 0.0f, false};
-        step_count = k;
-    }
+    if (e->gles_version == 2) step_count = gles2_steps(m, prep.exposure, stats->doublings, steps);
     // The framebuffer: per channel the stored value widened to 8 bits (fbc says how).
     // The object's pixels start from 0 (the black pre-pass, or the first pass replacing);
     // the rest is kept (a frame) or cleared (sepal_emulate_draw).
@@ -319,14 +345,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     for (int s = 0; s < step_count; ++s) {
         const srt::Gles1Step& step = steps[s];
         if (step.kind != srt::Gles1Step::kPass) {
-            // Doublings and inversions: drawn over the object's mesh, its pixels only.
-            for (size_t p = 0; p < (size_t)W * H; ++p)
-                for (int c = 0; c < 3 && tri[p] >= 0.0f; ++c) {
-                    int v = fb[4 * p + c];
-                    if (step.kind == srt::Gles1Step::kInvert) v = fbc.stored[c][255 - v];
-                    else for (int k = 0; k < step.count && v < 255; ++k) v = fbc.stored[c][v * 2 > 255 ? 255 : v * 2];
-                    fb[4 * p + c] = (uint8_t)v;
-                }
+            fullscreen_step(step, tri, (size_t)W * H, fbc, fb);
             continue;
         }
         const sepal_fmt_pass& pass = m.passes[step.pass];

@@ -145,6 +145,20 @@ inline float pass_color_boost(const sepal_fmt_pass& p, uint32_t material_texture
 // either GL ES version (glGetError is common to both).
 sepal_result gl_check(const char* what, sepal_error* err);
 
+// The asset's factor textures by term (asset_eval.cpp), found once per frame.
+struct AssetTerms {
+    const sepal_asset_texture* g[SEPAL_FMT_MAX_TERMS];
+    const sepal_asset_texture* h[SEPAL_FMT_MAX_TERMS];
+};
+void find_terms(const sepal_asset& a, AssetTerms* t);
+struct PairCounts {
+    int param_fallbacks = 0, negative_clamped = 0;
+};
+// f cos(theta_i) of one direction pair as the CPU backend draws it (sepal_asset_eval):
+// false, and 0, when either direction is at or below the horizon.
+bool eval_pair(const sepal_asset& a, const AssetTerms& t, const float wi[3], const float wo[3], float f_cos[3],
+               PairCounts* counts);
+
 // True for an asset sepal_asset_parse filled (a zeroed or never-parsed one has no magic, no
 // terms and no passes): what the draw entry points take.
 inline bool asset_parsed(const sepal_asset& a) {

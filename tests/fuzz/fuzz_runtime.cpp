@@ -11,6 +11,7 @@
 #include "draw_internal.h"
 #include "fuzz/fuzz.h"
 #include "sepal/sepal_material.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace {
 

@@ -22,6 +22,7 @@
 #include "material_fixtures.h"
 #include "spec/spec.h"
 #include "test_util.h"
+#include "sepal/internal/sepal_emulate.h"
 
 namespace {
 

@@ -20,6 +20,7 @@
 #include "common/scene_draw.h"
 #include "common/scene_flags.h"
 #include "material_fixtures.h"
+#include "sepal/internal/sepal_emulate.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define SEPAL_COUNTING_ALLOCATOR 0

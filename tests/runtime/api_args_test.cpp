@@ -12,6 +12,7 @@
 #include "material_fixtures.h"
 #include "material_state.h"
 #include "sepal/sepal.h"
+#include "sepal/internal/sepal_emulate.h"
 
 using namespace material_fx;
 

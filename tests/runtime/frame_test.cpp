@@ -14,6 +14,7 @@
 #include "reference/render_exact.h"
 #include "spec/spec.h"
 #include "test_util.h"
+#include "sepal/internal/sepal_emulate.h"
 
 using namespace frame_fx;
 using namespace material_fx;

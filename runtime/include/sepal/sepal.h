@@ -26,7 +26,7 @@
 // (libGLESv1_CM, libGLESv2); the headless port adds -lsepal_headless and EGL.
 //
 // Thread safety (each header states its own): functions that touch no GL (parsing, texture
-// coordinates, scene matrices, meshes, the rasterizer, the CPU backend, the emulator, the
+// coordinates, scene matrices, meshes, the rasterizer, the CPU backend, the
 // sampler) keep no global state, so any threads may call them at once on distinct outputs;
 // functions that call GL run on the thread whose context is current, one at a time per
 // context. Parsed assets, samplers and trees are read-only after parsing and may be shared.

@@ -1,15 +1,17 @@
-// sepal_asset.h - reading .sepal assets (sepal_format.h is the format's data), the
-// parameterizations' texture coordinates and the format's checksum.
+// sepal_asset.h - reading .sepal assets (sepal_format.h is the format's data), evaluating
+// one at a direction pair, the parameterizations' texture coordinates and the format's checksum.
 //
 // Usage (bytes: a whole .sepal file the caller read; it must outlive the asset):
 //   static sepal_asset asset;                       // ~13 KB: keep it static
 //   sepal_error err = {SEPAL_OK, ""};
 //   if (sepal_asset_parse(bytes, size, &asset, &err) != SEPAL_OK) { puts(err.message); }
 //   printf("%u passes\n", (unsigned)asset.plan.pass_count);
+//   float wi[3] = {0, 0, 1}, wo[3] = {0.6f, 0, 0.8f}, fc[3];
+//   if (sepal_asset_eval(&asset, wi, wo, fc) == 1) printf("f cos %g\n", fc[0]);
 //
 // Limits: a little-endian host; files up to SEPAL_FMT_MAX_FILE_BYTES. No allocation.
 //
-// Thread safety: sepal_asset_parse, sepal_diffuse_profile, sepal_param_texcoords(_pixel) and
+// Thread safety: sepal_asset_parse, sepal_asset_eval, sepal_diffuse_profile, sepal_param_texcoords(_pixel) and
 // sepal_crc32 keep no state: any threads may call them at once (sepal_asset_parse on distinct
 // outputs). A parsed sepal_asset is only read afterwards and may be shared between threads
 // (and materials) while its bytes stay alive.
@@ -56,6 +58,20 @@ float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, flo
 // out. Any failure returns a code and a message naming the problem; out is then
 // unspecified. Needs a little-endian host (every supported target is).
 sepal_result sepal_asset_parse(const void* bytes, size_t size, sepal_asset* out, sepal_error* err);
+
+// ---- evaluation (runtime/src/asset_eval.cpp) ---------------------------------------------
+// What the asset draws for one direction pair in the local frame (n = +z, t = +x, both
+// directions unit and pointing away from the surface), per unit irradiance: f cos(theta_i)
+// in f_cos[3], computed as the CPU backend computes each pixel and light (the same code):
+//   s_c  = ratio_c * sum_k G_k(x) H_k(y) [G_k(x~) for reciprocal materials], at least 0,
+//          textures decoded as scale * q + bias and sampled bilinearly at level 0;
+//   f_cos_c = s_c (radiance materials: the factors hold f cos) or s_c cos(theta_i)
+//          (otherwise), plus diffuse_c * cos(theta_i) * profile_c(cos_i, cos_o).
+// The white level (material.white_level) is not applied: the bake capped f cos there and
+// the display clips what a light makes of it; f = f_cos / cos(theta_i).
+// Returns 1 when both directions are above the horizon, 0 otherwise (f_cos is 0), -1 for a
+// NULL pointer or an asset sepal_asset_parse did not fill (nothing written).
+int sepal_asset_eval(const sepal_asset* asset, const float wi[3], const float wo[3], float f_cos[3]);
 
 // ---- parameterization (runtime/src/param.cpp) --------------------------------------------
 // Texture coordinates of the G and H factors for one direction pair in the local frame

@@ -73,9 +73,9 @@
 // the framebuffer bound at begin is a float one of the engine's (no exposure, no
 // doublings). Not thread-safe: one frame per context at a time, on the context's thread.
 //
-// The CPU backend and the GL ES emulator draw the same frame description into caller
-// buffers (sepal_frame_draw_cpu, sepal_frame_emulate), so a multi-object GL frame can be
-// compared pixel for pixel with them and with the exact renderer (offline/).
+// The CPU backend (and the GL ES emulator the tools use, sepal/internal/sepal_emulate.h) draw
+// the same frame description into caller buffers (sepal_frame_draw_cpu), so a multi-object GL
+// frame can be compared pixel for pixel with them and with the exact renderer (offline/).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -177,14 +177,6 @@ sepal_result sepal_frame_draw_cpu(const sepal_frame_desc* desc, const sepal_obje
                                   float* depth, float* scratch, size_t scratch_floats, sepal_draw_stats* stats,
                                   sepal_error* err);
 void sepal_frame_clear_cpu(int width, int height, const float rgb[3], float* color, float* depth);
-
-// ---- the same frame through the GL ES emulator ----------------------------------------
-// As sepal_emulate_draw, one object at a time into rgba (width x height x 4 bytes, top row
-// first) and depth (width x height floats, kept between objects; sepal_frame_clear_cpu
-// with color NULL sets it). scratch: sepal_emulate_scratch_floats(w, h, vertices, lights).
-sepal_result sepal_frame_emulate(const sepal_frame_desc* desc, const sepal_object* object, int gles_version,
-                                 uint32_t mask, uint8_t* rgba, float* depth, float* scratch, size_t scratch_floats,
-                                 sepal_draw_stats* stats, sepal_error* err);
 
 #ifdef __cplusplus
 }

@@ -60,7 +60,7 @@
 // sepal_texture_* functions call GL: only on the thread whose context is current, one call
 // at a time per context (GL contexts are per thread), and a material only with the context
 // it was created in; sepal_material_context_lost calls no GL but writes the material (not
-// while another call uses it). sepal_draw_cpu and sepal_emulate_draw call no GL: any threads at once,
+// while another call uses it). sepal_draw_cpu calls no GL: any threads at once,
 // each with its own buffers and scratch (the asset, mesh and scene may be shared: only read).
 // The *_scratch_floats functions and sepal_read_float are pure.
 #pragma once
@@ -254,40 +254,6 @@ typedef struct sepal_cpu_desc {
 
 size_t sepal_cpu_scratch_floats(int vertex_count);
 sepal_result sepal_draw_cpu(const sepal_cpu_desc* desc, sepal_error* err);
-
-// ---- the GL ES 1.1 emulator ------------------------------------------------------------
-// What sepal_draw shows on a GL ES 1.1 context (or the GL ES 2 multipass path), computed on
-// the CPU with the same frame preparation and the GL pipeline's arithmetic: 8-bit texels
-// with MIP levels chosen from 2x2-quad derivatives, vertex colours clamped to [0,1],
-// perspective-correct interpolation, combiner stages clamped and scaled, every pass rounded
-// to the framebuffer's bits, saturating blends, doublings and inversions. The bake ranks its
-// candidates with it (a GL context per candidate would cost more and depend on the driver);
-// tests/runtime/emulate_test.cpp holds it to llvmpipe's images. Deterministic, single
-// threaded, no allocation (callers hand in the buffers). Not emulated: the one-texture-unit
-// path (SEPAL_MASK_MULTITEXTURE is refused) and diffuse texture maps.
-// Framebuffer bits: red_bits, green_bits and blue_bits (1..8; 0 means 8) are the colour
-// buffer's, as sepal_caps reports them. Each pass and full-screen step blends in 8 bits
-// against the stored value and keeps the top bits of the result: GL's rule with GL_DITHER
-// off (each component truncated to the framebuffer's bits) and what llvmpipe does with it
-// on; rgba receives the stored values widened to 8 bits by repeating their bits, as
-// glReadPixels returns them. Dithering (a position-dependent choice between the two nearest
-// values, unspecified by GL) is not modelled (docs/ports.md, "Framebuffer bits").
-typedef struct sepal_emulate_desc {
-    const sepal_asset* asset;
-    const sepal_mesh* mesh;   // world space
-    const sepal_scene* scene;
-    int width, height;
-    int gles_version;         // 1: GL ES 1.1; 2: the GL ES 2 multipass path
-    uint32_t mask;            // SEPAL_MASK_BLEND_SUBTRACT: subtraction by inversion
-    uint8_t* rgba;            // width * height * 4 bytes out, top row first
-    float* scratch;           // sepal_emulate_scratch_floats() floats
-    size_t scratch_floats;
-    sepal_draw_stats* stats;  // optional: the frame's counters, as sepal_draw reports them
-    int red_bits, green_bits, blue_bits;  // the framebuffer's bits per channel; 0 means 8
-} sepal_emulate_desc;
-
-size_t sepal_emulate_scratch_floats(int width, int height, int vertex_count, int light_count);
-sepal_result sepal_emulate_draw(const sepal_emulate_desc* desc, sepal_error* err);
 
 #ifdef __cplusplus
 }

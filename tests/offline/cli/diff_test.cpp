@@ -41,6 +41,7 @@ TEST_CASE_FIXTURE(Fixture, "sepal diff fails beyond tolerance and passes within 
     CHECK(diff({a, b, "--max-diff", "10"}, &out) == 1);
     CHECK(out.find("FAIL") != std::string::npos);
     CHECK(out.find("max diff   20.00") != std::string::npos);
+    CHECK(out.find(" dB (of this image pair; the bake's figures pool several views)") != std::string::npos);
     CHECK(diff({a, b, "--max-diff", "20"}) == 0);
     CHECK(diff({a, b, "--max-diff", "10", "--max-share", "0.02"}) == 0);  // 4/256 = 1.6%
     CHECK(diff({a, b, "--max-diff", "10", "--max-share", "0.01"}) == 1);

@@ -30,6 +30,9 @@ TEST_CASE("doublings: the bake's winner, inspect and render print the same count
     REQUIRE(sepal_test::run_cmd("bake", {"cook-torrance:m=0.15", "--param", "gs-half", "--res", "32", "--terms", "2",
                                          "--method", "acls", "-o", asset, "--report", report},
                                 &out) == 0);
+    // Each count says which frame it is of, and each PSNR what it pools.
+    CHECK(out.find("dbl: framebuffer doublings of the default view's frame on gles1") != std::string::npos);
+    CHECK(out.find("pooled over the training views") != std::string::npos);
     sepal::Json j;
     REQUIRE_MESSAGE(sepal::read_json_file(report, &j, &err), err);
     const int winner = j["winner"].get<int>();
@@ -38,9 +41,12 @@ TEST_CASE("doublings: the bake's winner, inspect and render print the same count
     REQUIRE(sepal_test::run_cmd("inspect", {asset}, &out) == 0);
     INFO(out);
     const int inspected = after(out, "doublings   ");
+    CHECK(out.find("in the default scene's frame on gles1") != std::string::npos);
+    CHECK(out.find("pooled over its training views (sepal diff: one image pair)") != std::string::npos);
     REQUIRE(sepal_test::run_cmd("render", {asset, "--backend", "gles1-model", "-o", dir + "/m.png"}, &out) == 0);
     INFO(out);
     const int rendered = before(out, " doublings");
+    CHECK(out.find(" doublings in this scene's frame") != std::string::npos);
     CHECK(inspected >= 0);
     CHECK(inspected == baked);
     CHECK(rendered == inspected);
