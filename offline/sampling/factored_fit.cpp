@@ -102,7 +102,7 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
         return bad("terms " + std::to_string(o.J) + "x" + std::to_string(o.K) + ": J, K >= 1 and J K <= " +
                    std::to_string(SEPAL_SMP_MAX_TERMS) + " (or both 0: the default)");
     if (o.supersample < 1 || o.supersample > 8) return bad("supersample " + std::to_string(o.supersample) + ": 1..8");
-    if (o.iterations < 1 || o.iterations > 1000000) return bad("iterations: 1..1000000");
+    if (o.iterations < 0 || o.iterations > 1000000) return bad("iterations: 0 (auto) or 1..1000000");
     if (!(o.defensive >= 0 && o.defensive <= 1)) return bad("defensive share: 0..1");
     if (!(o.tolerance >= 0 && o.tolerance < 1)) return bad("tolerance: 0..1");
     // The whole matrix and its reconstruction are held (doubles), plus the colour masses.
@@ -168,7 +168,7 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
             q.n_theta_o = std::max(1, q.n_theta_o / 2), q.n_phi_o = std::max(1, q.n_phi_o / 2);
             q.n_theta_p = std::max(1, (q.n_theta_p ? q.n_theta_p : polar ? 64 : 192) / 2);
             q.n_phi_p = std::max(1, (q.n_phi_p ? q.n_phi_p : polar ? 64 : 96) / 2);
-            q.iterations = std::min(q.iterations, 300), q.supersample = std::min(q.supersample, 2);
+            q.iterations = q.iterations ? std::min(q.iterations, 300) : 300, q.supersample = std::min(q.supersample, 2);
             q.colour = false;
             SamplerData d;
             FactoredReport r;
@@ -408,7 +408,7 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     for (int c = 0; c < cols; ++c)
         for (int row = 0; row < rows; ++row) Y(row, c) = columns[size_t(c)].lum[size_t(row)];
     NmfKlOptions no;
-    no.max_iterations = o.iterations;
+    no.max_iterations = o.iterations ? o.iterations : polar ? 2000 : 500;
     no.tolerance = o.tolerance;
     no.seed = o.seed;
     no.threads = o.threads;

@@ -76,7 +76,11 @@ struct FactoredOptions {
     bool sqrt_theta = true;            // c1 bins uniform in sqrt(theta) (dense near alpha = 0 about t, s)
     bool jacobian = true;
     int supersample = 3;               // S: S x S points per wp bin
-    int iterations = 2000;             // NMF iteration cap (each level)
+    // NMF iteration cap (each level); 0: 2000 about the normal, 500 about t or s, where the
+    // level-1 matrix is 16x larger (18,432 x 256, 16 terms) and iterations past 500 lower the
+    // estimator's relative variance by under 2% (Ward: 0.01568 at 700, 0.01542 at 2000, 0.01654
+    // at 300) for 4x the fit time.
+    int iterations = 0;
     double tolerance = 1e-6;
     double defensive = 0.02;           // share of cosine samples (unbiasedness)
     // The Lambert floor D (estimate_diffuse: a low quantile of f) kept out of the terms and
