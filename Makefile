@@ -148,13 +148,15 @@ WEB_LDFLAGS := -O2 -s FULL_ES2=1 -s GL_MAX_TEMP_BUFFER_SIZE=33554432 -s ENVIRONM
 WEB_FILES  := $(WEB_DIR)/sepal.js $(WEB_DIR)/index.html $(WEB_DIR)/app.js $(WEB_DIR)/default.sepal $(WEB_DIR)/kiosk/scene.txt
 
 .SECONDARY:
-.PHONY: all build help deps run test test-asan update-goldens bench clean check-runtime check-c99 check-layers check-functions FORCE \
+.PHONY: all build bench-bins help deps run test test-asan update-goldens bench clean check-runtime check-c99 check-layers check-functions FORCE \
         check compdb format \
         install uninstall examples web fuzz fuzz-bins
 
 all: build ## the default: same as make build
 
-build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(BENCH_BINS) $(UNINSTALLED) check-runtime check-c99 check-layers check-functions ## build everything into build/ (-Wall -Wextra -Werror)
+build: $(BIN_SEPAL) $(BIN_VIEW) $(BIN_TESTS) $(UNINSTALLED) check-runtime check-c99 check-layers check-functions ## build the tools, the libraries and the tests into build/ (-Wall -Wextra -Werror; the benches: make bench-bins)
+
+bench-bins: $(BENCH_BINS) ## build the benchmark programs (build/bin/sepal-bench-*) without running them
 
 help: ## list the targets
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  make \1\t\2/' | expand -t 24
@@ -193,16 +195,17 @@ $(RUN_ASSET): $(BIN_SEPAL)
 	@echo "sepal: baking $(RUN_SPEC)"
 	@$(BIN_SEPAL) bake '$(RUN_SPEC)' $(RUN_BAKE) -o $@ > $(BUILD)/out/ward.bake.txt
 
-test: deps ## build and run every doctest suite (the web port's test needs `make web`: built here too)
-	@$(MAKE) --no-print-directory -j$(NPROC) build web
+test: deps ## build and run every doctest suite (the web port's test needs `make web`, the make-bench test the benches: built here too)
+	@$(MAKE) --no-print-directory -j$(NPROC) build web bench-bins
 	@sh tests/run.sh $(BIN_TESTS)
 
 # The inner loop: the test binary only (no web port, no benches, no sepal-view), filtered
-# with doctest's -tc (TC='*bake*'); the suites that drive Xvfb or Chromium are left out.
+# with doctest's -tc (TC='*bake*'); the suites that drive Xvfb or Chromium, and the ones that
+# run the bench programs, are left out.
 TC ?= *
-check: ## build the test binary and run the suites matching TC (default all) without the ports' Xvfb and Chromium tests
+check: ## build the test binary and run the suites matching TC (default all), without the Xvfb, Chromium and bench-program tests
 	@$(MAKE) --no-print-directory -j$(NPROC) $(BIN_TESTS)
-	@$(BIN_TESTS) -tc='$(TC)' -tce='*Xvfb*,*Chromium*'
+	@$(BIN_TESTS) -tc='$(TC)' -tce='*Xvfb*,*Chromium*,make bench*'
 
 # .clang-format's house style over every C/C++ source of ours (third_party/ untouched).
 format: ## apply .clang-format to every C/C++ source (clang-format, Debian's clang-format)
@@ -227,7 +230,7 @@ define newline
 endef
 
 test-asan: deps ## run the test suites under AddressSanitizer + UndefinedBehaviorSanitizer
-	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build web
+	@$(MAKE) --no-print-directory -j$(NPROC) BUILD=build/asan SAN=1 build web bench-bins
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  sh tests/run.sh build/asan/bin/sepal-tests

@@ -1,7 +1,9 @@
 // `make bench` as tests/bench/run.sh runs it, without the hour: every program accepts the
 // flags its line gives (a refusal stops the script there, `set -e`: sepal-bench-extremes
 // refused --out and nothing after it ever ran), and every tests/bench/<name>.cpp has a line;
-// and the quiet sections (tests/bench/quiet.h) that keep timings alone while two lanes run.
+// and the quiet sections (tests/bench/quiet.h) that keep timings alone while two lanes run, seen
+// from outside: a bench program holds one (SEPAL_BENCH_PARSE_ONLY=quiet, bench_cli.h) while this
+// test watches a stand-in lane. The test binary includes nothing of tests/bench.
 #include <doctest/doctest.h>
 
 #include <dirent.h>
@@ -14,17 +16,22 @@
 #include <sstream>
 #include <string>
 
-#include "bench/quiet.h"
 #include "test_util.h"
 
-TEST_CASE("make bench: tests/bench/run.sh runs every bench, and each accepts its flags") {
-    // The build folder this test binary sits in (build/bin/sepal-tests, build/asan/bin/...).
+namespace {
+// The build folder this test binary sits in (build/bin/sepal-tests, build/asan/bin/...).
+std::string build_dir() {
     char exe[PATH_MAX] = {};
     const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
     REQUIRE(n > 0);
     std::string build(exe, size_t(n));
     build = build.substr(0, build.rfind('/'));  // .../bin
-    build = build.substr(0, build.rfind('/'));
+    return build.substr(0, build.rfind('/'));
+}
+}  // namespace
+
+TEST_CASE("make bench: tests/bench/run.sh runs every bench, and each accepts its flags") {
+    const std::string build = build_dir();
     const std::string script = sepal_test::source_path("tests/bench/run.sh");
     std::ifstream in(script);
     std::stringstream text;
@@ -59,14 +66,15 @@ char proc_state(pid_t pid) {
     const size_t close = line.rfind(')');
     return close != std::string::npos && close + 2 < line.size() ? line[close + 2] : '?';
 }
-char wait_state(pid_t pid, char want) {
+// Polls every 10 ms, `tries` times at most (the default: 2 s).
+char wait_state(pid_t pid, char want, int tries = 200) {
     char s = '?';
-    for (int i = 0; i < 200 && (s = proc_state(pid)) != want; ++i) usleep(10000);
+    for (int i = 0; i < tries && (s = proc_state(pid)) != want; ++i) usleep(10000);
     return s;
 }
 }  // namespace
 
-TEST_CASE("make bench: a quiet section stops the other lanes' process groups and resumes them") {
+TEST_CASE("make bench: a bench's quiet section stops the other lanes' process groups and resumes them") {
     // A stand-in lane: a child in its own process group, sleeping.
     const pid_t child = fork();
     REQUIRE(child >= 0);
@@ -77,22 +85,23 @@ TEST_CASE("make bench: a quiet section stops the other lanes' process groups and
     setpgid(child, child);
     const std::string list = sepal_test::temp_dir() + "/lanes";
     {
-        std::ofstream(list) << child << "\n" << getpgrp() << "\n";  // our own group is skipped
+        std::ofstream(list) << child << "\n" << getpgrp() << "\n";  // the bench's own group is skipped
     }
     REQUIRE(wait_state(child, 'S') == 'S');
-    setenv("SEPAL_BENCH_LANES", list.c_str(), 1);
-    {
-        BenchQuiet quiet;
-        CHECK(wait_state(child, 'T') == 'T');
-    }
+    const std::string bench = build_dir() + "/bin/sepal-bench-cost";
+    REQUIRE_MESSAGE(access(bench.c_str(), X_OK) == 0, bench << " is not built (make test builds it)");
+    // The bench holds its section until its stdin closes.
+    FILE* p = popen(("SEPAL_BENCH_PARSE_ONLY=quiet SEPAL_BENCH_LANES='" + list + "' " + bench + " > /dev/null").c_str(), "w");
+    REQUIRE(p);
+    CHECK(wait_state(child, 'T', 3000) == 'T');
+    CHECK(pclose(p) == 0);
     CHECK(wait_state(child, 'S') == 'S');
-    // Without the variable it does nothing.
-    unsetenv("SEPAL_BENCH_LANES");
-    {
-        BenchQuiet quiet;
-        usleep(60000);
-        CHECK(proc_state(child) == 'S');
-    }
+    // Without the lane list it stops nothing.
+    p = popen(("SEPAL_BENCH_PARSE_ONLY=quiet " + bench + " > /dev/null").c_str(), "w");
+    REQUIRE(p);
+    usleep(500000);
+    CHECK(proc_state(child) == 'S');
+    CHECK(pclose(p) == 0);
     kill(child, SIGKILL);
     waitpid(child, nullptr, 0);
 }

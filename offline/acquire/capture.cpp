@@ -122,7 +122,7 @@ bool render_svbrdf(const AcqObject& obj, const BlendSvbrdf& sv, const sepal_scen
         if (err) *err = "render svbrdf: noise and shadows need the rig";
         return false;
     }
-    if (sv.res != obj.atlas.res) {
+    if (sv.maps.width != obj.atlas.res || sv.maps.height != obj.atlas.res) {
         if (err) *err = "render svbrdf: the SVBRDF's atlas does not match the object's";
         return false;
     }
@@ -140,7 +140,7 @@ bool render_svbrdf(const AcqObject& obj, const BlendSvbrdf& sv, const sepal_scen
 
     *out = Image(width, height, 3);
     const glm::dvec3 eye(glm::make_vec3(scene.camera.eye));
-    const int K = sv.materials(), res = sv.res;
+    const int K = sv.materials(), res = sv.maps.width;
     std::vector<std::vector<PhotoSample>> rows(static_cast<size_t>(height));
     parallel_for(size_t(height), 0, [&](size_t row) {
         const int y = int(row);
@@ -157,7 +157,7 @@ bool render_svbrdf(const AcqObject& obj, const BlendSvbrdf& sv, const sepal_scen
             const glm::dvec3 wo = local(glm::normalize(eye - pos));
             if (wo.z <= 0) continue;
             const float u = float(sp.uv.x), vv = float(sp.uv.y);  // as rasterized
-            sv.weights_at(u, vv, w.data());
+            sv.maps.sample_all(u, vv, w.data());
             const int tx = std::min(res - 1, std::max(0, int(u * res))), ty = std::min(res - 1, std::max(0, int(vv * res)));
             const int texel = ty * res + tx;
             glm::dvec3 L(0.0);

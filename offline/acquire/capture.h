@@ -31,7 +31,7 @@
 #include <glm/vec3.hpp>
 
 #include "acquire/object.h"
-#include "acquire/svbrdf.h"
+#include "acquire/known.h"
 #include "util/image.h"
 #include "sepal/sepal_scene.h"
 

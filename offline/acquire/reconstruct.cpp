@@ -338,7 +338,8 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
     r.basis = fits;
     r.samples.assign(n, 0);
     for (int t : a.texels) r.samples[size_t(t)] = ix.count(t);
-    r.svbrdf.res = a.res;
+    r.svbrdf.maps.width = r.svbrdf.maps.height = a.res;
+    r.svbrdf.maps.count = K;
     for (const LafortuneFit& f : fits) {
         std::string e;
         std::unique_ptr<Brdf> b = make_brdf(f.model.spec(), &e);
@@ -347,12 +348,13 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
             return false;
         }
         r.svbrdf.basis.emplace_back(std::move(b));
+        r.svbrdf.specs.push_back(f.model.spec());
     }
     if (o.project) {
-        r.svbrdf.weights.assign(n * size_t(K), 0.0f);
-        project_weights(caps, ix, measured, cluster, fits, o, &r.svbrdf.weights);
+        r.svbrdf.maps.w.assign(n * size_t(K), 0.0f);
+        project_weights(caps, ix, measured, cluster, fits, o, &r.svbrdf.maps.w);
     }
-    fill_unmeasured(a, measured, K, o.project, &cluster, &r.svbrdf.weights);
+    fill_unmeasured(a, measured, K, o.project, &cluster, &r.svbrdf.maps.w);
     r.cluster = cluster;
     r.texel_model.assign(n, LafortuneModel());
     for (int t : a.texels)

@@ -28,7 +28,7 @@
 
 #include "acquire/capture.h"
 #include "acquire/object.h"
-#include "acquire/svbrdf.h"
+#include "acquire/known.h"
 #include "fit/lafortune_fit.h"
 
 namespace sepal {
@@ -41,7 +41,7 @@ struct ReconstructOptions {
     int iterations = 2;
     int max_cluster_samples = 20000;
     double ridge_share = 1e-3;
-    bool project = true;  // false: skip step (3), svbrdf.weights left empty (planning estimates)
+    bool project = true;  // false: skip step (3), svbrdf.maps.w left empty (planning estimates)
     int threads = 0;
 };
 

@@ -11,7 +11,7 @@
 // declared light range (light_range.h: f cos above 1.25 / its dimmest irradiance is white
 // under every light of the range), minus the diffuse part (a constant BRDF drawn by an
 // untextured pass): format-2 radiance assets, with the range in the header (2.3).
-// `radiance = false` factors f itself (format 1, the bake before issue 13).
+// `radiance = false` factors f itself (what format 1.x assets hold).
 // How candidates are judged (image_score.h): every candidate asset is drawn on its target
 // (the GL ES pipeline emulated on the CPU, or the CPU backend) in every training view (the
 // light range's training conditions) and scored by PSNR against the exact render, 8-bit, as

@@ -21,7 +21,7 @@
 #include "ist/decompose.h"
 #include "ist/figures.h"
 #include "ist/generate.h"
-#include "ist/svbrdf.h"
+#include "svbrdf/samples.h"
 #include "ist/tree.h"
 #include "ist/tree_asset.h"
 #include "reference/render_exact.h"
@@ -44,14 +44,14 @@ struct GenerateArgs {
 
 int run_generate(GenerateArgs a, const CommandIO& io) {
     a.o.width = a.o.height = a.size;
-    Svbrdf s;
-    SvbrdfTruth truth;
+    SvbrdfSamples s;
+    BlendSvbrdf truth;
     std::string err;
     if (!generate_svbrdf(a.o, &s, &truth, &err) || !write_svbrdf(a.out, s, &err) || !write_truth(a.out, truth, &err))
         return fail(io, "generate", err);
     const SvbrdfCounts n = count_samples(s);
     std::fprintf(io.out, "svbrdf     %s: %dx%d texels, %d direction pairs, %d bases (%s preset)\n", a.out.c_str(),
-                 s.width, s.height, s.pair_count(), truth.blend.count, a.o.preset.c_str());
+                 s.width, s.height, s.pair_count(), truth.maps.count, a.o.preset.c_str());
     std::fprintf(io.out, "samples    %lld, %lld missing\n", (long long)n.samples, (long long)n.missing);
     return kExitOk;
 }
@@ -65,7 +65,7 @@ struct DecomposeArgs {
 int run_decompose(DecomposeArgs a, const CommandIO& io) {
     std::string err;
     if (!parse_ist_method(a.method, &a.d.method)) return fail(io, "decompose", "--method '" + a.method + "': unknown");
-    Svbrdf s;
+    SvbrdfSamples s;
     if (!read_svbrdf(a.in, &s, &err)) return fail(io, "decompose", err);
     Decomposition dec;
     ShadeTree tree;

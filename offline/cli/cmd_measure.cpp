@@ -32,7 +32,7 @@
 #include "database/measure_plan.h"
 #include "acquire/capture.h"
 #include "acquire/object.h"
-#include "acquire/svbrdf.h"
+#include "acquire/known.h"
 #include "fit/samples.h"
 #include "util/image.h"
 #include "measured/merl.h"

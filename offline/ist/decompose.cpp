@@ -39,7 +39,7 @@ std::vector<double> pair_cosines(const std::vector<DirPair>& pairs) {
 }
 
 // Rows `texels` of the SVBRDF's matrix (all when empty: first..first+count).
-void build_matrix(const Svbrdf& s, const std::vector<int>& texels, const std::vector<double>& cosines, Matrix* m) {
+void build_matrix(const SvbrdfSamples& s, const std::vector<int>& texels, const std::vector<double>& cosines, Matrix* m) {
     const int np = s.pair_count();
     m->rows = int(texels.size());
     m->cols = 3 * np;
@@ -360,7 +360,7 @@ void order_terms(Decomposition* d) {
     d->basis.swap(b);
 }
 
-bool decompose_fixed(const Svbrdf& s, const DecomposeOptions& o, int k, Decomposition* out, std::string* err) {
+bool decompose_fixed(const SvbrdfSamples& s, const DecomposeOptions& o, int k, Decomposition* out, std::string* err) {
     const double t0 = now_seconds();
     const int texels = s.texels(), np = s.pair_count();
     const std::vector<double> cosines = pair_cosines(s.pairs);
@@ -469,7 +469,7 @@ BlendMaps Decomposition::blend() const {
     return b;
 }
 
-bool decompose_svbrdf(const Svbrdf& s, const DecomposeOptions& o, Decomposition* out, std::string* err) {
+bool decompose_svbrdf(const SvbrdfSamples& s, const DecomposeOptions& o, Decomposition* out, std::string* err) {
     if (!validate_svbrdf(s, err)) return false;
     if (o.terms < 0 || o.terms > 8 || o.max_terms < 1 || o.max_terms > 8)
         return fail(err, "decompose: terms 1..8 (0: chosen by error), max_terms 1..8");
@@ -507,7 +507,7 @@ bool decompose_svbrdf(const Svbrdf& s, const DecomposeOptions& o, Decomposition*
     return true;
 }
 
-ReconError reconstruction_error(const Decomposition& d, const Svbrdf& input, const Svbrdf& reference) {
+ReconError reconstruction_error(const Decomposition& d, const SvbrdfSamples& input, const SvbrdfSamples& reference) {
     ReconError r;
     double so = 0, sm = 0;
     const int np = int(d.pairs.size()), k = d.terms;

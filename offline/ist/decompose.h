@@ -43,7 +43,7 @@
 #include <vector>
 
 #include "ist/generate.h"
-#include "ist/svbrdf.h"
+#include "svbrdf/samples.h"
 
 namespace sepal {
 
@@ -92,7 +92,7 @@ struct Decomposition {
     BlendMaps blend() const;
 };
 
-bool decompose_svbrdf(const Svbrdf& s, const DecomposeOptions& o, Decomposition* out, std::string* err);
+bool decompose_svbrdf(const SvbrdfSamples& s, const DecomposeOptions& o, Decomposition* out, std::string* err);
 
 // Cosine-weighted RMS against `reference` (the same texels and pairs, complete data),
 // separately over the samples `input` observed (confidence > 0) and those it missed.
@@ -100,7 +100,7 @@ struct ReconError {
     double observed = 0, missing = 0;
     int64_t n_observed = 0, n_missing = 0;
 };
-ReconError reconstruction_error(const Decomposition& d, const Svbrdf& input, const Svbrdf& reference);
+ReconError reconstruction_error(const Decomposition& d, const SvbrdfSamples& input, const SvbrdfSamples& reference);
 
 // Recovered terms matched one-to-one to true blend maps (the assignment of largest total
 // correlation, exhaustive over permutations), each term scaled by its least-squares

@@ -73,17 +73,6 @@ void voronoi_weights(std::vector<DirPair>* pairs, size_t first) {
 
 }  // namespace
 
-double BlendMaps::sample(int j, double u, double v) const {
-    const double x = u * width - 0.5, y = v * height - 0.5;
-    const double fx = std::floor(x), fy = std::floor(y);
-    const double ax = x - fx, ay = y - fy;
-    auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
-    const int x0 = wrap(long(fx), width), x1 = wrap(long(fx) + 1, width);
-    const int y0 = wrap(long(fy), height), y1 = wrap(long(fy) + 1, height);
-    auto t = [&](int xi, int yi) { return double(at(yi * width + xi, j)); };
-    return (1 - ay) * ((1 - ax) * t(x0, y0) + ax * t(x1, y0)) + ay * ((1 - ax) * t(x0, y1) + ax * t(x1, y1));
-}
-
 const std::vector<NamedBasis>& default_bases(const std::string& preset) {
     // Energy conserving (brdf_models.h's conditions; the MERL fits have albedos <= 0.36),
     // isotropic: the second level tabulates isotropic bases (tree.h).
@@ -176,9 +165,9 @@ void card_weights(int materials, double u, double v, double e, double halftone, 
     over(5, cover(std::fabs(std::hypot(u - 0.7, v - 0.75) - 0.12) - 0.03, e));
 }
 
-bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, std::string* err) {
-    if (o.width < 4 || o.height < 4 || o.width > Svbrdf::kMaxSide || o.height > Svbrdf::kMaxSide)
-        return fail(err, "generate: size outside 4.." + std::to_string(Svbrdf::kMaxSide));
+bool generate_svbrdf(const GenerateOptions& o, SvbrdfSamples* out, BlendSvbrdf* truth, std::string* err) {
+    if (o.width < 4 || o.height < 4 || o.width > SvbrdfSamples::kMaxSide || o.height > SvbrdfSamples::kMaxSide)
+        return fail(err, "generate: size outside 4.." + std::to_string(SvbrdfSamples::kMaxSide));
     const std::vector<NamedBasis>& preset = default_bases(o.preset);
     if (o.bases.empty() && preset.empty())
         return fail(err, "generate: unknown preset '" + o.preset + "' (analytic, measured, mixed)");
@@ -189,36 +178,35 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
     if (!(o.noise >= 0 && o.noise <= 1) || !(o.missing >= 0 && o.missing <= 0.95) ||
         !(o.misregistration >= 0 && o.misregistration <= 4) || !(o.halftone >= 0 && o.halftone <= 1))
         return fail(err, "generate: noise 0..1, missing 0..0.95, misregistration 0..4 texels, halftone 0..1");
-    SvbrdfTruth t;
-    std::vector<std::unique_ptr<Brdf>> brdfs;
+    BlendSvbrdf t;
     for (int j = 0; j < k; ++j) {
         const std::string spec = o.bases.empty() ? preset[size_t(j)].spec : o.bases[size_t(j)];
         std::string why;
         std::unique_ptr<Brdf> b = make_brdf(spec, &why);
         if (!b) return fail(err, "generate: basis " + std::to_string(j) + ": " + why);
         t.names.push_back(o.bases.empty() ? preset[size_t(j)].name : b->model());
-        t.bases.push_back(b->spec());
-        brdfs.push_back(std::move(b));
+        t.specs.push_back(b->spec());
+        t.basis.push_back(std::move(b));
     }
     const std::vector<DirPair> pairs = gantry_pairs(o.views, o.lights, o.lobe_lights);
-    if (pairs.empty() || pairs.size() > size_t(Svbrdf::kMaxPairs))
+    if (pairs.empty() || pairs.size() > size_t(SvbrdfSamples::kMaxPairs))
         return fail(err, "generate: " + std::to_string(pairs.size()) + " direction pairs, outside 1.." +
-                             std::to_string(Svbrdf::kMaxPairs));
+                             std::to_string(SvbrdfSamples::kMaxPairs));
     const int np = int(pairs.size()), w = o.width, h = o.height;
     // f_j at every pair, once.
     std::vector<glm::dvec3> f(size_t(k) * np);
     for (int j = 0; j < k; ++j)
-        for (int p = 0; p < np; ++p) f[size_t(j) * np + p] = brdfs[size_t(j)]->eval(pairs[size_t(p)].wi, pairs[size_t(p)].wo);
+        for (int p = 0; p < np; ++p) f[size_t(j) * np + p] = t.basis[size_t(j)]->eval(pairs[size_t(p)].wi, pairs[size_t(p)].wo);
     std::vector<glm::dvec2> shift(static_cast<size_t>(np));
     for (int p = 0; p < np; ++p)
         shift[size_t(p)] = o.misregistration *
                            glm::dvec2(2 * counter_uniform(o.seed ^ 0x5151, 2 * p) - 1, 2 * counter_uniform(o.seed ^ 0x5151, 2 * p + 1) - 1);
     const double edge = std::max(1.5 / std::min(w, h), 0.004);
-    t.blend.width = w;
-    t.blend.height = h;
-    t.blend.count = k;
-    t.blend.w.assign(size_t(w) * h * k, 0.0f);
-    Svbrdf s;
+    t.maps.width = w;
+    t.maps.height = h;
+    t.maps.count = k;
+    t.maps.w.assign(size_t(w) * h * k, 0.0f);
+    SvbrdfSamples s;
     s.resize(w, h, pairs);
     parallel_for(size_t(h), o.threads, [&](size_t row) {
         const int y = int(row);
@@ -226,7 +214,7 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
         for (int x = 0; x < w; ++x) {
             const int texel = y * w + x;
             card_weights(k, (x + 0.5) / w, (y + 0.5) / h, edge, o.halftone, wt.data());
-            for (int j = 0; j < k; ++j) t.blend.w[size_t(texel) * k + size_t(j)] = float(wt[size_t(j)]);
+            for (int j = 0; j < k; ++j) t.maps.w[size_t(texel) * k + size_t(j)] = float(wt[size_t(j)]);
             for (int p = 0; p < np; ++p) {
                 const glm::dvec2 sh = shift[size_t(p)];
                 card_weights(k, (x + 0.5 + sh.x) / w, (y + 0.5 + sh.y) / h, edge, o.halftone, wt.data());
@@ -244,27 +232,27 @@ bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, 
     return true;
 }
 
-bool write_truth(const std::string& dir, const SvbrdfTruth& t, std::string* err) {
+bool write_truth(const std::string& dir, const BlendSvbrdf& t, std::string* err) {
     if (!make_dirs(dir + "/truth", err)) return false;
     Json j = Json::object();
     j["format"] = "sepal-svbrdf-truth";
     j["version"] = 1;
     Json& mats = j["materials"] = Json::array();
-    for (int m = 0; m < t.blend.count; ++m) {
-        Image img(t.blend.width, t.blend.height, 1);
-        for (int i = 0; i < t.blend.width * t.blend.height; ++i) img.data[size_t(i)] = t.blend.at(i, m);
+    for (int m = 0; m < t.maps.count; ++m) {
+        Image img(t.maps.width, t.maps.height, 1);
+        for (int i = 0; i < t.maps.width * t.maps.height; ++i) img.data[size_t(i)] = t.maps.at(i, m);
         const std::string name = "truth/blend" + std::to_string(m) + ".pfm";
         if (!write_pfm(dir + "/" + name, img, err)) return false;
         Json mat = Json::object();
         mat["name"] = t.names[size_t(m)];
-        mat["spec"] = t.bases[size_t(m)];
+        mat["spec"] = t.specs[size_t(m)];
         mat["blend"] = name;
         mats.push_back(std::move(mat));
     }
     return write_json_file(dir + "/truth.json", j, err);
 }
 
-bool read_truth(const std::string& dir, SvbrdfTruth* out, std::string* err) {
+bool read_truth(const std::string& dir, BlendSvbrdf* out, std::string* err) {
     const std::string path = dir + "/truth.json";
     Json root;
     if (!read_json_file(path, &root, err, 1u << 20)) return false;
@@ -276,8 +264,9 @@ bool read_truth(const std::string& dir, SvbrdfTruth* out, std::string* err) {
         return fail(err, path + ": not a sepal-svbrdf-truth file of version 1");
     const Json* mats = nullptr;
     if (!json_array({root, path}, "materials", 1, 16, &mats, err, true)) return false;
-    SvbrdfTruth t;
-    t.blend.count = int(mats->size());
+    BlendMaps blend;
+    blend.count = int(mats->size());
+    std::vector<std::string> names, specs;
     std::vector<Image> maps;
     for (size_t m = 0; m < mats->size(); ++m) {
         const JsonField e{(*mats)[m], path + ": materials[" + std::to_string(m) + "]"};
@@ -289,37 +278,21 @@ bool read_truth(const std::string& dir, SvbrdfTruth* out, std::string* err) {
         if (!read_image(dir + "/" + blend, &img, err)) return false;
         if (!maps.empty() && (img.width != maps[0].width || img.height != maps[0].height))
             return fail(err, dir + "/" + blend + ": blend maps differ in size");
-        t.names.push_back(name);
-        t.bases.push_back(spec);
+        names.push_back(name);
+        specs.push_back(spec);
         maps.push_back(std::move(img));
     }
-    t.blend.width = maps[0].width;
-    t.blend.height = maps[0].height;
-    t.blend.w.resize(size_t(t.blend.width) * t.blend.height * t.blend.count);
-    for (int m = 0; m < t.blend.count; ++m)
-        for (int i = 0; i < t.blend.width * t.blend.height; ++i)
-            t.blend.w[size_t(i) * t.blend.count + m] = maps[size_t(m)].data[size_t(i) * maps[size_t(m)].channels];
+    blend.width = maps[0].width;
+    blend.height = maps[0].height;
+    blend.w.resize(size_t(blend.width) * blend.height * blend.count);
+    for (int m = 0; m < blend.count; ++m)
+        for (int i = 0; i < blend.width * blend.height; ++i)
+            blend.w[size_t(i) * blend.count + m] = maps[size_t(m)].data[size_t(i) * maps[size_t(m)].channels];
+    BlendSvbrdf t;
+    if (!make_blend_svbrdf(std::move(blend), specs, &t, &why)) return fail(err, path + ": " + why);
+    t.names = std::move(names);
     *out = std::move(t);
     return true;
-}
-
-glm::dvec3 BlendedSvbrdf::eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const {
-    glm::dvec3 f(0);
-    for (int j = 0; j < maps_.count; ++j) {
-        const double w = maps_.sample(j, uv.x, uv.y);
-        if (w != 0) f += w * bases_[size_t(j)]->eval(wi, wo);
-    }
-    return f;
-}
-
-std::unique_ptr<BlendedSvbrdf> make_truth_svbrdf(const SvbrdfTruth& t, std::string* err) {
-    std::vector<std::unique_ptr<Brdf>> b;
-    for (const std::string& spec : t.bases) {
-        std::unique_ptr<Brdf> f = make_brdf(spec, err);
-        if (!f) return nullptr;
-        b.push_back(std::move(f));
-    }
-    return std::make_unique<BlendedSvbrdf>(t.blend, std::move(b));
 }
 
 }  // namespace sepal

@@ -4,10 +4,10 @@
 //
 // Usage:
 //   sepal::GenerateOptions o; o.width = o.height = 64; o.materials = 4; o.missing = 0.5;
-//   sepal::Svbrdf s; sepal::SvbrdfTruth truth; std::string err;
+//   sepal::SvbrdfSamples s; sepal::BlendSvbrdf truth; std::string err;
 //   if (!sepal::generate_svbrdf(o, &s, &truth, &err)) ...
 //   sepal::write_svbrdf("card", s, &err); sepal::write_truth("card", truth, &err);
-//   auto exact = sepal::make_truth_svbrdf(truth, &err);   // for render_exact_spatial
+//   render_exact_spatial(truth, scene, mesh, ...);   // the truth is a spatial BRDF
 //
 // The layout ("card", after the paper's Seasons Greetings): a blue and a white paper split
 // by a wavy soft boundary, a gold foil border and halftone stripes of gold over the papers
@@ -30,32 +30,18 @@
 // random share `missing` of the samples gets confidence 0. All randomness is counter-based
 // from `seed`: the same options give byte-identical output.
 // Limits: width and height 4..4096, materials 2..6, views 1..64, lights 1..512,
-// lobe_lights 0..256 (at most Svbrdf::kMaxPairs pairs), noise 0..1, missing 0..0.95, halftone 0..1,
+// lobe_lights 0..256 (at most SvbrdfSamples::kMaxPairs pairs), noise 0..1, missing 0..0.95, halftone 0..1,
 // misregistration 0..4 texels.
 #pragma once
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "ist/svbrdf.h"
+#include "svbrdf/blend.h"
+#include "svbrdf/samples.h"
 #include "reference/render_exact.h"
 
 namespace sepal {
-
-// Non-negative weight maps, one per basis, width x height texels (row 0 at v = 0).
-struct BlendMaps {
-    int width = 0, height = 0, count = 0;
-    std::vector<float> w;  // [texel * count + j]
-    float at(int texel, int j) const { return w[size_t(texel) * size_t(count) + size_t(j)]; }
-    // Bilinear between texel centres with repeat wrapping, as the runtime samples a map.
-    double sample(int j, double u, double v) const;
-};
-
-struct SvbrdfTruth {
-    std::vector<std::string> names;  // e.g. "gold foil"
-    std::vector<std::string> bases;  // BRDF specs
-    BlendMaps blend;
-};
 
 struct GenerateOptions {
     int width = 64, height = 64;
@@ -82,26 +68,11 @@ std::vector<DirPair> gantry_pairs(int views, int lights, int lobe_lights);
 // The true weights of the "card" layout at (u, v) in [0,1]^2 (edge width in UV units).
 void card_weights(int materials, double u, double v, double edge, double halftone, double* w);
 
-bool generate_svbrdf(const GenerateOptions& o, Svbrdf* out, SvbrdfTruth* truth, std::string* err);
+// truth: the true SVBRDF (names, specs, bases and weight maps), or null.
+bool generate_svbrdf(const GenerateOptions& o, SvbrdfSamples* out, BlendSvbrdf* truth, std::string* err);
 
 // DIR/truth.json and DIR/truth/blendJ.pfm (docs/ist.md).
-bool write_truth(const std::string& dir, const SvbrdfTruth& t, std::string* err);
-bool read_truth(const std::string& dir, SvbrdfTruth* t, std::string* err);
-
-// sum_j blend_j(uv) f_j(wi, wo) with the maps sampled bilinearly, for render_exact_spatial.
-class BlendedSvbrdf : public SpatialBrdf {
-  public:
-    BlendedSvbrdf(BlendMaps maps, std::vector<std::unique_ptr<Brdf>> bases)
-        : maps_(std::move(maps)), bases_(std::move(bases)) {}
-    glm::dvec3 eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const override;
-    const BlendMaps& maps() const { return maps_; }
-    const Brdf& basis(int j) const { return *bases_[size_t(j)]; }
-
-  private:
-    BlendMaps maps_;
-    std::vector<std::unique_ptr<Brdf>> bases_;
-};
-// The truth as a spatial BRDF (its specs built with make_brdf); null with the reason.
-std::unique_ptr<BlendedSvbrdf> make_truth_svbrdf(const SvbrdfTruth& t, std::string* err);
+bool write_truth(const std::string& dir, const BlendSvbrdf& t, std::string* err);
+bool read_truth(const std::string& dir, BlendSvbrdf* t, std::string* err);  // builds the bases
 
 }  // namespace sepal

@@ -405,9 +405,9 @@ bool validate_tree(const ShadeTree& t, std::string* err) {
         return fail(err, "tree: parameterization iv, gs-half, vh or rusinkiewicz (hemisphere maps), res 4..128");
     if (t.bases.empty() || t.bases.size() > 8) return fail(err, "tree: 1..8 bases");
     if (t.blend.count != t.basis_count() || t.blend.width < 1 || t.blend.height < 1 ||
-        t.blend.width > Svbrdf::kMaxSide || t.blend.height > Svbrdf::kMaxSide ||
+        t.blend.width > SvbrdfSamples::kMaxSide || t.blend.height > SvbrdfSamples::kMaxSide ||
         t.blend.w.size() != size_t(t.blend.width) * t.blend.height * t.blend.count)
-        return fail(err, "tree: one blend map per basis, 1.." + std::to_string(Svbrdf::kMaxSide) + " texels a side");
+        return fail(err, "tree: one blend map per basis, 1.." + std::to_string(SvbrdfSamples::kMaxSide) + " texels a side");
     // Weights mix basis BRDFs: a negative one would subtract a material (set_blend refuses
     // them too).
     for (size_t i = 0; i < t.blend.w.size(); ++i)
@@ -732,8 +732,8 @@ bool read_tree(const std::string& dir, ShadeTree* out, std::string* err) {
     if (!json_array(top, "bases", 1, 8, &bases, err, true)) return false;
     static const Json kAbsent;  // "expected an object, got null" when "blend" is missing
     const JsonField blend{root.contains("blend") ? root.at("blend") : kAbsent, path + ".blend"};
-    if (!json_int(blend, "width", 1, Svbrdf::kMaxSide, &t.blend.width, err, true) ||
-        !json_int(blend, "height", 1, Svbrdf::kMaxSide, &t.blend.height, err, true) ||
+    if (!json_int(blend, "width", 1, SvbrdfSamples::kMaxSide, &t.blend.width, err, true) ||
+        !json_int(blend, "height", 1, SvbrdfSamples::kMaxSide, &t.blend.height, err, true) ||
         !json_array(blend, "maps", bases->size(), bases->size(), &maps, err, true))
         return false;
     t.blend.count = int(maps->size());

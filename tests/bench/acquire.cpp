@@ -166,7 +166,7 @@ struct BakedBasis {
 };
 
 bool bake_basis(const Reconstruction& r, std::vector<BakedBasis>* out, std::string* err) {
-    const int K = r.svbrdf.materials(), res = r.svbrdf.res;
+    const int K = r.svbrdf.materials(), res = r.svbrdf.maps.width;
     out->assign(size_t(K), BakedBasis());
     for (int k = 0; k < K; ++k) {
         BakeOptions o;
@@ -180,12 +180,12 @@ bool bake_basis(const Reconstruction& r, std::vector<BakedBasis>* out, std::stri
             return false;
         BakedBasis& b = (*out)[size_t(k)];
         float wmax = 0;
-        for (size_t t = 0; t < size_t(res) * res; ++t) wmax = std::max(wmax, r.svbrdf.weights[t * size_t(K) + size_t(k)]);
+        for (size_t t = 0; t < size_t(res) * res; ++t) wmax = std::max(wmax, r.svbrdf.maps.w[t * size_t(K) + size_t(k)]);
         b.scale = wmax > 0 ? wmax : 1;
         b.weights.width = b.weights.height = res;
         b.weights.pixels.assign(size_t(res) * res * 4, 255);
         for (size_t t = 0; t < size_t(res) * res; ++t) {
-            const double w = r.svbrdf.weights[t * size_t(K) + size_t(k)] / b.scale;
+            const double w = r.svbrdf.maps.w[t * size_t(K) + size_t(k)] / b.scale;
             const uint8_t q = uint8_t(std::lround(std::min(1.0, std::max(0.0, w)) * 255));
             for (int c = 0; c < 3; ++c) b.weights.pixels[t * 4 + size_t(c)] = q;
         }

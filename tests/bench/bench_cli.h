@@ -12,6 +12,8 @@
 // parse returns -1 to go on, or the exit code: 0 after --help or --version, 2 after a bad
 // flag (the message names it), 2 when the output folder cannot be made; 0 right after
 // parsing when SEPAL_BENCH_PARSE_ONLY is set (tests/make_bench_test.cpp runs tests/bench/run.sh so).
+// SEPAL_BENCH_PARSE_ONLY=quiet also holds a quiet section (quiet.h) until stdin ends, so the
+// test can watch a real bench stop and resume the other lanes.
 #pragma once
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +21,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench/quiet.h"
 #include "sepal/sepal_version.h"
 #include "util/io.h"
 
@@ -51,7 +54,16 @@ struct BenchCli {
             return 2;
         }
         // The make-bench smoke test: every line of tests/bench/run.sh parses, then stops.
-        if (std::getenv("SEPAL_BENCH_PARSE_ONLY")) return 0;
+        if (const char* only = std::getenv("SEPAL_BENCH_PARSE_ONLY")) {
+            if (std::string(only) == "quiet") {
+                BenchQuiet quiet;
+                std::puts("quiet");
+                std::fflush(stdout);
+                while (std::getchar() != EOF) {
+                }
+            }
+            return 0;
+        }
         std::string err;
         if (!sepal::make_dirs(out, &err)) {
             std::fprintf(stderr, "%s: %s\n", app.get_name().c_str(), err.c_str());

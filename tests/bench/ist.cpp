@@ -62,14 +62,14 @@ struct Row {
     Decomposition d;
 };
 
-Row measure(const std::string& preset, const Svbrdf& s, const SvbrdfTruth& t, DecomposeOptions o, double pca_rms) {
+Row measure(const std::string& preset, const SvbrdfSamples& s, const BlendSvbrdf& t, DecomposeOptions o, double pca_rms) {
     Row r;
     r.preset = preset;
     r.method = ist_method_name(o.method);
     r.l = o.sparsity;
     std::string err;
     if (!decompose_svbrdf(s, o, &r.d, &err)) die(err);
-    const TermMatch m = match_terms(r.d, t.blend);
+    const TermMatch m = match_terms(r.d, t.maps);
     r.rms = r.d.rms;
     r.rms_ratio = pca_rms > 0 ? r.rms / pca_rms : 1;
     r.map_mean = m.mean_map_rms;
@@ -142,12 +142,12 @@ int main(int argc, char** argv) {
     // ---- fig5 -------------------------------------------------------------------------------
     std::fprintf(stderr, "sepal-bench-ist: fig5 (%dx%d)\n", size, size);
     std::vector<Row> fig5;
-    Svbrdf mixed;
-    SvbrdfTruth mixed_truth;
+    SvbrdfSamples mixed;
+    BlendSvbrdf mixed_truth;
     j.key("fig5").begin_array();
     for (const char* preset : {"analytic", "mixed"}) {
-        Svbrdf s;
-        SvbrdfTruth t;
+        SvbrdfSamples s;
+        BlendSvbrdf t;
         if (!generate_svbrdf(card(size, preset), &s, &t, &err)) die(err);
         DecomposeOptions o;
         o.terms = 4;
@@ -162,11 +162,11 @@ int main(int argc, char** argv) {
         if (std::string(preset) == "mixed") {
             mixed = s;
             mixed_truth = t;
-            std::vector<BlendRow> rows = {{"truth", t.blend, {}}};
+            std::vector<BlendRow> rows = {{"truth", t.maps, {}}};
             for (size_t i = fig5.size() - 5; i < fig5.size(); ++i) {
                 char label[96];
                 std::snprintf(label, sizeof label, "%s RMS %.4f", fig5[i].method.c_str(), fig5[i].rms);
-                rows.push_back({label, fig5[i].d.blend(), match_terms(fig5[i].d, t.blend).truth_of_term});
+                rows.push_back({label, fig5[i].d.blend(), match_terms(fig5[i].d, t.maps).truth_of_term});
             }
             if (!write_png(out + "/ist-fig5.png", blend_sheet(rows, 96), &err)) die(err);
         }
@@ -179,8 +179,8 @@ int main(int argc, char** argv) {
     // side, where materials mix only along edges 1.5 texels wide, as on a printed card scanned
     // finely (the paper's card). Only there does forcing one material per texel cost little.
     std::fprintf(stderr, "sepal-bench-ist: fig6 (SACLS sparsity)\n");
-    Svbrdf opaque;
-    SvbrdfTruth opaque_truth;
+    SvbrdfSamples opaque;
+    BlendSvbrdf opaque_truth;
     {
         GenerateOptions g = card(2 * size, "mixed");
         g.halftone = 1.0;
@@ -190,14 +190,14 @@ int main(int argc, char** argv) {
     pca_o.terms = 4;
     pca_o.method = IstMethod::PCA;
     const double pca_opaque = measure("opaque", opaque, opaque_truth, pca_o, 0).rms;
-    std::vector<Fig6Card> fig6 = {{"mixed", size, multi_material_share(mixed_truth.blend), {}},
-                                  {"opaque", 2 * size, multi_material_share(opaque_truth.blend), {}}};
-    std::vector<BlendRow> rows6 = {{"truth", opaque_truth.blend, {}}};
+    std::vector<Fig6Card> fig6 = {{"mixed", size, multi_material_share(mixed_truth.maps), {}},
+                                  {"opaque", 2 * size, multi_material_share(opaque_truth.maps), {}}};
+    std::vector<BlendRow> rows6 = {{"truth", opaque_truth.maps, {}}};
     j.key("fig6").begin_array();
     for (Fig6Card& card6 : fig6) {
         const bool is_mixed = card6.preset == "mixed";
-        const Svbrdf& sv = is_mixed ? mixed : opaque;
-        const SvbrdfTruth& tr = is_mixed ? mixed_truth : opaque_truth;
+        const SvbrdfSamples& sv = is_mixed ? mixed : opaque;
+        const BlendSvbrdf& tr = is_mixed ? mixed_truth : opaque_truth;
         // The mixed card's ends only (its l = 5 and 20 rows, measured once, are in docs/ist.md).
         const std::vector<double> ls = is_mixed ? std::vector<double>{0.0, 1.0, 1000.0}
                                                 : std::vector<double>{0.0, 1.0, 5.0, 20.0, 1000.0};
@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
             if (is_mixed) continue;
             char label[96];
             std::snprintf(label, sizeof label, "l=%g RMS %.4f", l, card6.rows.back().rms);
-            rows6.push_back({label, card6.rows.back().d.blend(), match_terms(card6.rows.back().d, tr.blend).truth_of_term});
+            rows6.push_back({label, card6.rows.back().d.blend(), match_terms(card6.rows.back().d, tr.maps).truth_of_term});
         }
     }
     j.end_array();
@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
 
     // ---- fig10 ------------------------------------------------------------------------------
     std::fprintf(stderr, "sepal-bench-ist: fig10 (50%% missing)\n");
-    Svbrdf half = mixed;
+    SvbrdfSamples half = mixed;
     drop_samples(&half, 0.5, 11);
     j.key("fig10").begin_array();
     std::vector<std::vector<double>> fig10;
@@ -239,7 +239,7 @@ int main(int argc, char** argv) {
         double complete = 0;
         for (const Row& r : fig5)
             if (r.preset == "mixed" && r.method == ist_method_name(m)) complete = r.rms;
-        fig10.push_back({complete, e.observed, e.missing, match_terms(d, mixed_truth.blend).mean_map_rms});
+        fig10.push_back({complete, e.observed, e.missing, match_terms(d, mixed_truth.maps).mean_map_rms});
         std::fprintf(stderr, "  %-6s complete %.5f, observed %.5f (x%.2f), missing %.5f (x%.2f)\n", ist_method_name(m),
                      complete, e.observed, e.observed / complete, e.missing, e.missing / complete);
         j.begin_object().key("method").value(ist_method_name(m)).key("complete_rms").value(complete);
@@ -256,12 +256,12 @@ int main(int argc, char** argv) {
     double t0 = now();
     if (!build_tree(top, to, &tree, &err)) die(err);
     const double tree_seconds = now() - t0;
-    const TermMatch tm = match_terms(top, mixed_truth.blend);
+    const TermMatch tm = match_terms(top, mixed_truth.maps);
     j.key("fig19").begin_object().key("seconds").value(tree_seconds).key("bases").begin_array();
     std::vector<std::vector<double>> fig19;
     for (int b = 0; b < tree.basis_count(); ++b) {
         const int ti = tm.truth_of_term[size_t(b)];
-        std::unique_ptr<Brdf> truth = make_brdf(mixed_truth.bases[size_t(ti)], &err);
+        std::unique_ptr<Brdf> truth = make_brdf(mixed_truth.specs[size_t(ti)], &err);
         double e = 0, r = 0;
         for (const DirPair& p : mixed.pairs) {
             const glm::dvec3 a = tm.scale[size_t(b)] * tree.eval_basis(b, p.wi, p.wo), v = truth->eval(p.wi, p.wo);
@@ -285,11 +285,9 @@ int main(int argc, char** argv) {
         std::vector<sepal_vertex> v;
         std::vector<uint16_t> idx;
         const sepal_mesh mesh = wave_mesh(&v, &idx);
-        std::unique_ptr<BlendedSvbrdf> truth = make_truth_svbrdf(mixed_truth, &err);
-        if (!truth) die(err);
         Image a, b;
         const TreeSvbrdf ts(tree);
-        if (!render_exact_spatial(*truth, sc, mesh, 256, 256, &a, nullptr, &err) ||
+        if (!render_exact_spatial(mixed_truth, sc, mesh, 256, 256, &a, nullptr, &err) ||
             !render_exact_spatial(ts, sc, mesh, 256, 256, &b, nullptr, &err))
             die(err);
         a = clamp01(a);
@@ -321,8 +319,8 @@ int main(int argc, char** argv) {
     double big_rms = 0, big_maps = 0;
     for (int r = 0; r < runs; ++r) {
         BenchQuiet quiet;  // the 256x256 seconds are a docs figure: the other bench lane waits
-        Svbrdf s;
-        SvbrdfTruth t;
+        SvbrdfSamples s;
+        BlendSvbrdf t;
         t0 = now();
         if (!generate_svbrdf(card(big, "mixed"), &s, &t, &err)) die(err);
         tg.push_back(now() - t0);
@@ -337,7 +335,7 @@ int main(int argc, char** argv) {
         if (!build_tree(d, TreeOptions(), &bt, &err)) die(err);
         tt.push_back(now() - t0);
         big_rms = d.rms;
-        big_maps = match_terms(d, t.blend).mean_map_rms;
+        big_maps = match_terms(d, t.maps).mean_map_rms;
         std::fprintf(stderr, "  run %d: generate %.1fs, decompose %.1fs, tree %.1fs (RMS %.5f, maps %.3f)\n", r + 1,
                      tg.back(), td.back(), tt.back(), big_rms, big_maps);
     }

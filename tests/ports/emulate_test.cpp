@@ -1,5 +1,5 @@
 // The GL ES 1.1 emulator (sepal_emulate_draw) against llvmpipe's real GL ES 1.1 and 2.0
-// renders, and the issue-13 promise it lets the bake keep: every candidate the default bake
+// renders, and the promise it lets the bake keep: every candidate the default bake
 // can pick renders on gles1 within 1 dB of the CPU backend.
 // Tolerances (llvmpipe, Mesa 22.3.6): non-negative plans agree to +-2 levels on a few percent
 // of channels (bilinear weights and the rounding of each pass differ in the last bit), which

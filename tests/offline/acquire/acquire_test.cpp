@@ -8,7 +8,7 @@
 
 #include "acquire/capture.h"
 #include "acquire/object.h"
-#include "acquire/svbrdf.h"
+#include "acquire/known.h"
 #include "reference/render_exact.h"
 #include "spec/spec.h"
 

@@ -15,7 +15,7 @@ using namespace sepal;
 
 namespace {
 
-Decomposition run(const Svbrdf& s, const DecomposeOptions& o) {
+Decomposition run(const SvbrdfSamples& s, const DecomposeOptions& o) {
     Decomposition d;
     std::string err;
     REQUIRE_MESSAGE(decompose_svbrdf(s, o, &d, &err), err);
@@ -36,7 +36,7 @@ TEST_CASE("ist decompose: SACLS recovers the blend maps; RMS beats k-means and i
     CHECK(sacls.rms <= 1.25 * nmf.rms);
     CHECK(pca.rms <= nmf.rms * 1.001);  // PCA is the global minimum
     // Per-map error after matching terms to the true maps (weights in [0, 1]).
-    const TermMatch m = match_terms(sacls, c.truth.blend);
+    const TermMatch m = match_terms(sacls, c.truth.maps);
     for (int j = 0; j < 4; ++j) {
         CAPTURE(j);
         CHECK(m.truth_of_term[size_t(j)] >= 0);
@@ -44,8 +44,8 @@ TEST_CASE("ist decompose: SACLS recovers the blend maps; RMS beats k-means and i
     }
     CHECK(m.mean_map_rms < 0.13);
     // k-means, PCA: worse separations of the same data (the paper's Fig. 5 point).
-    CHECK(match_terms(km, c.truth.blend).mean_map_rms > m.mean_map_rms);
-    CHECK(match_terms(pca, c.truth.blend).mean_map_rms > m.mean_map_rms);
+    CHECK(match_terms(km, c.truth.maps).mean_map_rms > m.mean_map_rms);
+    CHECK(match_terms(pca, c.truth.maps).mean_map_rms > m.mean_map_rms);
     // SACLS weights are a (soft) partition of unity, as the m penalty asks.
     double worst = 0;
     for (int t = 0; t < sacls.width * sacls.height; ++t) {
@@ -61,7 +61,7 @@ TEST_CASE("ist decompose: SACLS recovers the blend maps; RMS beats k-means and i
 
 TEST_CASE("ist decompose: with 50% of samples missing, observed and missing errors stay within 2x of complete data") {
     const sepal_test::IstCase& c = sepal_test::ist_case();
-    Svbrdf half = c.svbrdf;
+    SvbrdfSamples half = c.svbrdf;
     drop_samples(&half, 0.5, 11);
     const Decomposition d = run(half, sepal_test::ist_decompose_options(IstMethod::SACLS));
     const ReconError e = reconstruction_error(d, half, c.svbrdf);
@@ -82,11 +82,11 @@ TEST_CASE("ist decompose: PCA with 50% of samples missing predicts them as well 
     g.width = g.height = 96;
     g.materials = 4;
     g.preset = "mixed";
-    Svbrdf full;
-    SvbrdfTruth truth;
+    SvbrdfSamples full;
+    BlendSvbrdf truth;
     std::string err;
     REQUIRE_MESSAGE(generate_svbrdf(g, &full, &truth, &err), err);
-    Svbrdf half = full;
+    SvbrdfSamples half = full;
     drop_samples(&half, 0.5, 11);
     DecomposeOptions o;
     o.terms = 4;
@@ -122,7 +122,7 @@ TEST_CASE("ist decompose: energy conservation binds the bases; determinism; refu
     GenerateOptions g = sepal_test::ist_case_options();
     g.width = g.height = 12;
     g.bases = {"lambert:rho=0.5", "ward:rho_d=0.1,rho_s=3,ax=0.3,ay=0.3"};
-    Svbrdf s;
+    SvbrdfSamples s;
     std::string err;
     REQUIRE(generate_svbrdf(g, &s, nullptr, &err));
     DecomposeOptions o = sepal_test::ist_decompose_options(IstMethod::ACLS);
@@ -167,7 +167,7 @@ TEST_CASE("ist decompose: terms chosen by error") {
     g.materials = 3;
     g.noise = 0.01;
     g.misregistration = 0;
-    Svbrdf s;
+    SvbrdfSamples s;
     std::string err;
     REQUIRE(generate_svbrdf(g, &s, nullptr, &err));
     DecomposeOptions o = sepal_test::ist_decompose_options(IstMethod::SACLS);

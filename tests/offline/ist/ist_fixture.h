@@ -7,8 +7,8 @@
 namespace sepal_test {
 
 struct IstCase {
-    sepal::Svbrdf svbrdf;      // complete data
-    sepal::SvbrdfTruth truth;
+    sepal::SvbrdfSamples svbrdf;      // complete data
+    sepal::BlendSvbrdf truth;
     sepal::Decomposition sacls;  // default SACLS, 4 terms
 };
 

@@ -40,7 +40,7 @@ TEST_CASE("ist tree: every level stays close to the bases it came from, and the 
     const ShadeTree& t = sepal_test::ist_case_tree();
     REQUIRE(t.basis_count() == 4);
     REQUIRE(t.level_errors.size() == 4);
-    const TermMatch m = match_terms(c.sacls, c.truth.blend);
+    const TermMatch m = match_terms(c.sacls, c.truth.maps);
     std::string err;
     for (int j = 0; j < 4; ++j) {
         CAPTURE(j);
@@ -49,7 +49,7 @@ TEST_CASE("ist tree: every level stays close to the bases it came from, and the 
         // The curves are fitted to the samples: no worse than the table in between.
         CHECK(le.curves <= std::max(le.tabular, 0.01));
         // Against the true material (scaled as the match found it), at the SVBRDF's pairs.
-        std::unique_ptr<Brdf> truth = make_brdf(c.truth.bases[size_t(m.truth_of_term[size_t(j)])], &err);
+        std::unique_ptr<Brdf> truth = make_brdf(c.truth.specs[size_t(m.truth_of_term[size_t(j)])], &err);
         REQUIRE(truth);
         const double s = m.scale[size_t(j)];
         const double rel = relative_rms(
@@ -220,37 +220,4 @@ TEST_CASE("scattered: a half-angle factor finer than the other (res_h) is refitt
     f.terms[1].h = FactorTexture(hn / 2, 3);
     CHECK_FALSE(refine_scattered(s, ScatteredOptions{}, &f, &sr, &err));
     CHECK(err.find("one size") != std::string::npos);
-}
-
-TEST_CASE("ist render: a spatial BRDF that does not vary renders exactly as the BRDF, and blend maps show") {
-    sepal_scene sc;
-    ist_default_scene(&sc);
-    std::vector<sepal_vertex> v(size_t(33 * 33));
-    std::vector<uint16_t> idx(size_t(32 * 32 * 6));
-    sepal_mesh mesh = {v.data(), idx.data(), int(v.size()), int(idx.size())};
-    sepal_error e = {};
-    REQUIRE(sepal_mesh_wave(32, &mesh, &e) == SEPAL_OK);
-    std::string err;
-    BlendMaps one;
-    one.width = one.height = 2;
-    one.count = 2;
-    one.w = {1, 0, 1, 0, 0, 1, 0, 1};  // top row basis 0, bottom row basis 1
-    std::vector<std::unique_ptr<Brdf>> bases;
-    bases.push_back(make_brdf("lambert:rho=0.8", &err));
-    bases.push_back(make_brdf("lambert:rho=0.8", &err));
-    BlendedSvbrdf same(one, std::move(bases));
-    Image a, b;
-    REQUIRE(render_exact_spatial(same, sc, mesh, 48, 48, &a, nullptr, &err));
-    REQUIRE(render_exact(same.basis(0), sc, mesh, 48, 48, &b, nullptr, &err));
-    REQUIRE(a.data.size() == b.data.size());
-    double worst = 0;
-    for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, double(std::fabs(a.data[i] - b.data[i])));
-    CHECK(worst < 1e-6);
-    std::vector<std::unique_ptr<Brdf>> two;
-    two.push_back(make_brdf("lambert:rho=0.8", &err));
-    two.push_back(make_brdf("lambert:rho=0.1", &err));
-    BlendedSvbrdf split(one, std::move(two));
-    Image s;
-    REQUIRE(render_exact_spatial(split, sc, mesh, 48, 48, &s, nullptr, &err));
-    CHECK(s.data != b.data);
 }

@@ -1,7 +1,5 @@
-// Spatially varying BRDFs on a texture atlas: per texel, a weighted sum of a few basis BRDFs,
-// f(x, wi, wo) = sum_k w_k(x) f_k(wi, wo). The known objects of the virtual setup are such
-// blends, and so is what the acquisition reconstructs (Lensch et al.'s basis materials
-// with per-texel weights), so both render, compare and bake the same way.
+// The known SVBRDFs of the virtual acquisition setup: blends of basis BRDFs on the object's
+// texture atlas (svbrdf/blend.h, the model the acquisition also reconstructs).
 //
 // Usage:
 //   sepal::BlendSvbrdf truth; std::string err;
@@ -13,7 +11,7 @@
 // UV directions (no seam on the sphere or torus), and soft-min weights
 // w_k(x) ~ sum over material k's seeds of exp(-(d^2 - d_min^2) / softness^2), normalized,
 // weights below 1e-3 dropped: regions of pure material with blended borders.
-// Limits: 1..8 materials; weights are >= 0; basis BRDFs are any make_brdf spec.
+// Limits: 1..8 materials; weights are >= 0 and sum to 1; basis BRDFs are any make_brdf spec.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -22,24 +20,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "brdf/brdf.h"
+#include "svbrdf/blend.h"
 
 namespace sepal {
-
-struct BlendSvbrdf {
-    int res = 0;
-    std::vector<std::shared_ptr<const Brdf>> basis;
-    std::vector<float> weights;  // res * res * basis.size(), texel-major
-    int materials() const { return int(basis.size()); }
-    const float* texel_weights(int texel) const { return &weights[size_t(texel) * basis.size()]; }
-    glm::dvec3 eval(int texel, const glm::dvec3& wi, const glm::dvec3& wo) const {
-        return eval_weights(texel_weights(texel), wi, wo);
-    }
-    glm::dvec3 eval_weights(const float* w, const glm::dvec3& wi, const glm::dvec3& wo) const;
-    // The weights at (u, v) bilinearly between texel centres, repeating at the borders (as
-    // a GL_REPEAT texture of the weight maps samples them); out holds materials() values.
-    void weights_at(double u, double v, float* out) const;
-};
 
 struct SvbrdfGenOptions {
     std::vector<std::string> materials;  // empty: default_svbrdf_materials()

@@ -1,5 +1,4 @@
-#include "acquire/svbrdf.h"
-#include "spec/spec.h"
+#include "acquire/known.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,28 +6,6 @@
 #include "util/parallel.h"
 
 namespace sepal {
-
-glm::dvec3 BlendSvbrdf::eval_weights(const float* w, const glm::dvec3& wi, const glm::dvec3& wo) const {
-    glm::dvec3 f(0.0);
-    for (size_t k = 0; k < basis.size(); ++k)
-        if (w[k] != 0.0f) f += double(w[k]) * basis[k]->eval(wi, wo);
-    return f;
-}
-
-void BlendSvbrdf::weights_at(double u, double v, float* out) const {
-    const size_t K = basis.size();
-    const double fx = u * res - 0.5, fy = v * res - 0.5;
-    const double x0 = std::floor(fx), y0 = std::floor(fy);
-    const double ax = fx - x0, ay = fy - y0;
-    auto wrap = [&](double i) { return int(((long long)i % res + res) % res); };
-    const int xs[2] = {wrap(x0), wrap(x0 + 1)}, ys[2] = {wrap(y0), wrap(y0 + 1)};
-    const double ws[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
-    for (size_t k = 0; k < K; ++k) out[k] = 0;
-    for (int c = 0; c < 4; ++c) {
-        const float* w = texel_weights(ys[c / 2] * res + xs[c % 2]);
-        for (size_t k = 0; k < K; ++k) out[k] += float(ws[c]) * w[k];
-    }
-}
 
 std::vector<std::string> default_svbrdf_materials() {
     return {
@@ -49,17 +26,12 @@ bool make_svbrdf(int res, const SvbrdfGenOptions& o, BlendSvbrdf* out, std::stri
         if (err) *err = "svbrdf: res 1..4096, seeds per material 1..64, softness > 0";
         return false;
     }
+    BlendMaps maps;
+    maps.width = maps.height = res;
+    maps.count = int(specs.size());
+    maps.w.assign(size_t(res) * res * specs.size(), 0.0f);
     BlendSvbrdf s;
-    s.res = res;
-    for (const std::string& spec : specs) {
-        std::string e;
-        std::unique_ptr<Brdf> b = make_brdf(spec, &e);
-        if (!b) {
-            if (err) *err = "svbrdf: " + e;
-            return false;
-        }
-        s.basis.emplace_back(std::move(b));
-    }
+    if (!make_blend_svbrdf(std::move(maps), specs, &s, err)) return false;
     const int K = int(specs.size()), n_seeds = K * o.seeds_per_material;
     std::vector<double> sx(static_cast<size_t>(n_seeds)), sy(static_cast<size_t>(n_seeds));
     SplitMix64 rng(o.seed);
@@ -67,7 +39,6 @@ bool make_svbrdf(int res, const SvbrdfGenOptions& o, BlendSvbrdf* out, std::stri
         sx[size_t(i)] = rng.uniform();
         sy[size_t(i)] = rng.uniform();
     }
-    s.weights.assign(size_t(res) * res * size_t(K), 0.0f);
     const double t2 = o.softness * o.softness;
     std::vector<double> d2(static_cast<size_t>(n_seeds));
     for (int y = 0; y < res; ++y)
@@ -81,7 +52,7 @@ bool make_svbrdf(int res, const SvbrdfGenOptions& o, BlendSvbrdf* out, std::stri
                 d2[size_t(i)] = dx * dx + dy * dy;
                 dmin = std::min(dmin, d2[size_t(i)]);
             }
-            float* w = &s.weights[(size_t(y) * res + x) * size_t(K)];
+            float* w = &s.maps.w[(size_t(y) * res + x) * size_t(K)];
             double sum = 0;
             for (int i = 0; i < n_seeds; ++i) {
                 const double e = std::exp(-(d2[size_t(i)] - dmin) / t2);

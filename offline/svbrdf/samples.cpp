@@ -1,21 +1,29 @@
-#include "ist/svbrdf.h"
+#include "svbrdf/samples.h"
 
 #include <cmath>
 #include <cstdio>
 
-#include "ist/ist_util.h"
 #include "util/image.h"
 #include "util/io.h"
-#include "util/json.h"
 #include "util/json.h"
 #include "util/parallel.h"
 
 namespace sepal {
 
-using ist_detail::fail;
-using ist_detail::json_vec3;
 
 namespace {
+
+bool fail(std::string* err, const std::string& msg) {
+    if (err) *err = msg;
+    return false;
+}
+
+bool json_vec3(const JsonField& f, const char* key, glm::dvec3* out, std::string* err) {
+    double v[3];
+    if (!json_numbers(f, key, 3, v, err, true)) return false;
+    *out = glm::dvec3(v[0], v[1], v[2]);
+    return true;
+}
 
 bool unit_above(const glm::dvec3& w) {
     const double n = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
@@ -30,7 +38,7 @@ std::string pair_file(const char* prefix, int p, const char* ext) {
 
 }  // namespace
 
-void Svbrdf::resize(int w, int h, const std::vector<DirPair>& p) {
+void SvbrdfSamples::resize(int w, int h, const std::vector<DirPair>& p) {
     width = w;
     height = h;
     pairs = p;
@@ -38,13 +46,13 @@ void Svbrdf::resize(int w, int h, const std::vector<DirPair>& p) {
     conf.assign(size_t(w) * h * p.size(), 1.0f);
 }
 
-bool validate_svbrdf(const Svbrdf& s, std::string* err) {
-    if (s.width < 1 || s.height < 1 || s.width > Svbrdf::kMaxSide || s.height > Svbrdf::kMaxSide)
+bool validate_svbrdf(const SvbrdfSamples& s, std::string* err) {
+    if (s.width < 1 || s.height < 1 || s.width > SvbrdfSamples::kMaxSide || s.height > SvbrdfSamples::kMaxSide)
         return fail(err, "svbrdf: size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                             " outside 1.." + std::to_string(Svbrdf::kMaxSide));
-    if (s.pairs.empty() || s.pair_count() > Svbrdf::kMaxPairs)
+                             " outside 1.." + std::to_string(SvbrdfSamples::kMaxSide));
+    if (s.pairs.empty() || s.pair_count() > SvbrdfSamples::kMaxPairs)
         return fail(err, "svbrdf: " + std::to_string(s.pairs.size()) + " direction pairs, outside 1.." +
-                             std::to_string(Svbrdf::kMaxPairs));
+                             std::to_string(SvbrdfSamples::kMaxPairs));
     const size_t n = size_t(s.texels()) * s.pairs.size();
     if (s.values.size() != 3 * n || s.conf.size() != n)
         return fail(err, "svbrdf: value or confidence arrays do not match texels x pairs");
@@ -72,14 +80,14 @@ bool validate_svbrdf(const Svbrdf& s, std::string* err) {
     return true;
 }
 
-SvbrdfCounts count_samples(const Svbrdf& s) {
+SvbrdfCounts count_samples(const SvbrdfSamples& s) {
     SvbrdfCounts c;
     c.samples = int64_t(s.conf.size());
     for (float x : s.conf) c.missing += x <= 0;
     return c;
 }
 
-bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCounts* counts,
+bool read_svbrdf(const std::string& dir, SvbrdfSamples* out, std::string* err, SvbrdfCounts* counts,
                  const SvbrdfReadOptions& o) {
     const std::string json_path = dir + "/svbrdf.json";
     Json root;
@@ -91,11 +99,11 @@ bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCo
     if (fmt != "sepal-svbrdf") return fail(err, json_path + ": \"format\" must be \"sepal-svbrdf\", not \"" + fmt + "\"");
     if (!json_int(top, "version", 1, 1, &version, err, true)) return false;
     int w = 0, h = 0;
-    if (!json_int(top, "width", 1, Svbrdf::kMaxSide, &w, err, true) ||
-        !json_int(top, "height", 1, Svbrdf::kMaxSide, &h, err, true))
+    if (!json_int(top, "width", 1, SvbrdfSamples::kMaxSide, &w, err, true) ||
+        !json_int(top, "height", 1, SvbrdfSamples::kMaxSide, &h, err, true))
         return false;
     const Json* pairs = nullptr;
-    if (!json_array(top, "pairs", 1, size_t(Svbrdf::kMaxPairs), &pairs, err, true)) return false;
+    if (!json_array(top, "pairs", 1, size_t(SvbrdfSamples::kMaxPairs), &pairs, err, true)) return false;
     const size_t np = pairs->size();
     const double mb = double(w) * h * double(np) * 16 / (1 << 20);
     if (mb > o.max_memory_mb) {
@@ -117,7 +125,7 @@ bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCo
         if (!json_int(e, "view", -1, 1 << 20, &dp[p].view, err)) return false;
         if (!json_number(e, "albedo_weight", 0, HUGE_VAL, &dp[p].albedo_weight, err)) return false;
     }
-    Svbrdf s;
+    SvbrdfSamples s;
     s.resize(w, h, dp);
     SvbrdfCounts cnt;
     cnt.samples = int64_t(s.conf.size());
@@ -155,7 +163,7 @@ bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err, SvbrdfCo
     return true;
 }
 
-bool write_svbrdf(const std::string& dir, const Svbrdf& s, std::string* err) {
+bool write_svbrdf(const std::string& dir, const SvbrdfSamples& s, std::string* err) {
     if (!validate_svbrdf(s, err)) return false;
     if (!make_dirs(dir + "/pairs", err)) return false;
     Json j = Json::object();
@@ -195,7 +203,7 @@ bool write_svbrdf(const std::string& dir, const Svbrdf& s, std::string* err) {
     return write_json_file(dir + "/svbrdf.json", j, err);
 }
 
-int64_t drop_samples(Svbrdf* s, double share, uint64_t seed) {
+int64_t drop_samples(SvbrdfSamples* s, double share, uint64_t seed) {
     int64_t dropped = 0;
     for (size_t i = 0; i < s->conf.size(); ++i)
         if (s->conf[i] > 0 && counter_uniform(seed, i) < share) {

@@ -3,7 +3,7 @@
 // inverse shade trees (Lawrence et al. 2006); docs/ist.md documents the folder format.
 //
 // Usage:
-//   sepal::Svbrdf s; std::string err;
+//   sepal::SvbrdfSamples s; std::string err;
 //   if (!sepal::read_svbrdf("card/", &s, &err)) { fprintf(stderr, "%s\n", err.c_str()); }
 //   glm::dvec3 f = s.value(texel, pair);  float c = s.confidence(texel, pair);
 //   sepal::write_svbrdf("copy/", s, &err);
@@ -44,7 +44,7 @@ struct DirPair {
     double albedo_weight = 0;   // sr: this pair's light in its view's quadrature
 };
 
-struct Svbrdf {
+struct SvbrdfSamples {
     static constexpr int kMaxSide = 4096;
     static constexpr int kMaxPairs = 4096;
 
@@ -70,26 +70,26 @@ struct Svbrdf {
 };
 
 // Checks sizes, directions and values (as the reader does); false with the first problem.
-bool validate_svbrdf(const Svbrdf& s, std::string* err);
+bool validate_svbrdf(const SvbrdfSamples& s, std::string* err);
 
 struct SvbrdfCounts {
     int64_t samples = 0;    // texels x pairs
     int64_t missing = 0;    // confidence 0 (given, or set by the reader)
     int64_t negative = 0;   // negative values read: made missing
 };
-SvbrdfCounts count_samples(const Svbrdf& s);
+SvbrdfCounts count_samples(const SvbrdfSamples& s);
 
 struct SvbrdfReadOptions {
     double max_memory_mb = 4096;
 };
-bool read_svbrdf(const std::string& dir, Svbrdf* out, std::string* err,
+bool read_svbrdf(const std::string& dir, SvbrdfSamples* out, std::string* err,
                  SvbrdfCounts* counts = nullptr, const SvbrdfReadOptions& o = SvbrdfReadOptions());
 // Writes DIR/svbrdf.json and DIR/pairs/pNNNN.pfm (+ cNNNN.png where some confidence is
 // below 1), each file atomically; creates DIR.
-bool write_svbrdf(const std::string& dir, const Svbrdf& s, std::string* err);
+bool write_svbrdf(const std::string& dir, const SvbrdfSamples& s, std::string* err);
 
 // Sets the confidence of a random share (0..1) of the samples to 0 (a counter-based
 // random choice per sample: the same seed drops the same samples); returns how many.
-int64_t drop_samples(Svbrdf* s, double share, uint64_t seed);
+int64_t drop_samples(SvbrdfSamples* s, double share, uint64_t seed);
 
 }  // namespace sepal
