@@ -29,6 +29,7 @@ namespace {
 struct SamplerArgs {
     std::string spec, out, kind = "factored", report;
     int lobes = 1;
+    int iterations = 0;
 };
 
 int run_sampler(const SamplerArgs& a, const CommandIO& io) {
@@ -45,6 +46,7 @@ int run_sampler(const SamplerArgs& a, const CommandIO& io) {
     Json fit = Json::object();
     if (a.kind == "factored") {
         FactoredOptions o;
+        o.iterations = a.iterations;
         o.progress = isatty(2) != 0;  // a progress line on a terminal only
         FactoredReport r;
         if (!fit_factored(*brdf, o, &d, &r, &err)) return fail(err);
@@ -104,6 +106,10 @@ CommandRun setup_sampler(CLI::App& app) {
         ->check(CLI::IsMember({"factored", "cosine", "lafortune", "as", "tabulated", "analytic"}))
         ->capture_default_str();
     app.add_option("--lobes", a->lobes, "lafortune: lobes to fit")->check(CLI::Range(1, 4))->capture_default_str();
+    app.add_option("--iterations", a->iterations,
+                   "factored: KL-NMF iterations at most (0: 2000 about the normal, 500 about t or s)")
+        ->check(CLI::Range(0, 1000000))
+        ->capture_default_str();
     app.add_option("--report", a->report, "write the figures as JSON");
     return [a](const CommandIO& io) { return run_sampler(*a, io); };
 }

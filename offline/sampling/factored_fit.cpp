@@ -326,14 +326,20 @@ bool lobe_sampled(const Brdf& brdf, const glm::dvec3& diffuse, std::string* err)
 }
 
 // One parameterization (opt.param is Half or Incident), the Lambert part already known.
-bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
-             FactoredReport* rep, std::string* err) {
-    FactoredOptions o = opt;
-    const bool iso = brdf.isotropic();
-    const bool polar = o.axis == SampleAxis::Normal;
+// The options' automatic values (0) for this BRDF and axis (factored_fit.h says why).
+FactoredOptions with_defaults(const Brdf& brdf, FactoredOptions o) {
+    const bool iso = brdf.isotropic(), polar = o.axis == SampleAxis::Normal;
     if (o.n_theta_p == 0) o.n_theta_p = polar ? 64 : 192;
     if (o.n_phi_p == 0) o.n_phi_p = !polar ? 96 : iso ? 16 : 64;
     if (o.J == 0) o.J = !polar ? 16 : iso ? 4 : 2, o.K = !polar ? 1 : iso ? 2 : 4;
+    if (o.iterations == 0) o.iterations = polar ? 2000 : 500;
+    return o;
+}
+
+bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
+             FactoredReport* rep, std::string* err) {
+    FactoredOptions o = with_defaults(brdf, opt);
+    const bool polar = o.axis == SampleAxis::Normal;
     // Angles about t or s turn with the surface: only the absolute frame keeps them.
     const bool view_frame = polar && (o.phi == PhiFrame::View || (o.phi == PhiFrame::Auto && brdf.isotropic()));
     if (view_frame) o.n_phi_o = 1;
@@ -408,7 +414,7 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     for (int c = 0; c < cols; ++c)
         for (int row = 0; row < rows; ++row) Y(row, c) = columns[size_t(c)].lum[size_t(row)];
     NmfKlOptions no;
-    no.max_iterations = o.iterations ? o.iterations : polar ? 2000 : 500;
+    no.max_iterations = o.iterations;
     no.tolerance = o.tolerance;
     no.seed = o.seed;
     no.threads = o.threads;
