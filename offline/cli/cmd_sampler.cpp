@@ -29,6 +29,7 @@ namespace {
 struct SamplerArgs {
     std::string spec, out, kind = "factored", report;
     int lobes = 1;
+    int iterations = 0;
 };
 
 int run_sampler(const SamplerArgs& a, const CommandIO& io) {
@@ -45,15 +46,17 @@ int run_sampler(const SamplerArgs& a, const CommandIO& io) {
     Json fit = Json::object();
     if (a.kind == "factored") {
         FactoredOptions o;
+        o.iterations = a.iterations;
         o.progress = isatty(2) != 0;  // a progress line on a terminal only
         FactoredReport r;
         if (!fit_factored(*brdf, o, &d, &r, &err)) return fail(err);
-        fit = {{"param", r.param}, {"phi_frame", r.phi_frame}, {"J", r.J}, {"K", r.K},
+        fit = {{"param", r.param}, {"axis", r.axis}, {"phi_frame", r.phi_frame}, {"J", r.J}, {"K", r.K},
                {"kl_total", r.kl_total}, {"iterations", {r.iterations1, r.iterations2}},
                {"sample_seconds", r.sample_seconds}, {"factor_seconds", r.factor_seconds},
                {"seconds", r.sample_seconds + r.factor_seconds}, {"notes", r.notes}};
-        std::fprintf(io.out, "fit        factored, %s parameterization, %s frame, %d x %d terms, KL %.4g, %.1f s\n",
-                     r.param.c_str(), r.phi_frame.c_str(), r.J, r.K, r.kl_total, r.sample_seconds + r.factor_seconds);
+        std::fprintf(io.out, "fit        factored, %s parameterization about %s, %s frame, %d x %d terms, KL %.4g, %.1f s\n",
+                     r.param.c_str(), r.axis.c_str(), r.phi_frame.c_str(), r.J, r.K, r.kl_total,
+                     r.sample_seconds + r.factor_seconds);
         for (const std::string& n : r.notes) std::fprintf(io.out, "note       %s\n", n.c_str());
     } else if (a.kind == "cosine") {
         d = make_cosine_sampler();
@@ -103,6 +106,10 @@ CommandRun setup_sampler(CLI::App& app) {
         ->check(CLI::IsMember({"factored", "cosine", "lafortune", "as", "tabulated", "analytic"}))
         ->capture_default_str();
     app.add_option("--lobes", a->lobes, "lafortune: lobes to fit")->check(CLI::Range(1, 4))->capture_default_str();
+    app.add_option("--iterations", a->iterations,
+                   "factored: KL-NMF iterations at most (0: 2000 about the normal, 500 about t or s)")
+        ->check(CLI::Range(0, 1000000))
+        ->capture_default_str();
     app.add_option("--report", a->report, "write the figures as JSON");
     return [a](const CommandIO& io) { return run_sampler(*a, io); };
 }

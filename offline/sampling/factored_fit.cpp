@@ -40,6 +40,18 @@ bool parse_phi_frame(const std::string& s, PhiFrame* f) {
     return true;
 }
 
+const char* sample_axis_name(SampleAxis a) {
+    return a == SampleAxis::Normal ? "n" : a == SampleAxis::Tangent ? "t" : a == SampleAxis::Bitangent ? "s" : "auto";
+}
+bool parse_sample_axis(const std::string& s, SampleAxis* a) {
+    if (s == "auto") *a = SampleAxis::Auto;
+    else if (s == "n") *a = SampleAxis::Normal;
+    else if (s == "t") *a = SampleAxis::Tangent;
+    else if (s == "s") *a = SampleAxis::Bitangent;
+    else return false;
+    return true;
+}
+
 double luminance(const dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 std::vector<float> theta_bin_z_edges(int n, bool sqrt_theta) {
@@ -59,6 +71,20 @@ std::vector<float> theta_bin_z_edges(int n, bool sqrt_theta) {
     return z;
 }
 
+std::vector<float> axis_bin_edges(int n, bool dense) {
+    std::vector<float> c(static_cast<size_t>(n) + 1);
+    for (int i = 0; i <= n; ++i) {
+        double t = 1.0 - 2.0 * i / n;
+        if (dense) t *= std::fabs(t);
+        c[size_t(i)] = float(std::sin(t * 0.5 * kPi));
+    }
+    c[0] = 1.0f;
+    c[size_t(n)] = -1.0f;
+    for (int i = 1; i < n; ++i) c[size_t(i)] = std::min(c[size_t(i)], std::nextafter(c[size_t(i) - 1], -2.0f));
+    for (int i = n - 1; i > 0 && !(c[size_t(i)] > c[size_t(i) + 1]); --i) c[size_t(i)] = std::nextafter(c[size_t(i) + 1], 2.0f);
+    return c;
+}
+
 bool validate_factored_options(const FactoredOptions& o, std::string* err) {
     auto bad = [&](const std::string& m) {
         if (err) *err = m;
@@ -68,7 +94,7 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
         o.n_phi_o > SEPAL_SMP_MAX_VIEW_SIDE)
         return bad("view grid " + std::to_string(o.n_theta_o) + "x" + std::to_string(o.n_phi_o) +
                    ": each side 1.." + std::to_string(SEPAL_SMP_MAX_VIEW_SIDE));
-    if (o.n_theta_p < 1 || o.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || o.n_phi_p < 0 ||
+    if (o.n_theta_p < 0 || o.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || o.n_phi_p < 0 ||
         o.n_phi_p > SEPAL_SMP_MAX_DIR_SIDE)
         return bad("direction bins " + std::to_string(o.n_theta_p) + "x" + std::to_string(o.n_phi_p) +
                    ": each side 1.." + std::to_string(SEPAL_SMP_MAX_DIR_SIDE));
@@ -76,11 +102,11 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
         return bad("terms " + std::to_string(o.J) + "x" + std::to_string(o.K) + ": J, K >= 1 and J K <= " +
                    std::to_string(SEPAL_SMP_MAX_TERMS) + " (or both 0: the default)");
     if (o.supersample < 1 || o.supersample > 8) return bad("supersample " + std::to_string(o.supersample) + ": 1..8");
-    if (o.iterations < 1 || o.iterations > 1000000) return bad("iterations: 1..1000000");
+    if (o.iterations < 0 || o.iterations > 1000000) return bad("iterations: 0 (auto) or 1..1000000");
     if (!(o.defensive >= 0 && o.defensive <= 1)) return bad("defensive share: 0..1");
     if (!(o.tolerance >= 0 && o.tolerance < 1)) return bad("tolerance: 0..1");
     // The whole matrix and its reconstruction are held (doubles), plus the colour masses.
-    const double entries = double(o.n_theta_o) * o.n_phi_o * o.n_theta_p * std::max(o.n_phi_p, 64);
+    const double entries = double(o.n_theta_o) * o.n_phi_o * std::max(o.n_theta_p, 192) * std::max(o.n_phi_p, 96);
     if (entries * (8.0 * 3 + 4.0 * 3) > 8e9)
         return bad("the data matrix (" + std::to_string(int64_t(entries)) +
                    " entries) needs over 8 GB; fewer view or direction bins (FactoredOptions n_theta_o, n_phi_o, n_theta_p, n_phi_p)");
@@ -113,56 +139,109 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
     if (!(diffuse.x >= 0 && diffuse.y >= 0 && diffuse.z >= 0 && diffuse.x <= SEPAL_SMP_MAX_DIFFUSE &&
           diffuse.y <= SEPAL_SMP_MAX_DIFFUSE && diffuse.z <= SEPAL_SMP_MAX_DIFFUSE))
         diffuse = glm::dvec3(0.0);
-    if (opt.param != SampleParam::Auto) return fit_one(brdf, opt, diffuse, out, rep, err);
-    // Both parameterizations; the one with the lower estimator variance wins. (Not the
-    // lower KL of the fit: each KL is measured on its own binning, and a coarse binning
-    // of a sharp lobe fits its own coarse data well.)
-    FactoredOptions a = opt, b = opt;
-    a.param = SampleParam::Half;
-    b.param = SampleParam::Incident;
-    SamplerData da, db;
-    FactoredReport ra, rb;
-    if (!fit_one(brdf, a, diffuse, &da, &ra, err) || !fit_one(brdf, b, diffuse, &db, &rb, err)) return false;
-    Sampler sa, sb;
-    if (!sa.build(da, err) || !sb.build(db, err)) return false;
+    std::vector<FactoredOptions> candidates;
+    for (SampleParam p : {SampleParam::Half, SampleParam::Incident})
+        for (SampleAxis a : {SampleAxis::Normal, SampleAxis::Tangent, SampleAxis::Bitangent}) {
+            // Auto leaves out wi about t or s: a specular lobe moves with wo there, and J
+            // terms cannot follow it (Poulin-Fournier: relative variance 0.97 vs 0.73 in h).
+            const bool axis_ok = opt.axis == SampleAxis::Auto
+                                     ? a == SampleAxis::Normal || (!brdf.isotropic() && p == SampleParam::Half)
+                                     : a == opt.axis;
+            if ((opt.param == SampleParam::Auto || opt.param == p) && axis_ok) {
+                candidates.push_back(opt);
+                candidates.back().param = p, candidates.back().axis = a;
+            }
+        }
+    if (candidates.size() == 1) return fit_one(brdf, candidates[0], diffuse, out, rep, err);
+    std::string coarse_note;
+    if (candidates.size() > 2) {
+        // More than two (an anisotropic BRDF with the axis on auto): rank them by coarse fits
+        // (half the views and bins a side, 300 iterations) and fit the winner alone; a full
+        // fit about t or s is minutes of KL-NMF.
+        const std::vector<glm::dvec3> views = judge_views(brdf.isotropic());
+        double best_var = -1;
+        size_t best = 0;
+        coarse_note = "auto (coarse fits):";
+        for (size_t c = 0; c < candidates.size(); ++c) {
+            FactoredOptions q = candidates[c];
+            const bool polar = q.axis == SampleAxis::Normal;
+            q.n_theta_o = std::max(1, q.n_theta_o / 2), q.n_phi_o = std::max(1, q.n_phi_o / 2);
+            q.n_theta_p = std::max(1, (q.n_theta_p ? q.n_theta_p : polar ? 64 : 192) / 2);
+            q.n_phi_p = std::max(1, (q.n_phi_p ? q.n_phi_p : polar ? 64 : 96) / 2);
+            q.iterations = q.iterations ? std::min(q.iterations, 300) : 300, q.supersample = std::min(q.supersample, 2);
+            q.colour = false;
+            SamplerData d;
+            FactoredReport r;
+            Sampler sc;
+            if (!fit_one(brdf, q, diffuse, &d, &r, err) || !sc.build(d, err)) return false;
+            const double v = relative_variance(brdf, sc.get(), views, 4096, opt.seed);
+            if (best_var < 0 || v < best_var) best_var = v, best = c;
+            char part[96];
+            std::snprintf(part, sizeof part, " %s/%s %.4g", r.param.c_str(), r.axis.c_str(), v);
+            coarse_note += part;
+        }
+        if (!fit_one(brdf, candidates[best], diffuse, out, rep, err)) return false;
+        if (rep) rep->notes.push_back(coarse_note + " (relative variance; the lowest is fitted: " + rep->param + "/" +
+                                      rep->axis + ")");
+        return true;
+    }
+    // Every candidate; the one with the lowest estimator variance wins. (Not the lowest KL
+    // of the fit: each KL is measured on its own binning, and a coarse binning of a sharp
+    // lobe fits its own coarse data well.)
     const std::vector<glm::dvec3> views = judge_views(brdf.isotropic());
-    ra.relative_variance = relative_variance(brdf, sa.get(), views, 4096, opt.seed);
-    rb.relative_variance = relative_variance(brdf, sb.get(), views, 4096, opt.seed);
-    const bool half = ra.relative_variance <= rb.relative_variance;
-    FactoredReport& r = half ? ra : rb;
-    char note[160];
-    std::snprintf(note, sizeof note, "param auto: %s (relative variance %.4g; %s: %.4g)", half ? "half" : "incident",
-                  half ? ra.relative_variance : rb.relative_variance, half ? "incident" : "half",
-                  half ? rb.relative_variance : ra.relative_variance);
-    r.notes.push_back(note);
-    r.sample_seconds = ra.sample_seconds + rb.sample_seconds;
-    r.factor_seconds = ra.factor_seconds + rb.factor_seconds;
-    r.evaluations = ra.evaluations + rb.evaluations;
-    *out = std::move(half ? da : db);
+    std::vector<SamplerData> data(candidates.size());
+    std::vector<FactoredReport> reps(candidates.size());
+    size_t best = 0;
+    std::string note = "auto:";
+    for (size_t c = 0; c < candidates.size(); ++c) {
+        Sampler sc;
+        if (!fit_one(brdf, candidates[c], diffuse, &data[c], &reps[c], err) || !sc.build(data[c], err)) return false;
+        reps[c].relative_variance = relative_variance(brdf, sc.get(), views, 4096, opt.seed);
+        if (reps[c].relative_variance < reps[best].relative_variance) best = c;
+        char part[96];
+        std::snprintf(part, sizeof part, " %s/%s %.4g", reps[c].param.c_str(), reps[c].axis.c_str(),
+                      reps[c].relative_variance);
+        note += part;
+    }
+    FactoredReport& r = reps[best];
+    r.notes.push_back(note + " (relative variance; the lowest wins: " + r.param + "/" + r.axis + ")");
+    r.sample_seconds = r.factor_seconds = 0, r.evaluations = 0;
+    for (const FactoredReport& x : reps) {
+        r.sample_seconds += x.sample_seconds;
+        r.factor_seconds += x.factor_seconds;
+        r.evaluations += x.evaluations;
+    }
+    *out = std::move(data[best]);
     if (rep) *rep = std::move(r);
     return true;
 }
 
 namespace {
 
-// Sub-points of every bin (view-frame coordinates = local coordinates for the columns' wo,
-// whose phi_o is 0 in the view frame), S x S per bin, and each bin's solid angle.
-void bin_points(const std::vector<float>& z_edges, int Pp, int S, std::vector<dvec3>* points,
+// S x S sub-points of every wp bin (view-frame coordinates = local coordinates for the
+// columns' wo, whose phi_o is 0 in the view frame), and each bin's solid angle (dOmega =
+// dc1 dc2). c2 (phi_p, or the angle about t or s) spans [c2_lo, c2_lo + c2_span) in Pp bins.
+void bin_points(SampleAxis axis, const std::vector<float>& z_edges, int Pp, int S, std::vector<dvec3>* points,
                 std::vector<double>* solid) {
-    const int Tp = int(z_edges.size()) - 1, rows = Tp * Pp;
-    points->assign(static_cast<size_t>(rows) * S * S, dvec3(0.0));
-    solid->assign(static_cast<size_t>(rows), 0.0);
+    const int Tp = int(z_edges.size()) - 1;
+    const bool polar = axis == SampleAxis::Normal;
+    const double c2_lo = polar ? 0.0 : -0.5 * kPi, c2_span = polar ? 2.0 * kPi : kPi;
+    points->assign(size_t(Tp) * Pp * S * S, dvec3(0.0));
+    solid->assign(size_t(Tp) * Pp, 0.0);
     for (int i = 0; i < Tp; ++i)
         for (int j = 0; j < Pp; ++j) {
             const int row = i * Pp + j;
             const double z0 = z_edges[size_t(i)], z1 = z_edges[size_t(i) + 1];
-            (*solid)[size_t(row)] = (z0 - z1) * 2.0 * kPi / Pp;
+            (*solid)[size_t(row)] = (z0 - z1) * c2_span / Pp;
             for (int a = 0; a < S; ++a)
                 for (int b = 0; b < S; ++b) {
-                    const double z = z0 + (a + 0.5) / S * (z1 - z0);
-                    const double phi = (j + (b + 0.5) / S) * 2.0 * kPi / Pp;
-                    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-                    (*points)[(size_t(row) * S + a) * S + b] = dvec3(s * std::cos(phi), s * std::sin(phi), z);
+                    const double c1 = z0 + (a + 0.5) / S * (z1 - z0);
+                    const double c2 = c2_lo + (j + (b + 0.5) / S) * c2_span / Pp;
+                    const double s = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+                    const double sa = s * std::sin(c2), ca = s * std::cos(c2);
+                    (*points)[(size_t(row) * S + a) * S + b] = axis == SampleAxis::Tangent     ? dvec3(c1, sa, ca)
+                                                               : axis == SampleAxis::Bitangent ? dvec3(sa, c1, ca)
+                                                                                               : dvec3(ca, sa, c1);
                 }
         }
 }
@@ -247,27 +326,37 @@ bool lobe_sampled(const Brdf& brdf, const glm::dvec3& diffuse, std::string* err)
 }
 
 // One parameterization (opt.param is Half or Incident), the Lambert part already known.
+// The options' automatic values (0) for this BRDF and axis (factored_fit.h says why).
+FactoredOptions with_defaults(const Brdf& brdf, FactoredOptions o) {
+    const bool iso = brdf.isotropic(), polar = o.axis == SampleAxis::Normal;
+    if (o.n_theta_p == 0) o.n_theta_p = polar ? 64 : 192;
+    if (o.n_phi_p == 0) o.n_phi_p = !polar ? 96 : iso ? 16 : 64;
+    if (o.J == 0) o.J = !polar ? 16 : iso ? 4 : 2, o.K = !polar ? 1 : iso ? 2 : 4;
+    if (o.iterations == 0) o.iterations = polar ? 2000 : 500;
+    return o;
+}
+
 bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
              FactoredReport* rep, std::string* err) {
-    FactoredOptions o = opt;
-    const bool iso = brdf.isotropic();
-    if (o.n_phi_p == 0) o.n_phi_p = iso ? 16 : 64;
-    if (o.J == 0) o.J = iso ? 4 : 2, o.K = iso ? 2 : 4;
-    const bool view_frame = o.phi == PhiFrame::View || (o.phi == PhiFrame::Auto && brdf.isotropic());
+    FactoredOptions o = with_defaults(brdf, opt);
+    const bool polar = o.axis == SampleAxis::Normal;
+    // Angles about t or s turn with the surface: only the absolute frame keeps them.
+    const bool view_frame = polar && (o.phi == PhiFrame::View || (o.phi == PhiFrame::Auto && brdf.isotropic()));
     if (view_frame) o.n_phi_o = 1;
     const bool colour = o.colour;
     FactoredReport r;
     r.param = sample_param_name(o.param);
+    r.axis = sample_axis_name(o.axis);
     r.phi_frame = view_frame ? "view" : "absolute";
     r.n_theta_o = o.n_theta_o, r.n_phi_o = o.n_phi_o, r.n_theta_p = o.n_theta_p, r.n_phi_p = o.n_phi_p;
     r.J = o.J, r.K = o.K;
 
     const int Tp = o.n_theta_p, Pp = o.n_phi_p, To = o.n_theta_o, Po = o.n_phi_o, S = o.supersample;
     const int rows = Tp * Pp, cols = To * Po;
-    const std::vector<float> z_edges = theta_bin_z_edges(Tp, o.sqrt_theta);
+    const std::vector<float> z_edges = polar ? theta_bin_z_edges(Tp, o.sqrt_theta) : axis_bin_edges(Tp, o.sqrt_theta);
     std::vector<dvec3> points;
     std::vector<double> solid;
-    bin_points(z_edges, Pp, S, &points, &solid);
+    bin_points(o.axis, z_edges, Pp, S, &points, &solid);
 
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<ViewColumn> columns(static_cast<size_t>(cols));
@@ -339,6 +428,9 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
     d.kind = SEPAL_SAMPLER_FACTORED;
     d.desc.param = o.param == SampleParam::Half ? SEPAL_SMP_PARAM_HALF : SEPAL_SMP_PARAM_INCIDENT;
     d.desc.phi_frame = view_frame ? SEPAL_SMP_PHI_VIEW : SEPAL_SMP_PHI_ABSOLUTE;
+    d.desc.axis = o.axis == SampleAxis::Tangent     ? SEPAL_SMP_AXIS_T
+                  : o.axis == SampleAxis::Bitangent ? SEPAL_SMP_AXIS_S
+                                                    : SEPAL_SMP_AXIS_N;
     d.desc.n_theta_o = uint32_t(To), d.desc.n_phi_o = uint32_t(Po);
     d.desc.n_theta_p = uint32_t(Tp), d.desc.n_phi_p = uint32_t(Pp);
     d.desc.terms = uint32_t(L);

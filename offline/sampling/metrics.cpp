@@ -8,11 +8,16 @@
 
 namespace sepal {
 
-double normalized_mae(const Brdf& truth, const ApproxFn& approx, int pairs, uint64_t seed) {
+double normalized_mae(const Brdf& truth, const ApproxFn& approx, int pairs, uint64_t seed, PairDensity density) {
     double num = 0, den = 0;
     Rng rng(seed);
+    auto draw = [&]() {
+        if (density == PairDensity::SolidAngle) return rng.hemisphere();
+        const double t = rng.uniform() * 0.5 * kPi;
+        return dir_from_angles(t, rng.uniform() * 2.0 * kPi);
+    };
     for (int n = 0; n < pairs; ++n) {
-        const glm::dvec3 wi = rng.hemisphere(), wo = rng.hemisphere();
+        const glm::dvec3 wi = draw(), wo = draw();
         const double f = luminance(truth.eval(wi, wo)) * wi.z;
         num += std::fabs(approx(wi, wo) - f);
         den += std::fabs(f);

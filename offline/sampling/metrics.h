@@ -6,7 +6,9 @@
 //
 // normalized_mae: the paper's Table 1 measure, sum |f~ cos - f cos| / sum f cos over `pairs`
 // (wi, wo) pairs drawn uniformly over both hemispheres (a fixed seed; independent of any
-// fit's resolution), on luminance.
+// fit's resolution), on luminance. The paper says only "a dense set of samples of the 4D
+// domain"; PairDensity::Angles draws (theta_i, phi_i, theta_o, phi_o) uniformly instead (a
+// regular angle grid's weighting: more pairs near the normal, fewer at grazing angles).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -22,7 +24,9 @@ namespace sepal {
 
 using ApproxFn = std::function<double(const glm::dvec3& wi, const glm::dvec3& wo)>;
 
-double normalized_mae(const Brdf& truth, const ApproxFn& approx, int pairs, uint64_t seed);
+enum class PairDensity { SolidAngle, Angles };
+double normalized_mae(const Brdf& truth, const ApproxFn& approx, int pairs, uint64_t seed,
+                      PairDensity density = PairDensity::SolidAngle);
 
 // A FACTORED sampler's reconstruction of f(wi, wo) cos(theta_i) in luminance (what it
 // samples): total(wo) times its factored density at wi, without the defensive share.

@@ -61,9 +61,10 @@ bool encode_sampler(const SamplerData& d, std::vector<uint8_t>* out, std::string
     sepal_smp_header h{};
     std::memcpy(h.magic, SEPAL_SMP_MAGIC, 8);
     h.version_major = SEPAL_SMP_VERSION_MAJOR;
-    // 1.0 unless the 1.1 diffuse part is used, so samplers without one keep their bytes.
+    // The lowest version holding the file's fields (1.1: the diffuse part, 1.2: an axis),
+    // so older samplers keep their bytes.
     const bool diffuse = d.desc.diffuse[0] != 0.0f || d.desc.diffuse[1] != 0.0f || d.desc.diffuse[2] != 0.0f;
-    h.version_minor = diffuse ? SEPAL_SMP_VERSION_MINOR : 0;
+    h.version_minor = d.desc.axis != SEPAL_SMP_AXIS_N ? 2 : diffuse ? 1 : 0;
     h.header_bytes = sizeof h;
     h.file_bytes = size;
     h.kind = d.kind;

@@ -103,8 +103,8 @@ bool valid_cdf(const float* c, uint32_t n) {
     return true;
 }
 
-bool valid_z_edges(const float* z, uint32_t n) {
-    if (z[0] != 1.0f || z[n] != 0.0f) return false;
+bool valid_z_edges(const float* z, uint32_t n, float last) {
+    if (z[0] != 1.0f || z[n] != last) return false;
     for (uint32_t i = 0; i < n; ++i)
         if (!(z[i + 1] < z[i])) return false;
     return true;
@@ -238,17 +238,52 @@ inline float bin_density(const float* ucdf, const float* vcdf, const float* z, u
     return (ucdf[i + 1] - ucdf[i]) / (z[i] - z[i + 1]) * ((vcdf[j + 1] - vcdf[j]) * (float)Pp / kTwoPi);
 }
 
-// Draws a direction (z, phi) from a pair of CDFs: z over the decreasing edges, phi uniform
-// bins. x drives phi, y drives z (both in [0,1)).
-void draw_zphi(const float* ucdf, const float* vcdf, const float* z, uint32_t Tp, uint32_t Pp,
-               float x, float y, float* w) {
+// ---- factored coordinates (desc.axis) ---------------------------------------------------------
+// c1 is a direction's component along the axis (edges in z_edges), c2 its angle about the
+// axis over [c2_lo, c2_lo + c2_span) in Pp uniform bins; dOmega = dc1 dc2 for all three.
+inline float c2_lo(uint32_t axis) { return axis == SEPAL_SMP_AXIS_N ? 0.0f : -0.5f * kPi; }
+inline float c2_span(uint32_t axis) { return axis == SEPAL_SMP_AXIS_N ? kTwoPi : kPi; }
+
+void to_coords(uint32_t axis, const float* w, float* c1, float* c2) {
+    switch (axis) {
+        case SEPAL_SMP_AXIS_T: *c1 = w[0], *c2 = atan2f(w[1], w[2]); break;
+        case SEPAL_SMP_AXIS_S: *c1 = w[1], *c2 = atan2f(w[0], w[2]); break;
+        default: *c1 = w[2], *c2 = azimuth(w[0], w[1]); break;
+    }
+}
+
+void from_coords(uint32_t axis, float c1, float c2, float* w) {
+    const float r = sqrtf(fmaxf(0.0f, 1.0f - c1 * c1));
+    switch (axis) {
+        case SEPAL_SMP_AXIS_T: w[0] = c1, w[1] = r * sinf(c2), w[2] = r * cosf(c2); break;
+        case SEPAL_SMP_AXIS_S: w[0] = r * sinf(c2), w[1] = c1, w[2] = r * cosf(c2); break;
+        default: w[0] = r * cosf(c2), w[1] = r * sinf(c2), w[2] = c1; break;
+    }
+}
+
+uint32_t c2_bin(uint32_t axis, float c2, uint32_t n) {
+    const int j = (int)((c2 - c2_lo(axis)) * (float)n / c2_span(axis));
+    return j < 0 ? 0u : (j >= (int)n ? n - 1 : (uint32_t)j);
+}
+
+// The (c1, c2) bin of a unit wp in the view frame.
+void factored_bin(const sepal_sampler& s, const float* w, uint32_t* i, uint32_t* j) {
+    float c1, c2;
+    to_coords(s.desc.axis, w, &c1, &c2);
+    *i = z_bin(s.z_edges, s.desc.n_theta_p, c1);
+    *j = c2_bin(s.desc.axis, c2, s.desc.n_phi_p);
+}
+
+// Draws a direction from a pair of CDFs: c1 over the decreasing edges, c2 uniform bins.
+// x drives c2, y drives c1 (both in [0,1)).
+void draw_coords(const float* ucdf, const float* vcdf, const float* z, uint32_t Tp, uint32_t Pp,
+                 uint32_t axis, float x, float y, float* w) {
     float t;
     const uint32_t j = pick(vcdf, Pp, x, &t);
-    const float phi = ((float)j + t) * kTwoPi / (float)Pp;
+    const float c2 = c2_lo(axis) + ((float)j + t) * c2_span(axis) / (float)Pp;
     const uint32_t i = pick(ucdf, Tp, y, &t);
-    const float zz = clampf(z[i] + t * (z[i + 1] - z[i]), 0.0f, 1.0f);
-    const float r = sqrtf(fmaxf(0.0f, 1.0f - zz * zz));
-    w[0] = r * cosf(phi), w[1] = r * sinf(phi), w[2] = zz;
+    const float c1 = clampf(z[i] + t * (z[i + 1] - z[i]), z[Tp], 1.0f);
+    from_coords(axis, c1, c2, w);
 }
 
 // ---- analytic lobes ----------------------------------------------------------------------------
@@ -364,16 +399,16 @@ float factored_pdf(const sepal_sampler_view* v, const float* wi, bool over_wp = 
     float w[3];
     to_view(v, wp, w);
     const uint32_t Tp = d.n_theta_p, Pp = d.n_phi_p;
-    const uint32_t i = z_bin(s.z_edges, Tp, w[2]);
-    const uint32_t j = phi_bin(azimuth(w[0], w[1]), Pp);
-    // sum_l w_l U_l(z) V_l(phi): the bin's width in z and in phi is shared by every term.
+    uint32_t i, j;
+    factored_bin(s, w, &i, &j);
+    // sum_l w_l U_l(c1) V_l(c2): the bin's width in c1 and in c2 is shared by every term.
     float p = 0.0f;
     for (uint32_t l = 0; l < v->count; ++l) {
         const float* u = s.u_cdf + l * (Tp + 1);
         const float* c = s.v_cdf + l * (Pp + 1);
         p += v->weight[l] * ((u[i + 1] - u[i]) * (c[j + 1] - c[j]));
     }
-    p *= (float)Pp / (kTwoPi * (s.z_edges[i] - s.z_edges[i + 1]));
+    p *= (float)Pp / (c2_span(d.axis) * (s.z_edges[i] - s.z_edges[i + 1]));
     return over_wp ? p : p * inv_j;
 }
 
@@ -484,10 +519,18 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
                                  "file of version 1.%u (only factored samplers of 1.1 have one)",
                                  (double)d.diffuse[c], c, (double)SEPAL_SMP_MAX_DIFFUSE, kind_name(h.kind),
                                  h.version_minor);
-        out->z_edges = arr(kZ);
-        if (!valid_z_edges(out->z_edges, Tp))
+        if (d.axis >= SEPAL_SMP_AXIS_COUNT ||
+            (d.axis != SEPAL_SMP_AXIS_N && (h.kind != SEPAL_SAMPLER_FACTORED || h.version_minor < 2 ||
+                                            d.phi_frame != SEPAL_SMP_PHI_ABSOLUTE)))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                             "sampler: z bin edges must fall strictly from 1 to 0");
+                             "sampler: axis %u in a %s file of version 1.%u (axes 1 and 2 only in factored "
+                             "samplers of 1.2 with absolute phi)",
+                             d.axis, kind_name(h.kind), h.version_minor);
+        const float last = d.axis == SEPAL_SMP_AXIS_N ? 0.0f : -1.0f;
+        out->z_edges = arr(kZ);
+        if (!valid_z_edges(out->z_edges, Tp, last))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "sampler: bin edges must fall strictly from 1 to %g", (double)last);
     }
     if (h.kind == SEPAL_SAMPLER_FACTORED) {
         out->F = arr(kF), out->u_cdf = arr(kU), out->v_cdf = arr(kV);
@@ -670,8 +713,8 @@ extern "C" int sepal_sampler_sample(const sepal_sampler_view* v, const float u_i
             case SEPAL_SAMPLER_FACTORED: {
                 const sepal_smp_desc& d = s.desc;
                 float wv[3], wp[3];
-                draw_zphi(s.u_cdf + k * (d.n_theta_p + 1), s.v_cdf + k * (d.n_phi_p + 1), s.z_edges,
-                          d.n_theta_p, d.n_phi_p, x, u[1], wv);
+                draw_coords(s.u_cdf + k * (d.n_theta_p + 1), s.v_cdf + k * (d.n_phi_p + 1), s.z_edges,
+                            d.n_theta_p, d.n_phi_p, d.axis, x, u[1], wv);
                 from_view(v, wv, wp);
                 if (d.param == SEPAL_SMP_PARAM_HALF) reflect(v->wo, wp, wi);
                 else wi[0] = wp[0], wi[1] = wp[1], wi[2] = wp[2];
@@ -737,8 +780,8 @@ extern "C" int sepal_sampler_eval(const sepal_sampler_view* v, const float wi[3]
         wp[0] = wi[0], wp[1] = wi[1], wp[2] = wi[2];
     }
     to_view(v, wp, w);
-    const uint32_t i = z_bin(s.z_edges, d.n_theta_p, w[2]);
-    const uint32_t j = phi_bin(azimuth(w[0], w[1]), d.n_phi_p);
+    uint32_t i, j;
+    factored_bin(s, w, &i, &j);
     for (int c = 0; c < 3; ++c)
         rgb[c] = lum * v->colour[c] * s.colour_b[c * d.n_theta_p + i] * s.colour_c[c * d.n_phi_p + j] + D[c] * cos_i;
     for (int c = 0; c < 3; ++c)

@@ -194,7 +194,7 @@ struct Fit {
 FactoredOptions paper_options(const Material& m) {
     FactoredOptions o;
     o.n_theta_p = m.p_theta_p, o.n_phi_p = m.p_phi_p, o.J = m.p_J, o.K = m.p_K;
-    o.param = m.p_param, o.phi = PhiFrame::Absolute, o.jacobian = false;
+    o.param = m.p_param, o.phi = PhiFrame::Absolute, o.jacobian = false, o.axis = SampleAxis::Normal;
     o.separate_diffuse = false;
     if (m.p_theta_p * m.p_phi_p > 4000) o.supersample = 2;
     return o;
@@ -338,13 +338,15 @@ void table1(const Config& c, Output* out) {
     out->line("\n## Table 1: accuracy of the sampling factorization (normalized MAE of f cos, luminance)\n");
     out->line("MAE over 2^17 uniform (wi, wo) pairs. *paper settings*: the paper's resolution, J x K, its "
               "parameterization, absolute phi, no Jacobian. *sepal*: the defaults (16 x 16 views, 64 sqrt-spaced "
-              "theta bins x 16 phi bins and 4 x 2 terms for isotropic BRDFs, 64 phi bins and 2 x 4 terms for "
-              "anisotropic ones, param auto, view-relative phi for isotropic BRDFs, Jacobian). Laf.: our best-fit "
-              "Lafortune (3 lobes for Cook-Torrance, else 2). Compression: the dense data matrix Y (float) / the "
-              "sampler file.\n");
+              "theta bins x 16 phi bins and 4 x 2 terms for isotropic BRDFs; anisotropic ones: param and axis auto, "
+              "64 phi bins and 2 x 4 terms about the normal, 192 x 96 bins and 16 x 1 terms about t or s; "
+              "view-relative phi for isotropic BRDFs, Jacobian). MAE (angles): the same over pairs uniform in "
+              "(theta_i, phi_i, theta_o, phi_o), the other reading of the paper's \"dense set of samples of the 4D "
+              "domain\". Laf.: our best-fit Lafortune (3 lobes for Cook-Torrance, else 2). Compression: the dense "
+              "data matrix Y (float) / the sampler file.\n");
     out->line("| BRDF | settings | resolution (to x po x tp x pp) | J x K | param | bytes | compression | MAE | "
-              "paper MAE | Laf. MAE | paper Laf. |");
-    out->line("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+              "MAE (angles) | paper MAE | Laf. MAE | paper Laf. |");
+    out->line("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     out->json.key("table1").begin_array();
     for (const Material& m : materials()) {
         if (c.quick && m.label != "Cook-Torrance" && m.label != "Hapke-Lommel") continue;
@@ -371,28 +373,31 @@ void table1(const Config& c, Output* out) {
             const double secs = fit.seconds;
             Sampler s;
             s.build(fit.data, &err);
-            const double mae = normalized_mae(*b, [&](const glm::dvec3& wi, const glm::dvec3& wo) {
+            const ApproxFn approx = [&](const glm::dvec3& wi, const glm::dvec3& wo) {
                 const float w[3] = {float(wo.x), float(wo.y), float(wo.z)};
                 sepal_sampler_view v;
                 sepal_sampler_set_view(&s.get(), w, &v);
                 return factored_lum(v, wi);
-            }, 1 << 17, 7);
+            };
+            const double mae = normalized_mae(*b, approx, 1 << 17, 7);
+            const double mae_angles = normalized_mae(*b, approx, 1 << 17, 7, PairDensity::Angles);
             char res[64], terms[32];
             std::snprintf(res, sizeof res, "%d x %d x %d x %d", rep.n_theta_o, rep.n_phi_o, rep.n_theta_p, rep.n_phi_p);
             std::snprintf(terms, sizeof terms, "%d x %d = %d", rep.J, rep.K, rep.J * rep.K);
             const double compression = rep.dense_bytes / double(rep.sampler_bytes);
             out->line("| " + m.label + " | " + (variant ? "sepal" : "paper settings") + " | " + res + " | " + terms +
-                      " | " + rep.param + (variant ? "" : ", absolute, no Jacobian") + " | " +
-                      std::to_string(rep.sampler_bytes) + " | " + fmt(compression, "%.0f:1") + " (paper " +
-                      m.p_compression + ") | " + fmt(mae) + " | " + fmt(m.p_mae) + " | " + fmt(laf_mae) + " | " +
+                      " | " + rep.param + (rep.axis == "n" ? "" : " about " + rep.axis) +
+                      (variant ? "" : ", absolute, no Jacobian") + " | " + std::to_string(rep.sampler_bytes) + " | " +
+                      fmt(compression, "%.0f:1") + " (paper " + m.p_compression + ") | " + fmt(mae) + " | " +
+                      fmt(mae_angles) + " | " + fmt(m.p_mae) + " | " + fmt(laf_mae) + " | " +
                       fmt(m.p_laf) + " |");
             out->json.begin_object()
                 .key("brdf").value(m.label).key("spec").value(m.spec)
                 .key("settings").value(variant ? "sepal" : "paper")
                 .key("resolution").value(res).key("J").value(rep.J).key("K").value(rep.K)
-                .key("param").value(rep.param).key("phi_frame").value(rep.phi_frame)
+                .key("param").value(rep.param).key("axis").value(rep.axis).key("phi_frame").value(rep.phi_frame)
                 .key("bytes").value(int64_t(rep.sampler_bytes)).key("compression").value(compression)
-                .key("mae").value(mae).key("paper_mae").value(m.p_mae)
+                .key("mae").value(mae).key("mae_angles").value(mae_angles).key("paper_mae").value(m.p_mae)
                 .key("lafortune_mae").value(laf_mae).key("paper_lafortune_mae").value(m.p_laf)
                 .key("lafortune_spec").value(laf.spec).key("fit_seconds").value(secs)
                 .key("kl_total").value(rep.kl_total)
@@ -533,7 +538,18 @@ void speed(const Config& c, Output* out) {
     out->line("| --- | --- | --- | --- |");
     out->json.key("speed").begin_array();
     const int n = c.quick ? (1 << 16) : (1 << 20);
-    for (const auto& [name, d] : s.data) {
+    // Cook-Torrance's strategies, then the default factored samplers of the anisotropic
+    // materials (binned about t or s, 16 terms: the mixture's pdf sums every term).
+    std::vector<std::pair<std::string, SamplerData>> timed(s.data.begin(), s.data.end());
+    for (const Material& mat : materials()) {
+        if (c.quick || (mat.label != "Ward" && mat.label != "Poulin-Fournier")) continue;
+        note("speed: fitting " + mat.label);
+        const Fit& fit = fitted(*need_brdf(mat.spec), mat, "default");
+        if (fit.ok) timed.emplace_back("factored, " + mat.label + " (" + fit.report.param + " about " + fit.report.axis +
+                                       ", " + std::to_string(fit.report.J * fit.report.K) + " terms)", fit.data);
+    }
+    note_done();
+    for (const auto& [name, d] : timed) {
         Sampler smp;
         std::string err;
         smp.build(d, &err);
@@ -573,8 +589,8 @@ void speed(const Config& c, Output* out) {
     }
     out->json.end_array();
     // Bytes of the default factored sampler of every material (the < 64 KB budget).
-    out->line("\n| material | factored sampler bytes (defaults) | param | phi |");
-    out->line("| --- | --- | --- | --- |");
+    out->line("\n| material | factored sampler bytes (defaults) | param | axis | phi |");
+    out->line("| --- | --- | --- | --- | --- |");
     out->json.key("bytes").begin_array();
     for (const Material& mat : materials()) {
         if (c.quick && mat.label != "Cook-Torrance") continue;
@@ -583,8 +599,8 @@ void speed(const Config& c, Output* out) {
         const Fit& fit = fitted(*bb, mat, "default");
         if (!fit.ok) continue;
         const FactoredReport& rep = fit.report;
-        out->line("| " + mat.label + " | " + std::to_string(rep.sampler_bytes) + " | " + rep.param + " | " +
-                  rep.phi_frame + " |");
+        out->line("| " + mat.label + " | " + std::to_string(rep.sampler_bytes) + " | " + rep.param + " | " + rep.axis +
+                  " | " + rep.phi_frame + " |");
         out->json.begin_object().key("brdf").value(mat.label).key("bytes").value(int64_t(rep.sampler_bytes)).end_object();
     }
     out->json.end_array();
@@ -595,8 +611,8 @@ void speed(const Config& c, Output* out) {
 void ablation(const Config& c, Output* out) {
     out->line("\n## Design choices: relative variance of f cos / pdf (mean over the judge views; lower is better)\n");
     out->line("| BRDF | paper (absolute phi, no Jacobian, paper J x K) | + view phi | + Jacobian | + 4 x 2 terms "
-              "| + Lambert part (sepal) | defensive 0 | defensive 0.1 | cosine |");
-    out->line("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+              "| + Lambert part | + axis auto (sepal) | defensive 0 | defensive 0.1 | cosine |");
+    out->line("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     out->json.key("ablation").begin_array();
     for (const Material& m : materials()) {
         if (m.label != "Cook-Torrance" && m.label != "Hapke-Lommel" && m.label != "Nickel (MERL nbrdf)" &&
@@ -627,9 +643,12 @@ void ablation(const Config& c, Output* out) {
         o.jacobian = true;
         v.push_back(rv(o));
         FactoredOptions d;
-        d.separate_diffuse = false;
+        d.separate_diffuse = false, d.axis = SampleAxis::Normal;
         v.push_back(rv(d));
         const Fit& def = fitted(*b, m, "default");
+        d.separate_diffuse = true;
+        // Isotropic BRDFs are binned about the normal only: the same fit as the defaults.
+        v.push_back(b->isotropic() ? rv_fit(def) : rv(d));
         v.push_back(rv_fit(def));
         // The defensive share is a mixing weight in the sampler's header, not an input of
         // the fit (factored_fit.cpp only copies it): the default fit with the share changed.

@@ -20,13 +20,15 @@ using namespace sepal;
 
 namespace {
 
-SamplerData small_factored(const std::string& spec = "cook-torrance", bool colour = true) {
+SamplerData small_factored(const std::string& spec = "cook-torrance", bool colour = true,
+                           SampleAxis axis = SampleAxis::Normal) {
     std::string err;
     auto b = make_brdf(spec, &err);
     REQUIRE(b);
     FactoredOptions o;
     o.n_theta_o = 8, o.n_phi_o = 8, o.n_theta_p = 16, o.n_phi_p = 8, o.J = 2, o.K = 1, o.colour = colour;
     o.param = SampleParam::Half;
+    o.axis = axis;
     SamplerData d;
     REQUIRE_MESSAGE(fit_factored(*b, o, &d, nullptr, &err), err);
     return d;
@@ -118,17 +120,34 @@ TEST_CASE("sampler format: round trip, determinism, and every corruption refused
     CHECK(reinterpret_cast<const sepal_smp_header*>(p11.data())->version_minor == 1);
     CHECK(reinterpret_cast<const sepal_smp_header*>(good.data())->version_minor == (d.desc.diffuse[0] > 0 ? 1 : 0));
     CHECK(parse_error(p11).empty());
-    auto with11 = [&](auto edit) {
-        std::vector<uint8_t> b = p11;
+    // The parse error of a file after an edit of its header and desc (checksums resealed).
+    auto edited = [](std::vector<uint8_t> b, auto edit) {
         sepal_smp_desc* desc = reinterpret_cast<sepal_smp_desc*>(b.data() + sizeof(sepal_smp_header));
         edit(reinterpret_cast<sepal_smp_header*>(b.data()), desc);
         reseal(&b);
         return parse_error(b);
     };
+    auto with11 = [&](auto edit) { return edited(p11, edit); };
     CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[1] = -0.1f; }).find("diffuse") != std::string::npos);
     CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[2] = 1e30f; }).find("diffuse") != std::string::npos);
     CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[0] = std::nanf(""); }).find("diffuse") != std::string::npos);
     CHECK(with11([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 0; }).find("1.0") != std::string::npos);
+    // Format 1.2's axis: only in a 1.2 factored file with absolute phi, edges down to -1.
+    const SamplerData axis_t = small_factored("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05", true, SampleAxis::Tangent);
+    REQUIRE(axis_t.desc.axis == SEPAL_SMP_AXIS_T);
+    REQUIRE(axis_t.z_edges.back() == -1.0f);
+    const std::vector<uint8_t> p12 = encode(axis_t);
+    CHECK(reinterpret_cast<const sepal_smp_header*>(p12.data())->version_minor == 2);
+    CHECK(parse_error(p12).empty());
+    auto with12 = [&](auto edit) { return edited(p12, edit); };
+    CHECK(with12([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 1; }).find("axis") != std::string::npos);
+    CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = 3; }).find("axis") != std::string::npos);
+    CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_N; }).find("edges") != std::string::npos);
+    CHECK(with([](std::vector<uint8_t>* b) {
+              sepal_smp_desc* desc = reinterpret_cast<sepal_smp_desc*>(b->data() + sizeof(sepal_smp_header));
+              desc->axis = SEPAL_SMP_AXIS_S;
+              reseal(b);
+          }).find("axis") != std::string::npos);
     // eval() adds D cos(theta_i): at a view and direction far from the lobe, about D cos.
     {
         Sampler ps;
@@ -168,8 +187,10 @@ TEST_CASE("sampler API: sample() and pdf() agree exactly, for every kind, at man
     std::string err;
     auto ct = make_brdf("cook-torrance", &err);
     auto ward = make_brdf("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05", &err);
-    std::vector<SamplerData> kinds = {small_factored(), small_factored("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05"),
-                                      make_cosine_sampler()};
+    const std::string aniso = "ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05";
+    std::vector<SamplerData> kinds = {small_factored(), small_factored(aniso),
+                                      small_factored(aniso, true, SampleAxis::Tangent),
+                                      small_factored(aniso, true, SampleAxis::Bitangent), make_cosine_sampler()};
     SamplerData d;
     REQUIRE(make_analytic_sampler(*ct, &d, &err));
     kinds.push_back(d);

@@ -26,7 +26,8 @@
 //              u_l(theta_p) v_l(phi_p) in the view/half-angle (wp = h) or incident (wp = wi)
 //              parameterization; term l chosen with probability F_l(wo) / sum F, then
 //              phi_p and z = cos(theta_p) by inverting 1D CDFs, then wi (for h: the mirror
-//              of wo about h, Jacobian 1/(4 wi.h)). With a defensive share e, a cosine
+//              of wo about h, Jacobian 1/(4 wi.h)). Format 1.2: wp in angles about the
+//              tangent or bitangent instead (desc.axis), for anisotropic lobes. With a defensive share e, a cosine
 //              sample is drawn instead with probability e (the factored density can be 0
 //              where f cos is not; the mixture keeps the estimator unbiased).
 //              Format 1.1: a Lambert part D (desc.diffuse, per steradian) is kept out of
@@ -43,8 +44,9 @@
 // eval() returns the sampler's own reconstruction of f(wi,wo) cos(theta_i) for FACTORED
 // samplers (RGB with colour tables, the luminance in all three channels without), and 0
 // (unsupported) for the other kinds.
-// Cost (tests/bench/sampling.cpp): sample + pdf well under 200 ns on one core; a factored
-// sampler of the paper's resolutions is 5..40 KB.
+// Cost (tests/bench/sampling.cpp): sample + pdf about 200 ns on one core (the pdf sums every
+// term: 8 by default, 16 about t or s); a factored sampler of the paper's resolutions is
+// 5..40 KB, 42 KB about t or s (192 x 96 bins, 16 terms).
 // Limits: see SEPAL_SMP_MAX_*; a view whose wo is at or below the horizon, or whose terms
 // are all 0, draws cosine samples only (FACTORED, TABULATED) and reports it in `fallback`.
 //
@@ -71,11 +73,13 @@ extern "C" {
 // The reader computes every array's offset from the counts and requires the file to end
 // exactly after the last one. Arrays by kind (T = terms, To = n_theta_o, Po = n_phi_o,
 // Tp = n_theta_p, Pp = n_phi_p, V = To x Po views, row-major with phi fastest):
-//   FACTORED   z_edges[Tp+1]   cos(theta_p) bin edges, z_edges[0] = 1 > ... > z_edges[Tp] = 0
+//   FACTORED   z_edges[Tp+1]   c1 bin edges (desc.axis): z_edges[0] = 1 > ... > z_edges[Tp] =
+//                              0 (N: cos theta_p) or -1 (T, S: wp.t or wp.s)
 //              F[T][To][Po]    term weights at the view bin centres (>= 0), bilinear in
 //                              (theta_o, phi_o), phi periodic, theta clamped
 //              u_cdf[T][Tp+1]  CDF of term l over the z bins (0 ... 1, non-decreasing)
-//              v_cdf[T][Pp+1]  CDF over phi_p bins [j, j+1) * 2 pi / Pp
+//              v_cdf[T][Pp+1]  CDF over c2 bins: phi_p in [j, j+1) * 2 pi / Pp (N), or
+//                              the angle in [j, j+1) * pi / Pp - pi/2 (T, S)
 //              if colour: ca[3][To][Po], cb[3][Tp], cc[3][Pp]: f_c / f_lum ~= ca cb cc
 //   COSINE     nothing
 //   LOBES      sepal_smp_lobe[lobe_count]
@@ -83,7 +87,8 @@ extern "C" {
 //              marginal[Tp+1], conditional[Tp][Pp+1]
 #define SEPAL_SMP_MAGIC "SEPALSMP"
 #define SEPAL_SMP_VERSION_MAJOR 1
-#define SEPAL_SMP_VERSION_MINOR 1  // 1.1: desc.diffuse; the writer writes 1.0 without it
+#define SEPAL_SMP_VERSION_MINOR 2  // 1.1: desc.diffuse; 1.2: desc.axis. The writer writes the
+                                    // lowest version that holds the file's fields
 
 #define SEPAL_SMP_MAX_FILE_BYTES (16u << 20)
 #define SEPAL_SMP_MAX_TERMS 64
@@ -111,6 +116,19 @@ typedef enum sepal_smp_phi {
     SEPAL_SMP_PHI_VIEW = 1,      // phi_p from phi_o (isotropic BRDFs: F depends on theta_o only)
     SEPAL_SMP_PHI_COUNT = 2
 } sepal_smp_phi;
+
+typedef enum sepal_smp_axis {
+    // Coordinates of wp (FACTORED). Both pairs have dOmega = dc1 dc2, so a bin's density
+    // per steradian is its mass over its (c1, c2) area.
+    SEPAL_SMP_AXIS_N = 0,  // polar about the normal: c1 = z = cos(theta_p) in [0, 1] (edges
+                           // 1 down to 0), c2 = phi_p in [0, 2 pi) (the paper's)
+    SEPAL_SMP_AXIS_T = 1,  // about the tangent t: c1 = wp.t in [-1, 1] (edges 1 down to -1),
+                           // c2 = atan2(wp.s, wp.n) in [-pi/2, pi/2] (upper hemisphere).
+                           // Grooves and cylinders along t (Poulin-Fournier) separate here.
+    SEPAL_SMP_AXIS_S = 2,  // about s: c1 = wp.s, c2 = atan2(wp.t, wp.n). A lobe sharp across s
+                           // (Ward ay << ax) gets the explicit c1 edges where it is sharp.
+    SEPAL_SMP_AXIS_COUNT = 3
+} sepal_smp_axis;
 
 typedef enum sepal_smp_lobe_type {
     SEPAL_LOBE_COSINE = 0,      // cos(theta_i)/pi; no parameters
@@ -151,7 +169,9 @@ typedef struct sepal_smp_desc {
                           // out), 0 when they fit f cos itself (the paper's variant)
     float diffuse[3];     // FACTORED, format 1.1: the Lambert part D per channel (1/sr,
                           // 0..1e6) kept out of the terms; 0 in 1.0 files (none)
-    uint32_t reserved[2];
+    uint32_t axis;        // FACTORED, format 1.2: sepal_smp_axis (0 before 1.2); T and S
+                          // need SEPAL_SMP_PHI_ABSOLUTE
+    uint32_t reserved;
 } sepal_smp_desc;
 
 typedef struct sepal_smp_lobe {

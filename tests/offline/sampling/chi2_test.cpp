@@ -43,10 +43,22 @@ Material& material(const std::string& spec) {
     FactoredOptions fo;
     fo.J = 2, fo.K = 2;
     fo.param = SampleParam::Half;
+    fo.axis = SampleAxis::Normal;
     if (!m.brdf->isotropic()) fo.n_theta_p = 32, fo.n_phi_p = 32;
     SamplerData d;
     REQUIRE_MESSAGE(fit_factored(*m.brdf, fo, &d, nullptr, &err), err);
     add("factored", d);
+    if (!m.brdf->isotropic()) {
+        // Angles about the tangent and the bitangent (format 1.2), both parameterizations.
+        for (SampleAxis a : {SampleAxis::Tangent, SampleAxis::Bitangent})
+            for (SampleParam p : {SampleParam::Half, SampleParam::Incident}) {
+                FactoredOptions ao = fo;
+                ao.axis = a, ao.param = p;
+                REQUIRE_MESSAGE(fit_factored(*m.brdf, ao, &d, nullptr, &err), err);
+                REQUIRE(d.desc.axis == (a == SampleAxis::Tangent ? SEPAL_SMP_AXIS_T : SEPAL_SMP_AXIS_S));
+                add(std::string("factored-") + sample_param_name(p) + "-" + sample_axis_name(a), d);
+            }
+    }
     fo.param = SampleParam::Incident;
     REQUIRE_MESSAGE(fit_factored(*m.brdf, fo, &d, nullptr, &err), err);
     add("factored-incident", d);
@@ -74,10 +86,11 @@ void add_fits(Material& m) {
 
 const std::string kCt = "cook-torrance";
 const std::string kWard = "ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05";
+const std::string kPf = "poulin-fournier";
 std::string cornell() { return sepal_test::source_path("fixtures/cornell/garnet_red.brdf"); }
 
 // Every chi-square test of this suite shares the significance level (Sidak).
-constexpr int kTests = 31;  // 18 + 5 + 6 + 2 spare
+constexpr int kTests = 39;  // 18 + 5 + 6 + 9 + 1 spare
 constexpr int kSamples = 1000000;
 
 sepal_test::Chi2Result run_chi2(const Sampler& s, const glm::dvec3& wo, uint64_t seed) {
@@ -125,6 +138,12 @@ TEST_CASE("sampling: chi-square, anisotropic Ward (absolute phi) and the inciden
     check_chi2(kCt, "factored-incident", 60.0);
 }
 
+TEST_CASE("sampling: chi-square, factored samplers about the tangent and the bitangent (Ward, Poulin-Fournier)") {
+    for (const char* s : {"factored-half-t", "factored-half-s", "factored-incident-t", "factored-incident-s"})
+        for (double t : {45.0, 85.0}) check_chi2(kWard, s, t);
+    check_chi2(kPf, "factored-half-t", 60.0);
+}
+
 TEST_CASE("sampling: chi-square, measured materials (Cornell garnet_red, MERL nickel)") {
     for (double t : {10.0, 80.0}) {
         check_chi2(cornell(), "factored", t);
@@ -161,7 +180,8 @@ TEST_CASE("sampling: every estimator is unbiased (mean of f cos / pdf vs the dir
         std::string spec;
         double theta;
     };
-    for (const Case& c : {Case{kCt, 0}, Case{kCt, 70}, Case{kWard, 45}, Case{cornell(), 60}, Case{"nbrdf:nickel", 40}}) {
+    for (const Case& c : {Case{kCt, 0}, Case{kCt, 70}, Case{kWard, 45}, Case{kPf, 50}, Case{cornell(), 60},
+                          Case{"nbrdf:nickel", 40}}) {
         Material& m = material(c.spec);
         if (c.spec == kCt) add_fits(m);
         const glm::dvec3 wo = dir_from_degrees(c.theta, 30);

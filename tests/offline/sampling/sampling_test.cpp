@@ -139,6 +139,7 @@ TEST_CASE("factored fit: a Blinn lobe is exactly separable; bytes, bounds, optio
     // Anisotropic: the paper's absolute phi.
     auto ward = make_brdf("ward:rho_d=0.1,rho_s=1.2,ax=0.2,ay=0.02", &err);
     o.J = 2, o.K = 4, o.n_theta_p = 100, o.n_phi_p = 100;  // the paper's Table 1 row
+    o.axis = SampleAxis::Normal;
     o.supersample = 1, o.iterations = 50, o.colour = true;
     REQUIRE_MESSAGE(fit_factored(*ward, o, &d, &rep, &err), err);
     CHECK(rep.phi_frame == "absolute");
