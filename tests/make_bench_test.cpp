@@ -7,7 +7,6 @@
 #include <doctest/doctest.h>
 
 #include <dirent.h>
-#include <limits.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,20 +17,8 @@
 
 #include "test_util.h"
 
-namespace {
-// The build folder this test binary sits in (build/bin/sepal-tests, build/asan/bin/...).
-std::string build_dir() {
-    char exe[PATH_MAX] = {};
-    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    REQUIRE(n > 0);
-    std::string build(exe, size_t(n));
-    build = build.substr(0, build.rfind('/'));  // .../bin
-    return build.substr(0, build.rfind('/'));
-}
-}  // namespace
-
 TEST_CASE("make bench: tests/bench/run.sh runs every bench, and each accepts its flags") {
-    const std::string build = build_dir();
+    const std::string build = sepal_test::build_dir();
     const std::string script = sepal_test::source_path("tests/bench/run.sh");
     std::ifstream in(script);
     std::stringstream text;
@@ -88,7 +75,7 @@ TEST_CASE("make bench: a bench's quiet section stops the other lanes' process gr
         std::ofstream(list) << child << "\n" << getpgrp() << "\n";  // the bench's own group is skipped
     }
     REQUIRE(wait_state(child, 'S') == 'S');
-    const std::string bench = build_dir() + "/bin/sepal-bench-cost";
+    const std::string bench = sepal_test::build_dir() + "/bin/sepal-bench-cost";
     REQUIRE_MESSAGE(access(bench.c_str(), X_OK) == 0, bench << " is not built (make test builds it)");
     // The bench holds its section until its stdin closes.
     FILE* p = popen(("SEPAL_BENCH_PARSE_ONLY=quiet SEPAL_BENCH_LANES='" + list + "' " + bench + " > /dev/null").c_str(), "w");

@@ -35,6 +35,11 @@ std::string temp_dir() {
 
 std::string bin(const std::string& name) { return std::string(SEPAL_BIN_DIR) + "/" + name; }
 
+std::string build_dir() {
+    const std::string exe = sepal::executable_dir();
+    return exe.substr(0, exe.rfind('/'));
+}
+
 bool update_goldens() {
     const char* env = std::getenv("SEPAL_UPDATE_GOLDENS");
     return env && std::strcmp(env, "1") == 0;

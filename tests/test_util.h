@@ -17,6 +17,8 @@ std::string source_path(const std::string& relative);  // inside the repository
 std::string output_dir();                              // build/test-output (created)
 std::string temp_dir();                                // a fresh folder per call
 std::string bin(const std::string& name);              // build/bin/<name> of this build
+// The build folder this test binary runs from (build, build/asan, ...: the parent of its bin/).
+std::string build_dir();
 
 // Empty when the image matches; otherwise the reason and the files written.
 // owner=false: never rewrite the golden (a second test comparing against it).
