@@ -48,7 +48,7 @@ bool oracle_estimates(const AcqObject& obj, const BlendSvbrdf& truth, std::vecto
     }
     out->assign(obj.atlas.valid.size(), LafortuneModel());
     for (int t : obj.atlas.texels) {
-        const float* w = truth.texel_weights(t);
+        const float* w = truth.maps.texel(t);
         (*out)[size_t(t)] = fits[size_t(std::max_element(w, w + K) - w)];
     }
     return true;

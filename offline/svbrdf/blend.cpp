@@ -10,29 +10,36 @@ namespace {
 
 int wrap(long long i, int n) { return int((i % n + n) % n); }
 
+// The four texels around (u, v), repeating at the borders, and their bilinear weights.
+struct Corners {
+    int texel[4];
+    double weight[4];
+    Corners(const BlendMaps& m, double u, double v) {
+        const double fx = u * m.width - 0.5, fy = v * m.height - 0.5;
+        const double x0 = std::floor(fx), y0 = std::floor(fy);
+        const double ax = fx - x0, ay = fy - y0;
+        const int xs[2] = {wrap((long long)x0, m.width), wrap((long long)x0 + 1, m.width)};
+        const int ys[2] = {wrap((long long)y0, m.height), wrap((long long)y0 + 1, m.height)};
+        const double ws[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+        for (int c = 0; c < 4; ++c) texel[c] = ys[c / 2] * m.width + xs[c % 2], weight[c] = ws[c];
+    }
+    double weight_of(const BlendMaps& m, int j) const {
+        double w = 0;
+        for (int c = 0; c < 4; ++c) w += weight[c] * m.at(texel[c], j);
+        return w;
+    }
+};
+
 }  // namespace
 
-double BlendMaps::sample(int j, double u, double v) const {
-    const double x = u * width - 0.5, y = v * height - 0.5;
-    const double fx = std::floor(x), fy = std::floor(y);
-    const double ax = x - fx, ay = y - fy;
-    const int x0 = wrap((long long)fx, width), x1 = wrap((long long)fx + 1, width);
-    const int y0 = wrap((long long)fy, height), y1 = wrap((long long)fy + 1, height);
-    auto t = [&](int xi, int yi) { return double(at(yi * width + xi, j)); };
-    return (1 - ay) * ((1 - ax) * t(x0, y0) + ax * t(x1, y0)) + ay * ((1 - ax) * t(x0, y1) + ax * t(x1, y1));
-}
+double BlendMaps::sample(int j, double u, double v) const { return Corners(*this, u, v).weight_of(*this, j); }
 
 void BlendMaps::sample_all(double u, double v, float* out) const {
-    const double fx = u * width - 0.5, fy = v * height - 0.5;
-    const double x0 = std::floor(fx), y0 = std::floor(fy);
-    const double ax = fx - x0, ay = fy - y0;
-    const int xs[2] = {wrap((long long)x0, width), wrap((long long)x0 + 1, width)};
-    const int ys[2] = {wrap((long long)y0, height), wrap((long long)y0 + 1, height)};
-    const double ws[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+    const Corners k(*this, u, v);
     for (int j = 0; j < count; ++j) out[j] = 0;
     for (int c = 0; c < 4; ++c) {
-        const float* w = texel(ys[c / 2] * width + xs[c % 2]);
-        for (int j = 0; j < count; ++j) out[j] += float(ws[c]) * w[j];
+        const float* w = texel(k.texel[c]);
+        for (int j = 0; j < count; ++j) out[j] += float(k.weight[c]) * w[j];
     }
 }
 
@@ -44,9 +51,10 @@ glm::dvec3 BlendSvbrdf::eval_weights(const float* w, const glm::dvec3& wi, const
 }
 
 glm::dvec3 BlendSvbrdf::eval(const glm::dvec2& uv, const glm::dvec3& wi, const glm::dvec3& wo) const {
+    const Corners k(maps, uv.x, uv.y);  // once for every basis
     glm::dvec3 f(0);
     for (int j = 0; j < maps.count; ++j) {
-        const double w = maps.sample(j, uv.x, uv.y);
+        const double w = k.weight_of(maps, j);
         if (w != 0) f += w * basis[size_t(j)]->eval(wi, wo);
     }
     return f;

@@ -48,9 +48,8 @@ class BlendSvbrdf : public SpatialBrdf {
     std::vector<std::string> names;                 // optional, e.g. "gold foil"
 
     int materials() const { return int(basis.size()); }
-    const float* texel_weights(int texel) const { return maps.texel(texel); }
     glm::dvec3 eval(int texel, const glm::dvec3& wi, const glm::dvec3& wo) const {
-        return eval_weights(texel_weights(texel), wi, wo);
+        return eval_weights(maps.texel(texel), wi, wo);
     }
     // sum_j w[j] f_j(wi, wo), bases with weight 0 not evaluated.
     glm::dvec3 eval_weights(const float* w, const glm::dvec3& wi, const glm::dvec3& wo) const;

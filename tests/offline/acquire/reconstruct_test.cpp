@@ -75,7 +75,7 @@ TEST_CASE("reconstruct: two Lafortune materials come back as the basis, and the 
     // Every valid texel has weights, measured or filled from a neighbour.
     for (int t : s.obj.atlas.texels) {
         float sum = 0;
-        for (int k = 0; k < 2; ++k) sum += r.svbrdf.texel_weights(t)[k];
+        for (int k = 0; k < 2; ++k) sum += r.svbrdf.maps.texel(t)[k];
         CHECK(sum > 0.5f);
         CHECK(r.cluster[size_t(t)] >= 0);
     }
