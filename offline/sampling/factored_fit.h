@@ -42,9 +42,10 @@ namespace sepal {
 
 enum class SampleParam { Auto, Half, Incident };
 // The coordinates wp is binned in (sepal_smp_axis): polar about the normal (the paper's), or
-// angles about the tangent t or the bitangent s, where anisotropic lobes separate.
-enum class SampleAxis { Auto, Normal, Tangent, Bitangent };
-const char* sample_axis_name(SampleAxis a);  // "auto", "n", "t", "s"
+// angles about the tangent t or the bitangent s, where anisotropic lobes separate; the view
+// axes (half vector only) measure the angle about t or s from half the view's own.
+enum class SampleAxis { Auto, Normal, Tangent, Bitangent, TangentView, BitangentView };
+const char* sample_axis_name(SampleAxis a);  // "auto", "n", "t", "s", "t-view", "s-view"
 bool parse_sample_axis(const std::string& s, SampleAxis* a);
 enum class PhiFrame { Auto, Absolute, View };
 const char* sample_param_name(SampleParam p);  // "auto", "half", "incident"

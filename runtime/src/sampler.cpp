@@ -116,14 +116,16 @@ inline float clampf(float x, float lo, float hi) { return x < lo ? lo : (x > hi 
 inline float unit_u(float u) { return u >= 0.0f ? (u < 1.0f ? u : kOneMinus) : 0.0f; }
 
 // Largest i in [0, n-1] with cdf[i] <= x: the bin holding x (its width is then > 0).
+// Branch-free (the step is a select): a search's branches mispredict half the time, and
+// three to five searches per sample made them a third of its cost.
 uint32_t find_bin(const float* cdf, uint32_t n, float x) {
-    uint32_t lo = 0, hi = n;  // invariant: cdf[lo] <= x, answer in [lo, hi)
-    while (hi - lo > 1) {
-        const uint32_t mid = (lo + hi) / 2;
-        if (cdf[mid] <= x) lo = mid;
-        else hi = mid;
+    const float* base = cdf;  // invariant: the answer is in [base, base + n)
+    while (n > 1) {
+        const uint32_t half = n / 2;
+        base = base[half] <= x ? base + half : base;
+        n -= half;
     }
-    return lo;
+    return (uint32_t)(base - cdf);
 }
 
 // Picks a bin of the CDF with x in [0,1) and returns x rescaled to [0,1) within it.
@@ -134,15 +136,16 @@ uint32_t pick(const float* cdf, uint32_t n, float x, float* rescaled) {
     return i;
 }
 
-// The z bin (edges decreasing from 1 to 0) holding z: largest i with edges[i] >= z.
+// The z bin (edges decreasing from 1 to 0 or -1) holding z: largest i in [0, n-1] with
+// edges[i] >= z; branch-free as find_bin.
 uint32_t z_bin(const float* edges, uint32_t n, float z) {
-    uint32_t lo = 0, hi = n;
-    while (hi - lo > 1) {
-        const uint32_t mid = (lo + hi) / 2;
-        if (edges[mid] >= z) lo = mid;
-        else hi = mid;
+    const float* base = edges;
+    while (n > 1) {
+        const uint32_t half = n / 2;
+        base = base[half] >= z ? base + half : base;
+        n -= half;
     }
-    return lo;
+    return (uint32_t)(base - edges);
 }
 
 uint32_t phi_bin(float phi, uint32_t n) {
@@ -150,8 +153,10 @@ uint32_t phi_bin(float phi, uint32_t n) {
     return j < 0 ? 0u : (j >= (int)n ? n - 1 : (uint32_t)j);
 }
 
+// atan2_poly (internal.h, within 5e-7 rad of atan2f, without its branches): these angles
+// only pick a bin, and sample() and pdf() pick it from the same wi.
 float azimuth(float x, float y) {
-    float phi = atan2f(y, x);
+    float phi = srt::atan2_poly(y, x);
     if (phi < 0.0f) phi += kTwoPi;
     return phi < kTwoPi ? phi : 0.0f;
 }
@@ -193,17 +198,25 @@ bool half_of(const float* wi, const float* wo, float* h, float* inv_jacobian) {
     return true;
 }
 
-// Rotations between the local frame and the view frame (phi measured from phi_o).
-inline void to_view(const sepal_sampler_view* v, const float* w, float* out) {
-    out[0] = v->cos_phi * w[0] + v->sin_phi * w[1];
-    out[1] = -v->sin_phi * w[0] + v->cos_phi * w[1];
-    out[2] = w[2];
+// Rotations between the local frame and the view frame: about n by phi_o (view phi), about
+// t or s by b (the view axes); the identity (cos 1, sin 0) otherwise. (p, q) are the two
+// components the rotation turns: (x, y) about n, (y, z) about t, (x, z) about s; to_view
+// lowers the angle about t or s by b.
+inline void rotate(const sepal_sampler_view* v, const float* w, float* out, float sign) {
+    out[0] = w[0], out[1] = w[1], out[2] = w[2];
+    const uint32_t axis = v->sampler ? v->sampler->desc.axis : (uint32_t)SEPAL_SMP_AXIS_N;
+    if (axis == SEPAL_SMP_AXIS_T_VIEW || axis == SEPAL_SMP_AXIS_S_VIEW) {
+        const int p = axis == SEPAL_SMP_AXIS_T_VIEW ? 1 : 0;  // atan2(w[p], w[2]) is the angle
+        const float c = v->cos_phi, s = sign * v->sin_phi;
+        out[p] = c * w[p] - s * w[2];
+        out[2] = c * w[2] + s * w[p];
+        return;
+    }
+    out[0] = v->cos_phi * w[0] + sign * v->sin_phi * w[1];
+    out[1] = -sign * v->sin_phi * w[0] + v->cos_phi * w[1];
 }
-inline void from_view(const sepal_sampler_view* v, const float* w, float* out) {
-    out[0] = v->cos_phi * w[0] - v->sin_phi * w[1];
-    out[1] = v->sin_phi * w[0] + v->cos_phi * w[1];
-    out[2] = w[2];
-}
+inline void to_view(const sepal_sampler_view* v, const float* w, float* out) { rotate(v, w, out, 1.0f); }
+inline void from_view(const sepal_sampler_view* v, const float* w, float* out) { rotate(v, w, out, -1.0f); }
 
 // Bilinear weights on the view grid at (theta_o, phi_o): theta clamped, phi periodic.
 struct ViewLerp {
@@ -243,18 +256,22 @@ inline float bin_density(const float* ucdf, const float* vcdf, const float* z, u
 // axis over [c2_lo, c2_lo + c2_span) in Pp uniform bins; dOmega = dc1 dc2 for all three.
 inline float c2_lo(uint32_t axis) { return axis == SEPAL_SMP_AXIS_N ? 0.0f : -0.5f * kPi; }
 inline float c2_span(uint32_t axis) { return axis == SEPAL_SMP_AXIS_N ? kTwoPi : kPi; }
+// The view axes bin the view frame's wp as T and S do.
+inline uint32_t fixed_axis(uint32_t axis) {
+    return axis == SEPAL_SMP_AXIS_T_VIEW ? (uint32_t)SEPAL_SMP_AXIS_T : axis == SEPAL_SMP_AXIS_S_VIEW ? (uint32_t)SEPAL_SMP_AXIS_S : axis;
+}
 
 void to_coords(uint32_t axis, const float* w, float* c1, float* c2) {
-    switch (axis) {
-        case SEPAL_SMP_AXIS_T: *c1 = w[0], *c2 = atan2f(w[1], w[2]); break;
-        case SEPAL_SMP_AXIS_S: *c1 = w[1], *c2 = atan2f(w[0], w[2]); break;
+    switch (fixed_axis(axis)) {
+        case SEPAL_SMP_AXIS_T: *c1 = w[0], *c2 = srt::atan2_poly(w[1], w[2]); break;
+        case SEPAL_SMP_AXIS_S: *c1 = w[1], *c2 = srt::atan2_poly(w[0], w[2]); break;
         default: *c1 = w[2], *c2 = azimuth(w[0], w[1]); break;
     }
 }
 
 void from_coords(uint32_t axis, float c1, float c2, float* w) {
     const float r = sqrtf(fmaxf(0.0f, 1.0f - c1 * c1));
-    switch (axis) {
+    switch (fixed_axis(axis)) {
         case SEPAL_SMP_AXIS_T: w[0] = c1, w[1] = r * sinf(c2), w[2] = r * cosf(c2); break;
         case SEPAL_SMP_AXIS_S: w[0] = r * sinf(c2), w[1] = c1, w[2] = r * cosf(c2); break;
         default: w[0] = r * cosf(c2), w[1] = r * sinf(c2), w[2] = c1; break;
@@ -519,12 +536,14 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
                                  "file of version 1.%u (only factored samplers of 1.1 have one)",
                                  (double)d.diffuse[c], c, (double)SEPAL_SMP_MAX_DIFFUSE, kind_name(h.kind),
                                  h.version_minor);
+        const bool view_axis = d.axis == SEPAL_SMP_AXIS_T_VIEW || d.axis == SEPAL_SMP_AXIS_S_VIEW;
         if (d.axis >= SEPAL_SMP_AXIS_COUNT ||
             (d.axis != SEPAL_SMP_AXIS_N && (h.kind != SEPAL_SAMPLER_FACTORED || h.version_minor < 2 ||
-                                            d.phi_frame != SEPAL_SMP_PHI_ABSOLUTE)))
+                                            d.phi_frame != SEPAL_SMP_PHI_ABSOLUTE)) ||
+            (view_axis && (h.version_minor < 3 || d.param != SEPAL_SMP_PARAM_HALF)))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                              "sampler: axis %u in a %s file of version 1.%u (axes 1 and 2 only in factored "
-                             "samplers of 1.2 with absolute phi)",
+                             "samplers of 1.2 with absolute phi; 3 and 4 also need 1.3 and the half vector)",
                              d.axis, kind_name(h.kind), h.version_minor);
         const float last = d.axis == SEPAL_SMP_AXIS_N ? 0.0f : -1.0f;
         out->z_edges = arr(kZ);
@@ -597,8 +616,15 @@ extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3]
     const sepal_smp_desc& d = s->desc;
     const float phi_o = (w[0] * w[0] + w[1] * w[1] > 1e-24f) ? azimuth(w[0], w[1]) : 0.0f;
     const float theta_o = acosf(clampf(w[2], 0.0f, 1.0f));
-    if (d.phi_frame == SEPAL_SMP_PHI_VIEW) v->cos_phi = cosf(phi_o), v->sin_phi = sinf(phi_o);
-    else v->cos_phi = 1.0f, v->sin_phi = 0.0f;
+    if (d.phi_frame == SEPAL_SMP_PHI_VIEW) {
+        v->cos_phi = cosf(phi_o), v->sin_phi = sinf(phi_o);
+    } else if (s->kind == SEPAL_SAMPLER_FACTORED && (d.axis == SEPAL_SMP_AXIS_T_VIEW || d.axis == SEPAL_SMP_AXIS_S_VIEW)) {
+        // Half the view's angle about the axis (0 for a wo along the axis).
+        const float b = 0.5f * atan2f(d.axis == SEPAL_SMP_AXIS_T_VIEW ? w[1] : w[0], w[2]);
+        v->cos_phi = cosf(b), v->sin_phi = sinf(b);
+    } else {
+        v->cos_phi = 1.0f, v->sin_phi = 0.0f;
+    }
     v->defensive = d.defensive;
     v->count = 1;
     v->weight[0] = 1.0f;

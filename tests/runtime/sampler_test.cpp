@@ -141,7 +141,19 @@ TEST_CASE("sampler format: round trip, determinism, and every corruption refused
     CHECK(parse_error(p12).empty());
     auto with12 = [&](auto edit) { return edited(p12, edit); };
     CHECK(with12([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 1; }).find("axis") != std::string::npos);
-    CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = 3; }).find("axis") != std::string::npos);
+    CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_COUNT; }).find("axis") != std::string::npos);
+    // A view axis (format 1.3) in a 1.2 file is refused: a 1.2 reader would bin it as T.
+    CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_T_VIEW; }).find("axis") != std::string::npos);
+    // Format 1.3's view axes: only in a 1.3 factored file of the half vector.
+    const SamplerData axis_tv = small_factored("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05", true, SampleAxis::TangentView);
+    REQUIRE(axis_tv.desc.axis == SEPAL_SMP_AXIS_T_VIEW);
+    const std::vector<uint8_t> p13 = encode(axis_tv);
+    CHECK(reinterpret_cast<const sepal_smp_header*>(p13.data())->version_minor == 3);
+    CHECK(parse_error(p13).empty());
+    auto with13 = [&](auto edit) { return edited(p13, edit); };
+    CHECK(with13([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 2; }).find("axis") != std::string::npos);
+    CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) { x->param = SEPAL_SMP_PARAM_INCIDENT; }).find("axis") != std::string::npos);
+    CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_S_VIEW; }).empty());
     CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_N; }).find("edges") != std::string::npos);
     CHECK(with([](std::vector<uint8_t>* b) {
               sepal_smp_desc* desc = reinterpret_cast<sepal_smp_desc*>(b->data() + sizeof(sepal_smp_header));

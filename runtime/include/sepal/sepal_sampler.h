@@ -27,7 +27,9 @@
 //              parameterization; term l chosen with probability F_l(wo) / sum F, then
 //              phi_p and z = cos(theta_p) by inverting 1D CDFs, then wi (for h: the mirror
 //              of wo about h, Jacobian 1/(4 wi.h)). Format 1.2: wp in angles about the
-//              tangent or bitangent instead (desc.axis), for anisotropic lobes. With a defensive share e, a cosine
+//              tangent or bitangent instead (desc.axis), for anisotropic lobes; format
+//              1.3: about them in a frame turned with the view (grooves, cylinders).
+//              With a defensive share e, a cosine
 //              sample is drawn instead with probability e (the factored density can be 0
 //              where f cos is not; the mixture keeps the estimator unbiased).
 //              Format 1.1: a Lambert part D (desc.diffuse, per steradian) is kept out of
@@ -87,8 +89,9 @@ extern "C" {
 //              marginal[Tp+1], conditional[Tp][Pp+1]
 #define SEPAL_SMP_MAGIC "SEPALSMP"
 #define SEPAL_SMP_VERSION_MAJOR 1
-#define SEPAL_SMP_VERSION_MINOR 2  // 1.1: desc.diffuse; 1.2: desc.axis. The writer writes the
-                                    // lowest version that holds the file's fields
+#define SEPAL_SMP_VERSION_MINOR 3  // 1.1: desc.diffuse; 1.2: desc.axis; 1.3: the view axes
+                                    // (T_VIEW, S_VIEW). The writer writes the lowest version
+                                    // that holds the file's fields
 
 #define SEPAL_SMP_MAX_FILE_BYTES (16u << 20)
 #define SEPAL_SMP_MAX_TERMS 64
@@ -127,7 +130,15 @@ typedef enum sepal_smp_axis {
                            // Grooves and cylinders along t (Poulin-Fournier) separate here.
     SEPAL_SMP_AXIS_S = 2,  // about s: c1 = wp.s, c2 = atan2(wp.t, wp.n). A lobe sharp across s
                            // (Ward ay << ax) gets the explicit c1 edges where it is sharp.
-    SEPAL_SMP_AXIS_COUNT = 3
+    // Format 1.3, half-vector parameterization only: as T and S, but c2 is measured from
+    // half the view's own angle about the axis, b = atan2(wo.s, wo.n) / 2 (T) or
+    // atan2(wo.t, wo.n) / 2 (S): wp is rotated by -b about the axis first (a rotation keeps
+    // c1 and dOmega). Mirrors off cylinders along t have h at the cylinder normal psi, and
+    // the lit, visible normals span psi in [b - pi/4, b + pi/4] for every view: a window
+    // that moves with wo about t is fixed in these coordinates, so few terms describe it.
+    SEPAL_SMP_AXIS_T_VIEW = 3,
+    SEPAL_SMP_AXIS_S_VIEW = 4,
+    SEPAL_SMP_AXIS_COUNT = 5
 } sepal_smp_axis;
 
 typedef enum sepal_smp_lobe_type {
@@ -170,7 +181,8 @@ typedef struct sepal_smp_desc {
     float diffuse[3];     // FACTORED, format 1.1: the Lambert part D per channel (1/sr,
                           // 0..1e6) kept out of the terms; 0 in 1.0 files (none)
     uint32_t axis;        // FACTORED, format 1.2: sepal_smp_axis (0 before 1.2); T and S
-                          // need SEPAL_SMP_PHI_ABSOLUTE
+                          // need SEPAL_SMP_PHI_ABSOLUTE; T_VIEW and S_VIEW (1.3) also
+                          // SEPAL_SMP_PARAM_HALF
     uint32_t reserved;
 } sepal_smp_desc;
 
@@ -209,7 +221,8 @@ sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepal_sampler* 
 typedef struct sepal_sampler_view {
     const sepal_sampler* sampler;
     float wo[3];
-    float cos_phi, sin_phi;  // rotation of the view frame (SEPAL_SMP_PHI_VIEW)
+    float cos_phi, sin_phi;  // rotation of the view frame: about n by phi_o (SEPAL_SMP_PHI_VIEW),
+                             // about the axis by b (SEPAL_SMP_AXIS_T_VIEW, S_VIEW)
     float defensive;         // effective cosine share (1 when falling back)
     uint32_t count;          // components in cdf
     float cdf[SEPAL_SMP_MAX_TERMS + 1];  // component selection CDF for this view
