@@ -47,6 +47,8 @@ const char* sample_axis_name(SampleAxis a) {
         case SampleAxis::Bitangent: return "s";
         case SampleAxis::TangentView: return "t-view";
         case SampleAxis::BitangentView: return "s-view";
+        case SampleAxis::TangentMirror: return "t-mirror";
+        case SampleAxis::BitangentMirror: return "s-mirror";
         default: return "auto";
     }
 }
@@ -57,6 +59,8 @@ bool parse_sample_axis(const std::string& s, SampleAxis* a) {
     else if (s == "s") *a = SampleAxis::Bitangent;
     else if (s == "t-view") *a = SampleAxis::TangentView;
     else if (s == "s-view") *a = SampleAxis::BitangentView;
+    else if (s == "t-mirror") *a = SampleAxis::TangentMirror;
+    else if (s == "s-mirror") *a = SampleAxis::BitangentMirror;
     else return false;
     return true;
 }
@@ -112,6 +116,8 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
                    std::to_string(SEPAL_SMP_MAX_TERMS) + " (or both 0: the default)");
     if ((o.axis == SampleAxis::TangentView || o.axis == SampleAxis::BitangentView) && o.param == SampleParam::Incident)
         return bad(std::string("axis ") + sample_axis_name(o.axis) + " is defined for the half vector only (param half or auto)");
+    if ((o.axis == SampleAxis::TangentMirror || o.axis == SampleAxis::BitangentMirror) && o.param == SampleParam::Half)
+        return bad(std::string("axis ") + sample_axis_name(o.axis) + " is defined for the incident direction only (param incident or auto)");
     if (o.supersample < 1 || o.supersample > 8) return bad("supersample " + std::to_string(o.supersample) + ": 1..8");
     if (o.iterations < 0 || o.iterations > 1000000) return bad("iterations: 0 (auto) or 1..1000000");
     if (!(o.defensive >= 0 && o.defensive <= 1)) return bad("defensive share: 0..1");
@@ -153,15 +159,20 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
     std::vector<FactoredOptions> candidates;
     for (SampleParam p : {SampleParam::Half, SampleParam::Incident})
         for (SampleAxis a : {SampleAxis::Normal, SampleAxis::Tangent, SampleAxis::Bitangent, SampleAxis::TangentView,
-                             SampleAxis::BitangentView}) {
-            // Auto leaves out wi about t or s: a specular lobe moves with wo there, and J
-            // terms cannot follow it (Poulin-Fournier: relative variance 0.97 vs 0.73 in h).
-            // The view axes are defined for the half vector only.
+                             SampleAxis::BitangentView, SampleAxis::TangentMirror, SampleAxis::BitangentMirror}) {
+            // Auto leaves out wi about fixed t or s: a specular lobe moves with wo there, and
+            // J terms cannot follow it (Poulin-Fournier: relative variance 0.97 vs 0.73 in
+            // h); the mirror axes hold it still. The view axes are defined for the half
+            // vector only, the mirror axes for the incident direction.
             const bool view_axis = a == SampleAxis::TangentView || a == SampleAxis::BitangentView;
+            const bool mirror_axis = a == SampleAxis::TangentMirror || a == SampleAxis::BitangentMirror;
+            const bool fixed_axis = a == SampleAxis::Tangent || a == SampleAxis::Bitangent;
             const bool axis_ok = (opt.axis == SampleAxis::Auto
-                                      ? a == SampleAxis::Normal || (!brdf.isotropic() && p == SampleParam::Half)
+                                      ? a == SampleAxis::Normal ||
+                                            (!brdf.isotropic() && (fixed_axis || view_axis) && p == SampleParam::Half) ||
+                                            (!brdf.isotropic() && mirror_axis && p == SampleParam::Incident)
                                       : a == opt.axis) &&
-                                 !(view_axis && p != SampleParam::Half);
+                                 !(view_axis && p != SampleParam::Half) && !(mirror_axis && p != SampleParam::Incident);
             if ((opt.param == SampleParam::Auto || opt.param == p) && axis_ok) {
                 candidates.push_back(opt);
                 candidates.back().param = p, candidates.back().axis = a;
@@ -254,8 +265,10 @@ void bin_points(SampleAxis axis, const std::vector<float>& z_edges, int Pp, int 
                     const double c2 = c2_lo + (j + (b + 0.5) / S) * c2_span / Pp;
                     const double s = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
                     const double sa = s * std::sin(c2), ca = s * std::cos(c2);
-                    const bool about_t = axis == SampleAxis::Tangent || axis == SampleAxis::TangentView;
-                    const bool about_s = axis == SampleAxis::Bitangent || axis == SampleAxis::BitangentView;
+                    const bool about_t = axis == SampleAxis::Tangent || axis == SampleAxis::TangentView ||
+                                         axis == SampleAxis::TangentMirror;
+                    const bool about_s = axis == SampleAxis::Bitangent || axis == SampleAxis::BitangentView ||
+                                         axis == SampleAxis::BitangentMirror;
                     (*points)[(size_t(row) * S + a) * S + b] = about_t   ? dvec3(c1, sa, ca)
                                                                : about_s ? dvec3(sa, c1, ca)
                                                                                                : dvec3(ca, sa, c1);
@@ -390,6 +403,12 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
             const bool turn_t = o.axis == SampleAxis::TangentView, turn = turn_t || o.axis == SampleAxis::BitangentView;
             const double b = turn ? 0.5 * std::atan2(turn_t ? wo.y : wo.x, wo.z) : 0.0;
             const double cb = std::cos(b), sb = std::sin(b);
+            // The mirror axes: bin_points' c1 is the mirror-centred one; a = wi.t or wi.s
+            // comes from it as the runtime's from_mirror has it, and each bin's solid angle
+            // is its (c1, c2) area times da/dc1 (1 - m above the cone, 1 + m below).
+            const bool mirror_t = o.axis == SampleAxis::TangentMirror;
+            const bool mirror = mirror_t || o.axis == SampleAxis::BitangentMirror;
+            const double m = mirror ? std::clamp(-(mirror_t ? wo.x : wo.y), -0.999, 0.999) : 0.0;
             ViewColumn& col = columns[c];
             col.lum.assign(size_t(rows), 0.0);
             if (colour) col.rgb.assign(size_t(rows) * 3, 0.0f);
@@ -397,6 +416,14 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
                 dvec3 sum(0.0);
                 for (int s = 0; s < S * S; ++s) {
                     dvec3 wp = points[size_t(row) * S * S + s];
+                    if (mirror) {
+                        double& c1 = mirror_t ? wp.x : wp.y;
+                        const double r0 = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+                        c1 = std::clamp(m + c1 * (c1 >= 0 ? 1.0 - m : 1.0 + m), -1.0, 1.0);
+                        const double k = r0 > 0 ? std::sqrt(std::max(0.0, 1.0 - c1 * c1)) / r0 : 0.0;
+                        (mirror_t ? wp.y : wp.x) *= k;
+                        wp.z *= k;
+                    }
                     if (turn) {
                         double& p = turn_t ? wp.y : wp.x;
                         const double q = p;
@@ -421,7 +448,8 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
                     }
                     sum += f * (wi.z * jac);
                 }
-                const double scale = solid[size_t(row)] / (S * S);
+                double scale = solid[size_t(row)] / (S * S);
+                if (mirror) scale *= 0.5 * (z_edges[size_t(row / Pp)] + z_edges[size_t(row / Pp) + 1]) >= 0 ? 1.0 - m : 1.0 + m;
                 col.lum[size_t(row)] = std::max(0.0, luminance(sum)) * scale;
                 if (colour)
                     for (int ch = 0; ch < 3; ++ch) col.rgb[size_t(row) * 3 + ch] = float(std::max(0.0, sum[ch]) * scale);
@@ -460,6 +488,8 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
                   : o.axis == SampleAxis::Bitangent     ? SEPAL_SMP_AXIS_S
                   : o.axis == SampleAxis::TangentView   ? SEPAL_SMP_AXIS_T_VIEW
                   : o.axis == SampleAxis::BitangentView ? SEPAL_SMP_AXIS_S_VIEW
+                  : o.axis == SampleAxis::TangentMirror ? SEPAL_SMP_AXIS_T_MIRROR
+                  : o.axis == SampleAxis::BitangentMirror ? SEPAL_SMP_AXIS_S_MIRROR
                                                     : SEPAL_SMP_AXIS_N;
     d.desc.n_theta_o = uint32_t(To), d.desc.n_phi_o = uint32_t(Po);
     d.desc.n_theta_p = uint32_t(Tp), d.desc.n_phi_p = uint32_t(Pp);

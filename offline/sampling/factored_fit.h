@@ -43,9 +43,12 @@ namespace sepal {
 enum class SampleParam { Auto, Half, Incident };
 // The coordinates wp is binned in (sepal_smp_axis): polar about the normal (the paper's), or
 // angles about the tangent t or the bitangent s, where anisotropic lobes separate; the view
-// axes (half vector only) measure the angle about t or s from half the view's own.
-enum class SampleAxis { Auto, Normal, Tangent, Bitangent, TangentView, BitangentView };
-const char* sample_axis_name(SampleAxis a);  // "auto", "n", "t", "s", "t-view", "s-view"
+// axes (half vector only) measure the angle about t or s from half the view's own, the
+// mirror axes (incident direction only) centre wi.t or wi.s on the mirror cone of wo
+// (sepal_smp_axis has the definitions).
+enum class SampleAxis { Auto, Normal, Tangent, Bitangent, TangentView, BitangentView, TangentMirror, BitangentMirror };
+// "auto", "n", "t", "s", "t-view", "s-view", "t-mirror", "s-mirror"
+const char* sample_axis_name(SampleAxis a);
 bool parse_sample_axis(const std::string& s, SampleAxis* a);
 enum class PhiFrame { Auto, Absolute, View };
 const char* sample_param_name(SampleParam p);  // "auto", "half", "incident"

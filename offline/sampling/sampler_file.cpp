@@ -61,10 +61,10 @@ bool encode_sampler(const SamplerData& d, std::vector<uint8_t>* out, std::string
     sepal_smp_header h{};
     std::memcpy(h.magic, SEPAL_SMP_MAGIC, 8);
     h.version_major = SEPAL_SMP_VERSION_MAJOR;
-    // The lowest version holding the file's fields (1.1: the diffuse part, 1.2: an axis, 1.3: a view axis),
+    // The lowest version holding the file's fields (1.1: the diffuse part, 1.2: an axis, 1.3: a view or mirror axis),
     // so older samplers keep their bytes.
     const bool diffuse = d.desc.diffuse[0] != 0.0f || d.desc.diffuse[1] != 0.0f || d.desc.diffuse[2] != 0.0f;
-    h.version_minor = d.desc.axis == SEPAL_SMP_AXIS_T_VIEW || d.desc.axis == SEPAL_SMP_AXIS_S_VIEW ? 3
+    h.version_minor = d.desc.axis >= SEPAL_SMP_AXIS_T_VIEW ? 3
                       : d.desc.axis != SEPAL_SMP_AXIS_N                                          ? 2
                       : diffuse                                                                  ? 1
                                                                                                  : 0;

@@ -21,13 +21,13 @@ using namespace sepal;
 namespace {
 
 SamplerData small_factored(const std::string& spec = "cook-torrance", bool colour = true,
-                           SampleAxis axis = SampleAxis::Normal) {
+                           SampleAxis axis = SampleAxis::Normal, SampleParam param = SampleParam::Half) {
     std::string err;
     auto b = make_brdf(spec, &err);
     REQUIRE(b);
     FactoredOptions o;
     o.n_theta_o = 8, o.n_phi_o = 8, o.n_theta_p = 16, o.n_phi_p = 8, o.J = 2, o.K = 1, o.colour = colour;
-    o.param = SampleParam::Half;
+    o.param = param;
     o.axis = axis;
     SamplerData d;
     REQUIRE_MESSAGE(fit_factored(*b, o, &d, nullptr, &err), err);
@@ -154,6 +154,14 @@ TEST_CASE("sampler format: round trip, determinism, and every corruption refused
     CHECK(with13([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 2; }).find("axis") != std::string::npos);
     CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) { x->param = SEPAL_SMP_PARAM_INCIDENT; }).find("axis") != std::string::npos);
     CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_S_VIEW; }).empty());
+    // The mirror axes: 1.3, the incident direction only.
+    CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_T_MIRROR; }).find("axis") != std::string::npos);
+    CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) {
+              x->axis = SEPAL_SMP_AXIS_S_MIRROR, x->param = SEPAL_SMP_PARAM_INCIDENT;
+          }).empty());
+    CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) {
+              x->axis = SEPAL_SMP_AXIS_T_MIRROR, x->param = SEPAL_SMP_PARAM_INCIDENT;
+          }).find("axis") != std::string::npos);
     CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_N; }).find("edges") != std::string::npos);
     CHECK(with([](std::vector<uint8_t>* b) {
               sepal_smp_desc* desc = reinterpret_cast<sepal_smp_desc*>(b->data() + sizeof(sepal_smp_header));
@@ -202,7 +210,10 @@ TEST_CASE("sampler API: sample() and pdf() agree exactly, for every kind, at man
     const std::string aniso = "ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05";
     std::vector<SamplerData> kinds = {small_factored(), small_factored(aniso),
                                       small_factored(aniso, true, SampleAxis::Tangent),
-                                      small_factored(aniso, true, SampleAxis::Bitangent), make_cosine_sampler()};
+                                      small_factored(aniso, true, SampleAxis::Bitangent),
+                                      small_factored(aniso, true, SampleAxis::TangentView),
+                                      small_factored(aniso, true, SampleAxis::BitangentMirror, SampleParam::Incident),
+                                      make_cosine_sampler()};
     SamplerData d;
     REQUIRE(make_analytic_sampler(*ct, &d, &err));
     kinds.push_back(d);

@@ -28,7 +28,8 @@
 //              phi_p and z = cos(theta_p) by inverting 1D CDFs, then wi (for h: the mirror
 //              of wo about h, Jacobian 1/(4 wi.h)). Format 1.2: wp in angles about the
 //              tangent or bitangent instead (desc.axis), for anisotropic lobes; format
-//              1.3: about them in a frame turned with the view (grooves, cylinders).
+//              1.3: about them in a frame turned with the view, or centred on the mirror
+//              cone of wo (grooves, cylinders).
 //              With a defensive share e, a cosine
 //              sample is drawn instead with probability e (the factored density can be 0
 //              where f cos is not; the mixture keeps the estimator unbiased).
@@ -89,9 +90,9 @@ extern "C" {
 //              marginal[Tp+1], conditional[Tp][Pp+1]
 #define SEPAL_SMP_MAGIC "SEPALSMP"
 #define SEPAL_SMP_VERSION_MAJOR 1
-#define SEPAL_SMP_VERSION_MINOR 3  // 1.1: desc.diffuse; 1.2: desc.axis; 1.3: the view axes
-                                    // (T_VIEW, S_VIEW). The writer writes the lowest version
-                                    // that holds the file's fields
+#define SEPAL_SMP_VERSION_MINOR 3  // 1.1: desc.diffuse; 1.2: desc.axis; 1.3: the view and
+                                    // mirror axes (T_VIEW ... S_MIRROR). The writer writes the
+                                    // lowest version that holds the file's fields
 
 #define SEPAL_SMP_MAX_FILE_BYTES (16u << 20)
 #define SEPAL_SMP_MAX_TERMS 64
@@ -138,7 +139,15 @@ typedef enum sepal_smp_axis {
     // that moves with wo about t is fixed in these coordinates, so few terms describe it.
     SEPAL_SMP_AXIS_T_VIEW = 3,
     SEPAL_SMP_AXIS_S_VIEW = 4,
-    SEPAL_SMP_AXIS_COUNT = 5
+    // Format 1.3, incident parameterization only: as T and S, but c1 is a = wi.t (or wi.s)
+    // mapped linearly on each side of the mirror cone a = m = -wo.t (-wo.s; clamped to
+    // +-0.999): c1 = (a - m) / (1 - m) for a >= m, (a - m) / (1 + m) below, so the cone sits
+    // at c1 = 0 for every view, where the edges are dense; the density over wi is the one
+    // over (c1, c2) times dc1/da. A Phong lobe about the mirrors of wo off cylinders along
+    // t has the same width in a along the whole cone: at each view it separates in (c1, c2).
+    SEPAL_SMP_AXIS_T_MIRROR = 5,
+    SEPAL_SMP_AXIS_S_MIRROR = 6,
+    SEPAL_SMP_AXIS_COUNT = 7
 } sepal_smp_axis;
 
 typedef enum sepal_smp_lobe_type {
@@ -182,7 +191,8 @@ typedef struct sepal_smp_desc {
                           // 0..1e6) kept out of the terms; 0 in 1.0 files (none)
     uint32_t axis;        // FACTORED, format 1.2: sepal_smp_axis (0 before 1.2); T and S
                           // need SEPAL_SMP_PHI_ABSOLUTE; T_VIEW and S_VIEW (1.3) also
-                          // SEPAL_SMP_PARAM_HALF
+                          // SEPAL_SMP_PARAM_HALF, T_MIRROR and S_MIRROR (1.3)
+                          // SEPAL_SMP_PARAM_INCIDENT
     uint32_t reserved;
 } sepal_smp_desc;
 
@@ -223,6 +233,7 @@ typedef struct sepal_sampler_view {
     float wo[3];
     float cos_phi, sin_phi;  // rotation of the view frame: about n by phi_o (SEPAL_SMP_PHI_VIEW),
                              // about the axis by b (SEPAL_SMP_AXIS_T_VIEW, S_VIEW)
+    float mirror;            // the mirror cone's m = -wo.t or -wo.s (AXIS_T_MIRROR, S_MIRROR)
     float defensive;         // effective cosine share (1 when falling back)
     uint32_t count;          // components in cdf
     float cdf[SEPAL_SMP_MAX_TERMS + 1];  // component selection CDF for this view

@@ -51,17 +51,21 @@ Material& material(const std::string& spec) {
     if (!m.brdf->isotropic()) {
         // Angles about the tangent and the bitangent (format 1.2), both parameterizations,
         // and about them in the view's turned frame (1.3, half vector only).
-        for (SampleAxis a : {SampleAxis::Tangent, SampleAxis::Bitangent, SampleAxis::TangentView, SampleAxis::BitangentView})
+        for (SampleAxis a : {SampleAxis::Tangent, SampleAxis::Bitangent, SampleAxis::TangentView, SampleAxis::BitangentView,
+                             SampleAxis::TangentMirror, SampleAxis::BitangentMirror})
             for (SampleParam p : {SampleParam::Half, SampleParam::Incident}) {
                 const bool view_axis = a == SampleAxis::TangentView || a == SampleAxis::BitangentView;
-                if (view_axis && p != SampleParam::Half) continue;
+                const bool mirror_axis = a == SampleAxis::TangentMirror || a == SampleAxis::BitangentMirror;
+                if ((view_axis && p != SampleParam::Half) || (mirror_axis && p != SampleParam::Incident)) continue;
                 FactoredOptions ao = fo;
                 ao.axis = a, ao.param = p;
                 REQUIRE_MESSAGE(fit_factored(*m.brdf, ao, &d, nullptr, &err), err);
-                const uint32_t want = a == SampleAxis::Tangent       ? SEPAL_SMP_AXIS_T
-                                      : a == SampleAxis::Bitangent   ? SEPAL_SMP_AXIS_S
-                                      : a == SampleAxis::TangentView ? SEPAL_SMP_AXIS_T_VIEW
-                                                                     : SEPAL_SMP_AXIS_S_VIEW;
+                const uint32_t want = a == SampleAxis::Tangent         ? SEPAL_SMP_AXIS_T
+                                      : a == SampleAxis::Bitangent     ? SEPAL_SMP_AXIS_S
+                                      : a == SampleAxis::TangentView   ? SEPAL_SMP_AXIS_T_VIEW
+                                      : a == SampleAxis::BitangentView ? SEPAL_SMP_AXIS_S_VIEW
+                                      : a == SampleAxis::TangentMirror ? SEPAL_SMP_AXIS_T_MIRROR
+                                                                       : SEPAL_SMP_AXIS_S_MIRROR;
                 REQUIRE(d.desc.axis == want);
                 add(std::string("factored-") + sample_param_name(p) + "-" + sample_axis_name(a), d);
             }
@@ -97,7 +101,7 @@ const std::string kPf = "poulin-fournier";
 std::string cornell() { return sepal_test::source_path("fixtures/cornell/garnet_red.brdf"); }
 
 // Every chi-square test of this suite shares the significance level (Sidak).
-constexpr int kTests = 45;  // 18 + 5 + 15 + 6 + 1 spare
+constexpr int kTests = 51;  // 18 + 5 + 21 + 6 + 1 spare
 constexpr int kSamples = 1000000;
 
 sepal_test::Chi2Result run_chi2(const Sampler& s, const glm::dvec3& wo, uint64_t seed) {
@@ -145,15 +149,19 @@ TEST_CASE("sampling: chi-square, anisotropic Ward (absolute phi) and the inciden
     check_chi2(kCt, "factored-incident", 60.0);
 }
 
-TEST_CASE("sampling: chi-square, factored samplers about the tangent and the bitangent, fixed and view-turned (Ward, Poulin-Fournier)") {
+TEST_CASE("sampling: chi-square, factored samplers about the tangent and the bitangent, fixed, view-turned and mirror-centred (Ward, Poulin-Fournier)") {
     for (const char* s : {"factored-half-t", "factored-half-s", "factored-incident-t", "factored-incident-s",
-                          "factored-half-t-view", "factored-half-s-view"})
+                          "factored-half-t-view", "factored-half-s-view", "factored-incident-t-mirror",
+                          "factored-incident-s-mirror"})
         for (double t : {45.0, 85.0}) check_chi2(kWard, s, t);
     check_chi2(kPf, "factored-half-t", 60.0);
     // The view axes turn the frame by half the view's angle about the axis: views on both
     // sides of the normal (phi_o 90 and 270: that angle's sign).
     check_chi2(kPf, "factored-half-t-view", 60.0, 90.0);
     check_chi2(kPf, "factored-half-t-view", 30.0, 270.0);
+    // The mirror axes map wi.t piecewise linearly about -wo.t: views with wo.t of both signs.
+    check_chi2(kPf, "factored-incident-t-mirror", 60.0, 20.0);
+    check_chi2(kPf, "factored-incident-t-mirror", 40.0, 160.0);
 }
 
 TEST_CASE("sampling: chi-square, measured materials (Cornell garnet_red, MERL nickel)") {
