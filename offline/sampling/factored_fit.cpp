@@ -103,10 +103,10 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
         if (err) *err = m;
         return false;
     };
-    if (o.n_theta_o < 1 || o.n_theta_o > SEPAL_SMP_MAX_VIEW_SIDE || o.n_phi_o < 1 ||
+    if (o.n_theta_o < 0 || o.n_theta_o > SEPAL_SMP_MAX_VIEW_SIDE || o.n_phi_o < 0 ||
         o.n_phi_o > SEPAL_SMP_MAX_VIEW_SIDE)
         return bad("view grid " + std::to_string(o.n_theta_o) + "x" + std::to_string(o.n_phi_o) +
-                   ": each side 1.." + std::to_string(SEPAL_SMP_MAX_VIEW_SIDE));
+                   ": each side 1.." + std::to_string(SEPAL_SMP_MAX_VIEW_SIDE) + " (or 0: the default)");
     if (o.n_theta_p < 0 || o.n_theta_p > SEPAL_SMP_MAX_DIR_SIDE || o.n_phi_p < 0 ||
         o.n_phi_p > SEPAL_SMP_MAX_DIR_SIDE)
         return bad("direction bins " + std::to_string(o.n_theta_p) + "x" + std::to_string(o.n_phi_p) +
@@ -123,7 +123,8 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
     if (!(o.defensive >= 0 && o.defensive <= 1)) return bad("defensive share: 0..1");
     if (!(o.tolerance >= 0 && o.tolerance < 1)) return bad("tolerance: 0..1");
     // The whole matrix and its reconstruction are held (doubles), plus the colour masses.
-    const double entries = double(o.n_theta_o) * o.n_phi_o * std::max(o.n_theta_p, 192) * std::max(o.n_phi_p, 96);
+    const double entries = double(o.n_theta_o ? o.n_theta_o : 24) * (o.n_phi_o ? o.n_phi_o : 24) *
+                           std::max(o.n_theta_p, 192) * std::max(o.n_phi_p, 96);
     if (entries * (8.0 * 3 + 4.0 * 3) > 8e9)
         return bad("the data matrix (" + std::to_string(int64_t(entries)) +
                    " entries) needs over 8 GB; fewer view or direction bins (FactoredOptions n_theta_o, n_phi_o, n_theta_p, n_phi_p)");
@@ -143,6 +144,7 @@ struct ViewColumn {
 namespace {
 bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
              FactoredReport* rep, std::string* err);
+FactoredOptions with_defaults(const Brdf& brdf, FactoredOptions o);
 }  // namespace
 
 bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out, FactoredReport* rep,
@@ -162,14 +164,15 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
                              SampleAxis::BitangentView, SampleAxis::TangentMirror, SampleAxis::BitangentMirror}) {
             // Auto leaves out wi about fixed t or s: a specular lobe moves with wo there, and
             // J terms cannot follow it (Poulin-Fournier: relative variance 0.97 vs 0.73 in
-            // h); the mirror axes hold it still. The view axes are defined for the half
-            // vector only, the mirror axes for the incident direction.
+            // h); the mirror axes hold it still. It leaves out the view axes too: in coarse
+            // fits they lost to h about fixed t or s on both Ward and Poulin-Fournier. The
+            // view axes are defined for the half vector only, the mirror axes for wi.
             const bool view_axis = a == SampleAxis::TangentView || a == SampleAxis::BitangentView;
             const bool mirror_axis = a == SampleAxis::TangentMirror || a == SampleAxis::BitangentMirror;
             const bool fixed_axis = a == SampleAxis::Tangent || a == SampleAxis::Bitangent;
             const bool axis_ok = (opt.axis == SampleAxis::Auto
                                       ? a == SampleAxis::Normal ||
-                                            (!brdf.isotropic() && (fixed_axis || view_axis) && p == SampleParam::Half) ||
+                                            (!brdf.isotropic() && fixed_axis && p == SampleParam::Half) ||
                                             (!brdf.isotropic() && mirror_axis && p == SampleParam::Incident)
                                       : a == opt.axis) &&
                                  !(view_axis && p != SampleParam::Half) && !(mirror_axis && p != SampleParam::Incident);
@@ -189,12 +192,10 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
         size_t best = 0;
         coarse_note = "auto (coarse fits):";
         for (size_t c = 0; c < candidates.size(); ++c) {
-            FactoredOptions q = candidates[c];
-            const bool polar = q.axis == SampleAxis::Normal;
+            FactoredOptions q = with_defaults(brdf, candidates[c]);
             q.n_theta_o = std::max(1, q.n_theta_o / 2), q.n_phi_o = std::max(1, q.n_phi_o / 2);
-            q.n_theta_p = std::max(1, (q.n_theta_p ? q.n_theta_p : polar ? 64 : 192) / 2);
-            q.n_phi_p = std::max(1, (q.n_phi_p ? q.n_phi_p : polar ? 64 : 96) / 2);
-            q.iterations = q.iterations ? std::min(q.iterations, 300) : 300, q.supersample = std::min(q.supersample, 2);
+            q.n_theta_p = std::max(1, q.n_theta_p / 2), q.n_phi_p = std::max(1, q.n_phi_p / 2);
+            q.iterations = std::min(q.iterations, 300), q.supersample = std::min(q.supersample, 2);
             q.colour = false;
             SamplerData d;
             FactoredReport r;
@@ -359,6 +360,9 @@ bool lobe_sampled(const Brdf& brdf, const glm::dvec3& diffuse, std::string* err)
 // The options' automatic values (0) for this BRDF and axis (factored_fit.h says why).
 FactoredOptions with_defaults(const Brdf& brdf, FactoredOptions o) {
     const bool iso = brdf.isotropic(), polar = o.axis == SampleAxis::Normal;
+    const bool mirror = o.axis == SampleAxis::TangentMirror || o.axis == SampleAxis::BitangentMirror;
+    if (o.n_theta_o == 0) o.n_theta_o = mirror ? 20 : 16;
+    if (o.n_phi_o == 0) o.n_phi_o = mirror ? 24 : 16;
     if (o.n_theta_p == 0) o.n_theta_p = polar ? 64 : 192;
     if (o.n_phi_p == 0) o.n_phi_p = !polar ? 96 : iso ? 16 : 64;
     if (o.J == 0) o.J = !polar ? 16 : iso ? 4 : 2, o.K = !polar ? 1 : iso ? 2 : 4;
