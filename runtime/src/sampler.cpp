@@ -116,8 +116,8 @@ inline float clampf(float x, float lo, float hi) { return x < lo ? lo : (x > hi 
 inline float unit_u(float u) { return u >= 0.0f ? (u < 1.0f ? u : kOneMinus) : 0.0f; }
 
 // Largest i in [0, n-1] with cdf[i] <= x: the bin holding x (its width is then > 0).
-// Branch-free (the step is a select): a search's branches mispredict half the time, and
-// three to five searches per sample made them a third of its cost.
+// Branch-free (the step is a select): a search's branches are unpredictable, and its
+// three to five searches per sample were a third of sample()'s profile.
 uint32_t find_bin(const float* cdf, uint32_t n, float x) {
     const float* base = cdf;  // invariant: the answer is in [base, base + n)
     while (n > 1) {

@@ -1,7 +1,7 @@
 // sepal-bench-sampling: the figures of factored importance sampling (Lawrence,
 // Rusinkiewicz and Ramamoorthi 2004) beside the paper's.
 //
-//   build/bin/sepal-bench-sampling [all | table1 | table2 | rmse | speed | ablation | renders]
+//   build/bin/sepal-bench-sampling [all | table1 | table2 | rmse | speed | ablation | renders | axes]
 //                                  [--out DIR] [--trials N] [--size N] [--only LABEL] [--quick]
 //
 // table1    the paper's Table 1: normalized MAE of the sampling factorization (luminance f cos
@@ -22,6 +22,8 @@
 // ablation  the design choices of the fit (absolute vs view phi, Jacobian, terms, defensive
 //           share) by the relative variance of f cos / pdf at the judge views.
 // renders   a contact sheet of 16-spp renders under the sky: DIR/sampling-renders.png.
+// axes      (not in all) Poulin-Fournier's factored sampler about t in each coordinate
+//           system (h fixed or view-turned, wi about the mirror axis) and view grid.
 // Writes DIR/sampling.md (the tables) and DIR/sampling.json. --quick: small images, few
 // trials, for a smoke run.
 #include <time.h>
@@ -339,7 +341,8 @@ void table1(const Config& c, Output* out) {
     out->line("MAE over 2^17 uniform (wi, wo) pairs. *paper settings*: the paper's resolution, J x K, its "
               "parameterization, absolute phi, no Jacobian. *sepal*: the defaults (16 x 16 views, 64 sqrt-spaced "
               "theta bins x 16 phi bins and 4 x 2 terms for isotropic BRDFs; anisotropic ones: param and axis auto, "
-              "64 phi bins and 2 x 4 terms about the normal, 192 x 96 bins and 16 x 1 terms about t or s; "
+              "64 phi bins and 2 x 4 terms about the normal, 192 x 96 bins and 16 x 1 terms about t or s (h) or "
+              "their mirror axes (wi, 20 x 24 views); "
               "view-relative phi for isotropic BRDFs, Jacobian). MAE (angles): the same over pairs uniform in "
               "(theta_i, phi_i, theta_o, phi_o), the other reading of the paper's \"dense set of samples of the 4D "
               "domain\". Laf.: our best-fit Lafortune (3 lobes for Cook-Torrance, else 2). Compression: the dense "
@@ -674,6 +677,65 @@ void ablation(const Config& c, Output* out) {
     note_done();
 }
 
+// ---- axes ------------------------------------------------------------------------------------------
+// Poulin-Fournier's factored sampler in each coordinate system about its cylinders' axis t,
+// at the default bins and terms: what the mirror axes and their view grid buy. Not part of
+// `all` (five fits of about two minutes each).
+void axes(const Config& c, Output* out) {
+    const Material* pf = nullptr;
+    for (const Material& m : materials())
+        if (m.label == "Poulin-Fournier") pf = &m;
+    auto b = need_brdf(pf->spec);
+    out->line("\n## Poulin-Fournier about its cylinders' axis t (192 x 96 bins, 16 x 1 terms, 500 NMF iterations)\n");
+    out->line("| wp | coordinates | views | MAE | MAE (angles) | relative variance | bytes | fit s |");
+    out->line("| --- | --- | --- | --- | --- | --- | --- | --- |");
+    struct Variant {
+        SampleParam param;
+        SampleAxis axis;
+        int views_theta, views_phi;
+    };
+    const Variant variants[] = {{SampleParam::Half, SampleAxis::Tangent, 16, 16},
+                                {SampleParam::Half, SampleAxis::TangentView, 16, 16},
+                                {SampleParam::Incident, SampleAxis::TangentMirror, 16, 16},
+                                {SampleParam::Incident, SampleAxis::TangentMirror, 24, 20},
+                                {SampleParam::Incident, SampleAxis::TangentMirror, 20, 24}};
+    out->json.key("axes").begin_array();
+    for (const Variant& v : variants) {
+        if (c.quick && v.views_theta != 16) continue;
+        note(std::string("axes: ") + sample_axis_name(v.axis));
+        FactoredOptions o;
+        o.param = v.param, o.axis = v.axis, o.n_theta_o = v.views_theta, o.n_phi_o = v.views_phi;
+        SamplerData d;
+        FactoredReport rep;
+        std::string err;
+        const double t0 = now();
+        if (!fit_factored(*b, o, &d, &rep, &err)) {
+            std::fprintf(stderr, "axes: %s\n", err.c_str());
+            continue;
+        }
+        const double secs = now() - t0;
+        Sampler s;
+        s.build(d, &err);
+        const ApproxFn approx = [&](const glm::dvec3& wi, const glm::dvec3& wo) {
+            const float w[3] = {float(wo.x), float(wo.y), float(wo.z)};
+            sepal_sampler_view view;
+            sepal_sampler_set_view(&s.get(), w, &view);
+            return factored_lum(view, wi);
+        };
+        const double mae = normalized_mae(*b, approx, 1 << 17, 7);
+        const double mae_angles = normalized_mae(*b, approx, 1 << 17, 7, PairDensity::Angles);
+        const double rv = relative_variance(*b, s.get(), judge_views(false), 8192, 3);
+        const std::string views = std::to_string(v.views_theta) + " x " + std::to_string(v.views_phi);
+        out->line("| " + rep.param + " | " + rep.axis + " | " + views + " | " + fmt(mae) + " | " + fmt(mae_angles) + " | " +
+                  fmt(rv, "%.4g") + " | " + std::to_string(rep.sampler_bytes) + " | " + fmt(secs, "%.0f") + " |");
+        out->json.begin_object().key("param").value(rep.param).key("axis").value(rep.axis).key("views").value(views)
+            .key("mae").value(mae).key("mae_angles").value(mae_angles).key("relative_variance").value(rv)
+            .key("bytes").value(int64_t(rep.sampler_bytes)).key("fit_seconds").value(secs).end_object();
+    }
+    out->json.end_array();
+    note_done();
+}
+
 // ---- renders ---------------------------------------------------------------------------------------
 void renders(const Config& c, Output* out) {
     std::string err;
@@ -722,8 +784,8 @@ int main(int argc, char** argv) {
     Config c;
     std::string what = "all";
     BenchCli cli("sepal-bench-sampling", "Factored importance sampling (Lawrence 2004): tables, RMSE, speed, renders.");
-    cli.app.add_option("WHAT", what, "all, table1, table2, rmse, speed, ablation or renders")
-        ->check(CLI::IsMember({"all", "table1", "table2", "rmse", "speed", "ablation", "renders"}))
+    cli.app.add_option("WHAT", what, "all, table1, table2, rmse, speed, ablation, renders, or axes (not in all)")
+        ->check(CLI::IsMember({"all", "table1", "table2", "rmse", "speed", "ablation", "renders", "axes"}))
         ->capture_default_str();
     cli.app.add_option("--trials", c.trials, "trials per estimate (>= 2)")->check(CLI::Range(2, 100000))->capture_default_str();
     cli.app.add_option("--size", c.size, "image side (>= 8)")->check(CLI::Range(8, 4096))->capture_default_str();
@@ -754,6 +816,7 @@ int main(int argc, char** argv) {
     section("speed", speed);
     section("rmse", rmse);
     section("renders", renders);
+    if (what == "axes") section("axes", axes);
     out.json.key("section_seconds").begin_object();
     for (const auto& [name, secs] : times) out.json.key(name).value(secs);
     out.json.end_object();

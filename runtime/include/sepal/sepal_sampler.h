@@ -47,9 +47,10 @@
 // eval() returns the sampler's own reconstruction of f(wi,wo) cos(theta_i) for FACTORED
 // samplers (RGB with colour tables, the luminance in all three channels without), and 0
 // (unsupported) for the other kinds.
-// Cost (tests/bench/sampling.cpp): sample + pdf about 200 ns on one core (the pdf sums every
-// term: 8 by default, 16 about t or s); a factored sampler of the paper's resolutions is
-// 5..40 KB, 42 KB about t or s (192 x 96 bins, 16 terms).
+// Cost (tests/bench/sampling.cpp): sample + pdf 170 to 180 ns on one core (the pdf sums every
+// term: 8 by default, 16 about t or s and their mirror axes); a factored sampler of the
+// paper's resolutions is 5..40 KB, 42 KB about t or s (192 x 96 bins, 16 terms), 59 KB about
+// a mirror axis (20 x 24 views).
 // Limits: see SEPAL_SMP_MAX_*; a view whose wo is at or below the horizon, or whose terms
 // are all 0, draws cosine samples only (FACTORED, TABULATED) and reports it in `fallback`.
 //
@@ -136,7 +137,7 @@ typedef enum sepal_smp_axis {
     // atan2(wo.t, wo.n) / 2 (S): wp is rotated by -b about the axis first (a rotation keeps
     // c1 and dOmega). Mirrors off cylinders along t have h at the cylinder normal psi, and
     // the lit, visible normals span psi in [b - pi/4, b + pi/4] for every view: a window
-    // that moves with wo about t is fixed in these coordinates, so few terms describe it.
+    // that moves with wo about t is fixed in these coordinates.
     SEPAL_SMP_AXIS_T_VIEW = 3,
     SEPAL_SMP_AXIS_S_VIEW = 4,
     // Format 1.3, incident parameterization only: as T and S, but c1 is a = wi.t (or wi.s)
@@ -144,7 +145,8 @@ typedef enum sepal_smp_axis {
     // +-0.999): c1 = (a - m) / (1 - m) for a >= m, (a - m) / (1 + m) below, so the cone sits
     // at c1 = 0 for every view, where the edges are dense; the density over wi is the one
     // over (c1, c2) times dc1/da. A Phong lobe about the mirrors of wo off cylinders along
-    // t has the same width in a along the whole cone: at each view it separates in (c1, c2).
+    // t has about the same width in a along the whole cone: at each view it nearly
+    // separates in (c1, c2), and the cone no longer moves across views.
     SEPAL_SMP_AXIS_T_MIRROR = 5,
     SEPAL_SMP_AXIS_S_MIRROR = 6,
     SEPAL_SMP_AXIS_COUNT = 7
