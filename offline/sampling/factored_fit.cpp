@@ -370,6 +370,71 @@ FactoredOptions with_defaults(const Brdf& brdf, FactoredOptions o) {
     return o;
 }
 
+// One view's column: the masses of every wp bin (luminance and, with o.colour, RGB) for
+// the view wo, from bin_points' S x S points; *failure names a non-finite BRDF value.
+void sample_column(const Brdf& brdf, const FactoredOptions& o, const glm::dvec3& diffuse, const dvec3& wo,
+                   double theta_o, const std::vector<float>& z_edges, const std::vector<dvec3>& points,
+                   const std::vector<double>& solid, ViewColumn* column, std::string* failure) {
+    const int Pp = o.n_phi_p, S = o.supersample, rows = (int(z_edges.size()) - 1) * Pp;
+    const bool colour = o.colour;
+    // The view axes: bin_points' wp are in the view frame, turned by -b about the axis
+    // (sepal_smp_axis); turn them back by b.
+    const bool turn_t = o.axis == SampleAxis::TangentView, turn = turn_t || o.axis == SampleAxis::BitangentView;
+    const double b = turn ? 0.5 * std::atan2(turn_t ? wo.y : wo.x, wo.z) : 0.0;
+    const double cb = std::cos(b), sb = std::sin(b);
+    // The mirror axes: bin_points' c1 is the mirror-centred one; a = wi.t or wi.s comes
+    // from it as the runtime's from_mirror has it, and each bin's solid angle is its
+    // (c1, c2) area times da/dc1 (1 - m above the cone, 1 + m below).
+    const bool mirror_t = o.axis == SampleAxis::TangentMirror;
+    const bool mirror = mirror_t || o.axis == SampleAxis::BitangentMirror;
+    const double m = mirror ? std::clamp(-(mirror_t ? wo.x : wo.y), -0.999, 0.999) : 0.0;
+    ViewColumn& col = *column;
+    col.lum.assign(size_t(rows), 0.0);
+    if (colour) col.rgb.assign(size_t(rows) * 3, 0.0f);
+    for (int row = 0; row < rows && failure->empty(); ++row) {
+        dvec3 sum(0.0);
+        for (int s = 0; s < S * S; ++s) {
+            dvec3 wp = points[size_t(row) * S * S + s];
+            if (mirror) {
+                double& c1 = mirror_t ? wp.x : wp.y;
+                const double r0 = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+                c1 = std::clamp(m + c1 * (c1 >= 0 ? 1.0 - m : 1.0 + m), -1.0, 1.0);
+                const double k = r0 > 0 ? std::sqrt(std::max(0.0, 1.0 - c1 * c1)) / r0 : 0.0;
+                (mirror_t ? wp.y : wp.x) *= k;
+                wp.z *= k;
+            }
+            if (turn) {
+                double& p = turn_t ? wp.y : wp.x;
+                const double q = p;
+                p = cb * q + sb * wp.z;
+                wp.z = cb * wp.z - sb * q;
+            }
+            dvec3 wi = wp;
+            double jac = 1.0;
+            if (o.param == SampleParam::Half) {
+                const double d = glm::dot(wo, wp);
+                wi = 2.0 * d * wp - wo;
+                if (o.jacobian) jac = 4.0 * std::fabs(d);
+            }
+            if (!(wi.z > 0)) continue;
+            wi = glm::normalize(wi);
+            const dvec3 f = glm::max(brdf.eval(wi, wo) - diffuse, dvec3(0.0));
+            if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
+                *failure = "the BRDF returned a non-finite value at theta_i " +
+                           std::to_string(rad2deg(std::acos(wi.z))) + ", theta_o " +
+                           std::to_string(rad2deg(theta_o)) + " degrees";
+                break;
+            }
+            sum += f * (wi.z * jac);
+        }
+        double scale = solid[size_t(row)] / (S * S);
+        if (mirror) scale *= 0.5 * (z_edges[size_t(row / Pp)] + z_edges[size_t(row / Pp) + 1]) >= 0 ? 1.0 - m : 1.0 + m;
+        col.lum[size_t(row)] = std::max(0.0, luminance(sum)) * scale;
+        if (colour)
+            for (int ch = 0; ch < 3; ++ch) col.rgb[size_t(row) * 3 + ch] = float(std::max(0.0, sum[ch]) * scale);
+    }
+}
+
 bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& diffuse, SamplerData* out,
              FactoredReport* rep, std::string* err) {
     FactoredOptions o = with_defaults(brdf, opt);
@@ -402,62 +467,7 @@ bool fit_one(const Brdf& brdf, const FactoredOptions& opt, const glm::dvec3& dif
             const double theta_o = (io + 0.5) / To * 0.5 * kPi;
             const double phi_o = view_frame ? 0.0 : (jo + 0.5) / Po * 2.0 * kPi;
             const dvec3 wo = dir_from_angles(theta_o, phi_o);
-            // The view axes: bin_points' wp are in the view frame, turned by -b about the
-            // axis (sepal_smp_axis); turn them back by b.
-            const bool turn_t = o.axis == SampleAxis::TangentView, turn = turn_t || o.axis == SampleAxis::BitangentView;
-            const double b = turn ? 0.5 * std::atan2(turn_t ? wo.y : wo.x, wo.z) : 0.0;
-            const double cb = std::cos(b), sb = std::sin(b);
-            // The mirror axes: bin_points' c1 is the mirror-centred one; a = wi.t or wi.s
-            // comes from it as the runtime's from_mirror has it, and each bin's solid angle
-            // is its (c1, c2) area times da/dc1 (1 - m above the cone, 1 + m below).
-            const bool mirror_t = o.axis == SampleAxis::TangentMirror;
-            const bool mirror = mirror_t || o.axis == SampleAxis::BitangentMirror;
-            const double m = mirror ? std::clamp(-(mirror_t ? wo.x : wo.y), -0.999, 0.999) : 0.0;
-            ViewColumn& col = columns[c];
-            col.lum.assign(size_t(rows), 0.0);
-            if (colour) col.rgb.assign(size_t(rows) * 3, 0.0f);
-            for (int row = 0; row < rows && failures[c].empty(); ++row) {
-                dvec3 sum(0.0);
-                for (int s = 0; s < S * S; ++s) {
-                    dvec3 wp = points[size_t(row) * S * S + s];
-                    if (mirror) {
-                        double& c1 = mirror_t ? wp.x : wp.y;
-                        const double r0 = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
-                        c1 = std::clamp(m + c1 * (c1 >= 0 ? 1.0 - m : 1.0 + m), -1.0, 1.0);
-                        const double k = r0 > 0 ? std::sqrt(std::max(0.0, 1.0 - c1 * c1)) / r0 : 0.0;
-                        (mirror_t ? wp.y : wp.x) *= k;
-                        wp.z *= k;
-                    }
-                    if (turn) {
-                        double& p = turn_t ? wp.y : wp.x;
-                        const double q = p;
-                        p = cb * q + sb * wp.z;
-                        wp.z = cb * wp.z - sb * q;
-                    }
-                    dvec3 wi = wp;
-                    double jac = 1.0;
-                    if (o.param == SampleParam::Half) {
-                        const double d = glm::dot(wo, wp);
-                        wi = 2.0 * d * wp - wo;
-                        if (o.jacobian) jac = 4.0 * std::fabs(d);
-                    }
-                    if (!(wi.z > 0)) continue;
-                    wi = glm::normalize(wi);
-                    const dvec3 f = glm::max(brdf.eval(wi, wo) - diffuse, dvec3(0.0));
-                    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
-                        failures[c] = "the BRDF returned a non-finite value at theta_i " +
-                                      std::to_string(rad2deg(std::acos(wi.z))) + ", theta_o " +
-                                      std::to_string(rad2deg(theta_o)) + " degrees";
-                        break;
-                    }
-                    sum += f * (wi.z * jac);
-                }
-                double scale = solid[size_t(row)] / (S * S);
-                if (mirror) scale *= 0.5 * (z_edges[size_t(row / Pp)] + z_edges[size_t(row / Pp) + 1]) >= 0 ? 1.0 - m : 1.0 + m;
-                col.lum[size_t(row)] = std::max(0.0, luminance(sum)) * scale;
-                if (colour)
-                    for (int ch = 0; ch < 3; ++ch) col.rgb[size_t(row) * 3 + ch] = float(std::max(0.0, sum[ch]) * scale);
-            }
+            sample_column(brdf, o, diffuse, wo, theta_o, z_edges, points, solid, &columns[c], &failures[c]);
             progress.advance();
         });
     }
