@@ -199,9 +199,8 @@ bool half_of(const float* wi, const float* wo, float* h, float* inv_jacobian) {
 }
 
 // Rotations between the local frame and the view frame: about n by phi_o (view phi), about
-// t or s by b (the view axes); the identity (cos 1, sin 0) otherwise. (p, q) are the two
-// components the rotation turns: (x, y) about n, (y, z) about t, (x, z) about s; to_view
-// lowers the angle about t or s by b.
+// t or s by b (the view axes; to_view lowers the angle about the axis by b); the identity
+// (cos 1, sin 0) otherwise.
 inline void rotate(const sepal_sampler_view* v, const float* w, float* out, float sign) {
     out[0] = w[0], out[1] = w[1], out[2] = w[2];
     const uint32_t axis = v->sampler ? v->sampler->desc.axis : (uint32_t)SEPAL_SMP_AXIS_N;
@@ -256,7 +255,7 @@ inline float bin_density(const float* ucdf, const float* vcdf, const float* z, u
 // axis over [c2_lo, c2_lo + c2_span) in Pp uniform bins; dOmega = dc1 dc2 for all three.
 inline float c2_lo(uint32_t axis) { return axis == SEPAL_SMP_AXIS_N ? 0.0f : -0.5f * kPi; }
 inline float c2_span(uint32_t axis) { return axis == SEPAL_SMP_AXIS_N ? kTwoPi : kPi; }
-// The view axes bin the view frame's wp as T and S do.
+// The view and mirror axes bin (c1, c2) about t or s as T and S do.
 inline uint32_t fixed_axis(uint32_t axis) {
     return axis == SEPAL_SMP_AXIS_T_VIEW || axis == SEPAL_SMP_AXIS_T_MIRROR   ? (uint32_t)SEPAL_SMP_AXIS_T
            : axis == SEPAL_SMP_AXIS_S_VIEW || axis == SEPAL_SMP_AXIS_S_MIRROR ? (uint32_t)SEPAL_SMP_AXIS_S
