@@ -4,7 +4,8 @@
 //                      [--exclude NAME,..] [--swaps N] [--materials NAME,..]
 //   sepal measure simulate SPEC plan.json -o samples.csv [--noise 0.01] [--seed S] [--materials ..]
 //   sepal measure reconstruct plan.json samples.csv -o new.binary [--exclude NAME,..]
-//                      [--solver ls|nnls] [--max-condition K] [--truth SPEC] [--report r.json]
+//                      [--space log|linear] [--solver ls|nnls] [--max-condition K] [--truth SPEC]
+//                      [--report r.json]
 //                      [--bake out.sepal] [--materials ..]
 // The database (the 100 merl-nbrdf materials on the MERL grid) is built on first use into the
 // cache (database.h: about a minute, 1.4 GB) and memory-mapped afterwards. --materials limits
@@ -22,6 +23,7 @@
 
 #include "bake/asset_file.h"
 #include "bake/bake.h"
+#include "bake/picture.h"
 #include "brdf/brdf.h"
 #include "spec/spec.h"
 #include "cli/cli.h"
@@ -157,10 +159,43 @@ int run_simulate(const SimulateArgs& a, const CommandIO& io) {
 }
 
 struct ReconstructArgs {
-    std::string plan, samples, out, solver = "nnls", truth, report, bake;
+    std::string plan, samples, out, space = "log", solver = "nnls", truth, report, bake;
     double max_condition = FitOptions{}.max_condition;
     std::vector<std::string> exclude, materials;
 };
+
+// --truth: the reconstruction against the true BRDF, by its picture first (bake/picture.h: the
+// default scene and the held-out conditions, exact renders), then over the grid's cells.
+bool truth_figures(const BrdfDatabase& db, const Brdf& truth, const DatabaseReconstruction& r, Json* report,
+                   const CommandIO& io, std::string* err) {
+    std::vector<float> tv;
+    if (!tabulate_rows(db, truth, &tv, err)) return false;
+    std::unique_ptr<Brdf> rb = rows_brdf(db, r.values, "reconstruction", err);
+    std::vector<BakeView> views;
+    PictureComparison pc;
+    if (!rb || !picture_views(&views, err) || !compare_pictures(truth, *rb, views, 256, &pc, err)) return false;
+    const PictureFigures& d = pc.views.front();
+    std::fprintf(io.out, "picture    default scene %.1f dB (largest difference %.0f levels), mean Delta E %.2f; "
+                 "held out %.1f dB pooled, mean Delta E %.2f (exact renders, 256 x 256, against %s)\n",
+                 d.psnr, d.max_diff, d.delta_e, pc.held_out_psnr, pc.held_out_delta_e, truth.spec().c_str());
+    const PictureFigures* worst = &d;
+    for (const PictureFigures& f : pc.views)
+        if (f.psnr < worst->psnr) worst = &f;
+    std::fprintf(io.out, "           worst view %s: %.1f dB, largest difference %.0f levels\n", worst->view.c_str(),
+                 worst->psnr, worst->max_diff);
+    const double e = relative_rms(r.values, tv);
+    std::fprintf(io.out, "error      %.2f%% relative RMS against %s over the %zu grid cells above the horizon\n",
+                 100 * e, truth.spec().c_str(), db.valid_cells());
+    Json views_json = Json::array();
+    for (const PictureFigures& f : pc.views)
+        views_json.push_back({{"view", f.view}, {"psnr_db", f.psnr}, {"max_diff_8bit", f.max_diff},
+                              {"share_over_16", f.share_over16}, {"mean_delta_e2000", f.delta_e}});
+    (*report)["truth"] = truth.spec();
+    (*report)["picture"] = {{"size", 256}, {"held_out_psnr_db", pc.held_out_psnr},
+                            {"held_out_mean_delta_e2000", pc.held_out_delta_e}, {"views", views_json}};
+    (*report)["relative_rms_vs_truth"] = e;
+    return true;
+}
 
 int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     const std::string who = "sepal measure reconstruct";
@@ -178,6 +213,7 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
         return kExitBadInput;
     }
     fo.max_condition = a.max_condition;
+    fo.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
     std::string err;
     if (!check_output("-o", a.out, &err) || !check_output("--report", a.report, &err) ||
         !check_output("--bake", a.bake, &err)) {
@@ -214,8 +250,12 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     const double t = seconds_since(t0);
     int used = 0;
     for (uint8_t u : use) used += u;
-    std::fprintf(io.out, "model      linear combination of %d database materials (%s, max condition %.3g)\n",
-                 used, a.solver == "ls" ? "least squares" : "non-negative least squares", fo.max_condition);
+    if (fo.space == FitSpace::kLog)
+        std::fprintf(io.out, "model      log-space combination of %d database materials and a colour scale "
+                     "(cosine-weighted least squares, max condition %.3g)\n", used, fo.max_condition);
+    else
+        std::fprintf(io.out, "model      linear combination of %d database materials (%s, max condition %.3g)\n",
+                     used, a.solver == "ls" ? "least squares" : "non-negative least squares", fo.max_condition);
     std::fprintf(io.out, "fit        %zu samples, condition %.4g, lambda %.3g, residual on the samples %.2f%%, "
                  "%d nonzero coefficients\n",
                  v.size(), r.fit.condition, r.fit.lambda, 100 * r.fit.sample_rms, r.fit.nonzero);
@@ -225,7 +265,8 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     report["plan"] = a.plan;
     report["samples"] = a.samples;
     report["excluded"] = excluded;
-    report["solver"] = a.solver;
+    report["space"] = fit_space_name(fo.space);
+    if (fo.space == FitSpace::kLinear) report["solver"] = a.solver;
     report["max_condition"] = fo.max_condition;
     report["condition_number"] = r.fit.condition;
     report["lambda"] = r.fit.lambda;
@@ -235,17 +276,11 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     for (int k = 0; k < db->size(); ++k)
         if (r.fit.coeffs[size_t(k)] != 0.0) coeffs[db->name(k)] = r.fit.coeffs[size_t(k)];
     report["coefficients"] = coeffs;
-    if (truth) {
-        std::vector<float> tv;
-        if (!tabulate_rows(*db, *truth, &tv, &err)) {
-            std::fprintf(io.err, "%s: --truth: %s\n", who.c_str(), err.c_str());
-            return kExitBadInput;
-        }
-        const double e = relative_rms(r.values, tv);
-        report["truth"] = truth->spec();
-        report["relative_rms_vs_truth"] = e;
-        std::fprintf(io.out, "error      %.2f%% relative RMS against %s over the %zu grid cells above the horizon\n",
-                     100 * e, truth->spec().c_str(), db->valid_cells());
+    if (fo.space == FitSpace::kLog)
+        report["channel_offsets"] = {r.fit.offsets[0], r.fit.offsets[1], r.fit.offsets[2]};
+    if (truth && !truth_figures(*db, *truth, r, &report, io, &err)) {
+        std::fprintf(io.err, "%s: --truth: %s\n", who.c_str(), err.c_str());
+        return kExitBadInput;
     }
     report["seconds"] = t;
     std::fprintf(io.out, "wrote      %s (MERL .binary, %.1f s)\n", a.out.c_str(), t);
@@ -374,11 +409,13 @@ CommandRun setup_reconstruct(CLI::App& c) {
     c.add_option("PLAN", a->plan, "the plan the samples follow")->required();
     c.add_option("SAMPLES", a->samples, "measured samples (.csv)")->required();
     c.add_option("-o,--output", a->out, "the reconstruction to write (MERL .binary)")->required();
-    c.add_option("--solver", a->solver, "ls (least squares) or nnls (non-negative weights)")
+    c.add_option("--space", a->space, "log (relative, cosine-weighted residuals: renders right) or linear (the paper's)")
+        ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
+    c.add_option("--solver", a->solver, "linear space: ls (least squares) or nnls (non-negative weights)")
         ->check(CLI::IsMember({"ls", "nnls"}))->capture_default_str();
-    c.add_option("--max-condition", a->max_condition, "refuse fits worse conditioned than this")
+    c.add_option("--max-condition", a->max_condition, "regularise fits worse conditioned than this down to it")
         ->check(positive())->capture_default_str();
-    c.add_option("--truth", a->truth, "the true BRDF, to report the reconstruction's error");
+    c.add_option("--truth", a->truth, "the true BRDF: the reconstruction's picture and grid errors against it");
     c.add_option("--report", a->report, "write the fit and its errors as JSON");
     c.add_option("--bake", a->bake, "also bake the reconstruction with the default search");
     c.add_option("--exclude", a->exclude, "materials left out of the database")->delimiter(',');
