@@ -1,6 +1,7 @@
 // sepal measure: measuring a material with a few hundred samples instead of 1.5 million
 // (Matusik et al. 2003, section 7; offline/database/). Subcommands:
 //   sepal measure plan --samples N -o plan.json [--method greedy|random|uniform] [--seed S]
+//                      [--space log|linear] [--objective prediction|condition]
 //                      [--exclude NAME,..] [--swaps N] [--materials NAME,..]
 //   sepal measure simulate SPEC plan.json -o samples.csv [--noise 0.01] [--seed S] [--materials ..]
 //   sepal measure reconstruct plan.json samples.csv -o new.binary [--exclude NAME,..]
@@ -69,7 +70,7 @@ std::unique_ptr<BrdfDatabase> open_database(const std::string& who, const std::v
 
 struct PlanArgs {
     int samples = 800;
-    std::string out, method = "greedy";
+    std::string out, method = "greedy", space = "log", objective = "prediction";
     uint64_t seed = 1;
     int swaps = 400;
     std::vector<std::string> exclude, materials;
@@ -92,6 +93,8 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     o.samples = a.samples;
     o.seed = a.seed;
     o.max_swaps = a.swaps;
+    o.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
+    o.objective = a.objective == "condition" ? PlanObjective::kCondition : PlanObjective::kPrediction;
     const auto t0 = Clock::now();
     MeasurementPlan plan;
     if (!plan_measurement(*db, o, &plan, &err) || !write_plan_json(a.out, *db, plan, &err)) {
@@ -102,7 +105,8 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     std::fprintf(io.out, "plan       %s, %zu samples (direction pair + channel), %d database materials%s\n",
                  plan_method_name(plan.method), plan.rows.size(), db->size() - int(plan.excluded.size()),
                  plan.excluded.empty() ? "" : " (some excluded)");
-    std::fprintf(io.out, "condition  %.4g (of the 1/sigma-weighted, column-normalised X^T X)", plan.condition);
+    std::fprintf(io.out, "condition  %.4g (of the %s model's column-normalised X^T X)", plan.condition,
+                 fit_space_name(o.space));
     if (plan.method != PlanMethod::kRandom) {
         PlanOptions r = o;
         r.method = PlanMethod::kRandom;
@@ -112,9 +116,11 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
                          rp.condition / plan.condition);
     }
     std::fprintf(io.out, "\n");
-    if (plan.method == PlanMethod::kGreedy)
+    if (plan.method == PlanMethod::kGreedy && o.objective == PlanObjective::kCondition)
         std::fprintf(io.out, "greedy     forward pass %.4g, %d condition-number swaps, %.1f s\n",
                      plan.condition_forward, plan.swaps, t);
+    else if (plan.method == PlanMethod::kGreedy)
+        std::fprintf(io.out, "greedy     mean prediction variance over the pool, %.1f s\n", t);
     std::fprintf(io.out, "wrote      %s\n", a.out.c_str());
     return kExitOk;
 }
@@ -381,8 +387,13 @@ CommandRun setup_plan(CLI::App& c) {
     c.add_option("--samples", a->samples, "direction pairs to measure")
         ->check(CLI::Range(1, 100000))->capture_default_str();
     c.add_option("-o,--output", a->out, "the plan to write (.json)")->required();
-    c.add_option("--method", a->method, "greedy (conditioning), random or uniform")
+    c.add_option("--method", a->method, "greedy (see --objective), random or uniform")
         ->check(CLI::IsMember({"greedy", "random", "uniform"}))->capture_default_str();
+    c.add_option("--space", a->space, "the model the plan is for: log (reconstruct's default) or linear (the paper's)")
+        ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
+    c.add_option("--objective", a->objective,
+                 "greedy: prediction (mean prediction variance) or condition (the paper's condition number)")
+        ->check(CLI::IsMember({"prediction", "condition"}))->capture_default_str();
     c.add_option("--seed", a->seed, "random seed (random plans, greedy's tie breaks)")->capture_default_str();
     c.add_option("--swaps", a->swaps, "greedy's improving swaps after the first pass")
         ->check(CLI::Range(0, 1 << 20))->capture_default_str();
@@ -449,9 +460,9 @@ CommandRun setup_measure(CLI::App& app) {
         "installed sepal $XDG_CACHE_HOME/sepal/database (default ~/.cache/sepal/database); in a build\n"
         "tree build/cache/database.");
     return setup_subcommands(app, {
-        {"plan", "choose the sample directions that condition the database best", setup_plan},
+        {"plan", "choose the sample directions that pin the database model down", setup_plan},
         {"simulate", "measure a known BRDF at a plan's directions (virtual gonioreflectometer)", setup_simulate},
-        {"reconstruct", "fit the database's linear model to measured samples", setup_reconstruct},
+        {"reconstruct", "fit the database model (log space by default) to measured samples", setup_reconstruct},
         {"capture", "photograph the virtual acquisition setup (known object and SVBRDF)", setup_capture},
     });
 }

@@ -79,28 +79,34 @@ double ridge_lambda(const MatrixXd& A, double max_condition, CombinationFit* fit
 // The log-space model's value from its exponent sum s (before the channel offset's exp).
 inline double log_model_value(double s) { return std::exp(std::min(s, 700.0)) - kDatabaseLogEps; }
 
-// FitSpace::kLog (linear_model.h): rows weighted by cos theta_i, columns log(P_j + eps) and
-// one indicator per channel, each normalised over the samples, then ridge least squares.
-void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows,
-                         const std::vector<double>& values, const std::vector<int>& cols,
-                         const FitOptions& opt, CombinationFit* fit) {
+// The log model's design (FitSpace::kLog): log(P_j + eps) cos theta_i for the materials in cols,
+// then one indicator per channel times cos theta_i.
+MatrixXd log_design(const BrdfDatabase& db, const std::vector<size_t>& rows, const std::vector<int>& cols) {
     const size_t N = rows.size();
-    const int Mdb = int(cols.size()), M = Mdb + 3;
+    const int Mdb = int(cols.size());
     std::vector<double> w(N);
-    for (size_t i = 0; i < N; ++i) {
-        glm::dvec3 wi, wo;
-        from_half_diff(db.cell_center(db.grid_cell(rows[i] / 3)), &wi, &wo);
-        w[i] = std::max(wi.z, 1e-3);
-    }
-    MatrixXd X = MatrixXd::Zero(Index(N), M);
+    for (size_t i = 0; i < N; ++i) w[i] = log_row_weight(db, rows[i]);
+    MatrixXd X = MatrixXd::Zero(Index(N), Mdb + 3);
     for (int j = 0; j < Mdb; ++j) {
         const float* col = db.column(cols[size_t(j)]);
         for (size_t i = 0; i < N; ++i)
             X(Index(i), j) = std::log(double(col[rows[i]]) + kDatabaseLogEps) * w[i];
     }
     for (size_t i = 0; i < N; ++i) X(Index(i), Mdb + int(rows[i] % 3)) = w[i];
+    return X;
+}
+
+// FitSpace::kLog (linear_model.h): the design above, each column normalised over the samples,
+// then ridge least squares.
+void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows,
+                         const std::vector<double>& values, const std::vector<int>& cols,
+                         const FitOptions& opt, CombinationFit* fit) {
+    const size_t N = rows.size();
+    const int Mdb = int(cols.size()), M = Mdb + 3;
+    MatrixXd X = log_design(db, rows, cols);
     VectorXd b(static_cast<Index>(N));
-    for (size_t i = 0; i < N; ++i) b(Index(i)) = std::log(std::max(values[i], 0.0) + kDatabaseLogEps) * w[i];
+    for (size_t i = 0; i < N; ++i)
+        b(Index(i)) = std::log(std::max(values[i], 0.0) + kDatabaseLogEps) * log_row_weight(db, rows[i]);
     const VectorXd norm = X.colwise().norm().transpose();
     for (int j = 0; j < M; ++j)
         if (norm(j) > 0.0) X.col(j) /= norm(j);
@@ -129,6 +135,12 @@ void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows
 }  // namespace
 
 const char* fit_space_name(FitSpace s) { return s == FitSpace::kLog ? "log" : "linear"; }
+
+double log_row_weight(const BrdfDatabase& db, size_t row) {
+    glm::dvec3 wi, wo;
+    from_half_diff(db.cell_center(db.grid_cell(row / 3)), &wi, &wo);
+    return std::max(wi.z, 1e-3);
+}
 
 ResidualModel residual_model(const BrdfDatabase& db, const std::vector<uint8_t>& use) {
     const int K = db.size();
@@ -390,8 +402,16 @@ bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
 }
 
 double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
-                      const std::vector<uint8_t>& use, bool weighted) {
+                      const std::vector<uint8_t>& use, bool weighted, FitSpace space) {
     const std::vector<int> cols = used_columns(db.size(), &use);
+    if (space == FitSpace::kLog) {
+        MatrixXd X = log_design(db, rows, cols);
+        for (Index j = 0; j < X.cols(); ++j)
+            if (X.col(j).norm() > 0.0) X.col(j) /= X.col(j).norm();
+        double lo, hi;
+        extreme_eigenvalues(X.transpose() * X, &lo, &hi);
+        return condition_of(lo, hi);
+    }
     std::vector<double> scale, w;
     if (weighted) w = row_weights(db, rows, use);
     const MatrixXd X = sample_matrix(db, rows, cols, &scale, weighted ? &w : nullptr);

@@ -116,10 +116,14 @@ bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
                      const std::vector<double>& values, const std::vector<uint8_t>& use,
                      const FitOptions& opt, CombinationFit* fit, std::string* err);
 
-// Condition number of the column-normalised X^T X of these rows (the plan's figure of merit);
-// with `weighted`, rows scaled by 1/sigma (the system fit_combination solves by default).
+// Condition number of the column-normalised X^T X of these rows (the plan's figure of merit):
+// in linear space with `weighted`, rows scaled by 1/sigma; in log space the log model's
+// design (log values and channel indicators, times cos theta_i): the system fit_combination solves.
 double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
-                      const std::vector<uint8_t>& use, bool weighted = true);
+                      const std::vector<uint8_t>& use, bool weighted = true, FitSpace space = FitSpace::kLinear);
+
+// The log model's weight of a database row: cos theta_i of its cell's bin centre (>= 1e-3).
+double log_row_weight(const BrdfDatabase& db, size_t row);
 
 // The fitted model over every row (3 per valid cell), in float; *negative counts values below
 // 0 (linear) or below the log model's floor (exp(s) < eps; both are returned as they are).
