@@ -24,11 +24,11 @@
 
 #include "bake/asset_file.h"
 #include "bake/bake.h"
-#include "bake/picture.h"
 #include "brdf/brdf.h"
 #include "spec/spec.h"
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "cli/picture_report.h"
 #include "database/database.h"
 #include "database/linear_model.h"
 #include "database/measure.h"
@@ -177,28 +177,13 @@ bool truth_figures(const BrdfDatabase& db, const Brdf& truth, const DatabaseReco
     std::vector<float> tv;
     if (!tabulate_rows(db, truth, &tv, err)) return false;
     std::unique_ptr<Brdf> rb = rows_brdf(db, r.values, "reconstruction", err);
-    std::vector<BakeView> views;
-    PictureComparison pc;
-    if (!rb || !picture_views(&views, err) || !compare_pictures(truth, *rb, views, 256, &pc, err)) return false;
-    const PictureFigures& d = pc.views.front();
-    std::fprintf(io.out, "picture    default scene %.1f dB (largest difference %.0f levels), mean Delta E %.2f; "
-                 "held out %.1f dB pooled, mean Delta E %.2f (exact renders, 256 x 256, against %s)\n",
-                 d.psnr, d.max_diff, d.delta_e, pc.held_out_psnr, pc.held_out_delta_e, truth.spec().c_str());
-    const PictureFigures* worst = &d;
-    for (const PictureFigures& f : pc.views)
-        if (f.psnr < worst->psnr) worst = &f;
-    std::fprintf(io.out, "           worst view %s: %.1f dB, largest difference %.0f levels\n", worst->view.c_str(),
-                 worst->psnr, worst->max_diff);
+    Json picture;
+    if (!rb || !report_picture(truth, *rb, io.out, &picture, err)) return false;
     const double e = relative_rms(r.values, tv);
     std::fprintf(io.out, "error      %.2f%% relative RMS against %s over the %zu grid cells above the horizon\n",
                  100 * e, truth.spec().c_str(), db.valid_cells());
-    Json views_json = Json::array();
-    for (const PictureFigures& f : pc.views)
-        views_json.push_back({{"view", f.view}, {"psnr_db", f.psnr}, {"max_diff_8bit", f.max_diff},
-                              {"share_over_16", f.share_over16}, {"mean_delta_e2000", f.delta_e}});
     (*report)["truth"] = truth.spec();
-    (*report)["picture"] = {{"size", 256}, {"held_out_psnr_db", pc.held_out_psnr},
-                            {"held_out_mean_delta_e2000", pc.held_out_delta_e}, {"views", views_json}};
+    (*report)["picture"] = picture;
     (*report)["relative_rms_vs_truth"] = e;
     return true;
 }

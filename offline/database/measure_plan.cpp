@@ -111,7 +111,7 @@ RowMat design_pool(const BrdfDatabase& db, const PlanOptions& o, const std::vect
 // of rows the gains are computed exactly for every candidate (V = P A^-1, one product each
 // with A^-1 and G); within the block, a short list of the best is updated exactly by
 // Sherman-Morrison as each row goes in (the forward pass of plan_greedy, another gain).
-void plan_prediction(const RowMat& pool, int N, std::vector<size_t>* sel) {
+void plan_prediction(const RowMat& pool, const std::vector<size_t>& cand, int N, std::vector<size_t>* sel) {
     const Index M = pool.rows(), K = pool.cols();
     const MatrixXd G = pool.transpose() * pool / double(M);
     const double delta = 1e-6 * std::max(G.trace() / double(K), 1e-300);
@@ -131,15 +131,27 @@ void plan_prediction(const RowMat& pool, int N, std::vector<size_t>* sel) {
             gain[size_t(i)] = g[size_t(i)] / (1.0 + lev[size_t(i)]);
             idx.push_back(size_t(i));
         }
-        const size_t ns = std::min<size_t>(kShort + size_t(B), idx.size());
-        std::partial_sort(idx.begin(), idx.begin() + Index(ns), idx.end(), [&](size_t a, size_t b) {
-            return gain[a] > gain[b] || (gain[a] == gain[b] && a < b);
-        });
-        idx.resize(ns);
+        // A short list per channel: the plan takes R, G and B in turn, as the paper's does (a
+        // channel left out would leave its offset unmeasured).
+        std::vector<size_t> shortlist;
+        for (size_t ch = 0; ch < 3; ++ch) {
+            std::vector<size_t> in;
+            for (size_t i : idx)
+                if (cand[i] % 3 == ch) in.push_back(i);
+            const size_t n = std::min<size_t>(kShort / 3 + size_t(B), in.size());
+            std::partial_sort(in.begin(), in.begin() + Index(n), in.end(), [&](size_t a, size_t b) {
+                return gain[a] > gain[b] || (gain[a] == gain[b] && a < b);
+            });
+            shortlist.insert(shortlist.end(), in.begin(), in.begin() + Index(n));
+        }
+        idx = shortlist;
+        const size_t ns = idx.size(), before = sel->size();
         for (int b = 0; b < B; ++b) {
+            const size_t want = sel->size() % 3;
             size_t best = ns;
             for (size_t s = 0; s < ns; ++s)
-                if (!chosen[idx[s]] && (best == ns || gain[idx[s]] > gain[idx[best]])) best = s;
+                if (!chosen[idx[s]] && cand[idx[s]] % 3 == want && (best == ns || gain[idx[s]] > gain[idx[best]])) best = s;
+            if (best == ns) break;  // this channel's short list is spent: the next block refills it
             const size_t i = idx[best];
             chosen[i] = 1;
             sel->push_back(i);
@@ -158,6 +170,7 @@ void plan_prediction(const RowMat& pool, int N, std::vector<size_t>* sel) {
                 gain[j] = g[j] / (1.0 + lev[j]);
             }
         }
+        if (sel->size() == before) return;  // no candidate of the channel left (N <= candidates: not reached)
     }
 }
 
@@ -180,7 +193,11 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
     const int K = int(pool.cols());
     if (o.objective == PlanObjective::kPrediction) {
         std::vector<size_t> sel;
-        plan_prediction(pool, N, &sel);
+        plan_prediction(pool, cand, N, &sel);
+        if (int(sel.size()) < N) {
+            if (err) *err = "plan: the pool ran out of candidates of one channel after " + std::to_string(sel.size()) + " samples";
+            return false;
+        }
         for (size_t i : sel) plan->rows.push_back(db.pool_row_index(cand[i]));
         return true;
     }
