@@ -420,42 +420,17 @@ double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
     return condition_of(lo, hi);
 }
 
-std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<double>& coeffs,
-                                      size_t* negative, int threads) {
+namespace {
+
+// sum_j c_j x_j over every row, x_j = P_j (linear) or log(P_j + eps) with the log model's
+// value (exp(sum + d_channel) - eps) taken (offsets given); counts the values below 0.
+template <bool kLog>
+std::vector<float> combine_rows(const BrdfDatabase& db, const std::vector<double>& coeffs, const double* offsets,
+                                size_t* negative, int threads) {
     const size_t R = db.rows();
     std::vector<int> nz;
     for (int j = 0; j < db.size() && j < int(coeffs.size()); ++j)
         if (coeffs[size_t(j)] != 0.0) nz.push_back(j);
-    std::vector<float> out(R, 0.0f);
-    constexpr size_t kChunk = 1 << 15;
-    const size_t chunks = (R + kChunk - 1) / kChunk;
-    std::vector<size_t> neg(chunks, 0);
-    parallel_for(chunks, threads, [&](size_t ch) {
-        const size_t r0 = ch * kChunk, r1 = std::min(R, r0 + kChunk);
-        std::vector<double> acc(r1 - r0, 0.0);
-        for (int j : nz) {
-            const float* col = db.column(j);
-            const double c = coeffs[size_t(j)];
-            for (size_t r = r0; r < r1; ++r) acc[r - r0] += c * col[r];
-        }
-        for (size_t r = r0; r < r1; ++r) {
-            out[r] = float(acc[r - r0]);
-            neg[ch] += acc[r - r0] < 0.0;
-        }
-    });
-    if (negative) {
-        *negative = 0;
-        for (size_t n : neg) *negative += n;
-    }
-    return out;
-}
-
-std::vector<float> fit_values(const BrdfDatabase& db, const CombinationFit& fit, size_t* negative, int threads) {
-    if (fit.space == FitSpace::kLinear) return combination_values(db, fit.coeffs, negative, threads);
-    const size_t R = db.rows();
-    std::vector<int> nz;
-    for (int j = 0; j < db.size() && j < int(fit.coeffs.size()); ++j)
-        if (fit.coeffs[size_t(j)] != 0.0) nz.push_back(j);
     std::vector<float> out(R, 0.0f);
     constexpr size_t kChunk = 1 << 14;
     const size_t chunks = (R + kChunk - 1) / kChunk;
@@ -465,11 +440,12 @@ std::vector<float> fit_values(const BrdfDatabase& db, const CombinationFit& fit,
         std::vector<double> acc(r1 - r0, 0.0);
         for (int j : nz) {
             const float* col = db.column(j);
-            const double c = fit.coeffs[size_t(j)];
-            for (size_t r = r0; r < r1; ++r) acc[r - r0] += c * std::log(double(col[r]) + kDatabaseLogEps);
+            const double c = coeffs[size_t(j)];
+            for (size_t r = r0; r < r1; ++r)
+                acc[r - r0] += c * (kLog ? std::log(double(col[r]) + kDatabaseLogEps) : double(col[r]));
         }
         for (size_t r = r0; r < r1; ++r) {
-            const double v = log_model_value(acc[r - r0] + fit.offsets[r % 3]);
+            const double v = kLog ? log_model_value(acc[r - r0] + offsets[r % 3]) : acc[r - r0];
             out[r] = float(v);
             neg[ch] += v < 0.0;
         }
@@ -479,6 +455,18 @@ std::vector<float> fit_values(const BrdfDatabase& db, const CombinationFit& fit,
         for (size_t n : neg) *negative += n;
     }
     return out;
+}
+
+}  // namespace
+
+std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<double>& coeffs,
+                                      size_t* negative, int threads) {
+    return combine_rows<false>(db, coeffs, nullptr, negative, threads);
+}
+
+std::vector<float> fit_values(const BrdfDatabase& db, const CombinationFit& fit, size_t* negative, int threads) {
+    if (fit.space == FitSpace::kLinear) return combination_values(db, fit.coeffs, negative, threads);
+    return combine_rows<true>(db, fit.coeffs, fit.offsets, negative, threads);
 }
 
 double combination_error_gram(const BrdfDatabase& db, const std::vector<double>& coeffs, int k) {

@@ -85,6 +85,16 @@ sepal::MeasurementPlan make_plan(const sepal::BrdfDatabase& db, sepal::PlanMetho
     return p;
 }
 
+// 3 materials on the MERL grid (~2 s to build once; cached in build/cache afterwards).
+std::unique_ptr<sepal::BrdfDatabase> merl_grid_db() {
+    sepal::DatabaseOptions o;
+    o.materials = {"gold-paint", "dark-red-paint", "white-fabric"};
+    std::string err;
+    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
+    REQUIRE_MESSAGE(bool(db), err);
+    return db;
+}
+
 // The paper's linear model (combination_error_gram measures its coefficients exactly).
 sepal::FitOptions linear_fit() {
     sepal::FitOptions fo;
@@ -384,12 +394,8 @@ TEST_CASE("measure: leave-one-out from planned samples beats random; 1% noise co
 }
 
 TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cpp") {
-    // 3 materials on the MERL grid (~2 s to build once; cached in build/cache afterwards).
-    sepal::DatabaseOptions o;
-    o.materials = {"gold-paint", "dark-red-paint", "white-fabric"};
+    auto db = merl_grid_db();
     std::string err;
-    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
-    REQUIRE_MESSAGE(bool(db), err);
     CHECK(db->valid_cells() == 1096216);
     std::vector<uint8_t> use;
     REQUIRE(sepal::exclude_mask(*db, {"gold-paint"}, &use, &err));
@@ -460,11 +466,8 @@ TEST_CASE("measure: the log model recovers a recoloured database material, the l
 }
 
 TEST_CASE("measure: a reconstruction renders as its rows say (rows_brdf)") {
-    sepal::DatabaseOptions o;
-    o.materials = {"gold-paint", "dark-red-paint", "white-fabric"};
+    auto db = merl_grid_db();
     std::string err;
-    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
-    REQUIRE_MESSAGE(bool(db), err);
     const std::vector<float> col(db->column(1), db->column(1) + db->rows());
     auto f = sepal::rows_brdf(*db, col, "dark-red-paint (table)", &err);
     REQUIRE_MESSAGE(bool(f), err);
