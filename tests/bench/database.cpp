@@ -19,11 +19,12 @@
 //  4. Materials outside the database (Cornell measurements, analytic models): error of the
 //     reconstruction from 800 planned samples and the oracle (best full-grid fit).
 //  5. Plan + reconstruct of one material end to end (plan, simulate, fit, the full table,
-//     MERL bytes): median of 3 runs.
-//  6. Renders (exact renderer, 256 x 256): original, reconstruction, difference, PSNR.
-//  7. Leave-one-out by the picture (the headline): every material's reconstruction from
-//     section 2's plans, in log space (the default) from the planned and the random plan and
-//     in linear space from the planned one, rendered by the exact renderer beside the material
+//     MERL bytes; the paper's plan, the default fit): median of 3 runs.
+//  6. Renders (exact renderer, 256 x 256): original, the default (log) fit from the paper's
+//     plan, difference, PSNR.
+//  7. Leave-one-out by the picture (the headline): every material's reconstruction in log
+//     space (the default) from its default plan (the log model's prediction planner) and from
+//     section 2's random plan, and in linear space from section 2's (the paper's) plan, rendered by the exact renderer beside the material
 //     itself (both through the same MERL lookup) in the default scene at 256 x 256; the planned
 //     log fit also in the held-out conditions (bake/picture.h). PSNR, largest difference, mean
 //     CIEDE2000 over lit pixels; the 10 worst; gold-paint's sheet.
