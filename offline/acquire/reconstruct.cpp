@@ -208,6 +208,7 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
             fo.sigma = 1.0;  // weights are 1 / std (capture.h)
             if (warm) fo.start = &kept_fits[k].model;
             ok[k] = fit_lafortune(s, fo, &next[k], &errors[k]);
+            if (ok[k] && o.tint_lobes) tint_lafortune_lobes(s, &next[k].model);
         });
         bool redo = false;
         for (int k = 0; k < kept && !redo; ++k)

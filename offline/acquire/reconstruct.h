@@ -11,7 +11,8 @@
 // Steps: (1) per texel, the median of its measured values times pi (a diffuse colour that
 // highlights hardly move) and k-means on it (farthest-point start: deterministic); (2) a
 // Lafortune fit per cluster on its pooled samples (fit/lafortune_fit.h, RGB diffuse, white
-// lobes; at most max_cluster_samples per cluster, taken at an even stride), then every texel
+// lobes then coloured by tint_lafortune_lobes; at most max_cluster_samples per cluster, taken
+// at an even stride), then every texel
 // moves to the cluster whose fit explains its own samples best (weighted residual), and
 // again, `iterations` times: the paper's cluster refinement by BRDF distance; (3) per texel,
 // non-negative weights over the basis by least squares on its samples with a weak pull
@@ -40,6 +41,10 @@ struct ReconstructOptions {
     int lobes = 1;
     int iterations = 2;
     int max_cluster_samples = 20000;
+    // Colour each cluster's lobe after its fit (fit/lafortune_fit.h tint_lafortune_lobes): a
+    // metallic paint's highlight takes its colour instead of white. basis[k].params and .cov
+    // stay those of the white fit.
+    bool tint_lobes = true;
     double ridge_share = 1e-3;
     bool project = true;  // false: skip step (3), svbrdf.maps.w left empty (planning estimates)
     int threads = 0;

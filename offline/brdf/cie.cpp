@@ -1,5 +1,6 @@
 #include "brdf/cie.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace sepal {
@@ -83,6 +84,72 @@ glm::dvec3 xyz_to_linear_srgb(const glm::dvec3& c) {
     return glm::dvec3(3.2406 * c.x - 1.5372 * c.y - 0.4986 * c.z,
                       -0.9689 * c.x + 1.8758 * c.y + 0.0415 * c.z,
                       0.0557 * c.x - 0.2040 * c.y + 1.0570 * c.z);
+}
+
+glm::dvec3 linear_srgb_to_xyz(const glm::dvec3& c) {
+    // IEC 61966-2-1:1999's primaries matrix (the forward of the one above).
+    return glm::dvec3(0.4124 * c.x + 0.3576 * c.y + 0.1805 * c.z,
+                      0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z,
+                      0.0193 * c.x + 0.1192 * c.y + 0.9505 * c.z);
+}
+
+glm::dvec3 srgb_display_to_lab(const glm::dvec3& srgb) {
+    glm::dvec3 lin;
+    for (int c = 0; c < 3; ++c) {
+        const double v = std::min(1.0, std::max(0.0, srgb[c]));
+        lin[c] = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    }
+    const glm::dvec3 xyz = linear_srgb_to_xyz(lin);
+    // CIE 15: the cube root above (6/29)^3, its tangent line below.
+    auto f = [](double t) {
+        constexpr double d = 6.0 / 29.0;
+        return t > d * d * d ? std::cbrt(t) : t / (3.0 * d * d) + 4.0 / 29.0;
+    };
+    const double fx = f(xyz.x / 0.95047), fy = f(xyz.y), fz = f(xyz.z / 1.08883);
+    return glm::dvec3(116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz));
+}
+
+double ciede2000(const glm::dvec3& l1, const glm::dvec3& l2) {
+    constexpr double kDeg = 3.14159265358979323846 / 180.0;
+    const double pow25_7 = 6103515625.0;  // 25^7
+    const double c1 = std::hypot(l1.y, l1.z), c2 = std::hypot(l2.y, l2.z);
+    const double cbar7 = std::pow(0.5 * (c1 + c2), 7.0);
+    const double g = 0.5 * (1.0 - std::sqrt(cbar7 / (cbar7 + pow25_7)));
+    const double a1 = (1.0 + g) * l1.y, a2 = (1.0 + g) * l2.y;
+    const double c1p = std::hypot(a1, l1.z), c2p = std::hypot(a2, l2.z);
+    auto hue = [&](double b, double a) {
+        if (a == 0.0 && b == 0.0) return 0.0;
+        const double h = std::atan2(b, a) / kDeg;
+        return h < 0.0 ? h + 360.0 : h;
+    };
+    const double h1 = hue(l1.z, a1), h2 = hue(l2.z, a2);
+    const bool achromatic = c1p * c2p == 0.0;
+    double dh = 0.0;
+    if (!achromatic) {
+        dh = h2 - h1;
+        if (dh > 180.0) dh -= 360.0;
+        else if (dh < -180.0) dh += 360.0;
+    }
+    const double dL = l2.x - l1.x, dC = c2p - c1p;
+    const double dH = 2.0 * std::sqrt(c1p * c2p) * std::sin(0.5 * dh * kDeg);
+    const double lbar = 0.5 * (l1.x + l2.x), cbarp = 0.5 * (c1p + c2p);
+    double hbar = h1 + h2;
+    if (!achromatic) {
+        if (std::fabs(h1 - h2) <= 180.0) hbar = 0.5 * (h1 + h2);
+        else if (h1 + h2 < 360.0) hbar = 0.5 * (h1 + h2 + 360.0);
+        else hbar = 0.5 * (h1 + h2 - 360.0);
+    }
+    const double t = 1.0 - 0.17 * std::cos((hbar - 30.0) * kDeg) + 0.24 * std::cos(2.0 * hbar * kDeg) +
+                     0.32 * std::cos((3.0 * hbar + 6.0) * kDeg) - 0.20 * std::cos((4.0 * hbar - 63.0) * kDeg);
+    const double dtheta = 30.0 * std::exp(-((hbar - 275.0) / 25.0) * ((hbar - 275.0) / 25.0));
+    const double cbarp7 = std::pow(cbarp, 7.0);
+    const double rc = 2.0 * std::sqrt(cbarp7 / (cbarp7 + pow25_7));
+    const double l50 = (lbar - 50.0) * (lbar - 50.0);
+    const double sl = 1.0 + 0.015 * l50 / std::sqrt(20.0 + l50);
+    const double sc = 1.0 + 0.045 * cbarp, sh = 1.0 + 0.015 * cbarp * t;
+    const double rt = -std::sin(2.0 * dtheta * kDeg) * rc;
+    const double x = dL / sl, y = dC / sc, z = dH / sh;
+    return std::sqrt(std::max(0.0, x * x + y * y + z * z + rt * y * z));
 }
 
 bool SpectrumToRgb::init(const std::vector<double>& nm, std::string* err) {

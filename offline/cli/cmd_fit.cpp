@@ -1,4 +1,5 @@
 // sepal fit lafortune SAMPLES -o fit.json [--lobes N] [--anisotropic] [--grey] [--sigma S]
+//                      [--truth SPEC]
 //
 // A Lafortune model fitted to scattered samples (Lensch et al. 2003, section 4; the library
 // is offline/fit/): SAMPLES is a samples.csv (what `sepal measure capture` writes; format in
@@ -7,7 +8,9 @@
 // rank, the residual and the model as a spec that `sepal bake` and `sepal render` take; a
 // warning when weighted samples' residual is over twice their stated noise (the model does
 // not fit them, and the intervals would be too narrow).
-// fit.json holds the same with the full covariance matrix (null where unmeasured).
+// fit.json holds the same with the full covariance matrix (null where unmeasured). --truth SPEC
+// (the BRDF the samples came from, when it is known) judges the fit by its picture
+// (cli/picture_report.h: exact renders in the default scene and the held-out conditions).
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,6 +18,8 @@
 
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "cli/picture_report.h"
+#include "spec/spec.h"
 #include "fit/lafortune_fit.h"
 #include "fit/samples.h"
 #include "util/json.h"
@@ -23,7 +28,7 @@ namespace sepal {
 namespace {
 
 struct FitArgs {
-    std::string samples, out;
+    std::string samples, out, truth;
     LafortuneFitOptions o;
     bool anisotropic = false, grey = false;
 };
@@ -64,6 +69,14 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
     std::fprintf(io.out, "residual   rms %.6g /sr, noise scale %.6g (%s), %d evaluations\n", r.rms, r.sigma,
                  a.o.sigma > 0 ? "given" : "estimated", r.evaluations);
     std::fprintf(io.out, "spec       %s%s\n", spec.c_str(), clamped ? "  (clamped into the spec's ranges)" : "");
+    Json picture;
+    if (!a.truth.empty()) {
+        std::unique_ptr<Brdf> truth = make_brdf(a.truth, &err), fitted = make_brdf(spec, &err);
+        if (!truth || !fitted || !report_picture(*truth, *fitted, io.out, &picture, &err)) {
+            std::fprintf(io.err, "%s: --truth: %s\n", who, err.c_str());
+            return kExitBadInput;
+        }
+    }
     // Samples that carry weights (`measure capture` writes 1/std) say how large their noise
     // is: an estimated noise scale well above 1 means the residual is not noise but a model
     // that does not describe the samples, and intervals computed as if it did are too narrow.
@@ -100,6 +113,7 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
                   {"evaluations", r.evaluations},
                   {"parameters", std::move(params)},
                   {"covariance", std::move(cov)}};
+        if (!picture.is_null()) j["picture"] = picture;
         if (!write_json_file(a.out, j, &err)) {
             std::fprintf(io.err, "%s: %s\n", who, err.c_str());
             return kExitBadInput;
@@ -113,6 +127,7 @@ CommandRun setup_fit_lafortune(CLI::App& c) {
     auto a = std::make_shared<FitArgs>();
     c.add_option("SAMPLES", a->samples, "samples.csv (sepal measure capture) or a Cornell .brdf file")->required();
     c.add_option("-o,--output", a->out, "write the fit, its intervals and covariance as JSON");
+    c.add_option("--truth", a->truth, "the BRDF the samples came from: the fit's picture against it");
     c.add_option("--lobes", a->o.lobes, "specular lobes")->check(CLI::Range(1, 4))->capture_default_str();
     c.add_flag("--anisotropic", a->anisotropic, "fit Cx and Cy apart (default: Cx = Cy)");
     c.add_flag("--grey", a->grey, "one grey diffuse value from the samples' luminance (default: RGB)");

@@ -1,10 +1,12 @@
 // sepal measure: measuring a material with a few hundred samples instead of 1.5 million
 // (Matusik et al. 2003, section 7; offline/database/). Subcommands:
 //   sepal measure plan --samples N -o plan.json [--method greedy|random|uniform] [--seed S]
+//                      [--space log|linear] [--objective prediction|condition]
 //                      [--exclude NAME,..] [--swaps N] [--materials NAME,..]
 //   sepal measure simulate SPEC plan.json -o samples.csv [--noise 0.01] [--seed S] [--materials ..]
 //   sepal measure reconstruct plan.json samples.csv -o new.binary [--exclude NAME,..]
-//                      [--solver ls|nnls] [--max-condition K] [--truth SPEC] [--report r.json]
+//                      [--space log|linear] [--solver ls|nnls] [--max-condition K] [--truth SPEC]
+//                      [--report r.json]
 //                      [--bake out.sepal] [--materials ..]
 // The database (the 100 merl-nbrdf materials on the MERL grid) is built on first use into the
 // cache (database.h: about a minute, 1.4 GB) and memory-mapped afterwards. --materials limits
@@ -26,6 +28,7 @@
 #include "spec/spec.h"
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "cli/picture_report.h"
 #include "database/database.h"
 #include "database/linear_model.h"
 #include "database/measure.h"
@@ -67,7 +70,7 @@ std::unique_ptr<BrdfDatabase> open_database(const std::string& who, const std::v
 
 struct PlanArgs {
     int samples = 800;
-    std::string out, method = "greedy";
+    std::string out, method = "greedy", space = "log", objective = "prediction";
     uint64_t seed = 1;
     int swaps = 400;
     std::vector<std::string> exclude, materials;
@@ -90,6 +93,8 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     o.samples = a.samples;
     o.seed = a.seed;
     o.max_swaps = a.swaps;
+    o.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
+    o.objective = a.objective == "condition" ? PlanObjective::kCondition : PlanObjective::kPrediction;
     const auto t0 = Clock::now();
     MeasurementPlan plan;
     if (!plan_measurement(*db, o, &plan, &err) || !write_plan_json(a.out, *db, plan, &err)) {
@@ -100,7 +105,8 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     std::fprintf(io.out, "plan       %s, %zu samples (direction pair + channel), %d database materials%s\n",
                  plan_method_name(plan.method), plan.rows.size(), db->size() - int(plan.excluded.size()),
                  plan.excluded.empty() ? "" : " (some excluded)");
-    std::fprintf(io.out, "condition  %.4g (of the 1/sigma-weighted, column-normalised X^T X)", plan.condition);
+    std::fprintf(io.out, "condition  %.4g (of the %s model's column-normalised X^T X)", plan.condition,
+                 fit_space_name(o.space));
     if (plan.method != PlanMethod::kRandom) {
         PlanOptions r = o;
         r.method = PlanMethod::kRandom;
@@ -110,9 +116,11 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
                          rp.condition / plan.condition);
     }
     std::fprintf(io.out, "\n");
-    if (plan.method == PlanMethod::kGreedy)
+    if (plan.method == PlanMethod::kGreedy && o.objective == PlanObjective::kCondition)
         std::fprintf(io.out, "greedy     forward pass %.4g, %d condition-number swaps, %.1f s\n",
                      plan.condition_forward, plan.swaps, t);
+    else if (plan.method == PlanMethod::kGreedy)
+        std::fprintf(io.out, "greedy     mean prediction variance over the pool, %.1f s\n", t);
     std::fprintf(io.out, "wrote      %s\n", a.out.c_str());
     return kExitOk;
 }
@@ -157,10 +165,28 @@ int run_simulate(const SimulateArgs& a, const CommandIO& io) {
 }
 
 struct ReconstructArgs {
-    std::string plan, samples, out, solver = "nnls", truth, report, bake;
+    std::string plan, samples, out, space = "log", solver = "nnls", truth, report, bake;
     double max_condition = FitOptions{}.max_condition;
     std::vector<std::string> exclude, materials;
 };
+
+// --truth: the reconstruction against the true BRDF, by its picture first (bake/picture.h: the
+// default scene and the held-out conditions, exact renders), then over the grid's cells.
+bool truth_figures(const BrdfDatabase& db, const Brdf& truth, const DatabaseReconstruction& r, Json* report,
+                   const CommandIO& io, std::string* err) {
+    std::vector<float> tv;
+    if (!tabulate_rows(db, truth, &tv, err)) return false;
+    std::unique_ptr<Brdf> rb = rows_brdf(db, r.values, "reconstruction", err);
+    Json picture;
+    if (!rb || !report_picture(truth, *rb, io.out, &picture, err)) return false;
+    const double e = relative_rms(r.values, tv);
+    std::fprintf(io.out, "error      %.2f%% relative RMS against %s over the %zu grid cells above the horizon\n",
+                 100 * e, truth.spec().c_str(), db.valid_cells());
+    (*report)["truth"] = truth.spec();
+    (*report)["picture"] = picture;
+    (*report)["relative_rms_vs_truth"] = e;
+    return true;
+}
 
 int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     const std::string who = "sepal measure reconstruct";
@@ -178,6 +204,7 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
         return kExitBadInput;
     }
     fo.max_condition = a.max_condition;
+    fo.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
     std::string err;
     if (!check_output("-o", a.out, &err) || !check_output("--report", a.report, &err) ||
         !check_output("--bake", a.bake, &err)) {
@@ -214,8 +241,12 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     const double t = seconds_since(t0);
     int used = 0;
     for (uint8_t u : use) used += u;
-    std::fprintf(io.out, "model      linear combination of %d database materials (%s, max condition %.3g)\n",
-                 used, a.solver == "ls" ? "least squares" : "non-negative least squares", fo.max_condition);
+    if (fo.space == FitSpace::kLog)
+        std::fprintf(io.out, "model      log-space combination of %d database materials and a colour scale "
+                     "(cosine-weighted least squares, max condition %.3g)\n", used, fo.max_condition);
+    else
+        std::fprintf(io.out, "model      linear combination of %d database materials (%s, max condition %.3g)\n",
+                     used, a.solver == "ls" ? "least squares" : "non-negative least squares", fo.max_condition);
     std::fprintf(io.out, "fit        %zu samples, condition %.4g, lambda %.3g, residual on the samples %.2f%%, "
                  "%d nonzero coefficients\n",
                  v.size(), r.fit.condition, r.fit.lambda, 100 * r.fit.sample_rms, r.fit.nonzero);
@@ -225,7 +256,8 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     report["plan"] = a.plan;
     report["samples"] = a.samples;
     report["excluded"] = excluded;
-    report["solver"] = a.solver;
+    report["space"] = fit_space_name(fo.space);
+    if (fo.space == FitSpace::kLinear) report["solver"] = a.solver;
     report["max_condition"] = fo.max_condition;
     report["condition_number"] = r.fit.condition;
     report["lambda"] = r.fit.lambda;
@@ -235,17 +267,11 @@ int run_reconstruct(const ReconstructArgs& a, const CommandIO& io) {
     for (int k = 0; k < db->size(); ++k)
         if (r.fit.coeffs[size_t(k)] != 0.0) coeffs[db->name(k)] = r.fit.coeffs[size_t(k)];
     report["coefficients"] = coeffs;
-    if (truth) {
-        std::vector<float> tv;
-        if (!tabulate_rows(*db, *truth, &tv, &err)) {
-            std::fprintf(io.err, "%s: --truth: %s\n", who.c_str(), err.c_str());
-            return kExitBadInput;
-        }
-        const double e = relative_rms(r.values, tv);
-        report["truth"] = truth->spec();
-        report["relative_rms_vs_truth"] = e;
-        std::fprintf(io.out, "error      %.2f%% relative RMS against %s over the %zu grid cells above the horizon\n",
-                     100 * e, truth->spec().c_str(), db->valid_cells());
+    if (fo.space == FitSpace::kLog)
+        report["channel_offsets"] = {r.fit.offsets[0], r.fit.offsets[1], r.fit.offsets[2]};
+    if (truth && !truth_figures(*db, *truth, r, &report, io, &err)) {
+        std::fprintf(io.err, "%s: --truth: %s\n", who.c_str(), err.c_str());
+        return kExitBadInput;
     }
     report["seconds"] = t;
     std::fprintf(io.out, "wrote      %s (MERL .binary, %.1f s)\n", a.out.c_str(), t);
@@ -346,8 +372,13 @@ CommandRun setup_plan(CLI::App& c) {
     c.add_option("--samples", a->samples, "direction pairs to measure")
         ->check(CLI::Range(1, 100000))->capture_default_str();
     c.add_option("-o,--output", a->out, "the plan to write (.json)")->required();
-    c.add_option("--method", a->method, "greedy (conditioning), random or uniform")
+    c.add_option("--method", a->method, "greedy (see --objective), random or uniform")
         ->check(CLI::IsMember({"greedy", "random", "uniform"}))->capture_default_str();
+    c.add_option("--space", a->space, "the model the plan is for: log (reconstruct's default) or linear (the paper's)")
+        ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
+    c.add_option("--objective", a->objective,
+                 "greedy: prediction (mean prediction variance) or condition (the paper's condition number)")
+        ->check(CLI::IsMember({"prediction", "condition"}))->capture_default_str();
     c.add_option("--seed", a->seed, "random seed (random plans, greedy's tie breaks)")->capture_default_str();
     c.add_option("--swaps", a->swaps, "greedy's improving swaps after the first pass")
         ->check(CLI::Range(0, 1 << 20))->capture_default_str();
@@ -374,11 +405,13 @@ CommandRun setup_reconstruct(CLI::App& c) {
     c.add_option("PLAN", a->plan, "the plan the samples follow")->required();
     c.add_option("SAMPLES", a->samples, "measured samples (.csv)")->required();
     c.add_option("-o,--output", a->out, "the reconstruction to write (MERL .binary)")->required();
-    c.add_option("--solver", a->solver, "ls (least squares) or nnls (non-negative weights)")
+    c.add_option("--space", a->space, "log (relative, cosine-weighted residuals: renders right) or linear (the paper's)")
+        ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
+    c.add_option("--solver", a->solver, "linear space: ls (least squares) or nnls (non-negative weights)")
         ->check(CLI::IsMember({"ls", "nnls"}))->capture_default_str();
-    c.add_option("--max-condition", a->max_condition, "refuse fits worse conditioned than this")
+    c.add_option("--max-condition", a->max_condition, "regularise fits worse conditioned than this down to it")
         ->check(positive())->capture_default_str();
-    c.add_option("--truth", a->truth, "the true BRDF, to report the reconstruction's error");
+    c.add_option("--truth", a->truth, "the true BRDF: the reconstruction's picture and grid errors against it");
     c.add_option("--report", a->report, "write the fit and its errors as JSON");
     c.add_option("--bake", a->bake, "also bake the reconstruction with the default search");
     c.add_option("--exclude", a->exclude, "materials left out of the database")->delimiter(',');
@@ -412,9 +445,9 @@ CommandRun setup_measure(CLI::App& app) {
         "installed sepal $XDG_CACHE_HOME/sepal/database (default ~/.cache/sepal/database); in a build\n"
         "tree build/cache/database.");
     return setup_subcommands(app, {
-        {"plan", "choose the sample directions that condition the database best", setup_plan},
+        {"plan", "choose the sample directions that pin the database model down", setup_plan},
         {"simulate", "measure a known BRDF at a plan's directions (virtual gonioreflectometer)", setup_simulate},
-        {"reconstruct", "fit the database's linear model to measured samples", setup_reconstruct},
+        {"reconstruct", "fit the database model (log space by default) to measured samples", setup_reconstruct},
         {"capture", "photograph the virtual acquisition setup (known object and SVBRDF)", setup_capture},
     });
 }

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
+#include "measured/tabulated.h"
 #include "util/parallel.h"
 
 namespace sepal {
@@ -65,7 +66,81 @@ std::vector<double> row_weights(const BrdfDatabase& db, const std::vector<size_t
     return w;
 }
 
+// Tikhonov lambda that brings the condition number of A down to max_condition (0 when it is
+// already there); sets fit->condition.
+double ridge_lambda(const MatrixXd& A, double max_condition, CombinationFit* fit) {
+    double lo, hi;
+    extreme_eigenvalues(A, &lo, &hi);
+    fit->condition = condition_of(lo, hi);
+    const double kappa = std::max(max_condition, 2.0);
+    return fit->condition > kappa ? std::max(0.0, (hi - kappa * lo) / (kappa - 1.0)) : 0.0;
+}
+
+// The log-space model's value from its exponent sum s (before the channel offset's exp).
+inline double log_model_value(double s) { return std::exp(std::min(s, 700.0)) - kDatabaseLogEps; }
+
+// The log model's design (FitSpace::kLog): log(P_j + eps) cos theta_i for the materials in cols,
+// then one indicator per channel times cos theta_i.
+MatrixXd log_design(const BrdfDatabase& db, const std::vector<size_t>& rows, const std::vector<int>& cols) {
+    const size_t N = rows.size();
+    const int Mdb = int(cols.size());
+    std::vector<double> w(N);
+    for (size_t i = 0; i < N; ++i) w[i] = log_row_weight(db, rows[i]);
+    MatrixXd X = MatrixXd::Zero(Index(N), Mdb + 3);
+    for (int j = 0; j < Mdb; ++j) {
+        const float* col = db.column(cols[size_t(j)]);
+        for (size_t i = 0; i < N; ++i)
+            X(Index(i), j) = std::log(double(col[rows[i]]) + kDatabaseLogEps) * w[i];
+    }
+    for (size_t i = 0; i < N; ++i) X(Index(i), Mdb + int(rows[i] % 3)) = w[i];
+    return X;
+}
+
+// FitSpace::kLog (linear_model.h): the design above, each column normalised over the samples,
+// then ridge least squares.
+void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows,
+                         const std::vector<double>& values, const std::vector<int>& cols,
+                         const FitOptions& opt, CombinationFit* fit) {
+    const size_t N = rows.size();
+    const int Mdb = int(cols.size()), M = Mdb + 3;
+    MatrixXd X = log_design(db, rows, cols);
+    VectorXd b(static_cast<Index>(N));
+    for (size_t i = 0; i < N; ++i)
+        b(Index(i)) = std::log(std::max(values[i], 0.0) + kDatabaseLogEps) * log_row_weight(db, rows[i]);
+    const VectorXd norm = X.colwise().norm().transpose();
+    for (int j = 0; j < M; ++j)
+        if (norm(j) > 0.0) X.col(j) /= norm(j);
+    MatrixXd A = X.transpose() * X;
+    fit->lambda = ridge_lambda(A, opt.max_condition, fit);
+    A.diagonal().array() += fit->lambda;
+    VectorXd c = A.ldlt().solve(X.transpose() * b);
+    for (int j = 0; j < M; ++j) c(j) = norm(j) > 0.0 ? c(j) / norm(j) : 0.0;
+    fit->coeffs.assign(size_t(db.size()), 0.0);
+    for (int j = 0; j < Mdb; ++j) {
+        fit->coeffs[size_t(cols[size_t(j)])] = c(j);
+        fit->nonzero += c(j) != 0.0;
+    }
+    for (int ch = 0; ch < 3; ++ch) fit->offsets[ch] = c(Mdb + ch);
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < N; ++i) {
+        double s = fit->offsets[rows[i] % 3];
+        for (int j = 0; j < Mdb; ++j) s += c(j) * std::log(double(db.value(cols[size_t(j)], rows[i])) + kDatabaseLogEps);
+        const double d = log_model_value(s) - values[i];
+        num += d * d;
+        den += values[i] * values[i];
+    }
+    fit->sample_rms = den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
+}
+
 }  // namespace
+
+const char* fit_space_name(FitSpace s) { return s == FitSpace::kLog ? "log" : "linear"; }
+
+double log_row_weight(const BrdfDatabase& db, size_t row) {
+    glm::dvec3 wi, wo;
+    from_half_diff(db.cell_center(db.grid_cell(row / 3)), &wi, &wo);
+    return std::max(wi.z, 1e-3);
+}
 
 ResidualModel residual_model(const BrdfDatabase& db, const std::vector<uint8_t>& use) {
     const int K = db.size();
@@ -290,6 +365,12 @@ bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
         if (err) *err = "fit: no database material left to combine";
         return false;
     }
+    *fit = CombinationFit();
+    fit->space = opt.space;
+    if (opt.space == FitSpace::kLog) {
+        fit_combination_log(db, rows, values, cols, opt, fit);
+        return true;
+    }
     std::vector<double> scale, w;
     if (opt.weighted) w = row_weights(db, rows, use);
     const MatrixXd X = sample_matrix(db, rows, cols, &scale, opt.weighted ? &w : nullptr);
@@ -299,12 +380,7 @@ bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
     const int M = int(cols.size());
     MatrixXd A = X.transpose() * X;
     const VectorXd g = X.transpose() * b;
-    double lo, hi;
-    extreme_eigenvalues(A, &lo, &hi);
-    *fit = CombinationFit();
-    fit->condition = condition_of(lo, hi);
-    const double kappa = std::max(opt.max_condition, 2.0);
-    if (fit->condition > kappa) fit->lambda = std::max(0.0, (hi - kappa * lo) / (kappa - 1.0));
+    fit->lambda = ridge_lambda(A, opt.max_condition, fit);
     A.diagonal().array() += fit->lambda;
     VectorXd cn(M);
     if (opt.solver == Solver::kNonNegative) {
@@ -326,8 +402,16 @@ bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
 }
 
 double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
-                      const std::vector<uint8_t>& use, bool weighted) {
+                      const std::vector<uint8_t>& use, bool weighted, FitSpace space) {
     const std::vector<int> cols = used_columns(db.size(), &use);
+    if (space == FitSpace::kLog) {
+        MatrixXd X = log_design(db, rows, cols);
+        for (Index j = 0; j < X.cols(); ++j)
+            if (X.col(j).norm() > 0.0) X.col(j) /= X.col(j).norm();
+        double lo, hi;
+        extreme_eigenvalues(X.transpose() * X, &lo, &hi);
+        return condition_of(lo, hi);
+    }
     std::vector<double> scale, w;
     if (weighted) w = row_weights(db, rows, use);
     const MatrixXd X = sample_matrix(db, rows, cols, &scale, weighted ? &w : nullptr);
@@ -336,14 +420,19 @@ double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
     return condition_of(lo, hi);
 }
 
-std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<double>& coeffs,
-                                      size_t* negative, int threads) {
+namespace {
+
+// sum_j c_j x_j over every row, x_j = P_j (linear) or log(P_j + eps) with the log model's
+// value (exp(sum + d_channel) - eps) taken (offsets given); counts the values below 0.
+template <bool kLog>
+std::vector<float> combine_rows(const BrdfDatabase& db, const std::vector<double>& coeffs, const double* offsets,
+                                size_t* negative, int threads) {
     const size_t R = db.rows();
     std::vector<int> nz;
     for (int j = 0; j < db.size() && j < int(coeffs.size()); ++j)
         if (coeffs[size_t(j)] != 0.0) nz.push_back(j);
     std::vector<float> out(R, 0.0f);
-    constexpr size_t kChunk = 1 << 15;
+    constexpr size_t kChunk = 1 << 14;
     const size_t chunks = (R + kChunk - 1) / kChunk;
     std::vector<size_t> neg(chunks, 0);
     parallel_for(chunks, threads, [&](size_t ch) {
@@ -352,11 +441,13 @@ std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<
         for (int j : nz) {
             const float* col = db.column(j);
             const double c = coeffs[size_t(j)];
-            for (size_t r = r0; r < r1; ++r) acc[r - r0] += c * col[r];
+            for (size_t r = r0; r < r1; ++r)
+                acc[r - r0] += c * (kLog ? std::log(double(col[r]) + kDatabaseLogEps) : double(col[r]));
         }
         for (size_t r = r0; r < r1; ++r) {
-            out[r] = float(acc[r - r0]);
-            neg[ch] += acc[r - r0] < 0.0;
+            const double v = kLog ? log_model_value(acc[r - r0] + offsets[r % 3]) : acc[r - r0];
+            out[r] = float(v);
+            neg[ch] += v < 0.0;
         }
     });
     if (negative) {
@@ -364,6 +455,18 @@ std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<
         for (size_t n : neg) *negative += n;
     }
     return out;
+}
+
+}  // namespace
+
+std::vector<float> combination_values(const BrdfDatabase& db, const std::vector<double>& coeffs,
+                                      size_t* negative, int threads) {
+    return combine_rows<false>(db, coeffs, nullptr, negative, threads);
+}
+
+std::vector<float> fit_values(const BrdfDatabase& db, const CombinationFit& fit, size_t* negative, int threads) {
+    if (fit.space == FitSpace::kLinear) return combination_values(db, fit.coeffs, negative, threads);
+    return combine_rows<true>(db, fit.coeffs, fit.offsets, negative, threads);
 }
 
 double combination_error_gram(const BrdfDatabase& db, const std::vector<double>& coeffs, int k) {

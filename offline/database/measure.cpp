@@ -148,7 +148,7 @@ bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
                  const FitOptions& opt, DatabaseReconstruction* r, std::string* err) {
     *r = DatabaseReconstruction();
     if (!fit_combination(db, plan.rows, values, use, opt, &r->fit, err)) return false;
-    r->values = combination_values(db, r->fit.coeffs, &r->clamped);
+    r->values = fit_values(db, r->fit, &r->clamped);
     for (float& v : r->values) {
         if (!std::isfinite(v)) {
             if (err) *err = "reconstruct: the fitted combination is not finite (samples beyond the database's range)";
@@ -159,16 +159,35 @@ bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
     return true;
 }
 
+namespace {
+
+Tabulated rows_table(const BrdfDatabase& db, const std::vector<float>& values) {
+    Tabulated t = Tabulated::merl();
+    for (size_t v = 0; v < db.valid_cells(); ++v)
+        t.set(db.grid_cell(v), glm::dvec3(values[3 * v], values[3 * v + 1], values[3 * v + 2]));
+    return t;
+}
+
+}  // namespace
+
 bool write_reconstruction_merl(const std::string& path, const BrdfDatabase& db,
                                const DatabaseReconstruction& r, std::string* err) {
     if (!db.grid().is_merl()) {
         if (err) *err = path + ": a MERL file needs the database on MERL's 90 x 90 x 180 grid";
         return false;
     }
-    Tabulated t = Tabulated::merl();
-    for (size_t v = 0; v < db.valid_cells(); ++v)
-        t.set(db.grid_cell(v), glm::dvec3(r.values[3 * v], r.values[3 * v + 1], r.values[3 * v + 2]));
-    return write_merl_table(path, t, err);
+    return write_merl_table(path, rows_table(db, r.values), err);
+}
+
+std::unique_ptr<Brdf> rows_brdf(const BrdfDatabase& db, const std::vector<float>& values,
+                                const std::string& name, std::string* err) {
+    if (!db.grid().is_merl() || values.size() != db.rows()) {
+        if (err) *err = name + ": a table needs the database on MERL's grid and 3 values per valid cell";
+        return nullptr;
+    }
+    std::vector<uint8_t> bytes;
+    if (!encode_merl_table(rows_table(db, values), &bytes, err)) return nullptr;
+    return make_merl_brdf(bytes, name, err);
 }
 
 bool tabulate_rows(const BrdfDatabase& db, const Brdf& f, std::vector<float>* values,

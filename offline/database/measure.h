@@ -20,10 +20,12 @@
 // 9 significant digits). The reader checks that the lines match the plan (count, cell and
 // channel of each), that every value is a finite number within +-kMaxSampleValue (1/sr),
 // and that the file is under 64 MiB.
-// The reconstruction: fit_combination's coefficients, P c over every valid cell; values below
-// 0 (least squares can produce them) are set to 0 and counted: the BRDF is never negative, and
-// the clamp only moves a value towards any non-negative truth.
+// The reconstruction: fit_combination's model (log space by default, linear_model.h) over every
+// valid cell; values below 0 (linear least squares can produce them; the log model just below
+// its floor) are set to 0 and counted: the BRDF is never negative, and the clamp only moves a
+// value towards any non-negative truth.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -62,6 +64,13 @@ bool reconstruct(const BrdfDatabase& db, const MeasurementPlan& plan,
 // grid must be MERL's.
 bool write_reconstruction_merl(const std::string& path, const BrdfDatabase& db,
                                const DatabaseReconstruction& r, std::string* err);
+
+// The rows (3 per valid cell, as DatabaseReconstruction::values or a database column) as a BRDF
+// with the MERL reader's lookup, as `write_reconstruction_merl` then `make_brdf(path)` gives
+// it, without the file: to render a reconstruction and a database material the same way.
+// The database grid must be MERL's.
+std::unique_ptr<Brdf> rows_brdf(const BrdfDatabase& db, const std::vector<float>& values,
+                                const std::string& name, std::string* err);
 
 // A BRDF's values at the database rows (bin centres; 3 per valid cell), for errors against
 // materials outside the database. Fails on a negative or non-finite value.

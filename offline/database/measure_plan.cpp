@@ -60,6 +60,120 @@ RowMat pool_times(const RowMat& pool, const RowMat& U) {
     return T;
 }
 
+// The candidates' rows of the system the fit solves, column-normalised, in double (leverages
+// cancel heavily). Linear space: the materials' values, columns scaled to unit norm over the
+// whole grid, rows by 1/sigma of the residual model (o.weighted). Log space: the log model's
+// design (linear_model.h: log(P_j + eps) and the channel indicators, times cos theta_i),
+// columns scaled to unit norm over the candidates.
+RowMat design_pool(const BrdfDatabase& db, const PlanOptions& o, const std::vector<int>& cols,
+                   const std::vector<size_t>& cand) {
+    const size_t M = cand.size();
+    const int K = int(cols.size());
+    if (o.space == FitSpace::kLog) {
+        RowMat pool = RowMat::Zero(Index(M), K + 3);
+        for (size_t i = 0; i < M; ++i) {
+            const float* r = db.pool_row(cand[i]);
+            const size_t row = db.pool_row_index(cand[i]);
+            const double w = log_row_weight(db, row);
+            for (int j = 0; j < K; ++j) pool(Index(i), j) = std::log(double(r[cols[size_t(j)]]) + kDatabaseLogEps) * w;
+            pool(Index(i), K + int(row % 3)) = w;
+        }
+        for (Index j = 0; j < pool.cols(); ++j) {
+            const double n = pool.col(j).norm();
+            if (n > 0.0) pool.col(j) /= n;
+        }
+        return pool;
+    }
+    std::vector<double> scale(static_cast<size_t>(K));
+    for (int j = 0; j < K; ++j) {
+        const double g = db.gram()[size_t(cols[size_t(j)]) * size_t(db.size()) + size_t(cols[size_t(j)])];
+        scale[size_t(j)] = g > 0.0 ? 1.0 / std::sqrt(g) : 0.0;
+    }
+    std::vector<double> sigma2;
+    if (o.weighted) {
+        std::vector<size_t> grid_rows(M);
+        for (size_t i = 0; i < M; ++i) grid_rows[i] = db.pool_row_index(cand[i]);
+        sigma2 = row_sigma2(db, residual_model(db, o.use), grid_rows);
+    }
+    RowMat pool(Index(M), K);  // row-major: rows are what every step reads
+    for (size_t i = 0; i < M; ++i) {
+        const float* r = db.pool_row(cand[i]);
+        const double w = o.weighted ? 1.0 / std::sqrt(sigma2[i]) : 1.0;
+        for (int j = 0; j < K; ++j)
+            pool(Index(i), j) = double(r[cols[size_t(j)]]) * scale[size_t(j)] * w;
+    }
+    return pool;
+}
+
+// PlanObjective::kPrediction: greedy V-optimal design. Each step adds the candidate that most
+// lowers the mean prediction variance over the candidates, mean_p r_p^T A^-1 r_p (A = delta I
+// + X^T X): adding a lowers it by v^T G v / (1 + a^T v), v = A^-1 a, G = P^T P / M. Per block
+// of rows the gains are computed exactly for every candidate (V = P A^-1, one product each
+// with A^-1 and G); within the block, a short list of the best is updated exactly by
+// Sherman-Morrison as each row goes in (the forward pass of plan_greedy, another gain).
+void plan_prediction(const RowMat& pool, const std::vector<size_t>& cand, int N, std::vector<size_t>* sel) {
+    const Index M = pool.rows(), K = pool.cols();
+    const MatrixXd G = pool.transpose() * pool / double(M);
+    const double delta = 1e-6 * std::max(G.trace() / double(K), 1e-300);
+    MatrixXd Ainv = MatrixXd::Identity(K, K) / delta;
+    std::vector<uint8_t> chosen(static_cast<size_t>(M), 0);
+    constexpr int kBlock = 32, kShort = 256;
+    while (int(sel->size()) < N) {
+        const int B = std::min(kBlock, N - int(sel->size()));
+        const RowMat V = pool_times(pool, RowMat(Ainv));
+        const RowMat VG = pool_times(V, RowMat(G));
+        std::vector<size_t> idx;
+        std::vector<double> gain(static_cast<size_t>(M), -1.0), g(static_cast<size_t>(M), 0.0), lev(static_cast<size_t>(M), 0.0);
+        for (Index i = 0; i < M; ++i) {
+            if (chosen[size_t(i)]) continue;
+            g[size_t(i)] = VG.row(i).dot(V.row(i));
+            lev[size_t(i)] = V.row(i).dot(pool.row(i));
+            gain[size_t(i)] = g[size_t(i)] / (1.0 + lev[size_t(i)]);
+            idx.push_back(size_t(i));
+        }
+        // A short list per channel: the plan takes R, G and B in turn, as the paper's does (a
+        // channel left out would leave its offset unmeasured).
+        std::vector<size_t> shortlist;
+        for (size_t ch = 0; ch < 3; ++ch) {
+            std::vector<size_t> in;
+            for (size_t i : idx)
+                if (cand[i] % 3 == ch) in.push_back(i);
+            const size_t n = std::min<size_t>(kShort / 3 + size_t(B), in.size());
+            std::partial_sort(in.begin(), in.begin() + Index(n), in.end(), [&](size_t a, size_t b) {
+                return gain[a] > gain[b] || (gain[a] == gain[b] && a < b);
+            });
+            shortlist.insert(shortlist.end(), in.begin(), in.begin() + Index(n));
+        }
+        idx = shortlist;
+        const size_t ns = idx.size(), before = sel->size();
+        for (int b = 0; b < B; ++b) {
+            const size_t want = sel->size() % 3;
+            size_t best = ns;
+            for (size_t s = 0; s < ns; ++s)
+                if (!chosen[idx[s]] && cand[idx[s]] % 3 == want && (best == ns || gain[idx[s]] > gain[idx[best]])) best = s;
+            if (best == ns) break;  // this channel's short list is spent: the next block refills it
+            const size_t i = idx[best];
+            chosen[i] = 1;
+            sel->push_back(i);
+            const VectorXd a = pool.row(Index(i)).transpose();
+            const VectorXd u = Ainv * a;
+            const double d = 1.0 + a.dot(u);
+            const VectorXd z = Ainv * (G * u);
+            const double uGu = u.dot(G * u);
+            Ainv -= u * u.transpose() / d;
+            for (size_t s = 0; s < ns; ++s) {
+                const size_t j = idx[s];
+                if (chosen[j]) continue;
+                const double t = pool.row(Index(j)).dot(u) / d, q = pool.row(Index(j)).dot(z);
+                g[j] += -2.0 * t * q + t * t * uGu;
+                lev[j] -= t * t * d;
+                gain[j] = g[j] / (1.0 + lev[j]);
+            }
+        }
+        if (sel->size() == before) return;  // no candidate of the channel left (N <= candidates: not reached)
+    }
+}
+
 bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector<int>& cols,
                  MeasurementPlan* plan, std::string* err) {
     // Candidates: the pool's rows, or every stride-th pool cell (all 3 channels) of it.
@@ -69,32 +183,23 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
     for (size_t c = 0; c < cells; c += stride)
         for (size_t ch = 0; ch < 3; ++ch) cand.push_back(3 * c + ch);
     const size_t M = cand.size();
-    const int K = int(cols.size()), N = o.samples;
+    const int N = o.samples;
     if (size_t(N) > M) {
         if (err) *err = "plan: " + std::to_string(N) + " samples is more than the " +
                         std::to_string(M) + " candidate rows of the planning pool";
         return false;
     }
-    // The pool, column-normalised, in double (leverages cancel heavily).
-    std::vector<double> scale(static_cast<size_t>(K));
-    for (int j = 0; j < K; ++j) {
-        const double g = db.gram()[size_t(cols[size_t(j)]) * size_t(db.size()) + size_t(cols[size_t(j)])];
-        scale[size_t(j)] = g > 0.0 ? 1.0 / std::sqrt(g) : 0.0;
-    }
-    // Rows scaled by 1/sigma of the residual model: the system the fit solves.
-    const ResidualModel rm = residual_model(db, o.use);
-    std::vector<double> sigma2;
-    if (o.weighted) {
-        std::vector<size_t> grid_rows(M);
-        for (size_t i = 0; i < M; ++i) grid_rows[i] = db.pool_row_index(cand[i]);
-        sigma2 = row_sigma2(db, rm, grid_rows);
-    }
-    RowMat pool(Index(M), K);  // row-major: rows are what every step reads
-    for (size_t i = 0; i < M; ++i) {
-        const float* r = db.pool_row(cand[i]);
-        const double w = o.weighted ? 1.0 / std::sqrt(sigma2[i]) : 1.0;
-        for (int j = 0; j < K; ++j)
-            pool(Index(i), j) = double(r[cols[size_t(j)]]) * scale[size_t(j)] * w;
+    const RowMat pool = design_pool(db, o, cols, cand);
+    const int K = int(pool.cols());
+    if (o.objective == PlanObjective::kPrediction) {
+        std::vector<size_t> sel;
+        plan_prediction(pool, cand, N, &sel);
+        if (int(sel.size()) < N) {
+            if (err) *err = "plan: the pool ran out of candidates of one channel after " + std::to_string(sel.size()) + " samples";
+            return false;
+        }
+        for (size_t i : sel) plan->rows.push_back(db.pool_row_index(cand[i]));
+        return true;
     }
     VectorXd lev = pool.rowwise().squaredNorm();
     const double delta = 1e-9 * std::max(lev.maxCoeff(), 1e-300);
@@ -254,7 +359,7 @@ bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementP
             plan->rows.push_back(3 * v + i % 3);
         }
     }
-    plan->condition = plan_condition(db, plan->rows, o.use, o.weighted);
+    plan->condition = plan_condition(db, plan->rows, o.use, o.weighted, o.space);
     if (!(std::isfinite(plan->condition) && plan->condition > 0)) {
         if (err)
             *err = "plan: the " + std::to_string(o.samples) + " samples chosen (" + plan_method_name(o.method) +

@@ -10,8 +10,10 @@
 //
 // A sample is a database row: a valid cell of the grid (its bin-centre direction pair, phi_h
 // = 0) and one channel (the paper measures R, G or B at each point). The figure of merit is
-// the condition number of X^T X, X = the plan's rows of the database with every material's
-// column scaled to unit norm over the whole grid (linear_model.h, plan_condition).
+// the condition number of X^T X, X = the plan's rows of the system the fit solves, columns
+// normalised (linear_model.h, plan_condition): the log model's design by default
+// (PlanOptions::space), or the paper's, the database's values with every material's column
+// scaled to unit norm over the whole grid.
 // Methods:
 //   greedy   (default) the paper's condition-number-driven selection, made fast: a forward
 //            pass adds, one at a time, the pool row of largest leverage r^T A^-1 r under the
@@ -33,10 +35,15 @@
 #include <vector>
 
 #include "database/database.h"
+#include "database/linear_model.h"
 
 namespace sepal {
 
 enum class PlanMethod { kGreedy, kRandom, kUniform };
+// What the greedy method optimises: the mean prediction variance over the planning pool (a
+// V-optimal design: samples that pin down the model where the material is looked at), or the
+// paper's condition number of X^T X (an extreme-seeking design).
+enum class PlanObjective { kPrediction, kCondition };
 
 const char* plan_method_name(PlanMethod m);
 bool parse_plan_method(const std::string& s, PlanMethod* m);
@@ -46,7 +53,12 @@ struct PlanOptions {
     PlanMethod method = PlanMethod::kGreedy;
     uint64_t seed = 1;
     std::vector<uint8_t> use;  // materials taking part (size K), empty: all
-    bool weighted = true;      // plan the 1/sigma-weighted system (linear_model.h)
+    // The model the plan is for (linear_model.h): the log model by default, whose design the
+    // greedy pass and the swaps condition; kLinear: the paper's system, rows weighted 1/sigma
+    // when `weighted`.
+    FitSpace space = FitSpace::kLog;
+    PlanObjective objective = PlanObjective::kPrediction;
+    bool weighted = true;
     int pool_cells = 8192;     // greedy: candidates from this many pool cells (0: the whole pool)
     int max_swaps = 400;       // greedy: swap iterations at most
     int swap_tries = 24;       // greedy: proposals in a row without a gain before stopping

@@ -270,7 +270,29 @@ double LafortuneModel::lobe_sum(const glm::dvec3& wi, const glm::dvec3& wo) cons
 
 glm::dvec3 LafortuneModel::eval(const glm::dvec3& wi, const glm::dvec3& wo) const {
     if (wi.z <= 0 || wo.z <= 0) return glm::dvec3(0.0);
-    return rho_d / kPi + glm::dvec3(lobe_sum(wi, wo));
+    const Products p = products(wi, wo);
+    glm::dvec3 f = rho_d / kPi;
+    for (const LafortuneLobe& l : lobes) f += l.colour * lobe_value(l, p);
+    return f;
+}
+
+bool tint_lafortune_lobes(const std::vector<BrdfSample>& samples, LafortuneModel* model) {
+    LafortuneModel white = *model;
+    for (LafortuneLobe& l : white.lobes) l.colour = glm::dvec3(1.0);
+    // The diffuse term is held: where the lobe is wide it is nearly collinear with it, and a
+    // joint fit trades the body colour into the lobe.
+    double a = 0;
+    glm::dvec3 b(0.0);
+    for (const BrdfSample& s : samples) {
+        if (!(s.weight > 0) || s.wi.z <= 0 || s.wo.z <= 0) continue;
+        const double w2 = s.weight * s.weight, L = white.lobe_sum(s.wi, s.wo);
+        a += w2 * L * L;
+        b += w2 * L * (s.value - model->rho_d / kPi);
+    }
+    if (!(a > 0) || !std::isfinite(a)) return false;
+    const glm::dvec3 t = glm::max(b / a, glm::dvec3(0.0));
+    for (LafortuneLobe& l : model->lobes) l.colour = t;
+    return true;
 }
 
 std::string LafortuneModel::spec(bool* clamped) const {
@@ -293,6 +315,10 @@ std::string LafortuneModel::spec(bool* clamped) const {
         }
         s += ",lobe=" + format_number(cx) + "/" + format_number(cy) + "/" + format_number(cz) + "/" +
              format_number(n);
+        if (l.colour != glm::dvec3(1.0)) {
+            const glm::dvec3 w(clamp(l.colour.x, 0, 1000), clamp(l.colour.y, 0, 1000), clamp(l.colour.z, 0, 1000));
+            s += "/" + format_number(w.x) + "/" + format_number(w.y) + "/" + format_number(w.z);
+        }
     }
     if (clamped) *clamped = c;
     return s;

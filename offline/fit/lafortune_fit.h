@@ -15,7 +15,8 @@
 // lobe Cxy, Cz, n (isotropic, Cx = Cy = Cxy) or Cx, Cy, Cz, n. A lobe's strength is carried
 // by |C| (w = 1): a separate weight would be degenerate with it (w c^n = (w^(1/n) c)^n).
 // Coloured lobes are not fitted: specular highlights of dielectrics take the light's colour,
-// and a colour per lobe would need that weight back.
+// and a colour per lobe would need that weight back. tint_lafortune_lobes adds one colour for
+// the lobes after the fit, with the lobes' shape held (a linear problem per channel).
 //
 // The fit: weighted least squares, Q = sum_s sum_c (weight_s (f_c(s) - value_s,c))^2, by
 // Levenberg-Marquardt (normal equations, Marquardt's scaling, analytic Jacobian) from the best of a
@@ -50,6 +51,10 @@ namespace sepal {
 
 struct LafortuneLobe {
     double cx = -1, cy = -1, cz = 1, n = 20;
+    // Per-channel weight (the spec's lobe=Cx/Cy/Cz/n/r/g/b). fit_lafortune fits white lobes
+    // (1, 1, 1: not parameters, and the covariance is of those); tint_lafortune_lobes colours
+    // them afterwards, for a material whose highlight is coloured (metals, metallic paints).
+    glm::dvec3 colour{1.0};
 };
 
 struct LafortuneModel {
@@ -102,6 +107,13 @@ struct LafortuneFit {
 
 bool fit_lafortune(const std::vector<BrdfSample>& samples, const LafortuneFitOptions& options,
                    LafortuneFit* out, std::string* err);
+
+// Colours the lobes of a fitted model: per channel c, weighted least squares of
+// value_c - rho_d,c / pi ~= t_c L(wi, wo) over the samples (L: the model's white lobe sum, its
+// shape, exponent and the diffuse term held; t_c >= 0), then every lobe's colour = t. For
+// metals and metallic paints, whose highlights take the material's colour. false (model
+// unchanged) when the samples do not determine it (no sample where the lobe is non-zero).
+bool tint_lafortune_lobes(const std::vector<BrdfSample>& samples, LafortuneModel* model);
 
 // Parameter vector <-> model, with the layout of fit_lafortune (channels, lobes, isotropic).
 Eigen::VectorXd lafortune_params(const LafortuneModel& m, int channels, bool isotropic);

@@ -7,7 +7,8 @@
 // about a minute on 2 cores):
 //  1. PCA in linear and log space: median relative error vs dimension, in-sample and
 //     leave-one-out (the PCA of the other 99), and the linear-space error of the log model.
-//  2. Leave-one-out at 800 samples: every material reconstructed from a greedy plan made
+//  2. Leave-one-out at 800 samples, the paper's linear model (sections 2-5 measure it over the
+//     grid's cells, the paper's figure): every material reconstructed from a greedy plan made
 //     without it and from a random plan, using only the other 99 (plan, residual weights and
 //     fit all exclude it); with 1% multiplicative noise; the oracle (best full-grid fit by the
 //     other 99: no plan can do better); condition numbers. The paper's figures beside ours.
@@ -18,10 +19,18 @@
 //  4. Materials outside the database (Cornell measurements, analytic models): error of the
 //     reconstruction from 800 planned samples and the oracle (best full-grid fit).
 //  5. Plan + reconstruct of one material end to end (plan, simulate, fit, the full table,
-//     MERL bytes): median of 3 runs.
-//  6. Renders (exact renderer, 256 x 256): original, reconstruction, difference, PSNR.
+//     MERL bytes; the paper's plan, the default fit): median of 3 runs.
+//  6. Renders (exact renderer, 256 x 256): original, the default (log) fit from the paper's
+//     plan, difference, PSNR.
+//  7. Leave-one-out by the picture (the headline): every material's reconstruction in log
+//     space (the default) from its default plan (the log model's prediction planner) and from
+//     section 2's random plan, and in linear space from section 2's (the paper's) plan, rendered by the exact renderer beside the material
+//     itself (both through the same MERL lookup) in the default scene at 256 x 256; the planned
+//     log fit also in the held-out conditions (bake/picture.h). PSNR, largest difference, mean
+//     CIEDE2000 over lit pixels; the 10 worst; gold-paint's sheet.
 // Writes DIR/database.json, DIR/database_loo.md, DIR/database_pca.png,
-// DIR/database_error_vs_samples.png, DIR/database_renders.png. --quick: 12 materials in
+// DIR/database_error_vs_samples.png, DIR/database_renders.png, DIR/database_picture.md,
+// DIR/database_gold_paint.png. --quick: 12 materials in
 // sections 2-3 and N in {100, 800} (a smoke run).
 #include <algorithm>
 #include <atomic>
@@ -48,6 +57,7 @@
 #include "database/measure.h"
 #include "database/measure_plan.h"
 #include "measured/merl.h"
+#include "bake/picture.h"
 #include "reference/render_exact.h"
 #include "util/image.h"
 #include "util/io.h"
@@ -95,9 +105,15 @@ std::vector<uint8_t> all_but(const BrdfDatabase& db, int k) {
     return use;
 }
 
+// The paper's plans (the linear model's condition number); log = true: the default (the log
+// model's mean prediction variance).
 MeasurementPlan plan_of(const BrdfDatabase& db, PlanMethod m, int n, const std::vector<uint8_t>& use,
-                        uint64_t seed, int swaps = 400) {
+                        uint64_t seed, int swaps = 400, bool log = false) {
     PlanOptions o;
+    if (!log) {
+        o.space = FitSpace::kLinear;
+        o.objective = PlanObjective::kCondition;
+    }
     o.samples = n;
     o.method = m;
     o.use = use;
@@ -109,10 +125,17 @@ MeasurementPlan plan_of(const BrdfDatabase& db, PlanMethod m, int n, const std::
     return p;
 }
 
+// The paper's linear model (FitOptions's default is the log model; linear_model.h).
+FitOptions paper_fit() {
+    FitOptions fo;
+    fo.space = FitSpace::kLinear;
+    return fo;
+}
+
 // Leave-one-out error of database material k from a plan (values from the table itself,
 // which is what `sepal measure simulate nbrdf:NAME` measures, to float precision).
 double loo_fit(const BrdfDatabase& db, int k, const MeasurementPlan& p, double noise, uint64_t seed,
-               const FitOptions& fo = FitOptions{}, CombinationFit* fit_out = nullptr) {
+               const FitOptions& fo = paper_fit(), CombinationFit* fit_out = nullptr) {
     std::vector<double> v;
     for (size_t r : p.rows) v.push_back(db.value(k, r));
     add_noise(&v, noise, seed);
@@ -121,6 +144,10 @@ double loo_fit(const BrdfDatabase& db, int k, const MeasurementPlan& p, double n
     if (!fit_combination(db, p.rows, v, all_but(db, k), fo, &fit, &err)) die(err);
     if (fit_out) *fit_out = fit;
     return combination_error_gram(db, fit.coeffs, k);
+}
+
+std::vector<float> column_values(const BrdfDatabase& db, int k) {
+    return std::vector<float>(db.column(k), db.column(k) + db.rows());
 }
 
 // Best full-grid least-squares fit of a table by the database: the floor for that material.
@@ -150,6 +177,160 @@ void blit(Image* dst, const Image& src, int x0, int y0) {
         for (int x = 0; x < src.width; ++x)
             for (int c = 0; c < 3; ++c)
                 dst->at(x0 + x, y0 + y, c) = std::min(1.0f, std::max(0.0f, src.at(x, y, c)));
+}
+
+// ---- 7. Leave-one-out by the picture ---------------------------------------------------------
+struct PictureFit {
+    const char* label;
+    FitOptions fo;
+    int plan;  // 0: the default (log) plan, 1: random, 2: the paper's plan
+};
+
+// One material's reconstructions (section 7): the figures of each fit, the images of the
+// default view for the sheet.
+struct PictureRow {
+    std::string name;
+    std::vector<PictureComparison> fits;  // as kPictureFits
+    double relative_rms = 0;              // the log fit from the planned samples, over the grid
+};
+
+std::vector<PictureFit> picture_fits() {
+    return {{"log, planned", FitOptions{}, 0}, {"log, random", FitOptions{}, 1}, {"linear (paper), paper's plan", paper_fit(), 2}};
+}
+
+PictureRow picture_row(const BrdfDatabase& db, int k, const MeasurementPlan* plans[3],
+                       const std::vector<BakeView>& views) {
+    std::string err;
+    PictureRow row;
+    row.name = db.name(k);
+    const std::vector<float> truth = column_values(db, k);
+    std::unique_ptr<Brdf> tb = rows_brdf(db, truth, row.name, &err);
+    if (!tb) die(err);
+    const std::vector<BakeView> first(views.begin(), views.begin() + 1);
+    for (const PictureFit& pf : picture_fits()) {
+        const MeasurementPlan& p = *plans[pf.plan];
+        std::vector<double> v;
+        for (size_t r : p.rows) v.push_back(db.value(k, r));
+        DatabaseReconstruction rec;
+        if (!reconstruct(db, p, v, all_but(db, k), pf.fo, &rec, &err)) die(err);
+        std::unique_ptr<Brdf> rb = rows_brdf(db, rec.values, row.name + " (reconstructed)", &err);
+        if (!rb) die(err);
+        // Held-out conditions for the headline fit only: each view is two exact renders.
+        const bool all_views = row.fits.empty();
+        PictureComparison c;
+        if (!compare_pictures(*tb, *rb, all_views ? views : first, 256, &c, &err)) die(err);
+        if (all_views) row.relative_rms = relative_rms(rec.values, truth);
+        row.fits.push_back(std::move(c));
+    }
+    return row;
+}
+
+// Truth | log fit | linear fit | their differences (x8), for one material.
+Image picture_sheet(const PictureRow& r) {
+    const int W = r.fits[0].truth.width, pad = 4, label_h = 14;
+    Image sheet(5 * W + 6 * pad, W + label_h + 2 * pad, 3);
+    std::fill(sheet.data.begin(), sheet.data.end(), 1.0f);
+    char text[300];
+    std::snprintf(text, sizeof text, "%s: material | log fit %.1f dB, dE %.2f | linear fit %.1f dB, dE %.2f | differences x8",
+                  r.name.c_str(), r.fits[0].views[0].psnr, r.fits[0].views[0].delta_e, r.fits[2].views[0].psnr,
+                  r.fits[2].views[0].delta_e);
+    draw_text(&sheet, pad, pad + 2, text, glm::dvec3(0, 0, 0));
+    const int y = pad + label_h;
+    blit(&sheet, r.fits[0].truth, pad, y);
+    blit(&sheet, r.fits[0].approx, 2 * pad + W, y);
+    blit(&sheet, r.fits[2].approx, 3 * pad + 2 * W, y);
+    blit(&sheet, to_rgb(diff_heatmap(r.fits[0].truth, r.fits[0].approx, 32)), 4 * pad + 3 * W, y);
+    blit(&sheet, to_rgb(diff_heatmap(r.fits[2].truth, r.fits[2].approx, 32)), 5 * pad + 4 * W, y);
+    return sheet;
+}
+
+Json picture_loo(const BrdfDatabase& db, const std::vector<int>& mats, const std::vector<MeasurementPlan>& planned,
+                 const std::vector<MeasurementPlan>& random, const std::vector<MeasurementPlan>& paper,
+                 const std::string& out) {
+    std::string err;
+    std::vector<BakeView> views;
+    if (!picture_views(&views, &err)) die(err);
+    const auto t0 = Clock::now();
+    std::vector<PictureRow> rows;
+    for (size_t mi = 0; mi < mats.size(); ++mi) {
+        const MeasurementPlan* plans[3] = {&planned[mi], &random[mi], &paper[mi]};
+        rows.push_back(picture_row(db, mats[mi], plans, views));
+        const PictureRow& r = rows.back();
+        std::fprintf(stderr, "picture %3zu/%zu %-26s log %.1f dB dE %.2f (held out %.1f) | random %.1f | linear %.1f dB dE %.2f (%.0f s)\n",
+                     mi + 1, mats.size(), r.name.c_str(), r.fits[0].views[0].psnr, r.fits[0].views[0].delta_e,
+                     r.fits[0].held_out_psnr, r.fits[1].views[0].psnr, r.fits[2].views[0].psnr,
+                     r.fits[2].views[0].delta_e, seconds(t0));
+    }
+    const std::vector<PictureFit> fits = picture_fits();
+    Json J, jrows = Json::array(), summary = Json::array();
+    for (const PictureRow& r : rows) {
+        Json jr = {{"material", r.name}, {"relative_rms_log_planned", r.relative_rms}};
+        for (size_t f = 0; f < fits.size(); ++f) {
+            Json vs = Json::array();
+            for (const PictureFigures& v : r.fits[f].views)
+                vs.push_back({{"view", v.view}, {"psnr_db", v.psnr}, {"max_diff_8bit", v.max_diff},
+                              {"share_over_16", v.share_over16}, {"mean_delta_e2000", v.delta_e}});
+            jr[fits[f].label] = vs;
+        }
+        jrows.push_back(jr);
+    }
+    std::string md = "| fit (800 samples, leave-one-out) | median PSNR dB | 10% PSNR dB | worst PSNR dB | median Delta E | 90% Delta E |\n"
+                     "|---|---:|---:|---:|---:|---:|\n";
+    for (size_t f = 0; f < fits.size(); ++f) {
+        std::vector<double> p, d;
+        for (const PictureRow& r : rows) {
+            p.push_back(r.fits[f].views[0].psnr);
+            d.push_back(r.fits[f].views[0].delta_e);
+        }
+        summary.push_back({{"fit", fits[f].label}, {"median_psnr_db", median(p)}, {"p10_psnr_db", quantile(p, 0.1)},
+                           {"worst_psnr_db", quantile(p, 0.0)}, {"median_delta_e2000", median(d)},
+                           {"p90_delta_e2000", quantile(d, 0.9)}});
+        char line[300];
+        std::snprintf(line, sizeof line, "| %s | %.1f | %.1f | %.1f | %.2f | %.2f |\n", fits[f].label, median(p),
+                      quantile(p, 0.1), quantile(p, 0.0), median(d), quantile(d, 0.9));
+        md += line;
+    }
+    std::vector<double> held, held_de;
+    int wins_psnr = 0, wins_de = 0;
+    for (const PictureRow& r : rows) {
+        held.push_back(r.fits[0].held_out_psnr);
+        held_de.push_back(r.fits[0].held_out_delta_e);
+        wins_psnr += r.fits[0].views[0].psnr > r.fits[1].views[0].psnr;
+        wins_de += r.fits[0].views[0].delta_e < r.fits[1].views[0].delta_e;
+    }
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "\nDefault scene, exact renderer, 256 x 256, against the material's own table. Log fit, planned, in "
+                  "the held-out conditions: median %.1f dB pooled, median Delta E %.2f. Planned beats random on "
+                  "PSNR for %d of %zu materials, on Delta E for %d.\n\nThe 10 worst (log fit, planned):\n\n"
+                  "| material | PSNR dB | largest difference | Delta E | held-out dB | linear (paper) dB |\n|---|---:|---:|---:|---:|---:|\n",
+                  median(held), median(held_de), wins_psnr, rows.size(), wins_de);
+    md += line;
+    std::vector<size_t> order(rows.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        return rows[a].fits[0].views[0].psnr < rows[b].fits[0].views[0].psnr;
+    });
+    for (size_t i = 0; i < order.size() && i < 10; ++i) {
+        const PictureRow& r = rows[order[i]];
+        const PictureFigures& v = r.fits[0].views[0];
+        std::snprintf(line, sizeof line, "| %s | %.1f | %.0f | %.2f | %.1f | %.1f |\n", r.name.c_str(), v.psnr,
+                      v.max_diff, v.delta_e, r.fits[0].held_out_psnr, r.fits[2].views[0].psnr);
+        md += line;
+    }
+    if (!write_file_atomic(out + "/database_picture.md", md.data(), md.size(), &err)) die(err);
+    std::fprintf(stderr, "%s", md.c_str());
+    for (const PictureRow& r : rows)
+        if (r.name == "gold-paint" && !write_png(out + "/database_gold_paint.png", picture_sheet(r), &err)) die(err);
+    J["fits"] = summary;
+    J["held_out_median_psnr_db"] = median(held);
+    J["held_out_median_delta_e2000"] = median(held_de);
+    J["planned_beats_random_psnr"] = wins_psnr;
+    J["planned_beats_random_delta_e"] = wins_de;
+    J["materials"] = rows.size();
+    J["rows"] = jrows;
+    J["seconds"] = seconds(t0);
+    return J;
 }
 
 }  // namespace
@@ -384,7 +565,7 @@ int main(int argc, char** argv) {
         for (Solver solver : {Solver::kLeastSquares, Solver::kNonNegative}) {
             for (double kappa : {1e3, 1e4, 1e5, 1e6, 1e8}) {
                 if (solver == Solver::kNonNegative && kappa != FitOptions{}.max_condition) continue;
-                FitOptions fo;
+                FitOptions fo = paper_fit();
                 fo.solver = solver;
                 fo.max_condition = kappa;
                 std::vector<double> e;
@@ -514,26 +695,26 @@ int main(int argc, char** argv) {
             std::vector<float> truth;
             if (!tabulate_rows(db, *f, &truth, &err)) die(err);
             double e[2];
-            DatabaseReconstruction keep;
+            DatabaseReconstruction keep;  // the default (log) fit from the planned samples, for section 6
             for (int m = 0; m < 2; ++m) {
                 const MeasurementPlan& p = m == 0 ? p_all : p_rand;
                 std::vector<double> v;
                 if (!simulate_samples(db, p, *f, 0.0, 1, &v, &err)) die(err);
                 DatabaseReconstruction r;
-                if (!reconstruct(db, p, v, {}, FitOptions{}, &r, &err)) die(err);
+                if (!reconstruct(db, p, v, {}, paper_fit(), &r, &err)) die(err);
                 e[m] = relative_rms(r.values, truth);
-                if (m == 0) keep = std::move(r);
+                if (m == 0 && !reconstruct(db, p, v, {}, FitOptions{}, &keep, &err)) die(err);
             }
             const double orc = oracle_error(db, truth);
             jo.push_back({{"material", o.label}, {"spec", o.spec}, {"planned", e[0]}, {"random", e[1]},
-                          {"oracle", orc}, {"clamped_values", keep.clamped}});
+                          {"oracle", orc}, {"planned_log", relative_rms(keep.values, truth)}});
             std::fprintf(stderr, "outside %-26s planned %.4f random %.4f oracle %.4f\n", o.label.c_str(), e[0], e[1], orc);
             if (o.label == "cornell cayman" || o.label == "cook-torrance (defaults)") {
                 RenderCase rc;
                 rc.label = o.label;
                 rc.original = std::move(f);
                 rc.rec = std::move(keep);
-                rc.err = e[0];
+                rc.err = relative_rms(rc.rec.values, truth);
                 renders.push_back(std::move(rc));
             }
         }
@@ -561,7 +742,7 @@ int main(int argc, char** argv) {
             std::vector<uint8_t> bytes;
             if (!encode_merl_table(t, &bytes, &err)) die(err);
             times.push_back(seconds(ts));
-            e = combination_error_gram(db, r.fit.coeffs, k);
+            e = relative_rms(r.values, column_values(db, k));
         }
         // The swap pass's share: the same plan without it.
         Json sw = Json::array();
@@ -594,7 +775,7 @@ int main(int argc, char** argv) {
             std::vector<double> v;
             if (!simulate_samples(db, p, *rc.original, 0.0, 1, &v, &err)) die(err);
             if (!reconstruct(db, p, v, all_but(db, k), FitOptions{}, &rc.rec, &err)) die(err);
-            rc.err = combination_error_gram(db, rc.rec.fit.coeffs, k);
+            rc.err = relative_rms(rc.rec.values, column_values(db, k));
             paper_cases.push_back(std::move(rc));
         }
         for (RenderCase& rc : renders) paper_cases.push_back(std::move(rc));  // then the outside ones
@@ -641,11 +822,26 @@ int main(int argc, char** argv) {
         J["renders"] = jr;
         if (!write_png(out + "/database_renders.png", sheet, &err)) die(err);
     }
+    // ---- 7. Leave-one-out by the picture ------------------------------------------------------
+    {
+        // The default plans, the log model's (section 2's greedy plans are the paper's); the
+        // random ones are section 2's.
+        std::vector<MeasurementPlan> planned(mats.size()), random_plans;
+        const auto tp = Clock::now();
+        std::atomic<int> done{0};
+        parallel_for(mats.size(), 0, [&](size_t mi) {
+            planned[mi] = plan_of(db, PlanMethod::kGreedy, 800, all_but(db, mats[mi]), 1, 400, true);
+            std::fprintf(stderr, "log plan %3d/%zu (%.0f s)\n", ++done, mats.size(), seconds(tp));
+        });
+        for (const LooRow& r : loo_rows) random_plans.push_back(r.pr);
+        J["leave_one_out_picture"] = picture_loo(db, mats, planned, random_plans, greedy_plans, out);
+        J["leave_one_out_picture"]["plan_seconds"] = seconds(tp) ;
+    }
     J["seconds_total"] = seconds(t_start);
     const std::string text = J.dump(1) + "\n";
     if (!write_file_atomic(out + "/database.json", text.data(), text.size(), &err)) die(err);
     std::printf("%s", md.c_str());
     std::printf("wrote %s/database.json, database_loo.md, database_pca.png, database_error_vs_samples.png, "
-                "database_renders.png (%.0f s)\n", out.c_str(), seconds(t_start));
+                "database_renders.png, database_picture.md, database_gold_paint.png (%.0f s)\n", out.c_str(), seconds(t_start));
     return 0;
 }

@@ -90,6 +90,17 @@ TEST_CASE("sepal fit lafortune: a known model is recovered within its 95% interv
         CHECK(std::fabs(j["parameters"][i]["value"].get<double>() - truth[i]) <= 1e-3 * std::fabs(truth[i]));
     }
     CHECK(j["covariance"].size() == 6u);
+    CHECK(j.find("picture") == j.end());  // only with --truth
+    // Judged by its picture against the BRDF the samples came from: a recovered model renders
+    // as the truth.
+    REQUIRE(run("fit", {"lafortune", dir + "/s.csv", "-o", dir + "/fit2.json", "--truth", spec}, &out) == 0);
+    CHECK(out.find("picture    default scene") != std::string::npos);
+    sepal::Json j2;
+    REQUIRE_MESSAGE(sepal::read_json_file(dir + "/fit2.json", &j2, &err), err);
+    REQUIRE(j2.contains("picture"));
+    CHECK(j2["picture"]["views"].size() == 5u);
+    CHECK(j2["picture"]["views"][0]["psnr_db"].get<double>() > 50.0);
+    CHECK(run("fit", {"lafortune", dir + "/s.csv", "--truth", "nosuch:model"}, &out) == 2);
     // The printed spec is a spec: it builds.
     CHECK(sepal::make_brdf(j["spec"].get<std::string>(), &err) != nullptr);
     CHECK(out.find("warning") == std::string::npos);  // unweighted samples state no noise

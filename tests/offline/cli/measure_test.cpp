@@ -35,8 +35,11 @@ TEST_CASE("sepal measure: plan, simulate and reconstruct a material left out of 
                      "nbrdf:gold-paint", "--report", report},
                     &out) == 0);
     INFO(out);
-    CHECK(out.find("linear combination of 2 database materials") != std::string::npos);
+    CHECK(out.find("log-space combination of 2 database materials") != std::string::npos);
     CHECK(out.find("relative RMS against nbrdf:gold-paint") != std::string::npos);
+    // Judged by the picture first: the default scene, then the held-out conditions.
+    CHECK(out.find("picture    default scene") != std::string::npos);
+    CHECK(out.find("mean Delta E") != std::string::npos);
     sepal::Tabulated t;
     sepal::MerlStats st;
     std::string err;
@@ -47,6 +50,13 @@ TEST_CASE("sepal measure: plan, simulate and reconstruct a material left out of 
     CHECK(rs.find("\"excluded\"") != std::string::npos);
     CHECK(rs.find("\"gold-paint\"") != std::string::npos);  // excluded through the plan
     CHECK(rs.find("\"relative_rms_vs_truth\"") != std::string::npos);
+    CHECK(rs.find("\"mean_delta_e2000\"") != std::string::npos);
+    CHECK(rs.find("\"held-out two lights\"") != std::string::npos);
+    CHECK(rs.find("\"space\": \"log\"") != std::string::npos);
+    // The paper's linear model on request.
+    REQUIRE(measure({"reconstruct", plan, samples, "-o", merl, "--materials", kMaterials, "--space", "linear"}, &out) == 0);
+    CHECK(out.find("linear combination of 2 database materials") != std::string::npos);
+    CHECK(measure({"reconstruct", plan, samples, "-o", merl, "--materials", kMaterials, "--space", "cubic"}, &out) == 2);
 
     // The same samples against another plan are refused; so are bad flags.
     const std::string plan2 = dir + "/plan2.json";

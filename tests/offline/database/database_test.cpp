@@ -67,9 +67,14 @@ const sepal::BrdfDatabase& coarse() {
     return *db;
 }
 
+// The paper's plans (linear model, condition number) unless `log`: the log model's default.
 sepal::MeasurementPlan make_plan(const sepal::BrdfDatabase& db, sepal::PlanMethod m, int n,
-                                 const std::vector<uint8_t>& use, uint64_t seed = 1) {
+                                 const std::vector<uint8_t>& use, uint64_t seed = 1, bool log = false) {
     sepal::PlanOptions o;
+    if (!log) {
+        o.space = sepal::FitSpace::kLinear;
+        o.objective = sepal::PlanObjective::kCondition;
+    }
     o.samples = n;
     o.method = m;
     o.use = use;
@@ -78,6 +83,23 @@ sepal::MeasurementPlan make_plan(const sepal::BrdfDatabase& db, sepal::PlanMetho
     std::string err;
     REQUIRE_MESSAGE(sepal::plan_measurement(db, o, &p, &err), err);
     return p;
+}
+
+// 3 materials on the MERL grid (~2 s to build once; cached in build/cache afterwards).
+std::unique_ptr<sepal::BrdfDatabase> merl_grid_db() {
+    sepal::DatabaseOptions o;
+    o.materials = {"gold-paint", "dark-red-paint", "white-fabric"};
+    std::string err;
+    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
+    REQUIRE_MESSAGE(bool(db), err);
+    return db;
+}
+
+// The paper's linear model (combination_error_gram measures its coefficients exactly).
+sepal::FitOptions linear_fit() {
+    sepal::FitOptions fo;
+    fo.space = sepal::FitSpace::kLinear;
+    return fo;
 }
 
 // Leave-one-out relative RMS of material k from a plan of n samples (noise: multiplicative).
@@ -92,7 +114,7 @@ double loo_error(const sepal::BrdfDatabase& db, int k, sepal::PlanMethod m, int 
     std::vector<double> v;
     REQUIRE(sepal::simulate_samples(db, p, *f, noise, seed, &v, &err));
     sepal::CombinationFit fit;
-    REQUIRE_MESSAGE(sepal::fit_combination(db, p.rows, v, use, sepal::FitOptions{}, &fit, &err), err);
+    REQUIRE_MESSAGE(sepal::fit_combination(db, p.rows, v, use, linear_fit(), &fit, &err), err);
     return sepal::combination_error_gram(db, fit.coeffs, k);
 }
 
@@ -227,7 +249,7 @@ TEST_CASE("linear model: Gram-matrix error equals the full-grid error; exact rec
         v.push_back(s);
     }
     for (sepal::Solver solver : {sepal::Solver::kLeastSquares, sepal::Solver::kNonNegative}) {
-        sepal::FitOptions fo;
+        sepal::FitOptions fo = linear_fit();
         fo.solver = solver;
         sepal::CombinationFit fit;
         std::string err;
@@ -372,12 +394,8 @@ TEST_CASE("measure: leave-one-out from planned samples beats random; 1% noise co
 }
 
 TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cpp") {
-    // 3 materials on the MERL grid (~2 s to build once; cached in build/cache afterwards).
-    sepal::DatabaseOptions o;
-    o.materials = {"gold-paint", "dark-red-paint", "white-fabric"};
+    auto db = merl_grid_db();
     std::string err;
-    auto db = sepal::BrdfDatabase::open(*nbrdf(), o, &err);
-    REQUIRE_MESSAGE(bool(db), err);
     CHECK(db->valid_cells() == 1096216);
     std::vector<uint8_t> use;
     REQUIRE(sepal::exclude_mask(*db, {"gold-paint"}, &use, &err));
@@ -388,7 +406,7 @@ TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cp
     std::vector<double> v;
     REQUIRE(sepal::simulate_samples(*db, p, *f, 0.0, 1, &v, &err));
     sepal::DatabaseReconstruction r;
-    REQUIRE_MESSAGE(sepal::reconstruct(*db, p, v, use, sepal::FitOptions{}, &r, &err), err);
+    REQUIRE_MESSAGE(sepal::reconstruct(*db, p, v, use, linear_fit(), &r, &err), err);
     CHECK(r.fit.coeffs[0] == 0.0);  // gold-paint itself is left out
     const std::string path = sepal_test::temp_dir() + "/gold.binary";
     REQUIRE_MESSAGE(sepal::write_reconstruction_merl(path, *db, r, &err), err);
@@ -411,6 +429,58 @@ TEST_CASE("measure: the reconstruction's MERL .binary reads back through merl.cp
     CHECK(direct > 0.05);  // two unrelated materials do not make gold paint
     // A coarse grid cannot be written as MERL.
     CHECK(!sepal::write_reconstruction_merl(path, coarse(), r, &err));
+}
+
+TEST_CASE("measure: the log model recovers a recoloured database material, the linear one cannot") {
+    // blue-acrylic with its channels scaled by 1, 0.5, 0.25: outside the span of the linear
+    // model (one coefficient per material for all three channels), inside the log model's
+    // (a per-channel offset is a colour scale).
+    const sepal::BrdfDatabase& db = coarse();
+    const int k = db.find("blue-acrylic");
+    REQUIRE(k >= 0);
+    const double scale[3] = {1.0, 0.5, 0.25};
+    std::vector<float> truth(db.rows());
+    for (size_t r = 0; r < db.rows(); ++r) truth[r] = float(db.value(k, r) * scale[r % 3]);
+    const sepal::MeasurementPlan p = make_plan(db, sepal::PlanMethod::kGreedy, 120, {});
+    CHECK(std::isfinite(p.condition));
+    std::vector<double> v;
+    for (size_t r : p.rows) v.push_back(truth[r]);
+    std::string err;
+    double e[2];
+    for (int m = 0; m < 2; ++m) {
+        sepal::FitOptions fo = m == 0 ? sepal::FitOptions{} : linear_fit();
+        sepal::CombinationFit fit;
+        REQUIRE_MESSAGE(sepal::fit_combination(db, p.rows, v, {}, fo, &fit, &err), err);
+        CHECK(fit.space == fo.space);
+        const std::vector<float> values = sepal::fit_values(db, fit);
+        e[m] = sepal::relative_rms(values, truth);
+        if (m == 0) {
+            // The colour scale lands in the offsets: green and blue below red by about log 2 and log 4.
+            CHECK(fit.offsets[0] - fit.offsets[1] == doctest::Approx(std::log(2.0)).epsilon(0.1));
+            CHECK(fit.offsets[0] - fit.offsets[2] == doctest::Approx(std::log(4.0)).epsilon(0.1));
+        }
+    }
+    MESSAGE("recoloured blue-acrylic: log " << e[0] << ", linear " << e[1]);
+    CHECK(e[0] < 0.02);
+    CHECK(e[1] > 3 * e[0]);
+}
+
+TEST_CASE("measure: a reconstruction renders as its rows say (rows_brdf)") {
+    auto db = merl_grid_db();
+    std::string err;
+    const std::vector<float> col(db->column(1), db->column(1) + db->rows());
+    auto f = sepal::rows_brdf(*db, col, "dark-red-paint (table)", &err);
+    REQUIRE_MESSAGE(bool(f), err);
+    auto truth = sepal::make_brdf("nbrdf:dark-red-paint", &err);
+    REQUIRE(bool(truth));
+    for (size_t vc = 0; vc < db->valid_cells(); vc += 7919) {
+        glm::dvec3 wi, wo;
+        sepal::plan_row_directions(*db, 3 * vc, &wi, &wo);
+        const glm::dvec3 a = f->eval(wi, wo), b = truth->eval(wi, wo);
+        for (int c = 0; c < 3; ++c) CHECK(a[c] == doctest::Approx(b[c]).epsilon(1e-3).scale(1e-3));
+    }
+    CHECK_FALSE(sepal::rows_brdf(*db, std::vector<float>(5), "short", &err));
+    CHECK_FALSE(sepal::rows_brdf(coarse(), std::vector<float>(coarse().rows()), "coarse", &err));
 }
 
 namespace {
