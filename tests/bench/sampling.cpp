@@ -335,6 +335,22 @@ double variance_of(const Brdf& b, const SamplerData& d, const Environment& env, 
     return image_variance(images, mask);
 }
 
+// Table 1's normalized MAE of a factored sampler's reconstruction (2^17 pairs uniform in
+// solid angle), and in *angles the same over pairs uniform in angles.
+double factored_mae(const Brdf& b, const SamplerData& d, double* angles) {
+    Sampler s;
+    std::string err;
+    s.build(d, &err);
+    const ApproxFn approx = [&](const glm::dvec3& wi, const glm::dvec3& wo) {
+        const float w[3] = {float(wo.x), float(wo.y), float(wo.z)};
+        sepal_sampler_view v;
+        sepal_sampler_set_view(&s.get(), w, &v);
+        return factored_lum(v, wi);
+    };
+    *angles = normalized_mae(b, approx, 1 << 17, 7, PairDensity::Angles);
+    return normalized_mae(b, approx, 1 << 17, 7);
+}
+
 // ---- table 1 -----------------------------------------------------------------------------
 void table1(const Config& c, Output* out) {
     out->line("\n## Table 1: accuracy of the sampling factorization (normalized MAE of f cos, luminance)\n");
@@ -374,16 +390,8 @@ void table1(const Config& c, Output* out) {
             }
             const FactoredReport& rep = fit.report;
             const double secs = fit.seconds;
-            Sampler s;
-            s.build(fit.data, &err);
-            const ApproxFn approx = [&](const glm::dvec3& wi, const glm::dvec3& wo) {
-                const float w[3] = {float(wo.x), float(wo.y), float(wo.z)};
-                sepal_sampler_view v;
-                sepal_sampler_set_view(&s.get(), w, &v);
-                return factored_lum(v, wi);
-            };
-            const double mae = normalized_mae(*b, approx, 1 << 17, 7);
-            const double mae_angles = normalized_mae(*b, approx, 1 << 17, 7, PairDensity::Angles);
+            double mae_angles = 0;
+            const double mae = factored_mae(*b, fit.data, &mae_angles);
             char res[64], terms[32];
             std::snprintf(res, sizeof res, "%d x %d x %d x %d", rep.n_theta_o, rep.n_phi_o, rep.n_theta_p, rep.n_phi_p);
             std::snprintf(terms, sizeof terms, "%d x %d = %d", rep.J, rep.K, rep.J * rep.K);
@@ -716,14 +724,8 @@ void axes(const Config& c, Output* out) {
         const double secs = now() - t0;
         Sampler s;
         s.build(d, &err);
-        const ApproxFn approx = [&](const glm::dvec3& wi, const glm::dvec3& wo) {
-            const float w[3] = {float(wo.x), float(wo.y), float(wo.z)};
-            sepal_sampler_view view;
-            sepal_sampler_set_view(&s.get(), w, &view);
-            return factored_lum(view, wi);
-        };
-        const double mae = normalized_mae(*b, approx, 1 << 17, 7);
-        const double mae_angles = normalized_mae(*b, approx, 1 << 17, 7, PairDensity::Angles);
+        double mae_angles = 0;
+        const double mae = factored_mae(*b, d, &mae_angles);
         const double rv = relative_variance(*b, s.get(), judge_views(false), 8192, 3);
         const std::string views = std::to_string(v.views_theta) + " x " + std::to_string(v.views_phi);
         out->line("| " + rep.param + " | " + rep.axis + " | " + views + " | " + fmt(mae) + " | " + fmt(mae_angles) + " | " +
