@@ -79,20 +79,21 @@ double ridge_lambda(const MatrixXd& A, double max_condition, CombinationFit* fit
 // The log-space model's value from its exponent sum s (before the channel offset's exp).
 inline double log_model_value(double s) { return std::exp(std::min(s, 700.0)) - kDatabaseLogEps; }
 
-// The log model's design (FitSpace::kLog): log(P_j + eps) cos theta_i for the materials in cols,
-// then one indicator per channel times cos theta_i.
-MatrixXd log_design(const BrdfDatabase& db, const std::vector<size_t>& rows, const std::vector<int>& cols) {
+// The log model's design over sample rows (log_design_row per row) and the rows' weights.
+MatrixXd log_design(const BrdfDatabase& db, const std::vector<size_t>& rows, const std::vector<int>& cols,
+                    std::vector<double>* weights = nullptr) {
     const size_t N = rows.size();
-    const int Mdb = int(cols.size());
-    std::vector<double> w(N);
-    for (size_t i = 0; i < N; ++i) w[i] = log_row_weight(db, rows[i]);
-    MatrixXd X = MatrixXd::Zero(Index(N), Mdb + 3);
-    for (int j = 0; j < Mdb; ++j) {
-        const float* col = db.column(cols[size_t(j)]);
-        for (size_t i = 0; i < N; ++i)
-            X(Index(i), j) = std::log(double(col[rows[i]]) + kDatabaseLogEps) * w[i];
+    const int K = db.size(), M = int(cols.size()) + 3;
+    MatrixXd X(Index(N), M);
+    std::vector<float> values(static_cast<size_t>(K));
+    std::vector<double> out(static_cast<size_t>(M));
+    if (weights) weights->resize(N);
+    for (size_t i = 0; i < N; ++i) {
+        for (int k = 0; k < K; ++k) values[size_t(k)] = db.value(k, rows[i]);
+        const double w = log_design_row(db, rows[i], values.data(), cols, out.data());
+        for (int j = 0; j < M; ++j) X(Index(i), j) = out[size_t(j)];
+        if (weights) (*weights)[i] = w;
     }
-    for (size_t i = 0; i < N; ++i) X(Index(i), Mdb + int(rows[i] % 3)) = w[i];
     return X;
 }
 
@@ -103,10 +104,10 @@ void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows
                          const FitOptions& opt, CombinationFit* fit) {
     const size_t N = rows.size();
     const int Mdb = int(cols.size()), M = Mdb + 3;
-    MatrixXd X = log_design(db, rows, cols);
+    std::vector<double> w;
+    MatrixXd X = log_design(db, rows, cols, &w);
     VectorXd b(static_cast<Index>(N));
-    for (size_t i = 0; i < N; ++i)
-        b(Index(i)) = std::log(std::max(values[i], 0.0) + kDatabaseLogEps) * log_row_weight(db, rows[i]);
+    for (size_t i = 0; i < N; ++i) b(Index(i)) = std::log(std::max(values[i], 0.0) + kDatabaseLogEps) * w[i];
     const VectorXd norm = X.colwise().norm().transpose();
     for (int j = 0; j < M; ++j)
         if (norm(j) > 0.0) X.col(j) /= norm(j);
@@ -114,6 +115,8 @@ void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows
     fit->lambda = ridge_lambda(A, opt.max_condition, fit);
     A.diagonal().array() += fit->lambda;
     VectorXd c = A.ldlt().solve(X.transpose() * b);
+    // The fitted exponent sums at the samples, from the design itself (its rows are w s_i).
+    const VectorXd ws = X * c;
     for (int j = 0; j < M; ++j) c(j) = norm(j) > 0.0 ? c(j) / norm(j) : 0.0;
     fit->coeffs.assign(size_t(db.size()), 0.0);
     for (int j = 0; j < Mdb; ++j) {
@@ -123,9 +126,7 @@ void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows
     for (int ch = 0; ch < 3; ++ch) fit->offsets[ch] = c(Mdb + ch);
     double num = 0.0, den = 0.0;
     for (size_t i = 0; i < N; ++i) {
-        double s = fit->offsets[rows[i] % 3];
-        for (int j = 0; j < Mdb; ++j) s += c(j) * std::log(double(db.value(cols[size_t(j)], rows[i])) + kDatabaseLogEps);
-        const double d = log_model_value(s) - values[i];
+        const double d = log_model_value(ws(Index(i)) / w[i]) - values[i];
         num += d * d;
         den += values[i] * values[i];
     }
@@ -140,6 +141,15 @@ double log_row_weight(const BrdfDatabase& db, size_t row) {
     glm::dvec3 wi, wo;
     from_half_diff(db.cell_center(db.grid_cell(row / 3)), &wi, &wo);
     return std::max(wi.z, 1e-3);
+}
+
+double log_design_row(const BrdfDatabase& db, size_t row, const float* values, const std::vector<int>& cols,
+                      double* out) {
+    const double w = log_row_weight(db, row);
+    const size_t n = cols.size();
+    for (size_t j = 0; j < n; ++j) out[j] = std::log(double(values[cols[j]]) + kDatabaseLogEps) * w;
+    for (size_t ch = 0; ch < 3; ++ch) out[n + ch] = row % 3 == ch ? w : 0.0;
+    return w;
 }
 
 ResidualModel residual_model(const BrdfDatabase& db, const std::vector<uint8_t>& use) {

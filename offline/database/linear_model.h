@@ -124,6 +124,12 @@ double plan_condition(const BrdfDatabase& db, const std::vector<size_t>& rows,
 
 // The log model's weight of a database row: cos theta_i of its cell's bin centre (>= 1e-3).
 double log_row_weight(const BrdfDatabase& db, size_t row);
+// One row of the log model's design, the system fit_combination solves in log space and the
+// planner plans for: out[j] = log(values[cols[j]] + eps) w for the materials in cols, then the
+// three channel indicators times w (cols.size() + 3 values). values: every material's value at
+// the row (K floats, as BrdfDatabase::pool_row holds them). Returns w = log_row_weight.
+double log_design_row(const BrdfDatabase& db, size_t row, const float* values, const std::vector<int>& cols,
+                      double* out);
 
 // The fitted model over every row (3 per valid cell), in float; *negative counts values below
 // 0 (linear) or below the log model's floor (exp(s) < eps; both are returned as they are).

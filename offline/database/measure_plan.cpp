@@ -70,14 +70,9 @@ RowMat design_pool(const BrdfDatabase& db, const PlanOptions& o, const std::vect
     const size_t M = cand.size();
     const int K = int(cols.size());
     if (o.space == FitSpace::kLog) {
-        RowMat pool = RowMat::Zero(Index(M), K + 3);
-        for (size_t i = 0; i < M; ++i) {
-            const float* r = db.pool_row(cand[i]);
-            const size_t row = db.pool_row_index(cand[i]);
-            const double w = log_row_weight(db, row);
-            for (int j = 0; j < K; ++j) pool(Index(i), j) = std::log(double(r[cols[size_t(j)]]) + kDatabaseLogEps) * w;
-            pool(Index(i), K + int(row % 3)) = w;
-        }
+        RowMat pool(Index(M), K + 3);
+        for (size_t i = 0; i < M; ++i)
+            log_design_row(db, db.pool_row_index(cand[i]), db.pool_row(cand[i]), cols, pool.row(Index(i)).data());
         for (Index j = 0; j < pool.cols(); ++j) {
             const double n = pool.col(j).norm();
             if (n > 0.0) pool.col(j) /= n;

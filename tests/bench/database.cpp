@@ -791,14 +791,10 @@ int main(int argc, char** argv) {
             RenderCase& rc = renders[i];
             // Both through a MERL table with the same trilinear lookup: the difference is the
             // reconstruction's, not the tabulation's.
-            std::vector<uint8_t> ob, rb;
+            std::vector<uint8_t> ob;
             if (!encode_merl(*rc.original, &ob, &err)) die(err);
-            Tabulated t = Tabulated::merl();
-            for (size_t c = 0; c < db.valid_cells(); ++c)
-                t.set(db.grid_cell(c), glm::dvec3(rc.rec.values[3 * c], rc.rec.values[3 * c + 1], rc.rec.values[3 * c + 2]));
-            if (!encode_merl_table(t, &rb, &err)) die(err);
             auto fo = make_merl_brdf(ob, rc.label + " (tabulated)", &err);
-            auto fr = make_merl_brdf(rb, rc.label + " (reconstructed)", &err);
+            auto fr = rows_brdf(db, rc.rec.values, rc.label + " (reconstructed)", &err);
             if (!fo || !fr) die(err);
             Image io, ir;
             if (!render_exact(*fo, s.scene, s.mesh, W, W, &io, nullptr, &err)) die(err);
