@@ -155,16 +155,32 @@ void mark_front(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
     }
 }
 
+namespace {
+// The candidate's worst judged view (its pooled figure without per-view ones).
+double worst_view(const BakeCandidate& c) {
+    return c.psnr_views.empty() ? c.psnr : *std::min_element(c.psnr_views.begin(), c.psnr_views.end());
+}
+}  // namespace
+
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
     // The image figure less bytes_db per doubling of the asset's bytes.
     auto worth = [&o](const BakeCandidate& c) { return c.psnr - o.bytes_db * std::log2(double(std::max<int64_t>(c.bytes, 1))); };
-    int best = -1;
-    for (size_t i = 0; i < candidates->size(); ++i) {
-        BakeCandidate& c = (*candidates)[i];
+    // Without budgets, candidates whose every view reaches goal_worst_db come first, when any
+    // does: the asset is judged condition by condition, and a pooled figure hides the rim
+    // light's view.
+    auto holds = [&o](const BakeCandidate& c) { return o.goal_worst_db <= 0 || worst_view(c) >= o.goal_worst_db; };
+    bool any_holds = false;
+    for (BakeCandidate& c : *candidates) {
         c.meets = c.ok && !c.coarse && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
                   (o.min_psnr < 0 || c.psnr >= o.min_psnr) && (o.max_passes < 0 || c.passes <= o.max_passes) &&
                   (o.max_bytes < 0 || c.bytes <= o.max_bytes);
-        if (!c.meets) continue;
+        any_holds = any_holds || (c.meets && holds(c));
+    }
+    auto eligible = [&](const BakeCandidate& c) { return c.meets && (budgeted(o) || !any_holds || holds(c)); };
+    int best = -1;
+    for (size_t i = 0; i < candidates->size(); ++i) {
+        const BakeCandidate& c = (*candidates)[i];
+        if (!eligible(c)) continue;
         if (best < 0) {
             best = int(i);
             continue;
@@ -185,7 +201,7 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
     for (size_t i = 0; i < candidates->size(); ++i) {
         const BakeCandidate& c = (*candidates)[i];
         const BakeCandidate& b = (*candidates)[size_t(best)];
-        if (c.meets && worth(c) >= top - o.tie_db &&
+        if (eligible(c) && worth(c) >= top - o.tie_db &&
             std::make_tuple(c.passes, c.bytes, image_error(c)) < std::make_tuple(b.passes, b.bytes, image_error(b)))
             best = int(i);
     }
@@ -817,7 +833,8 @@ void more_terms(Search& search, const BakeOptions& o, const std::vector<int>& te
             if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
                 c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
                 at_max = c.psnr;
-        if (b.psnr < o.goal_db && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
+        const bool short_of_goal = b.psnr < o.goal_db || (o.goal_worst_db > 0 && worst_view(b) < o.goal_worst_db);
+        if (short_of_goal && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
             const int sharp = sharp_factor(b.param);
             const int res = sharp == 1 ? b.res_h : b.res, other = sharp == 1 ? b.res : b.res_h;
             std::vector<int> more;
@@ -851,14 +868,21 @@ std::string no_winner(const std::vector<BakeCandidate>& candidates, const BakeOp
 // Why the winner won, and a note when it misses half of f in direction space.
 void winner_notes(const BakeCandidate& w, const BakeOptions& o, size_t views, BakeResult* out) {
     char why[320];
-    if (budgeted(o))
+    if (budgeted(o)) {
         std::snprintf(why, sizeof why, "%s: the fastest predicted frame (%.2f ms on %s, %d pass%s per light) at %.2f dB on %s%s",
                       w.label().c_str(), w.ms, out->cost.backend.c_str(), w.passes, w.passes == 1 ? "" : "es", w.psnr,
                       judged_on(o).c_str(), o.min_psnr >= 0 ? "" : " within --max-error");
-    else
-        std::snprintf(why, sizeof why, "%s: the best image on %s (%.2f dB over %zu views; within %.2g dB of the best, "
-                      "the fewest passes, then bytes)",
-                      w.label().c_str(), judged_on(o).c_str(), w.psnr, views, o.tie_db);
+    } else {
+        // Says which candidates it was chosen among (choose_winner's rule).
+        char among[96] = "";
+        if (o.goal_worst_db > 0)
+            std::snprintf(among, sizeof among, worst_view(w) >= o.goal_worst_db ? "; among those with every view >= %.3g dB"
+                                                                               : "; no candidate has every view >= %.3g dB",
+                          o.goal_worst_db);
+        std::snprintf(why, sizeof why, "%s: the best image on %s (%.2f dB over %zu views, the worst %.2f dB%s; within %.2g dB "
+                      "of the best, the fewest passes, then bytes)",
+                      w.label().c_str(), judged_on(o).c_str(), w.psnr, views, worst_view(w), among, o.tie_db);
+    }
     out->why = why;
     // A winner that misses half of f in direction space (relative cosine-weighted RMS >= 0.5)
     // may still be the best image, but a user should hear it: sharp lobes below the texel

@@ -25,8 +25,9 @@
 // k-term solution (prefix for svd) and depth is quantized (quantize.h), planned (plan.h),
 // encoded, judged at judge_size and measured. The winner: with min_psnr (or max_error), the
 // fastest predicted frame (cost_model.h) that meets every budget; otherwise the highest PSNR
-// within the pass and byte budgets, where anything within tie_db of it that needs fewer
-// passes, then fewer bytes, is preferred. The winner's asset is kept, never refactored.
+// within the pass and byte budgets among the candidates whose every view reaches
+// goal_worst_db (all of them when none does), where anything within tie_db of it that needs
+// fewer passes, then fewer bytes, is preferred. The winner's asset is kept, never refactored.
 // Methods come from one table (bake_methods()): a row per factorization with the targets it
 // may ship on (signed factors need bias passes, which an 8-bit framebuffer cannot hold:
 // svd ships on cpu only).
@@ -81,6 +82,11 @@ struct BakeOptions {
     // 128 x 64 judged sphere, and 8 terms then reach 38 dB against 36.4.
     bool climb_terms = true;
     double goal_db = 40;
+    // Also when the winner's worst view is below goal_worst_db (0: off), and the winner is
+    // chosen among the candidates whose every view reaches it when any does (choose_winner):
+    // the held-out conditions an asset is reported on are judged one by one, and the view a
+    // pooled figure hides is a light behind the object, whose rim highlight needs the rank.
+    double goal_worst_db = 40;
     double more_terms_db = 0.25;
     std::vector<int> more_terms = {6, 8};
     // Term counts; empty: 1..4, and more_terms when the winner is below goal_db (climb_terms).
@@ -267,8 +273,9 @@ constexpr double kColourSeparable = 1e-3;
 void mark_front(std::vector<BakeCandidate>* candidates, const BakeOptions& options);
 // Sets meets on every fine-stage candidate from the options' budgets and returns the
 // winner's index (-1: none meets): with min_psnr or max_error, the fastest predicted frame,
-// then the highest PSNR, then the fewest bytes; without, the highest PSNR, preferring within
-// tie_db of it the fewest passes, then the fewest bytes.
+// then the highest PSNR, then the fewest bytes; without, the highest PSNR among those whose
+// every view reaches goal_worst_db (when any does), preferring within tie_db of it the fewest
+// passes, then the fewest bytes.
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& options);
 
 // The first `terms` terms of a factorization as a quantized asset with its plan;

@@ -53,6 +53,41 @@ TEST_CASE("bake: byte-identical assets from two runs and from 1 and 2 threads") 
     CHECK(a == c);
 }
 
+TEST_CASE("bake: the winner is chosen among candidates whose every view reaches goal_worst_db") {
+    // Three judged candidates (the rule reads only the figures): a, the best pooled image and
+    // the fewest passes, its rim view 38 dB; b, 0.3 dB behind pooled with every view >= 40;
+    // c, every view >= 40 but 2 dB behind.
+    auto candidate = [](double psnr, std::vector<double> views, int passes, int64_t bytes) {
+        sepal::BakeCandidate c;
+        c.ok = true;
+        c.psnr = psnr;
+        c.psnr_views = std::move(views);
+        c.passes = passes;
+        c.bytes = bytes;
+        return c;
+    };
+    const std::vector<sepal::BakeCandidate> all = {candidate(44.0, {46, 45, 38}, 5, 10000),
+                                                   candidate(43.7, {44, 43, 41}, 9, 16000),
+                                                   candidate(42.0, {43, 42, 40.5}, 9, 16000)};
+    sepal::BakeOptions o;
+    std::vector<sepal::BakeCandidate> cs = all;
+    CHECK(o.goal_worst_db == 40);
+    CHECK(sepal::choose_winner(&cs, o) == 1);
+    // Off: the pooled rule alone (within tie_db the fewest passes) takes a.
+    o.goal_worst_db = 0;
+    cs = all;
+    CHECK(sepal::choose_winner(&cs, o) == 0);
+    // No candidate reaches it: the pooled rule over all of them, not the best worst view.
+    o.goal_worst_db = 45;
+    cs = all;
+    CHECK(sepal::choose_winner(&cs, o) == 0);
+    // The pass and byte budgets come first: only a meets --max-passes 5.
+    o.goal_worst_db = 40;
+    o.max_passes = 5;
+    cs = all;
+    CHECK(sepal::choose_winner(&cs, o) == 0);
+}
+
 TEST_CASE("bake: --max-error picks the cheapest candidate meeting it (exhaustive check)") {
     for (const char* spec : {"ward:rho_d=0.4,rho_s=0.5,ax=0.4,ay=0.15", "fixtures/cornell/cayman.brdf",
                              "fixtures/cornell/garnet_red.brdf", "fixtures/cornell/krylon_blue.brdf"}) {
