@@ -1,6 +1,7 @@
 #include "acquire/object.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -25,6 +26,55 @@ sepal_mesh AcqObject::mesh() const {
     return m;
 }
 
+namespace {
+
+// The texel's surface frame at barycentric weights w of triangle v; false where the normal
+// vanishes.
+bool atlas_texel(const sepal_vertex* const v[3], const double w[3], SurfaceAtlas* a, size_t i) {
+    glm::vec3 pos(0), nrm(0), tan(0);
+    float hand = 0;
+    for (int k = 0; k < 3; ++k) {
+        pos += float(w[k]) * glm::vec3(v[k]->position[0], v[k]->position[1], v[k]->position[2]);
+        nrm += float(w[k]) * glm::vec3(v[k]->normal[0], v[k]->normal[1], v[k]->normal[2]);
+        tan += float(w[k]) * glm::vec3(v[k]->tangent[0], v[k]->tangent[1], v[k]->tangent[2]);
+        hand += float(w[k]) * v[k]->tangent[3];
+    }
+    if (!(glm::dot(nrm, nrm) > 1e-12f)) return false;
+    nrm = glm::normalize(nrm);
+    tan -= nrm * glm::dot(nrm, tan);
+    if (!(glm::dot(tan, tan) > 1e-12f)) {
+        tan = std::fabs(nrm.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        tan = tan - nrm * glm::dot(nrm, tan);
+    }
+    tan = glm::normalize(tan);
+    a->position[i] = pos;
+    a->normal[i] = nrm;
+    a->tangent[i] = tan;
+    a->bitangent[i] = (hand < 0 ? -1.0f : 1.0f) * glm::cross(nrm, tan);
+    a->valid[i] = 1;
+    return true;
+}
+
+// The point of triangle (p0, p1, p2) closest to c, as barycentric weights; its distance.
+double closest_on_triangle(const glm::dvec2& p0, const glm::dvec2& p1, const glm::dvec2& p2, const glm::dvec2& c,
+                           double w[3]) {
+    const glm::dvec2 p[3] = {p0, p1, p2};
+    double best = 1e300;
+    for (int e = 0; e < 3; ++e) {
+        const glm::dvec2 a = p[e], b = p[(e + 1) % 3], ab = b - a;
+        const double len2 = glm::dot(ab, ab);
+        const double t = len2 > 0 ? std::min(1.0, std::max(0.0, glm::dot(c - a, ab) / len2)) : 0.0;
+        const double d = glm::length(a + t * ab - c);
+        if (d < best) {
+            best = d;
+            w[e] = 1 - t, w[(e + 1) % 3] = t, w[(e + 2) % 3] = 0;
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
 bool build_atlas(const sepal_mesh& mesh, int res, SurfaceAtlas* out, std::string* err) {
     if (res < 8 || res > 1024) {
         if (err) *err = "atlas: resolution " + std::to_string(res) + " is outside 8..1024";
@@ -38,16 +88,22 @@ bool build_atlas(const sepal_mesh& mesh, int res, SurfaceAtlas* out, std::string
     a.tangent.assign(n, glm::vec3(1, 0, 0));
     a.bitangent.assign(n, glm::vec3(0, 1, 0));
     a.valid.assign(n, 0);
+    // Texels a triangle overlaps without holding their centre (its nearest point within half a
+    // texel's diagonal): filled after every centre is taken, from the nearest triangle. Without
+    // them the sliver triangles at the sphere's poles left texels the renders look up unset,
+    // drawn unlit in photographs.
+    std::vector<double> edge_dist(n, 0.7072);
+    std::vector<std::pair<int, std::array<double, 3>>> edge(n, {-1, {0, 0, 0}});
     for (int t = 0; t + 2 < mesh.index_count; t += 3) {
         const sepal_vertex* v[3] = {&mesh.vertices[mesh.indices[t]], &mesh.vertices[mesh.indices[t + 1]],
                                     &mesh.vertices[mesh.indices[t + 2]]};
         const glm::dvec2 p0(v[0]->uv[0] * res, v[0]->uv[1] * res), p1(v[1]->uv[0] * res, v[1]->uv[1] * res),
             p2(v[2]->uv[0] * res, v[2]->uv[1] * res);
         const double area = (p1.x - p0.x) * (p2.y - p0.y) - (p2.x - p0.x) * (p1.y - p0.y);
-        if (!(std::fabs(area) > 1e-12)) continue;  // degenerate in UV (sphere poles): no texel
-        const int x0 = std::max(0, int(std::floor(std::min({p0.x, p1.x, p2.x}))));
+        if (!(std::fabs(area) > 1e-12)) continue;  // degenerate in UV: no texel
+        const int x0 = std::max(0, int(std::floor(std::min({p0.x, p1.x, p2.x}))) - 1);
         const int x1 = std::min(res - 1, int(std::ceil(std::max({p0.x, p1.x, p2.x}))));
-        const int y0 = std::max(0, int(std::floor(std::min({p0.y, p1.y, p2.y}))));
+        const int y0 = std::max(0, int(std::floor(std::min({p0.y, p1.y, p2.y}))) - 1);
         const int y1 = std::min(res - 1, int(std::ceil(std::max({p0.y, p1.y, p2.y}))));
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x) {
@@ -55,34 +111,25 @@ bool build_atlas(const sepal_mesh& mesh, int res, SurfaceAtlas* out, std::string
                 if (a.valid[i]) continue;
                 const glm::dvec2 c(x + 0.5, y + 0.5);
                 // Barycentric weights; a small slack so centres on shared edges are taken.
-                const double w0 = ((p1.x - c.x) * (p2.y - c.y) - (p2.x - c.x) * (p1.y - c.y)) / area;
-                const double w1 = ((p2.x - c.x) * (p0.y - c.y) - (p0.x - c.x) * (p2.y - c.y)) / area;
-                const double w2 = 1 - w0 - w1;
-                if (w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9) continue;
-                glm::vec3 pos(0), nrm(0), tan(0);
-                float hand = 0;
-                const double w[3] = {w0, w1, w2};
-                for (int k = 0; k < 3; ++k) {
-                    pos += float(w[k]) * glm::vec3(v[k]->position[0], v[k]->position[1], v[k]->position[2]);
-                    nrm += float(w[k]) * glm::vec3(v[k]->normal[0], v[k]->normal[1], v[k]->normal[2]);
-                    tan += float(w[k]) * glm::vec3(v[k]->tangent[0], v[k]->tangent[1], v[k]->tangent[2]);
-                    hand += float(w[k]) * v[k]->tangent[3];
+                double w[3];
+                w[0] = ((p1.x - c.x) * (p2.y - c.y) - (p2.x - c.x) * (p1.y - c.y)) / area;
+                w[1] = ((p2.x - c.x) * (p0.y - c.y) - (p0.x - c.x) * (p2.y - c.y)) / area;
+                w[2] = 1 - w[0] - w[1];
+                if (w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] >= -1e-9) {
+                    atlas_texel(v, w, &a, i);
+                    continue;
                 }
-                if (!(glm::dot(nrm, nrm) > 1e-12f)) continue;
-                nrm = glm::normalize(nrm);
-                tan -= nrm * glm::dot(nrm, tan);
-                if (!(glm::dot(tan, tan) > 1e-12f)) {
-                    tan = std::fabs(nrm.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-                    tan = tan - nrm * glm::dot(nrm, tan);
-                }
-                tan = glm::normalize(tan);
-                a.position[i] = pos;
-                a.normal[i] = nrm;
-                a.tangent[i] = tan;
-                a.bitangent[i] = (hand < 0 ? -1.0f : 1.0f) * glm::cross(nrm, tan);
-                a.valid[i] = 1;
+                const double d = closest_on_triangle(p0, p1, p2, c, w);
+                if (d < edge_dist[i]) edge_dist[i] = d, edge[i] = {t, {w[0], w[1], w[2]}};
             }
     }
+    for (size_t i = 0; i < n; ++i)
+        if (!a.valid[i] && edge[i].first >= 0) {
+            const int t = edge[i].first;
+            const sepal_vertex* v[3] = {&mesh.vertices[mesh.indices[t]], &mesh.vertices[mesh.indices[t + 1]],
+                                        &mesh.vertices[mesh.indices[t + 2]]};
+            atlas_texel(v, edge[i].second.data(), &a, i);
+        }
     for (size_t i = 0; i < n; ++i)
         if (a.valid[i]) a.texels.push_back(int(i));
     if (a.texels.empty()) {

@@ -2,6 +2,7 @@
 // model, SVBRDF renders against the exact backend.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -52,6 +53,34 @@ TEST_CASE("acquire atlas: sphere texels lie on the sphere with orthonormal frame
     CHECK_FALSE(sepal::make_object("teapot", 32, &bad, &err));
     CHECK(err.find("teapot") != std::string::npos);
     CHECK_FALSE(sepal::make_object("sphere", 4, &bad, &err));
+}
+
+TEST_CASE("acquire atlas: every texel a render looks up inside the mesh is set, the sphere's poles included") {
+    // Renders and photographs take the texel under a pixel's interpolated UV (capture.cpp):
+    // points all over every triangle, its corners and edges included, must land on set texels.
+    for (const char* name : {"sphere", "torus", "wave"})
+        for (int res : {32, 128}) {
+            const sepal::AcqObject o = object(name, res);
+            int unset = 0, looked = 0;
+            for (size_t t = 0; t + 2 < o.indices.size(); t += 3)
+                for (int i = 0; i <= 8; ++i)
+                    for (int j = 0; i + j <= 8; ++j) {
+                        const double w[3] = {i / 8.0, j / 8.0, (8 - i - j) / 8.0};
+                        double u = 0, v = 0;
+                        for (int k = 0; k < 3; ++k) {
+                            u += w[k] * o.vertices[o.indices[t + size_t(k)]].uv[0];
+                            v += w[k] * o.vertices[o.indices[t + size_t(k)]].uv[1];
+                        }
+                        const int x = std::min(res - 1, std::max(0, int(float(u) * res)));
+                        const int y = std::min(res - 1, std::max(0, int(float(v) * res)));
+                        ++looked;
+                        unset += !o.atlas.valid[size_t(y) * size_t(res) + size_t(x)];
+                    }
+            CAPTURE(name);
+            CAPTURE(res);
+            CHECK(looked > 1000);
+            CHECK(unset == 0);
+        }
 }
 
 TEST_CASE("acquire visibility: a convex sphere hides exactly its back; the torus also hides and shadows itself") {
