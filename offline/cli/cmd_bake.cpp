@@ -68,8 +68,8 @@ void print_counts(const BakeResult& r, std::FILE* out) {
 // space error as a diagnostic.
 void print_candidates(const BakeResult& r, FILE* out) {
     if (!r.candidates.empty())
-        std::fprintf(out, "%-34s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "err quant", "passes",
-                     "dbl", "bytes", "ms", "fit s", "(* on the front)");
+        std::fprintf(out, "%-34s %8s %8s %9s %7s %5s %8s %8s %7s %s\n", "candidate", "PSNR dB", "worst dB", "err quant",
+                     "passes", "dbl", "bytes", "ms", "fit s", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
         const std::string label = c.label() + (c.coarse ? " (c)" : "");
@@ -77,7 +77,8 @@ void print_candidates(const BakeResult& r, FILE* out) {
             std::fprintf(out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
         }
-        std::fprintf(out, "%-34s %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr,
+        const double worst = c.psnr_views.empty() ? c.psnr : *std::min_element(c.psnr_views.begin(), c.psnr_views.end());
+        std::fprintf(out, "%-34s %8.2f %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr, worst,
                      c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
                      c.on_front ? "*" : " ",
                      int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
@@ -88,7 +89,7 @@ void print_candidates(const BakeResult& r, FILE* out) {
         for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
         std::fprintf(out,
                      "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
-                     "of one image pair); dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
+                     "of one image pair); worst: the worst of those views; dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
                      "prints); (c): coarse stage\n",
                      r.target_label.c_str(), names.c_str(), r.views.front().c_str(), r.target_label.c_str());
     }

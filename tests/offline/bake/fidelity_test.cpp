@@ -232,7 +232,7 @@ TEST_CASE("sepal bake: --target, --white, --fit, --min-psnr; the candidate table
         return a;
     };
     REQUIRE(sepal_test::run_cmd("bake", args({"-o", dir + "/a.sepal", "--target", "cpu"}), &out) == 0);
-    CHECK(out.find("PSNR dB") != std::string::npos);
+    CHECK(out.find("PSNR dB worst dB err quant") != std::string::npos);
     CHECK(out.find("on cpu against the exact render") != std::string::npos);
     REQUIRE(sepal_test::run_cmd("bake", args({"-o", dir + "/b.sepal", "--white", "none"}), &out) == 0);
     CHECK(out.find("not capped") != std::string::npos);
