@@ -155,12 +155,9 @@ void mark_front(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
     }
 }
 
-namespace {
-// The candidate's worst judged view (its pooled figure without per-view ones).
-double worst_view(const BakeCandidate& c) {
-    return c.psnr_views.empty() ? c.psnr : *std::min_element(c.psnr_views.begin(), c.psnr_views.end());
+double BakeCandidate::worst_view() const {
+    return psnr_views.empty() ? psnr : *std::min_element(psnr_views.begin(), psnr_views.end());
 }
-}  // namespace
 
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
     // The image figure less bytes_db per doubling of the asset's bytes.
@@ -168,7 +165,7 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
     // Without budgets, candidates whose every view reaches goal_worst_db come first, when any
     // does: the asset is judged condition by condition, and a pooled figure hides the rim
     // light's view.
-    auto holds = [&o](const BakeCandidate& c) { return o.goal_worst_db <= 0 || worst_view(c) >= o.goal_worst_db; };
+    auto holds = [&o](const BakeCandidate& c) { return o.goal_worst_db <= 0 || c.worst_view() >= o.goal_worst_db; };
     bool any_holds = false;
     for (BakeCandidate& c : *candidates) {
         c.meets = c.ok && !c.coarse && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
@@ -833,7 +830,7 @@ void more_terms(Search& search, const BakeOptions& o, const std::vector<int>& te
             if (c.ok && !c.coarse && c.param == b.param && c.map == b.map && c.res == b.res &&
                 c.res_h == b.res_h && c.method == b.method && c.terms == terms.back())
                 at_max = c.psnr;
-        const bool short_of_goal = b.psnr < o.goal_db || (o.goal_worst_db > 0 && worst_view(b) < o.goal_worst_db);
+        const bool short_of_goal = b.psnr < o.goal_db || (o.goal_worst_db > 0 && b.worst_view() < o.goal_worst_db);
         if (short_of_goal && at_max >= previous + o.more_terms_db && at_max >= b.psnr - o.tie_db) {
             const int sharp = sharp_factor(b.param);
             const int res = sharp == 1 ? b.res_h : b.res, other = sharp == 1 ? b.res : b.res_h;
@@ -876,12 +873,12 @@ void winner_notes(const BakeCandidate& w, const BakeOptions& o, size_t views, Ba
         // Says which candidates it was chosen among (choose_winner's rule).
         char among[96] = "";
         if (o.goal_worst_db > 0)
-            std::snprintf(among, sizeof among, worst_view(w) >= o.goal_worst_db ? "; among those with every view >= %.3g dB"
+            std::snprintf(among, sizeof among, w.worst_view() >= o.goal_worst_db ? "; among those with every view >= %.3g dB"
                                                                                : "; no candidate has every view >= %.3g dB",
                           o.goal_worst_db);
         std::snprintf(why, sizeof why, "%s: the best image on %s (%.2f dB over %zu views, the worst %.2f dB%s; within %.2g dB "
                       "of the best, the fewest passes, then bytes)",
-                      w.label().c_str(), judged_on(o).c_str(), w.psnr, views, worst_view(w), among, o.tie_db);
+                      w.label().c_str(), judged_on(o).c_str(), w.psnr, views, w.worst_view(), among, o.tie_db);
     }
     out->why = why;
     // A winner that misses half of f in direction space (relative cosine-weighted RMS >= 0.5)

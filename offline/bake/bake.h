@@ -211,6 +211,7 @@ struct BakeCandidate {
     bool meets = false;         // within every budget
     AssetData asset;            // with BakeOptions::keep_assets (and the winner's, always)
     std::string label() const;  // "gs-half/xy 64 nmf x2 8b", "gs-half/xy 128/16 nmf x1 8b"
+    double worst_view() const;  // the lowest of psnr_views (psnr without them)
 };
 
 // Every clamp, replacement and fallback behind a bake, counted (never silent): printed by

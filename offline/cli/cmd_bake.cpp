@@ -77,8 +77,7 @@ void print_candidates(const BakeResult& r, FILE* out) {
             std::fprintf(out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
         }
-        const double worst = c.psnr_views.empty() ? c.psnr : *std::min_element(c.psnr_views.begin(), c.psnr_views.end());
-        std::fprintf(out, "%-34s %8.2f %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr, worst,
+        std::fprintf(out, "%-34s %8.2f %8.2f %9.4f %7d %5d %8lld %8.2f %7.2f %s %s%s\n", label.c_str(), c.psnr, c.worst_view(),
                      c.error_quantized, c.passes, c.doublings, (long long)c.bytes, c.ms, c.factor_seconds,
                      c.on_front ? "*" : " ",
                      int(i) == r.winner ? "<- winner" : c.meets ? "meets budgets" : "",
@@ -89,8 +88,8 @@ void print_candidates(const BakeResult& r, FILE* out) {
         for (const std::string& v : r.views) names += (names.empty() ? "" : ", ") + v;
         std::fprintf(out,
                      "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
-                     "of one image pair); worst: the worst of those views; dbl: framebuffer doublings of the %s view's frame on %s (as sepal inspect "
-                     "prints); (c): coarse stage\n",
+                     "of one image pair); worst: the worst of those views; dbl: framebuffer doublings of the %s "
+                     "view's frame on %s (as sepal inspect prints); (c): coarse stage\n",
                      r.target_label.c_str(), names.c_str(), r.views.front().c_str(), r.target_label.c_str());
     }
 }
