@@ -1,7 +1,6 @@
 #include "acquire/object.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -28,9 +27,9 @@ sepal_mesh AcqObject::mesh() const {
 
 namespace {
 
-// The texel's surface frame at barycentric weights w of triangle v; false where the normal
-// vanishes.
-bool atlas_texel(const sepal_vertex* const v[3], const double w[3], SurfaceAtlas* a, size_t i) {
+// Sets texel i to the surface frame at barycentric weights w of triangle v; leaves it unset
+// where the normal vanishes.
+void atlas_texel(const sepal_vertex* const v[3], const double w[3], SurfaceAtlas* a, size_t i) {
     glm::vec3 pos(0), nrm(0), tan(0);
     float hand = 0;
     for (int k = 0; k < 3; ++k) {
@@ -39,7 +38,7 @@ bool atlas_texel(const sepal_vertex* const v[3], const double w[3], SurfaceAtlas
         tan += float(w[k]) * glm::vec3(v[k]->tangent[0], v[k]->tangent[1], v[k]->tangent[2]);
         hand += float(w[k]) * v[k]->tangent[3];
     }
-    if (!(glm::dot(nrm, nrm) > 1e-12f)) return false;
+    if (!(glm::dot(nrm, nrm) > 1e-12f)) return;
     nrm = glm::normalize(nrm);
     tan -= nrm * glm::dot(nrm, tan);
     if (!(glm::dot(tan, tan) > 1e-12f)) {
@@ -52,7 +51,6 @@ bool atlas_texel(const sepal_vertex* const v[3], const double w[3], SurfaceAtlas
     a->tangent[i] = tan;
     a->bitangent[i] = (hand < 0 ? -1.0f : 1.0f) * glm::cross(nrm, tan);
     a->valid[i] = 1;
-    return true;
 }
 
 // The point of triangle (p0, p1, p2) closest to c, as barycentric weights; its distance.
@@ -92,11 +90,18 @@ bool build_atlas(const sepal_mesh& mesh, int res, SurfaceAtlas* out, std::string
     // texel's diagonal): filled after every centre is taken, from the nearest triangle. Without
     // them the sliver triangles at the sphere's poles left texels the renders look up unset,
     // drawn unlit in photographs.
-    std::vector<double> edge_dist(n, 0.7072);
-    std::vector<std::pair<int, std::array<double, 3>>> edge(n, {-1, {0, 0, 0}});
+    struct Nearest {
+        double dist = 0.7072;  // half a texel's diagonal, and a little
+        int triangle = -1;
+        double w[3] = {0, 0, 0};
+    };
+    std::vector<Nearest> edge(n);
+    auto corners = [&mesh](int t, const sepal_vertex* v[3]) {
+        for (int k = 0; k < 3; ++k) v[k] = &mesh.vertices[mesh.indices[t + k]];
+    };
     for (int t = 0; t + 2 < mesh.index_count; t += 3) {
-        const sepal_vertex* v[3] = {&mesh.vertices[mesh.indices[t]], &mesh.vertices[mesh.indices[t + 1]],
-                                    &mesh.vertices[mesh.indices[t + 2]]};
+        const sepal_vertex* v[3];
+        corners(t, v);
         const glm::dvec2 p0(v[0]->uv[0] * res, v[0]->uv[1] * res), p1(v[1]->uv[0] * res, v[1]->uv[1] * res),
             p2(v[2]->uv[0] * res, v[2]->uv[1] * res);
         const double area = (p1.x - p0.x) * (p2.y - p0.y) - (p2.x - p0.x) * (p1.y - p0.y);
@@ -119,16 +124,16 @@ bool build_atlas(const sepal_mesh& mesh, int res, SurfaceAtlas* out, std::string
                     atlas_texel(v, w, &a, i);
                     continue;
                 }
+                Nearest& e = edge[i];
                 const double d = closest_on_triangle(p0, p1, p2, c, w);
-                if (d < edge_dist[i]) edge_dist[i] = d, edge[i] = {t, {w[0], w[1], w[2]}};
+                if (d < e.dist) e.dist = d, e.triangle = t, std::copy(w, w + 3, e.w);
             }
     }
     for (size_t i = 0; i < n; ++i)
-        if (!a.valid[i] && edge[i].first >= 0) {
-            const int t = edge[i].first;
-            const sepal_vertex* v[3] = {&mesh.vertices[mesh.indices[t]], &mesh.vertices[mesh.indices[t + 1]],
-                                        &mesh.vertices[mesh.indices[t + 2]]};
-            atlas_texel(v, edge[i].second.data(), &a, i);
+        if (!a.valid[i] && edge[i].triangle >= 0) {
+            const sepal_vertex* v[3];
+            corners(edge[i].triangle, v);
+            atlas_texel(v, edge[i].w, &a, i);
         }
     for (size_t i = 0; i < n; ++i)
         if (a.valid[i]) a.texels.push_back(int(i));
