@@ -19,6 +19,17 @@ namespace sepal {
 
 using glm::dvec3;
 
+namespace {
+// The kinds of SampleAxis (sepal_smp_axis has the definitions): about t or s, turned with the
+// view (half vector only), centred on the mirror cone (incident direction only).
+bool about_t(SampleAxis a) { return a == SampleAxis::Tangent || a == SampleAxis::TangentView || a == SampleAxis::TangentMirror; }
+bool about_s(SampleAxis a) {
+    return a == SampleAxis::Bitangent || a == SampleAxis::BitangentView || a == SampleAxis::BitangentMirror;
+}
+bool view_axis(SampleAxis a) { return a == SampleAxis::TangentView || a == SampleAxis::BitangentView; }
+bool mirror_axis(SampleAxis a) { return a == SampleAxis::TangentMirror || a == SampleAxis::BitangentMirror; }
+}  // namespace
+
 const char* sample_param_name(SampleParam p) {
     return p == SampleParam::Half ? "half" : p == SampleParam::Incident ? "incident" : "auto";
 }
@@ -114,9 +125,9 @@ bool validate_factored_options(const FactoredOptions& o, std::string* err) {
     if (o.J < 0 || o.K < 0 || (o.J == 0) != (o.K == 0) || o.J * o.K > SEPAL_SMP_MAX_TERMS)
         return bad("terms " + std::to_string(o.J) + "x" + std::to_string(o.K) + ": J, K >= 1 and J K <= " +
                    std::to_string(SEPAL_SMP_MAX_TERMS) + " (or both 0: the default)");
-    if ((o.axis == SampleAxis::TangentView || o.axis == SampleAxis::BitangentView) && o.param == SampleParam::Incident)
+    if (view_axis(o.axis) && o.param == SampleParam::Incident)
         return bad(std::string("axis ") + sample_axis_name(o.axis) + " is defined for the half vector only (param half or auto)");
-    if ((o.axis == SampleAxis::TangentMirror || o.axis == SampleAxis::BitangentMirror) && o.param == SampleParam::Half)
+    if (mirror_axis(o.axis) && o.param == SampleParam::Half)
         return bad(std::string("axis ") + sample_axis_name(o.axis) + " is defined for the incident direction only (param incident or auto)");
     if (o.supersample < 1 || o.supersample > 8) return bad("supersample " + std::to_string(o.supersample) + ": 1..8");
     if (o.iterations < 0 || o.iterations > 1000000) return bad("iterations: 0 (auto) or 1..1000000");
@@ -167,15 +178,14 @@ bool fit_factored(const Brdf& brdf, const FactoredOptions& opt, SamplerData* out
             // h); the mirror axes hold it still. It leaves out the view axes too: in coarse
             // fits they lost to h about fixed t or s on both Ward and Poulin-Fournier. The
             // view axes are defined for the half vector only, the mirror axes for wi.
-            const bool view_axis = a == SampleAxis::TangentView || a == SampleAxis::BitangentView;
-            const bool mirror_axis = a == SampleAxis::TangentMirror || a == SampleAxis::BitangentMirror;
             const bool fixed_axis = a == SampleAxis::Tangent || a == SampleAxis::Bitangent;
             const bool axis_ok = (opt.axis == SampleAxis::Auto
                                       ? a == SampleAxis::Normal ||
                                             (!brdf.isotropic() && fixed_axis && p == SampleParam::Half) ||
-                                            (!brdf.isotropic() && mirror_axis && p == SampleParam::Incident)
+                                            (!brdf.isotropic() && mirror_axis(a) && p == SampleParam::Incident)
                                       : a == opt.axis) &&
-                                 !(view_axis && p != SampleParam::Half) && !(mirror_axis && p != SampleParam::Incident);
+                                 !(view_axis(a) && p != SampleParam::Half) &&
+                                 !(mirror_axis(a) && p != SampleParam::Incident);
             if ((opt.param == SampleParam::Auto || opt.param == p) && axis_ok) {
                 candidates.push_back(opt);
                 candidates.back().param = p, candidates.back().axis = a;
@@ -266,12 +276,8 @@ void bin_points(SampleAxis axis, const std::vector<float>& z_edges, int Pp, int 
                     const double c2 = c2_lo + (j + (b + 0.5) / S) * c2_span / Pp;
                     const double s = std::sqrt(std::max(0.0, 1.0 - c1 * c1));
                     const double sa = s * std::sin(c2), ca = s * std::cos(c2);
-                    const bool about_t = axis == SampleAxis::Tangent || axis == SampleAxis::TangentView ||
-                                         axis == SampleAxis::TangentMirror;
-                    const bool about_s = axis == SampleAxis::Bitangent || axis == SampleAxis::BitangentView ||
-                                         axis == SampleAxis::BitangentMirror;
-                    (*points)[(size_t(row) * S + a) * S + b] = about_t   ? dvec3(c1, sa, ca)
-                                                               : about_s ? dvec3(sa, c1, ca)
+                    (*points)[(size_t(row) * S + a) * S + b] = about_t(axis)   ? dvec3(c1, sa, ca)
+                                                               : about_s(axis) ? dvec3(sa, c1, ca)
                                                                                                : dvec3(ca, sa, c1);
                 }
         }
@@ -360,7 +366,7 @@ bool lobe_sampled(const Brdf& brdf, const glm::dvec3& diffuse, std::string* err)
 // The options' automatic values (0) for this BRDF and axis (factored_fit.h says why).
 FactoredOptions with_defaults(const Brdf& brdf, FactoredOptions o) {
     const bool iso = brdf.isotropic(), polar = o.axis == SampleAxis::Normal;
-    const bool mirror = o.axis == SampleAxis::TangentMirror || o.axis == SampleAxis::BitangentMirror;
+    const bool mirror = mirror_axis(o.axis);
     if (o.n_theta_o == 0) o.n_theta_o = mirror ? 20 : 16;
     if (o.n_phi_o == 0) o.n_phi_o = mirror ? 24 : 16;
     if (o.n_theta_p == 0) o.n_theta_p = polar ? 64 : 192;
@@ -379,14 +385,13 @@ void sample_column(const Brdf& brdf, const FactoredOptions& o, const glm::dvec3&
     const bool colour = o.colour;
     // The view axes: bin_points' wp are in the view frame, turned by -b about the axis
     // (sepal_smp_axis); turn them back by b.
-    const bool turn_t = o.axis == SampleAxis::TangentView, turn = turn_t || o.axis == SampleAxis::BitangentView;
+    const bool turn_t = o.axis == SampleAxis::TangentView, turn = view_axis(o.axis);
     const double b = turn ? 0.5 * std::atan2(turn_t ? wo.y : wo.x, wo.z) : 0.0;
     const double cb = std::cos(b), sb = std::sin(b);
     // The mirror axes: bin_points' c1 is the mirror-centred one; a = wi.t or wi.s comes
     // from it as the runtime's from_mirror has it, and each bin's solid angle is its
     // (c1, c2) area times da/dc1 (1 - m above the cone, 1 + m below).
-    const bool mirror_t = o.axis == SampleAxis::TangentMirror;
-    const bool mirror = mirror_t || o.axis == SampleAxis::BitangentMirror;
+    const bool mirror_t = o.axis == SampleAxis::TangentMirror, mirror = mirror_axis(o.axis);
     const double m = mirror ? std::clamp(-(mirror_t ? wo.x : wo.y), -0.999, 0.999) : 0.0;
     ViewColumn& col = *column;
     col.lum.assign(size_t(rows), 0.0);

@@ -198,13 +198,17 @@ bool half_of(const float* wi, const float* wo, float* h, float* inv_jacobian) {
     return true;
 }
 
+// The format 1.3 axes (sepal_smp_axis).
+inline bool mirror_axis(uint32_t axis) { return axis == SEPAL_SMP_AXIS_T_MIRROR || axis == SEPAL_SMP_AXIS_S_MIRROR; }
+inline bool view_axis(uint32_t axis) { return axis == SEPAL_SMP_AXIS_T_VIEW || axis == SEPAL_SMP_AXIS_S_VIEW; }
+
 // Rotations between the local frame and the view frame: about n by phi_o (view phi), about
 // t or s by b (the view axes; to_view lowers the angle about the axis by b); the identity
 // (cos 1, sin 0) otherwise.
 inline void rotate(const sepal_sampler_view* v, const float* w, float* out, float sign) {
     out[0] = w[0], out[1] = w[1], out[2] = w[2];
     const uint32_t axis = v->sampler ? v->sampler->desc.axis : (uint32_t)SEPAL_SMP_AXIS_N;
-    if (axis == SEPAL_SMP_AXIS_T_VIEW || axis == SEPAL_SMP_AXIS_S_VIEW) {
+    if (view_axis(axis)) {
         const int p = axis == SEPAL_SMP_AXIS_T_VIEW ? 1 : 0;  // atan2(w[p], w[2]) is the angle
         const float c = v->cos_phi, s = sign * v->sin_phi;
         out[p] = c * w[p] - s * w[2];
@@ -261,7 +265,6 @@ inline uint32_t fixed_axis(uint32_t axis) {
            : axis == SEPAL_SMP_AXIS_S_VIEW || axis == SEPAL_SMP_AXIS_S_MIRROR ? (uint32_t)SEPAL_SMP_AXIS_S
                                                                                : axis;
 }
-inline bool mirror_axis(uint32_t axis) { return axis == SEPAL_SMP_AXIS_T_MIRROR || axis == SEPAL_SMP_AXIS_S_MIRROR; }
 // The mirror axes' c1 from a = wi.t (or wi.s) and the cone m, with dc1/da in *jacobian.
 inline float to_mirror(float a, float m, float* jacobian) {
     const float side = a >= m ? 1.0f - m : 1.0f + m;
@@ -553,11 +556,10 @@ extern "C" sepal_result sepal_sampler_parse(const void* bytes, size_t size, sepa
                                  "file of version 1.%u (only factored samplers of 1.1 have one)",
                                  (double)d.diffuse[c], c, (double)SEPAL_SMP_MAX_DIFFUSE, kind_name(h.kind),
                                  h.version_minor);
-        const bool view_axis = d.axis == SEPAL_SMP_AXIS_T_VIEW || d.axis == SEPAL_SMP_AXIS_S_VIEW;
         if (d.axis >= SEPAL_SMP_AXIS_COUNT ||
             (d.axis != SEPAL_SMP_AXIS_N && (h.kind != SEPAL_SAMPLER_FACTORED || h.version_minor < 2 ||
                                             d.phi_frame != SEPAL_SMP_PHI_ABSOLUTE)) ||
-            (view_axis && (h.version_minor < 3 || d.param != SEPAL_SMP_PARAM_HALF)) ||
+            (view_axis(d.axis) && (h.version_minor < 3 || d.param != SEPAL_SMP_PARAM_HALF)) ||
             (mirror_axis(d.axis) && (h.version_minor < 3 || d.param != SEPAL_SMP_PARAM_INCIDENT)))
             return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                              "sampler: axis %u in a %s file of version 1.%u (axes 1 and 2 only in factored "
@@ -637,7 +639,7 @@ extern "C" void sepal_sampler_set_view(const sepal_sampler* s, const float wo[3]
     const float theta_o = acosf(clampf(w[2], 0.0f, 1.0f));
     if (d.phi_frame == SEPAL_SMP_PHI_VIEW) {
         v->cos_phi = cosf(phi_o), v->sin_phi = sinf(phi_o);
-    } else if (s->kind == SEPAL_SAMPLER_FACTORED && (d.axis == SEPAL_SMP_AXIS_T_VIEW || d.axis == SEPAL_SMP_AXIS_S_VIEW)) {
+    } else if (s->kind == SEPAL_SAMPLER_FACTORED && view_axis(d.axis)) {
         // Half the view's angle about the axis (0 for a wo along the axis).
         const float b = 0.5f * atan2f(d.axis == SEPAL_SMP_AXIS_T_VIEW ? w[1] : w[0], w[2]);
         v->cos_phi = cosf(b), v->sin_phi = sinf(b);

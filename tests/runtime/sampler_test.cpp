@@ -132,24 +132,26 @@ TEST_CASE("sampler format: round trip, determinism, and every corruption refused
     CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[2] = 1e30f; }).find("diffuse") != std::string::npos);
     CHECK(with11([](sepal_smp_header*, sepal_smp_desc* x) { x->diffuse[0] = std::nanf(""); }).find("diffuse") != std::string::npos);
     CHECK(with11([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 0; }).find("1.0") != std::string::npos);
-    // Format 1.2's axis: only in a 1.2 factored file with absolute phi, edges down to -1.
-    const SamplerData axis_t = small_factored("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05", true, SampleAxis::Tangent);
-    REQUIRE(axis_t.desc.axis == SEPAL_SMP_AXIS_T);
-    REQUIRE(axis_t.z_edges.back() == -1.0f);
-    const std::vector<uint8_t> p12 = encode(axis_t);
-    CHECK(reinterpret_cast<const sepal_smp_header*>(p12.data())->version_minor == 2);
-    CHECK(parse_error(p12).empty());
+    // A small factored sampler about an axis, encoded: edges down to -1, the lowest version
+    // that holds the axis, parsed without complaint.
+    auto axis_file = [&](SampleAxis axis, uint32_t value, uint16_t minor) {
+        const SamplerData d = small_factored("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05", true, axis);
+        REQUIRE(d.desc.axis == value);
+        REQUIRE(d.z_edges.back() == -1.0f);
+        const std::vector<uint8_t> bytes = encode(d);
+        CHECK(reinterpret_cast<const sepal_smp_header*>(bytes.data())->version_minor == minor);
+        CHECK(parse_error(bytes).empty());
+        return bytes;
+    };
+    // Format 1.2's axis: only in a 1.2 factored file with absolute phi.
+    const std::vector<uint8_t> p12 = axis_file(SampleAxis::Tangent, SEPAL_SMP_AXIS_T, 2);
     auto with12 = [&](auto edit) { return edited(p12, edit); };
     CHECK(with12([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 1; }).find("axis") != std::string::npos);
     CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_COUNT; }).find("axis") != std::string::npos);
     // A view axis (format 1.3) in a 1.2 file is refused: a 1.2 reader would bin it as T.
     CHECK(with12([](sepal_smp_header*, sepal_smp_desc* x) { x->axis = SEPAL_SMP_AXIS_T_VIEW; }).find("axis") != std::string::npos);
     // Format 1.3's view axes: only in a 1.3 factored file of the half vector.
-    const SamplerData axis_tv = small_factored("ward:rho_d=0.1,rho_s=0.8,ax=0.2,ay=0.05", true, SampleAxis::TangentView);
-    REQUIRE(axis_tv.desc.axis == SEPAL_SMP_AXIS_T_VIEW);
-    const std::vector<uint8_t> p13 = encode(axis_tv);
-    CHECK(reinterpret_cast<const sepal_smp_header*>(p13.data())->version_minor == 3);
-    CHECK(parse_error(p13).empty());
+    const std::vector<uint8_t> p13 = axis_file(SampleAxis::TangentView, SEPAL_SMP_AXIS_T_VIEW, 3);
     auto with13 = [&](auto edit) { return edited(p13, edit); };
     CHECK(with13([](sepal_smp_header* h, sepal_smp_desc*) { h->version_minor = 2; }).find("axis") != std::string::npos);
     CHECK(with13([](sepal_smp_header*, sepal_smp_desc* x) { x->param = SEPAL_SMP_PARAM_INCIDENT; }).find("axis") != std::string::npos);
