@@ -151,3 +151,30 @@ TEST_CASE("windowed viewer under Xvfb: scripted input, screenshots against the h
     if (sepal_test::update_goldens())
         REQUIRE(sepal::write_png(sepal_test::source_path("docs/img/viewer.png"), full, &err));
 }
+
+TEST_CASE("windowed viewer under Xvfb: a context weaker than the asset's device profile is named once") {
+    for (const char* p : {"xvfb-run", "xdotool", "xauth"})
+        REQUIRE_MESSAGE(port_test::have_program(p), std::string(p) << " is missing: run `make deps` (Debian xvfb, xauth, xdotool)");
+    const std::string dir = sepal_test::temp_dir();
+    const port_test::Assets assets = port_test::bake_assets(dir);
+    // The asset has no PROF chunk: judged for `default`, two texture units. Masking
+    // multitexture leaves the window's context one unit, weaker; without the mask it is not.
+    const auto run_viewer = [&](const std::string& mask, std::string* out) {
+        const std::string view = sepal_test::bin("sepal-view") + " " + assets.intact + " --gles 1" + mask;
+        const std::string command = "timeout 60 xvfb-run -a -s '-screen 0 640x640x24' sh -c \"" + view +
+                                    " & pid=\\$!; xdotool search --sync --onlyvisible --name '^sepal-view' > /dev/null && "
+                                    "xdotool key q; wait \\$pid\"";
+        return sepal_test::run(command, out);
+    };
+    const std::string warning = "sepal-view: warning: the context is weaker than the device profile 'default'";
+    std::string masked, plain;
+    REQUIRE(run_viewer(" --mask multitexture", &masked) == 0);
+    CAPTURE(masked);
+    const size_t at = masked.find(warning);
+    CHECK(at != std::string::npos);
+    CHECK(masked.find("1 texture unit (the profile's 2)") != std::string::npos);
+    CHECK(masked.find(warning, at + 1) == std::string::npos);  // once per material, not per frame
+    REQUIRE(run_viewer("", &plain) == 0);
+    CAPTURE(plain);
+    CHECK(plain.find("weaker than the device profile") == std::string::npos);
+}
