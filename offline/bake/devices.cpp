@@ -24,21 +24,36 @@ namespace {
 //   [mesa-es1] Mesa (src/mesa/main/extensions_table.h): OES_blend_subtract on every ES1 context.
 //   [ti]       TI AM335x Technical Reference Manual (SPRUH73), SGX530 3D features: texture
 //              maximum 2048 x 2048, PVRTC1/2 and ETC1, non-square textures.
+//   [bb]       BlackBerry, "Understand the PowerVR SGX540 platform" (BB10 native docs): OpenGL ES
+//              1.1 limits, GL_MAX_TEXTURE_UNITS 4, GL_MAX_TEXTURE_SIZE 2048.
+//   [droid]    rbgrn.net, "Hands on Motorola Droid OpenGL ES specs" (SGX530, OMAP3430): the ES 1.1
+//              driver's extension string (OES_blend_subtract, OES_compressed_ETC1_RGB8_texture).
+//   [rpi]      raspberrypi/userland, Broadcom's GL ES driver: interface/khronos/glxx/gl11_int_config.h
+//              (GL11_CONFIG_MAX_TEXTURE_UNITS 4), glxx_client.c (the ES 1.1 extension string:
+//              OES_texture_npot and ETC1, no OES_blend_subtract).
+//   [xoom]     Motorola's OpenGL ES 1.1 extension list for the Xoom (Tegra 2), as republished by
+//              cdm.link: NV_texture_npot_2D_mipmap (no OES_texture_npot), DXT1, S3TC and ETC1,
+//              no OES_blend_subtract.
+//   [a205]     An Adreno 205 phone's SurfaceFlinger log (pastebin.com/W4qUgiUv, 2011,
+//              libGLESv1_CM_adreno200.so, "OpenGL ES-CM 1.1"): AMD_compressed_ATC_texture,
+//              AMD_compressed_3DC_texture.
+//   [mali-es2] es2_info of a Mali-400 MP (pastebin.com/HE112jCZ): OES_compressed_ETC1_RGB8_texture.
+//   Throughput: vendors' and press figures, peak triangles per second (docs/devices.md).
 const std::vector<DeviceProfile> kProfiles = {
     {"default", "today's bake: an 8-bit framebuffer", 8, 8, 8, 2, kBakeMaxTexture, 0, 1, "none",
      "n/a", "this project: the 8-bit emulator, the GL ES 1.1 plan's 2 units, the bake's 256-texel limit"},
     {"gles1-minimum", "any conformant GL ES 1.1 device", 5, 6, 5, 2, 64, 0, 0, "none", "unknown",
      "[es11] (5/6/5 assumed: the spec sets no colour-buffer minimum)"},
-    {"mali400", "ARM Mali-400 MP", 5, 6, 5, 8, 4096, 1, 1, "unknown", "unknown",
-     "[android] [arm] [lima] [mesa-es1]"},
-    {"adreno200", "Qualcomm Adreno 200/205", 5, 6, 5, kUnknown, 8192, kUnknown, 1, "unknown", "unknown",
-     "[android] [fd] [mesa-es1]"},
-    {"sgx530", "Imagination PowerVR SGX530/540", 5, 6, 5, kUnknown, 2048, kUnknown, kUnknown, "PVRTC, ETC1",
-     "unknown", "[android] [ti] (SGX530; SGX540 assumed the same)"},
-    {"videocore4", "Broadcom VideoCore IV", 5, 6, 5, kUnknown, 2048, 1, 1, "ETC1", "unknown",
-     "[vc4] [mesa-es1] (5/6/5 assumed)"},
-    {"tegra2", "NVIDIA Tegra 2", 5, 6, 5, kUnknown, kUnknown, kUnknown, kUnknown, "unknown", "unknown",
-     "[android] (no public source found for the rest)"},
+    {"mali400", "ARM Mali-400 MP", 5, 6, 5, 8, 4096, 1, 1, "ETC1", "23-55 M triangles/s (210-500 MHz)",
+     "[android] [arm] [lima] [mesa-es1] [mali-es2]"},
+    {"adreno200", "Qualcomm Adreno 200/205", 5, 6, 5, kUnknown, 8192, kUnknown, 1, "ATC, 3DC", "unknown",
+     "[android] [fd] [mesa-es1] [a205]"},
+    {"sgx530", "Imagination PowerVR SGX530/540", 5, 6, 5, 4, 2048, kUnknown, 1, "PVRTC, ETC1",
+     "unknown", "[android] [ti] [bb] [droid] (units: SGX540's; SGX530 not found)"},
+    {"videocore4", "Broadcom VideoCore IV", 5, 6, 5, 4, 2048, 1, 0, "ETC1", "unknown",
+     "[vc4] [rpi] (5/6/5 assumed; Broadcom's driver has no blend subtraction, Mesa's vc4 has)"},
+    {"tegra2", "NVIDIA Tegra 2", 5, 6, 5, kUnknown, kUnknown, 0, 0, "DXT1, S3TC, ETC1", "71 M triangles/s",
+     "[android] [xoom] (units and texture limit: no public source found)"},
 };
 
 std::string figure(int v) { return v == kUnknown ? "?" : std::to_string(v); }
@@ -85,10 +100,10 @@ sepal_fmt_profile profile_record(const DeviceProfile& p) {
 }
 
 std::string describe_device_profiles() {
-    std::string out = "profile        framebuffer units max-texture npot subtract compressed   family\n";
+    std::string out = "profile        framebuffer units max-texture npot subtract compressed       family\n";
     char line[256];
     for (const DeviceProfile& p : kProfiles) {
-        std::snprintf(line, sizeof line, "%-14s %d/%d/%d       %-5s %-11s %-4s %-8s %-12s %s\n", p.name, p.red_bits,
+        std::snprintf(line, sizeof line, "%-14s %d/%d/%d       %-5s %-11s %-4s %-8s %-16s %s\n", p.name, p.red_bits,
                       p.green_bits, p.blue_bits, figure(p.texture_units).c_str(), figure(p.max_texture_size).c_str(),
                       yes_no(p.npot).c_str(), yes_no(p.blend_subtract).c_str(), p.compressed, p.family);
         out += line;

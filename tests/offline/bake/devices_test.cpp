@@ -6,12 +6,14 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "bake/bake.h"
 #include "bake/devices.h"
 #include "common/render_gl.h"
 #include "spec/spec.h"
 #include "test_util.h"
+#include "util/io.h"
 
 namespace {
 
@@ -108,4 +110,46 @@ TEST_CASE("devices: a bake for the 64-texel profile keeps every texture at or un
     sepal::BakeResult r;
     CHECK_FALSE(sepal::bake(*f, o, &r, &err));
     CHECK(err.find("--res 128 is over profile gles1-minimum's texture limit 64") != std::string::npos);
+}
+
+TEST_CASE("devices: docs/devices.md's table is the profiles' table, figure for figure") {
+    std::vector<uint8_t> bytes;
+    const std::string path = sepal_test::source_path("docs/devices.md");
+    REQUIRE(sepal::read_file(path, &bytes, nullptr));
+    const std::string text(bytes.begin(), bytes.end());
+    const auto shown = [](int v) { return v == sepal::kUnknown ? std::string("?") : std::to_string(v); };
+    const auto yes_no = [](int v) { return v == sepal::kUnknown ? std::string("?") : v ? std::string("yes") : std::string("no"); };
+    const auto or_unknown = [](const char* s) { return std::string(s) == "unknown" ? std::string("?") : std::string(s); };
+    size_t rows = 0;
+    for (const sepal::DeviceProfile& p : sepal::device_profiles()) {
+        CAPTURE(p.name);
+        const std::string start = std::string("| `") + p.name + "` |";
+        const size_t at = text.find(start);
+        REQUIRE(at != std::string::npos);
+        std::vector<std::string> cells;
+        size_t i = at + 1;
+        const size_t end = text.find('\n', at);
+        while (i < end) {
+            const size_t bar = text.find('|', i);
+            if (bar == std::string::npos || bar > end) break;
+            std::string c = text.substr(i, bar - i);
+            c.erase(0, c.find_first_not_of(' '));
+            c.erase(c.find_last_not_of(' ') + 1);
+            cells.push_back(c);
+            i = bar + 1;
+        }
+        REQUIRE(cells.size() == 9);
+        CHECK(cells[2].rfind(std::to_string(p.red_bits) + "/" + std::to_string(p.green_bits) + "/" + std::to_string(p.blue_bits), 0) == 0);
+        CHECK(cells[3] == shown(p.texture_units));
+        CHECK(cells[4] == shown(p.max_texture_size));
+        CHECK(cells[6] == yes_no(p.blend_subtract));
+        if (std::string(p.name) != "default") {  // its family, NPOT, formats and throughput: in words
+            CHECK(cells[1] == p.family);
+            CHECK(cells[5] == yes_no(p.npot));
+            CHECK(cells[7] == or_unknown(p.compressed));
+            CHECK(cells[8] == or_unknown(p.throughput));
+        }
+        ++rows;
+    }
+    CHECK(rows == sepal::device_profiles().size());
 }
