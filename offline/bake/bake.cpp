@@ -340,7 +340,8 @@ std::string judged_on(const BakeOptions& o) {
 // The judge's framebuffer and capability mask: the profile's (8 bits, mask 0 by default).
 void configure_judge(const BakeOptions& o, ImageJudge* judge) {
     const ProfileLimits l = profile_limits(bake_profile(o));
-    judge->set_framebuffer(l.bits, l.blend_subtract ? 0u : uint32_t(SEPAL_MASK_BLEND_SUBTRACT));
+    judge->set_framebuffer(l.bits, (l.blend_subtract ? 0u : uint32_t(SEPAL_MASK_BLEND_SUBTRACT)) |
+                                       (l.fbo ? 0u : uint32_t(SEPAL_MASK_FBO)));
 }
 
 // The profile's record (format 2.4) on an asset baked for one other than the default, before

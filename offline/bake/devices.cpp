@@ -21,7 +21,8 @@ namespace {
 //              max_texture_2d_size 8192).
 //   [vc4]      Mesa vc4 (src/gallium/drivers/vc4/vc4_screen.c: max_texture_2d_size 2048,
 //              npot_textures, ETC1 where the kernel reports it).
-//   [mesa-es1] Mesa (src/mesa/main/extensions_table.h): OES_blend_subtract on every ES1 context.
+//   [mesa-es1] Mesa (src/mesa/main/extensions_table.h): OES_blend_subtract and
+//              OES_framebuffer_object on every ES1 context.
 //   [ti]       TI AM335x Technical Reference Manual (SPRUH73), SGX530 3D features: texture
 //              maximum 2048 x 2048, PVRTC1/2 and ETC1, non-square textures.
 //   [bb]       BlackBerry, "Understand the PowerVR SGX540 platform" (BB10 native docs): OpenGL ES
@@ -30,7 +31,7 @@ namespace {
 //              driver's extension string (OES_blend_subtract, OES_compressed_ETC1_RGB8_texture).
 //   [rpi]      raspberrypi/userland, Broadcom's GL ES driver: interface/khronos/glxx/gl11_int_config.h
 //              (GL11_CONFIG_MAX_TEXTURE_UNITS 4), glxx_client.c (the ES 1.1 extension string:
-//              OES_texture_npot and ETC1, no OES_blend_subtract).
+//              OES_texture_npot, OES_framebuffer_object and ETC1, no OES_blend_subtract).
 //   [xoom]     Motorola's OpenGL ES 1.1 extension list for the Xoom (Tegra 2), as republished by
 //              cdm.link: NV_texture_npot_2D_mipmap (no OES_texture_npot), DXT1, S3TC and ETC1,
 //              no OES_blend_subtract.
@@ -40,19 +41,19 @@ namespace {
 //   [mali-es2] es2_info of a Mali-400 MP (pastebin.com/HE112jCZ): OES_compressed_ETC1_RGB8_texture.
 //   Throughput: vendors' and press figures, peak triangles per second (docs/devices.md).
 const std::vector<DeviceProfile> kProfiles = {
-    {"default", "today's bake: an 8-bit framebuffer", 8, 8, 8, 2, kBakeMaxTexture, 0, 1, "none",
+    {"default", "today's bake: an 8-bit framebuffer", 8, 8, 8, 2, kBakeMaxTexture, 0, 1, 1, "none",
      "n/a", "this project: the 8-bit emulator, the GL ES 1.1 plan's 2 units, the bake's 256-texel limit"},
-    {"gles1-minimum", "any conformant GL ES 1.1 device", 5, 6, 5, 2, 64, 0, 0, "none", "unknown",
+    {"gles1-minimum", "any conformant GL ES 1.1 device", 5, 6, 5, 2, 64, 0, 0, 0, "none", "unknown",
      "[es11] (5/6/5 assumed: the spec sets no colour-buffer minimum)"},
-    {"mali400", "ARM Mali-400 MP", 5, 6, 5, 8, 4096, 1, 1, "ETC1", "23-55 M triangles/s (210-500 MHz)",
+    {"mali400", "ARM Mali-400 MP", 5, 6, 5, 8, 4096, 1, 1, 1, "ETC1", "23-55 M triangles/s (210-500 MHz)",
      "[android] [arm] [lima] [mesa-es1] [mali-es2]"},
-    {"adreno200", "Qualcomm Adreno 200/205", 5, 6, 5, kUnknown, 8192, kUnknown, 1, "ATC, 3DC", "unknown",
+    {"adreno200", "Qualcomm Adreno 200/205", 5, 6, 5, kUnknown, 8192, kUnknown, 1, 1, "ATC, 3DC", "unknown",
      "[android] [fd] [mesa-es1] [a205]"},
-    {"sgx530", "Imagination PowerVR SGX530/540", 5, 6, 5, 4, 2048, kUnknown, 1, "PVRTC, ETC1",
+    {"sgx530", "Imagination PowerVR SGX530/540", 5, 6, 5, 4, 2048, kUnknown, 1, kUnknown, "PVRTC, ETC1",
      "unknown", "[android] [ti] [bb] [droid] (units: SGX540's; SGX530 not found)"},
-    {"videocore4", "Broadcom VideoCore IV", 5, 6, 5, 4, 2048, 1, 0, "ETC1", "unknown",
+    {"videocore4", "Broadcom VideoCore IV", 5, 6, 5, 4, 2048, 1, 0, 1, "ETC1", "unknown",
      "[vc4] [rpi] (5/6/5 assumed; Broadcom's driver has no blend subtraction, Mesa's vc4 has)"},
-    {"tegra2", "NVIDIA Tegra 2", 5, 6, 5, kUnknown, kUnknown, 0, 0, "DXT1, S3TC, ETC1", "71 M triangles/s",
+    {"tegra2", "NVIDIA Tegra 2", 5, 6, 5, kUnknown, kUnknown, 0, 0, kUnknown, "DXT1, S3TC, ETC1", "71 M triangles/s",
      "[android] [xoom] (units and texture limit: no public source found)"},
 };
 
@@ -85,6 +86,7 @@ ProfileLimits profile_limits(const DeviceProfile& p) {
     l.texture_units = 2;
     l.texture_limit = p.max_texture_size == kUnknown ? kBakeMaxTexture : std::min(p.max_texture_size, kBakeMaxTexture);
     l.blend_subtract = p.blend_subtract == 1;
+    l.fbo = p.fbo == 1;
     return l;
 }
 
@@ -100,16 +102,17 @@ sepal_fmt_profile profile_record(const DeviceProfile& p) {
 }
 
 std::string describe_device_profiles() {
-    std::string out = "profile        framebuffer units max-texture npot subtract compressed       family\n";
+    std::string out = "profile        framebuffer units max-texture npot subtract fbo compressed       family\n";
     char line[256];
     for (const DeviceProfile& p : kProfiles) {
-        std::snprintf(line, sizeof line, "%-14s %d/%d/%d       %-5s %-11s %-4s %-8s %-16s %s\n", p.name, p.red_bits,
+        std::snprintf(line, sizeof line, "%-14s %d/%d/%d       %-5s %-11s %-4s %-8s %-3s %-16s %s\n", p.name, p.red_bits,
                       p.green_bits, p.blue_bits, figure(p.texture_units).c_str(), figure(p.max_texture_size).c_str(),
-                      yes_no(p.npot).c_str(), yes_no(p.blend_subtract).c_str(), p.compressed, p.family);
+                      yes_no(p.npot).c_str(), yes_no(p.blend_subtract).c_str(), yes_no(p.fbo).c_str(), p.compressed,
+                      p.family);
         out += line;
     }
-    out += "? = no public source found: the bake assumes 2 units, its own 256-texel limit and no blend "
-           "subtraction (docs/devices.md lists the sources and what is uncertain)\n";
+    out += "? = no public source found: the bake assumes 2 units, its own 256-texel limit, no blend "
+           "subtraction and no framebuffer objects (docs/devices.md lists the sources and what is uncertain)\n";
     return out;
 }
 

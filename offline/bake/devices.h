@@ -35,6 +35,7 @@ struct DeviceProfile {
     int max_texture_size;    // GL_MAX_TEXTURE_SIZE, or kUnknown
     int npot;                // full non-power-of-two textures: 1, 0 or kUnknown
     int blend_subtract;      // GL_OES_blend_subtract: 1, 0 or kUnknown
+    int fbo;                 // GL_OES_framebuffer_object (a 565 frame summed in 8 bits): 1, 0 or kUnknown
     const char* compressed;  // compressed texture formats ("ETC1, PVRTC"), "none" or "unknown"
     const char* throughput;  // vertex throughput class, or "unknown"
     const char* source;      // where each figure comes from (docs/devices.md has the full list)
@@ -53,6 +54,9 @@ struct ProfileLimits {
     int texture_units = 2;  // the plan's
     int texture_limit = kBakeMaxTexture;
     bool blend_subtract = true;
+    // The runtime sums a GL ES 1.1 frame in an 8-bit target on a framebuffer with fewer bits
+    // where the context has framebuffer objects; judged so only where the profile says yes.
+    bool fbo = true;
 };
 ProfileLimits profile_limits(const DeviceProfile& p);
 // The asset's record of it (format 2.4's PROF chunk).

@@ -237,8 +237,10 @@ int render_model(RenderArgs& args, int framebuffer, const CommandIO& io) {
     }
     std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings in this scene's frame\n",
                  backend.c_str(), setup.width, setup.height, stats.doublings);
-    std::fprintf(io.out, "framebuffer %s bits per channel, no dithering (modelled)\n",
-                 framebuffer == 565 ? "5/6/5" : "8/8/8");
+    // GL ES 1.1 on fewer bits sums in 8 bits unless framebuffer objects are masked (srt::accumulates).
+    const bool summed = framebuffer == 565 && backend == "gles1-model" && !(mask & SEPAL_MASK_FBO);
+    std::fprintf(io.out, "framebuffer %s bits per channel, no dithering (modelled)%s\n",
+                 framebuffer == 565 ? "5/6/5" : "8/8/8", summed ? ", passes summed in an 8-bit target" : "");
     const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
     if (!dim.empty()) std::fprintf(io.err, "sepal render: %s\n", dim.c_str());
     // The context the emulator stands for (sepal_emulate_draw's): its framebuffer's bits.

@@ -269,7 +269,8 @@ bool render_asset_headless(const void* bytes, size_t size, const SceneSetup& set
         info->path = std::string(gles_version == 2 ? "GL ES 2 " : "GL ES 1.1 ") + kModes[int(options.mode) % 3] + ", " +
                      std::string(mi.single_unit ? "one texture unit (copy texture)" : "two texture units") +
                      (mi.subtracts ? (mi.subtract_by_inversion ? ", subtraction by inversion" : ", blend subtract")
-                                   : ", no subtraction");
+                                   : ", no subtraction") +
+                     (mi.accumulates ? ", passes summed in an 8-bit target" : "");
         return true;
     };
     job.destroy = [&] {

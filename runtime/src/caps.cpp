@@ -89,13 +89,31 @@ extern "C" sepal_result sepal_query_caps(int gles_version, uint32_t mask, sepal_
         out->blend_equation = (void (*)(unsigned int))f;
         if (!f) out->has_blend_subtract = 0;
     }
+    // GL ES 1.1's framebuffer objects: every entry point or none.
+    if (gles_version == 1 && out->has_fbo && get_proc) {
+        auto& f = out->fbo_es1;
+        f.gen_framebuffers = (decltype(f.gen_framebuffers))get_proc("glGenFramebuffersOES");
+        f.delete_framebuffers = (decltype(f.delete_framebuffers))get_proc("glDeleteFramebuffersOES");
+        f.bind_framebuffer = (decltype(f.bind_framebuffer))get_proc("glBindFramebufferOES");
+        f.framebuffer_texture_2d = (decltype(f.framebuffer_texture_2d))get_proc("glFramebufferTexture2DOES");
+        f.gen_renderbuffers = (decltype(f.gen_renderbuffers))get_proc("glGenRenderbuffersOES");
+        f.delete_renderbuffers = (decltype(f.delete_renderbuffers))get_proc("glDeleteRenderbuffersOES");
+        f.bind_renderbuffer = (decltype(f.bind_renderbuffer))get_proc("glBindRenderbufferOES");
+        f.renderbuffer_storage = (decltype(f.renderbuffer_storage))get_proc("glRenderbufferStorageOES");
+        f.framebuffer_renderbuffer = (decltype(f.framebuffer_renderbuffer))get_proc("glFramebufferRenderbufferOES");
+        f.check_framebuffer_status = (decltype(f.check_framebuffer_status))get_proc("glCheckFramebufferStatusOES");
+        if (!f.gen_framebuffers || !f.delete_framebuffers || !f.bind_framebuffer || !f.framebuffer_texture_2d ||
+            !f.gen_renderbuffers || !f.delete_renderbuffers || !f.bind_renderbuffer || !f.renderbuffer_storage ||
+            !f.framebuffer_renderbuffer || !f.check_framebuffer_status)
+            memset(&f, 0, sizeof f);
+    }
     if (glGetError() != GL_NO_ERROR)
         return srt::fail(err, SEPAL_ERR_GL, "GL error while querying capabilities");
     out->mask = mask;
     if (mask & SEPAL_MASK_BLEND_SUBTRACT) out->has_blend_subtract = 0, out->blend_equation = nullptr;
     if (mask & SEPAL_MASK_MULTITEXTURE) out->texture_units = out->texture_units > 0 ? 1 : 0;
     if ((mask & SEPAL_MASK_THIRD_UNIT) && out->texture_units > 2) out->texture_units = 2;
-    if (mask & SEPAL_MASK_FBO) out->has_fbo = 0;
+    if (mask & SEPAL_MASK_FBO) out->has_fbo = 0, memset(&out->fbo_es1, 0, sizeof out->fbo_es1);
     if (mask & SEPAL_MASK_NPOT) out->has_npot = 0;
     if (mask & SEPAL_MASK_FLOAT_TARGET) out->has_float_target = 0;
     if (out->texture_units < 1)

@@ -320,11 +320,104 @@ void diffuse_map(Frame& f, const sepal_draw_desc* d) {
     draw_mesh(f);
 }
 
+constexpr GLenum kFramebufferOES = 0x8D40, kFramebufferBindingOES = 0x8CA6;
+
+// The accumulated sum written to the framebuffer bound at the draw: the object's mesh
+// (depth LESS, as the pre-pass lays it, so what the engine drew in front still hides it),
+// each pixel reading its own texel of the 8-bit sum (projective coordinates, as
+// object_pass's copy) times srt::write_scale (the vertex colour), plus srt::write_bias on
+// the second unit, so that the framebuffer's truncation to n bits rounds to nearest.
+// Replaces what the pixel held, as the first pass did.
+void write_accumulated(Frame& f, const float mvp[16]) {
+    const srt::Material* m = f.m;
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, pos_stride(f), pos(f));
+    glColor4f(srt::write_scale(m->caps.red_bits), srt::write_scale(m->caps.green_bits),
+              srt::write_scale(m->caps.blue_bits), 1.0f);
+    const float sx = 0.5f * (float)f.width / (float)m->acc_width;
+    const float sy = 0.5f * (float)f.height / (float)m->acc_height;
+    const float screen[16] = {sx, 0, 0, 0, 0, sy, 0, 0, 0, 0, 0, 0, sx, sy, 0, 1};
+    float tm[16];
+    srt::mat4_mul(screen, mvp, tm);
+    bind_unit(GL_TEXTURE0, m->acc_color, pos(f), pos_stride(f));
+    glTexCoordPointer(3, GL_FLOAT, pos_stride(f), pos(f));
+    glMatrixMode(GL_TEXTURE);
+    glLoadMatrixf(tm);
+    glMatrixMode(GL_MODELVIEW);
+    set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, GL_PRIMARY_COLOR, 1);
+    // Unit 1 adds the constant; its texture is bound only so that the stage runs.
+    glActiveTexture(GL_TEXTURE1);
+    glClientActiveTexture(GL_TEXTURE1);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, m->acc_color);
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    const GLfloat bias[4] = {srt::write_bias(m->caps.red_bits), srt::write_bias(m->caps.green_bits),
+                             srt::write_bias(m->caps.blue_bits), 0.0f};
+    glTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, bias);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_ADD);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_RGB, GL_PREVIOUS);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC1_RGB, GL_CONSTANT);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SRC0_ALPHA, GL_PREVIOUS);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, 1);
+    f.env[1].valid = false;
+    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
+    });
+    ++f.stats->draw_calls;
+    glMatrixMode(GL_TEXTURE);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    bind_unit(GL_TEXTURE1, 0, nullptr);
+}
+
+sepal_result draw_passes(const sepal_draw_desc* d, const srt::FramePrep& prep, sepal_draw_stats* stats, sepal_error* err,
+                         Frame* out);
+
 }  // namespace
 
 namespace srt {
 
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
+    const srt::Material* m = srt::material(d->material);
+    if (!m->acc_fbo) return draw_passes(d, prep, stats, err, nullptr);
+    // Framebuffers with fewer bits: the passes go to the 8-bit target, at the same size and
+    // with the same matrices; then one write to the framebuffer bound now.
+    GLint bound = 0, viewport[4];
+    glGetIntegerv(kFramebufferBindingOES, &bound);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    m->caps.fbo_es1.bind_framebuffer(kFramebufferOES, m->acc_fbo);
+    glViewport(0, 0, viewport[2], viewport[3]);
+    glDisable(GL_SCISSOR_TEST);  // the frame's end puts the engine's back
+    glDepthMask(GL_TRUE);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    Frame f;
+    const sepal_result r = draw_passes(d, prep, stats, err, &f);
+    m->caps.fbo_es1.bind_framebuffer(kFramebufferOES, (GLuint)bound);
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    if (r != SEPAL_OK) return r;
+    float mvp[16];
+    srt::mat4_mul(prep.proj, prep.view, mvp);
+    write_accumulated(f, mvp);
+    return srt::gl_check("the accumulated sum's write", err);
+}
+
+}  // namespace srt
+
+namespace {
+
+sepal_result draw_passes(const sepal_draw_desc* d, const srt::FramePrep& prep, sepal_draw_stats* stats, sepal_error* err,
+                         Frame* out) {
     const srt::Material* m = srt::material(d->material);
     sepal_result r;
     float mvp[16];
@@ -399,10 +492,11 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
         }
     }
     if (final_doubling == step_count && !prep.diffuse_per_pass) diffuse_map(f, d);
+    if (out) *out = f;
     return srt::gl_check("the object's passes", err);
 }
 
-}  // namespace srt
+}  // namespace
 
 extern "C" sepal_result sepal_texture_create_rgba8(const uint8_t* rgba, int width, int height, uint32_t* out,
                                                sepal_error* err) {

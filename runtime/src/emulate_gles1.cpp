@@ -259,6 +259,29 @@ void fullscreen_step(const srt::Gles1Step& step, const float* tri, size_t pixels
 
 // The desc's version, mask, size and framebuffer bits (0 means 8), checked; out gets the bits'
 // tables.
+// The context the emulator stands for: two units on GL ES 1.1, the mask's capabilities off.
+sepal_caps emulated_caps(const sepal_emulate_desc* e, const Channels& fbc) {
+    sepal_caps caps = {};
+    caps.gles_version = e->gles_version;
+    caps.texture_units = e->gles_version == 2 ? 8 : 2;
+    caps.max_texture_size = 8192;
+    caps.has_blend_subtract = (e->mask & SEPAL_MASK_BLEND_SUBTRACT) ? 0 : 1;
+    caps.has_fbo = (e->mask & SEPAL_MASK_FBO) ? 0 : 1;
+    caps.mask = e->mask;
+    caps.red_bits = fbc.bits[0], caps.green_bits = fbc.bits[1], caps.blue_bits = fbc.bits[2];
+    return caps;
+}
+
+// The 8-bit sum's write (srt::accumulates): the object's pixels (those in front), each k v + h
+// of its sum v (the combiner stages clamp), stored at the framebuffer's bits.
+void write_sum(const Channels& fbc, const float* tri, size_t pixels, uint8_t* fb) {
+    float k[3], h[3];
+    for (int c = 0; c < 3; ++c) k[c] = srt::write_scale(fbc.bits[c]), h[c] = srt::write_bias(fbc.bits[c]);
+    for (size_t p = 0; p < pixels; ++p)
+        if (tri[p] >= 0.0f)
+            for (int c = 0; c < 3; ++c) fb[4 * p + c] = fbc.stored[c][to8(clamp01(fb[4 * p + c] / 255.0f * k[c]) + h[c])];
+}
+
 sepal_result check_desc(const sepal_emulate_desc* e, Channels* out, sepal_error* err) {
     if (e->gles_version != 1 && e->gles_version != 2)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: gles_version %d (1 or 2)", e->gles_version);
@@ -293,13 +316,12 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
         return srt::fail(err, SEPAL_ERR_CAPACITY, "emulate: scratch holds %zu floats, needs %zu", e->scratch_floats,
                          need);
     // The material as the executor would see it, without GL objects.
-    sepal_caps caps = {};
-    caps.gles_version = e->gles_version;
-    caps.texture_units = e->gles_version == 2 ? 8 : 2;
-    caps.max_texture_size = 8192;
-    caps.has_blend_subtract = (e->mask & SEPAL_MASK_BLEND_SUBTRACT) ? 0 : 1;
-    caps.mask = e->mask;
-    caps.red_bits = fbc.bits[0], caps.green_bits = fbc.bits[1], caps.blue_bits = fbc.bits[2];
+    const sepal_caps caps = emulated_caps(e, fbc);
+    // Fewer than 8 bits: the executor sums the passes in an 8-bit target (srt::accumulates)
+    // and writes the sum once, rounded; the passes then see 8 bits.
+    const bool accumulated = srt::accumulates(caps, false);
+    Channels pass_fbc = fbc;
+    if (accumulated) pass_fbc.bits[0] = pass_fbc.bits[1] = pass_fbc.bits[2] = 8, pass_fbc.set();
     srt::Material m;
     sepal_result r = srt::material_plan(&caps, e->asset, W, H, &m, err);
     if (r != SEPAL_OK) return r;
@@ -345,7 +367,7 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
     for (int s = 0; s < step_count; ++s) {
         const srt::Gles1Step& step = steps[s];
         if (step.kind != srt::Gles1Step::kPass) {
-            fullscreen_step(step, tri, (size_t)W * H, fbc, fb);
+            fullscreen_step(step, tri, (size_t)W * H, pass_fbc, fb);
             continue;
         }
         const sepal_fmt_pass& pass = m.passes[step.pass];
@@ -417,11 +439,12 @@ sepal_result emulate_object(const sepal_emulate_desc* e, const srt::MeshView& me
                         const int src = to8(value[ch]);
                         int v = fb[4 * p + ch];
                         v = subtract ? (v - src < 0 ? 0 : v - src) : (v + src > 255 ? 255 : v + src);
-                        fb[4 * p + ch] = fbc.stored[ch][v];
+                        fb[4 * p + ch] = pass_fbc.stored[ch][v];
                     }
                 }
             }
     }
+    if (accumulated) write_sum(fbc, tri, (size_t)W * H, fb);
     if (background && !keep)
         for (size_t p = 0; p < (size_t)W * H; ++p)
             if (tri[p] < 0.0f)

@@ -180,6 +180,54 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
 
 namespace {
 
+constexpr GLenum kFramebufferOES = 0x8D40, kRenderbufferOES = 0x8D41, kColorAttachment0OES = 0x8CE0,
+                 kDepthAttachmentOES = 0x8D00, kDepthComponent16OES = 0x81A5, kFramebufferCompleteOES = 0x8CD5,
+                 kFramebufferBindingOES = 0x8CA6;
+
+void destroy_accumulator(srt::Material* m) {
+    const auto& f = m->caps.fbo_es1;
+    if (m->acc_fbo && f.delete_framebuffers) f.delete_framebuffers(1, &m->acc_fbo);
+    if (m->acc_depth && f.delete_renderbuffers) f.delete_renderbuffers(1, &m->acc_depth);
+    if (m->acc_color) glDeleteTextures(1, &m->acc_color);
+    m->acc_fbo = m->acc_depth = m->acc_color = 0;
+    m->acc_width = m->acc_height = 0;
+}
+
+// The 8-bit target of srt::accumulates. Where the context cannot make one (a size over its
+// limit, an incomplete framebuffer) the material keeps the per-pass path: what it drew before.
+void create_accumulator(srt::Material* m) {
+    const auto& f = m->caps.fbo_es1;
+    const int w = next_pow2(m->max_width), h = next_pow2(m->max_height);
+    if (w > m->caps.max_texture_size || h > m->caps.max_texture_size) return;
+    GLint bound = 0;
+    glGetIntegerv(kFramebufferBindingOES, &bound);
+    glGenTextures(1, &m->acc_color);
+    glBindTexture(GL_TEXTURE_2D, m->acc_color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    // Nearest: the final write reads each pixel's own texel.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    f.gen_renderbuffers(1, &m->acc_depth);
+    f.bind_renderbuffer(kRenderbufferOES, m->acc_depth);
+    f.renderbuffer_storage(kRenderbufferOES, kDepthComponent16OES, w, h);
+    f.gen_framebuffers(1, &m->acc_fbo);
+    f.bind_framebuffer(kFramebufferOES, m->acc_fbo);
+    f.framebuffer_texture_2d(kFramebufferOES, kColorAttachment0OES, GL_TEXTURE_2D, m->acc_color, 0);
+    f.framebuffer_renderbuffer(kFramebufferOES, kDepthAttachmentOES, kRenderbufferOES, m->acc_depth);
+    const bool complete = f.check_framebuffer_status(kFramebufferOES) == kFramebufferCompleteOES;
+    f.bind_framebuffer(kFramebufferOES, (GLuint)bound);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    if (!complete) {
+        destroy_accumulator(m);
+        return;
+    }
+    m->acc_width = w;
+    m->acc_height = h;
+}
+
 sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_width, int max_height,
                     bool float_target, srt::Material* out, sepal_error* err) {
     sepal_result r0 = srt::material_plan(caps, asset, max_width, max_height, out, err);
@@ -243,6 +291,7 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
             return r;
         }
     }
+    if (srt::accumulates(*caps, out->single_unit != 0) && caps->fbo_es1.gen_framebuffers) create_accumulator(out);
     return srt::ok(err);
 }
 
@@ -276,6 +325,7 @@ extern "C" void sepal_material_get_info(const sepal_material* storage, sepal_mat
     out->passes = (int)m->plan.pass_count;
     out->textures = (int)m->texture_count;
     out->weaker_context = m->weaker;
+    out->accumulates = m->acc_fbo != 0;
 }
 
 extern "C" void sepal_material_context_lost(sepal_material* storage) {
@@ -285,6 +335,7 @@ extern "C" void sepal_material_context_lost(sepal_material* storage) {
     // delete that context's objects of the same number).
     memset(m->gl_textures, 0, sizeof m->gl_textures);
     m->copy_texture = m->diffuse_texture = 0;
+    m->acc_fbo = m->acc_color = m->acc_depth = 0;
     m->program_pass = m->program_fullscreen = m->program_mesh_texture = 0;
     m->program_fused_vertex = m->program_fused_pixel = 0;
     m->float_fbo = m->float_color = m->float_depth = 0;
@@ -317,6 +368,7 @@ extern "C" void sepal_material_destroy(sepal_material* storage) {
     }
     if (m->texture_count) glDeleteTextures((GLsizei)m->texture_count, m->gl_textures);
     if (m->copy_texture) glDeleteTextures(1, &m->copy_texture);
+    destroy_accumulator(m);
     srt::destroy_gles2_programs(m);
     m->texture_count = 0;
     m->copy_texture = 0;

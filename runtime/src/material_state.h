@@ -47,6 +47,12 @@ struct Material {
     // exposure and no doublings, then copied to the current framebuffer for display.
     int float_target;
     uint32_t float_fbo, float_color, float_depth;
+    // GL ES 1.1 on a framebuffer with fewer than 8 bits a channel (srt::accumulates): the
+    // passes are summed in this 8-bit target (colour texture and depth renderbuffer, a power
+    // of two at least max_width x max_height) and written to the framebuffer once, rounded.
+    // 0 when unused.
+    uint32_t acc_fbo, acc_color, acc_depth;
+    int acc_width, acc_height;
     // Set by sepal_material_context_lost: the GL names above belong to a dead context.
     int context_lost;
     // SEPAL_WEAKER_* bits of the context against the asset's device profile.

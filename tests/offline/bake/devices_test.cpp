@@ -138,16 +138,17 @@ TEST_CASE("devices: docs/devices.md's table is the profiles' table, figure for f
             cells.push_back(c);
             i = bar + 1;
         }
-        REQUIRE(cells.size() == 9);
+        REQUIRE(cells.size() == 10);
         CHECK(cells[2].rfind(std::to_string(p.red_bits) + "/" + std::to_string(p.green_bits) + "/" + std::to_string(p.blue_bits), 0) == 0);
         CHECK(cells[3] == shown(p.texture_units));
         CHECK(cells[4] == shown(p.max_texture_size));
         CHECK(cells[6] == yes_no(p.blend_subtract));
+        CHECK(cells[7] == yes_no(p.fbo));
         if (std::string(p.name) != "default") {  // its family, NPOT, formats and throughput: in words
             CHECK(cells[1] == p.family);
             CHECK(cells[5] == yes_no(p.npot));
-            CHECK(cells[7] == or_unknown(p.compressed));
-            CHECK(cells[8] == or_unknown(p.throughput));
+            CHECK(cells[8] == or_unknown(p.compressed));
+            CHECK(cells[9] == or_unknown(p.throughput));
         }
         ++rows;
     }
