@@ -395,9 +395,12 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     GLint bound = 0, viewport[4];
     glGetIntegerv(kFramebufferBindingOES, &bound);
     glGetIntegerv(GL_VIEWPORT, viewport);
+    // The engine's scissor box is in its framebuffer's coordinates: off in the target, back on
+    // for the write.
+    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
     m->caps.fbo_es1.bind_framebuffer(kFramebufferOES, m->acc_fbo);
     glViewport(0, 0, viewport[2], viewport[3]);
-    glDisable(GL_SCISSOR_TEST);  // the frame's end puts the engine's back
+    glDisable(GL_SCISSOR_TEST);
     glDepthMask(GL_TRUE);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -405,6 +408,7 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     const sepal_result r = draw_passes(d, prep, stats, err, &f);
     m->caps.fbo_es1.bind_framebuffer(kFramebufferOES, (GLuint)bound);
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
     if (r != SEPAL_OK) return r;
     float mvp[16];
     srt::mat4_mul(prep.proj, prep.view, mvp);
