@@ -350,6 +350,18 @@ Image to_rgb(const Image& img) {
     return out;
 }
 
+Image nearest_at_bits(const Image& rgb, const int bits[3]) {
+    Image q = rgb;
+    for (size_t i = 0; i < q.data.size(); ++i) {
+        const int n = bits[i % 3], top = (1 << n) - 1;
+        const int code = int(std::lround(std::min(1.0f, std::max(0.0f, q.data[i])) * float(top)));
+        int wide = 0;
+        for (int filled = 0; filled < 8; filled += n) wide |= (code << (8 - n)) >> filled;
+        q.data[i] = float(wide & 255) / 255.0f;
+    }
+    return q;
+}
+
 ImageDiff diff_images(const Image& a, const Image& b, double threshold) {
     ImageDiff d;
     d.threshold = threshold;

@@ -70,6 +70,10 @@ void paste_image(Image* dst, const Image& src, int x0, int y0, int scale = 1);
 Image image_from_rgba8(const uint8_t* pixels, int width, int height);
 // A copy with 3 channels (grey expanded, alpha dropped).
 Image to_rgb(const Image& img);
+// An RGB image as a framebuffer of bits[c] bits a channel shows it at best: each value clamped
+// to [0, 1], rounded to the nearest of its 2^bits levels and widened back to 8 bits by
+// repeating its bits, as a read-back returns it (5/6/5: the limit of an RGB565 framebuffer).
+Image nearest_at_bits(const Image& rgb, const int bits[3]);
 
 struct ImageDiff {
     bool comparable = false;   // false when sizes differ; reason says how

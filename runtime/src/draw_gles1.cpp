@@ -119,6 +119,30 @@ void draw_mesh(const Frame& f) {
     ++f.stats->draw_calls;
 }
 
+// A viewport-sized texture (width x height texels, a power of two at least the viewport) on
+// unit 0, read at each pixel's own texel. Projective coordinates: the texture matrix maps the
+// object-space position to (s q, t q, 0, q) with q the clip w, so s and t are the pixel's
+// position in the texture (texel centres on pixel centres; it is nearest-sampled).
+// reset_texture_matrix undoes the matrix after the draw.
+void bind_screen_texture(const Frame& f, GLuint texture, int width, int height) {
+    const float sx = 0.5f * (float)f.width / (float)width;
+    const float sy = 0.5f * (float)f.height / (float)height;
+    const float screen[16] = {sx, 0, 0, 0, 0, sy, 0, 0, 0, 0, 0, 0, sx, sy, 0, 1};
+    float tm[16];
+    srt::mat4_mul(screen, f.mvp, tm);
+    bind_unit(GL_TEXTURE0, texture, pos(f), pos_stride(f));
+    glTexCoordPointer(3, GL_FLOAT, pos_stride(f), pos(f));
+    glMatrixMode(GL_TEXTURE);
+    glLoadMatrixf(tm);
+    glMatrixMode(GL_MODELVIEW);
+}
+
+void reset_texture_matrix() {
+    glMatrixMode(GL_TEXTURE);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+}
+
 // A framebuffer-wide operation restricted to the object's visible pixels: its mesh with
 // depth EQUAL (after the depth is laid), in a constant colour, optionally textured with the
 // copy texture at the pixel's own position (the single-unit path's running sum). Counted
@@ -130,19 +154,7 @@ void object_pass(Frame& f, bool textured, const float color[4]) {
     glColor4f(color[0], color[1], color[2], color[3]);
     bind_unit(GL_TEXTURE1, 0, nullptr);
     if (textured) {
-        // Projective coordinates: the texture matrix maps the object-space position to
-        // (s q, t q, 0, q) with q the clip w, so s and t are the pixel's position in the copy
-        // (texel centres on pixel centres; the copy is nearest-sampled).
-        const float sx = 0.5f * (float)f.width / (float)f.m->copy_width;
-        const float sy = 0.5f * (float)f.height / (float)f.m->copy_height;
-        const float screen[16] = {sx, 0, 0, 0, 0, sy, 0, 0, 0, 0, 0, 0, sx, sy, 0, 1};
-        float tm[16];
-        srt::mat4_mul(screen, f.mvp, tm);
-        bind_unit(GL_TEXTURE0, f.m->copy_texture, pos(f), pos_stride(f));
-        glTexCoordPointer(3, GL_FLOAT, pos_stride(f), pos(f));
-        glMatrixMode(GL_TEXTURE);
-        glLoadMatrixf(tm);
-        glMatrixMode(GL_MODELVIEW);
+        bind_screen_texture(f, f.m->copy_texture, f.m->copy_width, f.m->copy_height);
         set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, 0, 1);
     } else {
         bind_unit(GL_TEXTURE0, 0, nullptr);
@@ -150,11 +162,7 @@ void object_pass(Frame& f, bool textured, const float color[4]) {
     srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
         glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
     });
-    if (textured) {
-        glMatrixMode(GL_TEXTURE);
-        glLoadIdentity();
-        glMatrixMode(GL_MODELVIEW);
-    }
+    if (textured) reset_texture_matrix();
     ++f.stats->fullscreen_passes;
 }
 
@@ -324,11 +332,11 @@ constexpr GLenum kFramebufferOES = 0x8D40, kFramebufferBindingOES = 0x8CA6;
 
 // The accumulated sum written to the framebuffer bound at the draw: the object's mesh
 // (depth LESS, as the pre-pass lays it, so what the engine drew in front still hides it),
-// each pixel reading its own texel of the 8-bit sum (projective coordinates, as
-// object_pass's copy) times srt::write_scale (the vertex colour), plus srt::write_bias on
-// the second unit, so that the framebuffer's truncation to n bits rounds to nearest.
-// Replaces what the pixel held, as the first pass did.
-void write_accumulated(Frame& f, const float mvp[16]) {
+// each pixel reading its own texel of the 8-bit sum (bind_screen_texture) times
+// srt::write_scale (the vertex colour), plus srt::write_bias on the second unit, so that the
+// framebuffer's truncation to n bits rounds to nearest. Replaces what the pixel held, as the
+// first pass did.
+void write_accumulated(Frame& f) {
     const srt::Material* m = f.m;
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
@@ -339,16 +347,7 @@ void write_accumulated(Frame& f, const float mvp[16]) {
     glVertexPointer(3, GL_FLOAT, pos_stride(f), pos(f));
     glColor4f(srt::write_scale(m->caps.red_bits), srt::write_scale(m->caps.green_bits),
               srt::write_scale(m->caps.blue_bits), 1.0f);
-    const float sx = 0.5f * (float)f.width / (float)m->acc_width;
-    const float sy = 0.5f * (float)f.height / (float)m->acc_height;
-    const float screen[16] = {sx, 0, 0, 0, 0, sy, 0, 0, 0, 0, 0, 0, sx, sy, 0, 1};
-    float tm[16];
-    srt::mat4_mul(screen, mvp, tm);
-    bind_unit(GL_TEXTURE0, m->acc_color, pos(f), pos_stride(f));
-    glTexCoordPointer(3, GL_FLOAT, pos_stride(f), pos(f));
-    glMatrixMode(GL_TEXTURE);
-    glLoadMatrixf(tm);
-    glMatrixMode(GL_MODELVIEW);
+    bind_screen_texture(f, m->acc_color, m->acc_width, m->acc_height);
     set_env_modulate(f, GL_TEXTURE0, GL_TEXTURE, GL_PRIMARY_COLOR, 1);
     // Unit 1 adds the constant; its texture is bound only so that the stage runs.
     glActiveTexture(GL_TEXTURE1);
@@ -370,13 +369,8 @@ void write_accumulated(Frame& f, const float mvp[16]) {
     glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
     glTexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, 1);
     f.env[1].valid = false;
-    srt::for_each_drawable_run(*f.mesh, f.bad_vertices, [&f](int first, int count) {
-        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, f.mesh->indices + first);
-    });
-    ++f.stats->draw_calls;
-    glMatrixMode(GL_TEXTURE);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
+    draw_mesh(f);
+    reset_texture_matrix();
     bind_unit(GL_TEXTURE1, 0, nullptr);
 }
 
@@ -410,9 +404,10 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     if (scissor) glEnable(GL_SCISSOR_TEST);
     if (r != SEPAL_OK) return r;
-    float mvp[16];
+    float mvp[16];  // f.mvp pointed into draw_passes' frame
     srt::mat4_mul(prep.proj, prep.view, mvp);
-    write_accumulated(f, mvp);
+    f.mvp = mvp;
+    write_accumulated(f);
     return srt::gl_check("the accumulated sum's write", err);
 }
 

@@ -257,8 +257,6 @@ void fullscreen_step(const srt::Gles1Step& step, const float* tri, size_t pixels
         }
 }
 
-// The desc's version, mask, size and framebuffer bits (0 means 8), checked; out gets the bits'
-// tables.
 // The context the emulator stands for: two units on GL ES 1.1, the mask's capabilities off.
 sepal_caps emulated_caps(const sepal_emulate_desc* e, const Channels& fbc) {
     sepal_caps caps = {};
@@ -275,13 +273,18 @@ sepal_caps emulated_caps(const sepal_emulate_desc* e, const Channels& fbc) {
 // The 8-bit sum's write (srt::accumulates): the object's pixels (those in front), each k v + h
 // of its sum v (the combiner stages clamp), stored at the framebuffer's bits.
 void write_sum(const Channels& fbc, const float* tri, size_t pixels, uint8_t* fb) {
-    float k[3], h[3];
-    for (int c = 0; c < 3; ++c) k[c] = srt::write_scale(fbc.bits[c]), h[c] = srt::write_bias(fbc.bits[c]);
+    uint8_t written[3][256];  // per channel, what each 8-bit sum becomes
+    for (int c = 0; c < 3; ++c) {
+        const float k = srt::write_scale(fbc.bits[c]), h = srt::write_bias(fbc.bits[c]);
+        for (int v = 0; v < 256; ++v) written[c][v] = fbc.stored[c][to8(clamp01(v / 255.0f * k) + h)];
+    }
     for (size_t p = 0; p < pixels; ++p)
         if (tri[p] >= 0.0f)
-            for (int c = 0; c < 3; ++c) fb[4 * p + c] = fbc.stored[c][to8(clamp01(fb[4 * p + c] / 255.0f * k[c]) + h[c])];
+            for (int c = 0; c < 3; ++c) fb[4 * p + c] = written[c][fb[4 * p + c]];
 }
 
+// The desc's version, mask, size and framebuffer bits (0 means 8), checked; out gets the bits'
+// tables.
 sepal_result check_desc(const sepal_emulate_desc* e, Channels* out, sepal_error* err) {
     if (e->gles_version != 1 && e->gles_version != 2)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "emulate: gles_version %d (1 or 2)", e->gles_version);

@@ -276,16 +276,10 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
     return failures ? 1 : 0;
 }
 
-// The exact render as a 565 framebuffer shows it at best: each channel rounded to the
-// nearest 5- (red, blue) or 6-bit (green) value, widened back as a read-back does.
+// The exact render as a 565 framebuffer shows it at best.
 sepal::Image nearest_565(const sepal::Image& exact) {
-    sepal::Image q = exact;
-    for (size_t i = 0; i < q.data.size(); ++i) {
-        const int n = i % 3 == 1 ? 6 : 5, top = (1 << n) - 1;
-        const int code = int(std::lround(std::min(1.0f, std::max(0.0f, q.data[i])) * float(top)));
-        q.data[i] = float((code << (8 - n)) | (code >> (2 * n - 8))) / 255.0f;
-    }
-    return q;
+    const int bits[3] = {5, 6, 5};
+    return sepal::nearest_at_bits(exact, bits);
 }
 
 // The asset drawn by llvmpipe on GL ES 1.1 into a framebuffer of 8888 or 565; empty on failure.

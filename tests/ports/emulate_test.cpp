@@ -212,14 +212,8 @@ TEST_CASE("GL ES 1.1 on RGB565: the passes summed in 8 bits and written once, ro
                                         sepal::kReferenceSupersample),
                     err);
     exact = sepal::to_rgb(exact);
-    sepal::Image limit = exact;
-    for (size_t i = 0; i < limit.data.size(); ++i) {
-        const int bits = i % 3 == 1 ? 6 : 5, top = (1 << bits) - 1;
-        const float v = std::min(1.0f, std::max(0.0f, limit.data[i]));
-        const int code = int(v * top + 0.5f);
-        const int wide = (code << (8 - bits)) | (code >> (2 * bits - 8));
-        limit.data[i] = float(wide) / 255.0f;
-    }
+    const int bits565[3] = {5, 6, 5};
+    const sepal::Image limit = sepal::nearest_at_bits(exact, bits565);
     for (float& v : exact.data) v = std::min(1.0f, std::max(0.0f, v));
     sepal_ports::GlRenderOptions opt;
     REQUIRE(sepal_ports::parse_gl_backend("gles1", &opt));
