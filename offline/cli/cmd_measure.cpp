@@ -1,6 +1,6 @@
 // sepal measure: measuring a material with a few hundred samples instead of 1.5 million
 // (Matusik et al. 2003, section 7; offline/database/). Subcommands:
-//   sepal measure plan --samples N -o plan.json [--method greedy|random|uniform] [--seed S]
+//   sepal measure plan --samples N -o plan.json [--method greedy|picture|random|uniform] [--seed S]
 //                      [--space log|linear] [--objective prediction|condition]
 //                      [--exclude NAME,..] [--swaps N] [--materials NAME,..]
 //   sepal measure simulate SPEC plan.json -o samples.csv [--noise 0.01] [--seed S] [--materials ..]
@@ -73,6 +73,8 @@ struct PlanArgs {
     std::string out, method = "greedy", space = "log", objective = "prediction";
     uint64_t seed = 1;
     int swaps = 400;
+    int candidates = 32;
+    bool progress = false;
     std::vector<std::string> exclude, materials;
 };
 
@@ -80,7 +82,7 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     const std::string who = "sepal measure plan";
     PlanOptions o;
     if (!parse_plan_method(a.method, &o.method)) {
-        std::fprintf(io.err, "%s: --method '%s': accepted greedy, random, uniform\n", who.c_str(), a.method.c_str());
+        std::fprintf(io.err, "%s: --method '%s': accepted greedy, picture, random, uniform\n", who.c_str(), a.method.c_str());
         return kExitBadInput;
     }
     auto db = open_database(who, a.materials, io);
@@ -93,6 +95,8 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     o.samples = a.samples;
     o.seed = a.seed;
     o.max_swaps = a.swaps;
+    o.candidates = a.candidates;
+    o.progress = a.progress ? io.err : nullptr;
     o.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
     o.objective = a.objective == "condition" ? PlanObjective::kCondition : PlanObjective::kPrediction;
     const auto t0 = Clock::now();
@@ -121,6 +125,9 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
                      plan.condition_forward, plan.swaps, t);
     else if (plan.method == PlanMethod::kGreedy)
         std::fprintf(io.out, "greedy     mean prediction variance over the pool, %.1f s\n", t);
+    else if (plan.method == PlanMethod::kPicture)
+        std::fprintf(io.out, "picture    the best of %d random plans by the database's leave-one-out pictures: %.2f dB mean, %.1f s\n",
+                     o.candidates, plan.picture_db, t);
     std::fprintf(io.out, "wrote      %s\n", a.out.c_str());
     return kExitOk;
 }
@@ -372,14 +379,19 @@ CommandRun setup_plan(CLI::App& c) {
     c.add_option("--samples", a->samples, "direction pairs to measure")
         ->check(CLI::Range(1, 100000))->capture_default_str();
     c.add_option("-o,--output", a->out, "the plan to write (.json)")->required();
-    c.add_option("--method", a->method, "greedy (see --objective), random or uniform")
-        ->check(CLI::IsMember({"greedy", "random", "uniform"}))->capture_default_str();
+    c.add_option("--method", a->method,
+                 "greedy (see --objective), picture (the random plan whose leave-one-out pictures of the database "
+                 "are best), random or uniform")
+        ->check(CLI::IsMember({"greedy", "picture", "random", "uniform"}))->capture_default_str();
+    c.add_option("--candidates", a->candidates, "picture: random plans judged")
+        ->check(CLI::Range(1, 1024))->capture_default_str();
+    c.add_flag("--progress", a->progress, "picture: each candidate's figure on stderr");
     c.add_option("--space", a->space, "the model the plan is for: log (reconstruct's default) or linear (the paper's)")
         ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
     c.add_option("--objective", a->objective,
                  "greedy: prediction (mean prediction variance) or condition (the paper's condition number)")
         ->check(CLI::IsMember({"prediction", "condition"}))->capture_default_str();
-    c.add_option("--seed", a->seed, "random seed (random plans, greedy's tie breaks)")->capture_default_str();
+    c.add_option("--seed", a->seed, "random seed (random plans; picture: the first candidate's; greedy's tie breaks)")->capture_default_str();
     c.add_option("--swaps", a->swaps, "greedy's improving swaps after the first pass")
         ->check(CLI::Range(0, 1 << 20))->capture_default_str();
     c.add_option("--exclude", a->exclude, "materials left out of the database (leave-one-out)")

@@ -12,6 +12,7 @@
 
 #include "util/enum_names.h"
 #include "database/linear_model.h"
+#include "database/plan_picture.h"
 #include "util/io.h"
 #include "util/parallel.h"
 #include "util/thin_product.h"
@@ -26,6 +27,7 @@ using Eigen::VectorXd;
 using Json = nlohmann::ordered_json;
 
 constexpr int kMaxSamples = 100000;
+constexpr int kMaxCandidates = 1024;
 constexpr double kRadToDeg = 57.295779513082320876798;
 
 std::vector<int> used(const BrdfDatabase& db, const std::vector<uint8_t>& use) {
@@ -302,9 +304,43 @@ bool plan_greedy(const BrdfDatabase& db, const PlanOptions& o, const std::vector
     return true;
 }
 
+// N rows uniform over all rows, without repetition (rejection of repeats: N <= 100000 of
+// ~3.3M rows, so few redraws).
+std::vector<size_t> random_rows(size_t R, size_t N, uint64_t seed) {
+    SplitMix64 rng(seed);
+    std::vector<uint8_t> taken(R, 0);
+    std::vector<size_t> rows;
+    while (rows.size() < N) {
+        const size_t r = size_t(rng.uniform() * double(R));
+        if (r >= R || taken[r]) continue;
+        taken[r] = 1;
+        rows.push_back(r);
+    }
+    return rows;
+}
+
+// PlanMethod::kPicture: of o.candidates random plans (seeds o.seed, o.seed + 1, ...), the one
+// whose leave-one-out pictures of the materials in use are best (plan_picture.h).
+bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vector<int>& cols,
+                  MeasurementPlan* plan, std::string* err) {
+    PlanPictureScorer scorer;
+    if (!scorer.init(db, cols, o.picture_size, err)) return false;
+    double best = -std::numeric_limits<double>::infinity();
+    for (int s = 0; s < o.candidates; ++s) {
+        std::vector<size_t> rows = random_rows(db.rows(), size_t(o.samples), o.seed + uint64_t(s));
+        const double score = scorer.score(rows);
+        if (o.progress)
+            std::fprintf(o.progress, "plan: candidate %d/%d (seed %llu): leave-one-out pictures %.2f dB\n", s + 1,
+                         o.candidates, (unsigned long long)(o.seed + uint64_t(s)), score);
+        if (score > best) best = score, plan->rows = std::move(rows), plan->picture_db = score;
+    }
+    return true;
+}
+
 }  // namespace
 
-constexpr EnumName<PlanMethod> kPlanMethods[] = {{PlanMethod::kGreedy, "greedy"}, {PlanMethod::kRandom, "random"}, {PlanMethod::kUniform, "uniform"}};
+constexpr EnumName<PlanMethod> kPlanMethods[] = {{PlanMethod::kGreedy, "greedy"}, {PlanMethod::kRandom, "random"}, {PlanMethod::kUniform, "uniform"},
+                                                 {PlanMethod::kPicture, "picture"}};
 
 const char* plan_method_name(PlanMethod m) { return enum_name(kPlanMethods, m); }
 
@@ -338,16 +374,14 @@ bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementP
     const size_t R = db.rows(), V = db.valid_cells(), N = size_t(o.samples);
     if (o.method == PlanMethod::kGreedy) {
         if (!plan_greedy(db, o, cols, plan, err)) return false;
-    } else if (o.method == PlanMethod::kRandom) {
-        // Rejection of repeats: N <= 100000 of ~3.3M rows, so few redraws.
-        SplitMix64 rng(o.seed);
-        std::vector<uint8_t> taken(R, 0);
-        while (plan->rows.size() < N) {
-            const size_t r = size_t(rng.uniform() * double(R));
-            if (r >= R || taken[r]) continue;
-            taken[r] = 1;
-            plan->rows.push_back(r);
+    } else if (o.method == PlanMethod::kPicture) {
+        if (o.candidates < 1 || o.candidates > kMaxCandidates) {
+            if (err) *err = "plan: " + std::to_string(o.candidates) + " candidates is outside 1.." + std::to_string(kMaxCandidates);
+            return false;
         }
+        if (!plan_picture(db, o, cols, plan, err)) return false;
+    } else if (o.method == PlanMethod::kRandom) {
+        plan->rows = random_rows(R, N, o.seed);
     } else {
         for (size_t i = 0; i < N; ++i) {
             const size_t v = std::min(V - 1, size_t((double(i) + 0.5) * double(V) / double(N)));
@@ -379,6 +413,7 @@ bool write_plan_json(const std::string& path, const BrdfDatabase& db, const Meas
     j["seed"] = p.seed;
     j["samples"] = p.rows.size();
     j["condition_number"] = p.condition;
+    if (p.method == PlanMethod::kPicture) j["picture_db"] = p.picture_db;
     if (p.method == PlanMethod::kGreedy) {
         j["condition_number_forward"] = p.condition_forward;
         j["swaps"] = p.swaps;

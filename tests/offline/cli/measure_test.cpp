@@ -66,7 +66,7 @@ TEST_CASE("sepal measure: plan, simulate and reconstruct a material left out of 
     CHECK(measure({"reconstruct", plan, samples, "-o", merl, "--solver", "magic", "--materials", kMaterials}, &out) == 2);
     CHECK(out.find("--solver: magic not in {ls,nnls}") != std::string::npos);
     CHECK(measure({"plan", "--samples", "40", "-o", plan, "--method", "best", "--materials", kMaterials}, &out) == 2);
-    CHECK(out.find("--method: best not in {greedy,random,uniform}") != std::string::npos);
+    CHECK(out.find("--method: best not in {greedy,picture,random,uniform}") != std::string::npos);
     CHECK(measure({"plan", "--samples", "40", "-o", plan, "--exclude", "nope", "--materials", kMaterials}, &out) == 2);
     CHECK(out.find("--exclude nope") != std::string::npos);
     CHECK(measure({"simulate", "nbrdf:gold-paint", plan, "-o", samples, "--noise", "2", "--materials", kMaterials},

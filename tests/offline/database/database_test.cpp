@@ -27,6 +27,7 @@
 #include "database/linear_model.h"
 #include "database/measure.h"
 #include "database/measure_plan.h"
+#include "database/plan_picture.h"
 #include "measured/merl.h"
 #include "util/io.h"
 #include "util/parallel.h"
@@ -340,6 +341,43 @@ TEST_CASE("plan: greedy conditions far better than random; deterministic; JSON r
     CHECK(!sepal::plan_measurement(db, bad, &back, &err));
 }
 
+TEST_CASE("plan: picture keeps, of its random candidates, the one whose leave-one-out pictures are best") {
+    const sepal::BrdfDatabase& db = coarse();
+    std::string err;
+    std::vector<int> cols;
+    for (int k = 0; k < db.size(); ++k) cols.push_back(k);
+    sepal::PlanPictureScorer scorer;
+    REQUIRE_MESSAGE(scorer.init(db, cols, 64, &err), err);
+    CHECK(scorer.pixels() > 1000);  // the lit sphere of the default scene at 64 x 64
+    sepal::PlanOptions o;
+    o.method = sepal::PlanMethod::kPicture;
+    o.samples = 48;
+    o.candidates = 6;
+    o.seed = 3;
+    sepal::MeasurementPlan p, again;
+    REQUIRE_MESSAGE(sepal::plan_measurement(db, o, &p, &err), err);
+    REQUIRE(sepal::plan_measurement(db, o, &again, &err));
+    CHECK(p.rows == again.rows);
+    CHECK(p.method == sepal::PlanMethod::kPicture);
+    // The plan is one of the candidates (random plans of seeds 3..8), the best by the score.
+    double best = -1e300, worst = 1e300;
+    int chosen = -1;
+    for (uint64_t seed = 3; seed < 9; ++seed) {
+        const sepal::MeasurementPlan r = make_plan(db, sepal::PlanMethod::kRandom, 48, {}, seed);
+        const double s = scorer.score(r.rows);
+        best = std::max(best, s), worst = std::min(worst, s);
+        if (r.rows == p.rows) chosen = int(seed);
+    }
+    MESSAGE("candidates' leave-one-out pictures " << worst << " .. " << best << " dB; kept seed " << chosen);
+    CHECK(chosen >= 3);
+    CHECK(p.picture_db == doctest::Approx(best));
+    CHECK(scorer.score(p.rows) == doctest::Approx(best));
+    CHECK(best > worst);  // the candidates differ: the choice is not a tie
+    o.candidates = 0;
+    CHECK_FALSE(sepal::plan_measurement(db, o, &p, &err));
+    CHECK(err.find("0 candidates") != std::string::npos);
+}
+
 TEST_CASE("measure: samples CSV round trip; mismatched samples are refused") {
     const sepal::BrdfDatabase& db = coarse();
     const sepal::MeasurementPlan p = make_plan(db, sepal::PlanMethod::kGreedy, 50, {});
@@ -580,7 +618,8 @@ TEST_CASE("database: a table overwritten in place is caught by its checksum and 
 TEST_CASE("measure: a plan with fewer samples than materials is refused, written or read") {
     const sepal::BrdfDatabase& db = coarse();
     std::string err;
-    for (sepal::PlanMethod m : {sepal::PlanMethod::kGreedy, sepal::PlanMethod::kRandom, sepal::PlanMethod::kUniform}) {
+    for (sepal::PlanMethod m : {sepal::PlanMethod::kPicture, sepal::PlanMethod::kGreedy, sepal::PlanMethod::kRandom,
+                                sepal::PlanMethod::kUniform}) {
         sepal::PlanOptions o;
         o.samples = db.size() - 1;
         o.method = m;
