@@ -2,7 +2,7 @@
 // (Matusik et al. 2003, section 7; offline/database/). Subcommands:
 //   sepal measure plan --samples N -o plan.json [--method greedy|picture|random|uniform] [--seed S]
 //                      [--space log|linear] [--objective prediction|condition]
-//                      [--exclude NAME,..] [--swaps N] [--materials NAME,..]
+//                      [--exclude NAME,..] [--swaps N] [--candidates N] [--picture-swaps N] [--materials NAME,..]
 //   sepal measure simulate SPEC plan.json -o samples.csv [--noise 0.01] [--seed S] [--materials ..]
 //   sepal measure reconstruct plan.json samples.csv -o new.binary [--exclude NAME,..]
 //                      [--space log|linear] [--solver ls|nnls] [--max-condition K] [--truth SPEC]
@@ -70,10 +70,11 @@ std::unique_ptr<BrdfDatabase> open_database(const std::string& who, const std::v
 
 struct PlanArgs {
     int samples = 800;
-    std::string out, method = "greedy", space = "log", objective = "prediction";
+    std::string out, method = "picture", space = "log", objective = "prediction";
     uint64_t seed = 1;
     int swaps = 400;
     int candidates = 32;
+    int picture_swaps = 2000;
     bool progress = false;
     std::vector<std::string> exclude, materials;
 };
@@ -96,6 +97,7 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     o.seed = a.seed;
     o.max_swaps = a.swaps;
     o.candidates = a.candidates;
+    o.picture_swaps = a.picture_swaps;
     o.progress = a.progress ? io.err : nullptr;
     o.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
     o.objective = a.objective == "condition" ? PlanObjective::kCondition : PlanObjective::kPrediction;
@@ -126,8 +128,10 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     else if (plan.method == PlanMethod::kGreedy)
         std::fprintf(io.out, "greedy     mean prediction variance over the pool, %.1f s\n", t);
     else if (plan.method == PlanMethod::kPicture)
-        std::fprintf(io.out, "picture    the best of %d random plans by the database's leave-one-out pictures: %.2f dB mean, %.1f s\n",
-                     o.candidates, plan.picture_db, t);
+        std::fprintf(io.out,
+                     "picture    the best of %d random plans by the database's leave-one-out pictures, then %d of %d row "
+                     "swaps kept: %.2f dB mean, %.1f s\n",
+                     o.candidates, plan.swaps, o.picture_swaps, plan.picture_db, t);
     std::fprintf(io.out, "wrote      %s\n", a.out.c_str());
     return kExitOk;
 }
@@ -380,11 +384,13 @@ CommandRun setup_plan(CLI::App& c) {
         ->check(CLI::Range(1, 100000))->capture_default_str();
     c.add_option("-o,--output", a->out, "the plan to write (.json)")->required();
     c.add_option("--method", a->method,
-                 "greedy (see --objective), picture (the random plan whose leave-one-out pictures of the database "
-                 "are best), random or uniform")
+                 "picture (the plan whose leave-one-out pictures of the database are best: the best of --candidates "
+                 "random plans, then --picture-swaps row swaps), greedy (see --objective), random or uniform")
         ->check(CLI::IsMember({"greedy", "picture", "random", "uniform"}))->capture_default_str();
     c.add_option("--candidates", a->candidates, "picture: random plans judged")
         ->check(CLI::Range(1, 1024))->capture_default_str();
+    c.add_option("--picture-swaps", a->picture_swaps, "picture: row exchanges proposed after the best candidate")
+        ->check(CLI::Range(0, 1 << 20))->capture_default_str();
     c.add_flag("--progress", a->progress, "picture: each candidate's figure on stderr");
     c.add_option("--space", a->space, "the model the plan is for: log (reconstruct's default) or linear (the paper's)")
         ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();

@@ -28,6 +28,7 @@ using Json = nlohmann::ordered_json;
 
 constexpr int kMaxSamples = 100000;
 constexpr int kMaxCandidates = 1024;
+constexpr int kMaxPictureSwaps = 1 << 20;
 constexpr double kRadToDeg = 57.295779513082320876798;
 
 std::vector<int> used(const BrdfDatabase& db, const std::vector<uint8_t>& use) {
@@ -320,7 +321,11 @@ std::vector<size_t> random_rows(size_t R, size_t N, uint64_t seed) {
 }
 
 // PlanMethod::kPicture: of o.candidates random plans (seeds o.seed, o.seed + 1, ...), the one
-// whose leave-one-out pictures of the materials in use are best (plan_picture.h).
+// whose leave-one-out pictures of the materials in use are best (plan_picture.h); then
+// o.picture_swaps proposals, each a plan row exchanged for a random row, kept when the figure
+// rises. Proposals are scored with the ridge weights of the last refresh (every kRefresh
+// proposals, and at the end); a refresh that finds the plan below the best plan seen so far
+// goes back to that one, so the result is never below the best candidate.
 bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vector<int>& cols,
                   MeasurementPlan* plan, std::string* err) {
     PlanPictureScorer scorer;
@@ -332,8 +337,44 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
         if (o.progress)
             std::fprintf(o.progress, "plan: candidate %d/%d (seed %llu): leave-one-out pictures %.2f dB\n", s + 1,
                          o.candidates, (unsigned long long)(o.seed + uint64_t(s)), score);
-        if (score > best) best = score, plan->rows = std::move(rows), plan->picture_db = score;
+        if (score > best) best = score, plan->rows = std::move(rows);
     }
+    constexpr int kRefresh = 100;
+    std::vector<uint8_t> taken(db.rows(), 0);
+    for (size_t r : plan->rows) taken[r] = 1;
+    std::vector<double> lambdas;
+    std::vector<size_t> best_rows = plan->rows;
+    double current = scorer.score(plan->rows, &lambdas);
+    SplitMix64 rng(o.seed ^ 0x5eb1c7u);
+    for (int t = 1; t <= o.picture_swaps; ++t) {
+        const size_t i = std::min(plan->rows.size() - 1, size_t(rng.uniform() * double(plan->rows.size())));
+        size_t r = db.rows();
+        while (r >= db.rows() || taken[r]) r = size_t(rng.uniform() * double(db.rows()));
+        const size_t old = plan->rows[i];
+        plan->rows[i] = r;
+        const double s = scorer.score(plan->rows, &lambdas, true);
+        if (s > current) {
+            current = s, taken[old] = 0, taken[r] = 1, ++plan->swaps;
+        } else {
+            plan->rows[i] = old;
+        }
+        if (t % kRefresh == 0 || t == o.picture_swaps) {
+            current = scorer.score(plan->rows, &lambdas);
+            if (current >= best) {
+                best = current, best_rows = plan->rows;
+            } else {
+                for (size_t x : plan->rows) taken[x] = 0;
+                plan->rows = best_rows;
+                for (size_t x : plan->rows) taken[x] = 1;
+                current = scorer.score(plan->rows, &lambdas);
+            }
+            if (o.progress)
+                std::fprintf(o.progress, "plan: %d/%d swaps proposed, %d kept: leave-one-out pictures %.2f dB\n", t,
+                             o.picture_swaps, plan->swaps, best);
+        }
+    }
+    plan->rows = best_rows;
+    plan->picture_db = best;
     return true;
 }
 
@@ -375,6 +416,10 @@ bool plan_measurement(const BrdfDatabase& db, const PlanOptions& o, MeasurementP
     if (o.method == PlanMethod::kGreedy) {
         if (!plan_greedy(db, o, cols, plan, err)) return false;
     } else if (o.method == PlanMethod::kPicture) {
+        if (o.picture_swaps < 0 || o.picture_swaps > kMaxPictureSwaps) {
+            if (err) *err = "plan: " + std::to_string(o.picture_swaps) + " picture swaps is outside 0.." + std::to_string(kMaxPictureSwaps);
+            return false;
+        }
         if (o.candidates < 1 || o.candidates > kMaxCandidates) {
             if (err) *err = "plan: " + std::to_string(o.candidates) + " candidates is outside 1.." + std::to_string(kMaxCandidates);
             return false;

@@ -15,18 +15,18 @@
 // (PlanOptions::space), or the paper's, the database's values with every material's column
 // scaled to unit norm over the whole grid.
 // Methods:
-//   picture  of `candidates` random plans (seeds seed, seed + 1, ...), the one whose
+//   picture  (default) of `candidates` random plans (seeds seed, seed + 1, ...), the one whose
 //            leave-one-out reconstructions of the database's own materials (each fitted by
-//            the others from the plan's rows, log model) draw the default scene best, by
-//            mean PSNR (plan_picture.h). A new material's error is its misfit, the part of
-//            it no combination of the database holds; the greedy designs below treat that as
-//            white noise and lose to random plans by the picture (docs/measure.md), while
-//            random plans differ from each other by a few tenths of a dB in a way that holds
-//            across materials (a plan good for half of the database is good for the other
-//            half), which this method picks. Not the default: over 25 of the materials
-//            (leave-one-out, rendered) its gain on a random plan is within one random plan's
-//            spread (docs/measure.md).
-//   greedy   (default) the paper's condition-number-driven selection the paper's condition-number-driven selection, made fast: a forward
+//            the others from the plan's rows, log model) draw best, mean PSNR over the
+//            default scene and the default light range's single-light training conditions
+//            (plan_picture.h); then `picture_swaps` proposals, each a plan row exchanged for
+//            a random row, kept when that figure rises. A new material's error is its misfit,
+//            the part of it no combination of the database holds; the greedy designs below
+//            treat it as white noise and lose to random plans by the picture, while plans
+//            differ from one another by the picture in a way that holds across materials (a
+//            plan good for half of the database is good for the other half), which this
+//            method climbs. docs/measure.md has its figures against random and greedy plans.
+//   greedy   the paper's condition-number-driven selection, made fast: a forward
 //            pass adds, one at a time, the pool row of largest leverage r^T A^-1 r under the
 //            rows chosen so far (A = delta I + X^T X; Sherman-Morrison updates, applied to the
 //            whole pool in blocks of 32 rows as one matrix product), then the paper's swap
@@ -37,7 +37,7 @@
 //            Candidates come from the database's planning pool (database.h).
 //   random   uniform over all rows (valid cells x channels), without repetition (seeded).
 //   uniform  evenly strided over the valid cells in grid order, channels in turn.
-// Deterministic: the same database, options and seed give the same plan (no threads).
+// Deterministic: the same database, options and seed give the same plan (whatever the thread count).
 // Limits: 1 <= samples <= 100000 and at most the rows available.
 #pragma once
 #include <cstdint>
@@ -61,7 +61,7 @@ bool parse_plan_method(const std::string& s, PlanMethod* m);
 
 struct PlanOptions {
     int samples = 800;
-    PlanMethod method = PlanMethod::kGreedy;
+    PlanMethod method = PlanMethod::kPicture;
     uint64_t seed = 1;
     std::vector<uint8_t> use;  // materials taking part (size K), empty: all
     // The model the plan is for (linear_model.h): the log model by default, whose design the
@@ -74,18 +74,19 @@ struct PlanOptions {
     int max_swaps = 400;       // greedy: swap iterations at most
     int swap_tries = 24;       // greedy: proposals in a row without a gain before stopping
     int candidates = 32;       // picture: random plans judged (1..1024)
-    int picture_size = 64;     // picture: pixels per side of the judged default scene
+    int picture_swaps = 2000;  // picture: row exchanges proposed after the best candidate
+    int picture_size = 32;     // picture: pixels per side of each judged view
     FILE* progress = nullptr;
 };
 
 struct MeasurementPlan {
-    PlanMethod method = PlanMethod::kGreedy;
+    PlanMethod method = PlanMethod::kPicture;
     uint64_t seed = 1;
     std::vector<size_t> rows;          // database rows: 3 * valid cell + channel
     std::vector<std::string> excluded;  // database materials left out of the model
     double condition = 0;              // of the column-normalised X^T X
     double condition_forward = 0;      // greedy: after the forward pass, before swaps
-    int swaps = 0;                     // greedy: accepted swaps
+    int swaps = 0;                     // greedy, picture: accepted swaps
     double picture_db = 0;             // picture: the chosen plan's mean leave-one-out PSNR
 };
 

@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "bake/light_range.h"
 #include "bake/picture.h"
 #include "brdf/brdf.h"
 #include "database/linear_model.h"
@@ -75,16 +76,38 @@ bool PlanPictureScorer::init(const BrdfDatabase& db, const std::vector<int>& col
         if (err) *err = "plan: the picture score needs at least 2 materials and a size in 8..512";
         return false;
     }
-    std::vector<BakeView> views;
+    log_.clear(), truth_.clear(), weight_.clear(), view_.clear();
+    // The default scene, then the light range's single-light training conditions (other
+    // directions and irradiances, a rim light): scored on one view alone, a plan gathers its
+    // rows where that view looks and the held-out conditions lose what it gained.
+    std::vector<BakeView> views, training;
     if (!picture_views(&views, err)) return false;
-    const BakeView& v = views[0];
+    views.resize(1);
+    std::vector<LightCondition> single;
+    for (const LightCondition& c : training_conditions(LightRange{}))
+        if (c.lights.size() == 1) single.push_back(c);
+    if (!condition_views(single, &training, err)) return false;
+    views.insert(views.end(), training.begin(), training.end());
+    views_ = int(views.size());
+    for (int vi = 0; vi < views_; ++vi)
+        if (!add_view(views[size_t(vi)], vi, err)) return false;
+    if (weight_.empty()) {
+        if (err) *err = "plan: the judged views show no lit pixel of the database's grid";
+        return false;
+    }
+    return true;
+}
+
+// The view's lit pixels: their grid cells' values and irradiance times cos theta_i.
+bool PlanPictureScorer::add_view(const BakeView& v, int index, std::string* err) {
+    const BrdfDatabase& db = *db_;
     UnitBrdf unit;
     RecordingBrdf rec;
     Image w, id;
-    if (!render_exact(unit, v.scene, v.mesh(), size, size, &w, nullptr, err) ||
-        !render_exact(rec, v.scene, v.mesh(), size, size, &id, nullptr, err))
+    if (!render_exact(unit, v.scene, v.mesh(), size_, size_, &w, nullptr, err) ||
+        !render_exact(rec, v.scene, v.mesh(), size_, size_, &id, nullptr, err))
         return false;
-    const size_t K = cols.size(), P = size_t(size) * size_t(size);
+    const size_t K = cols_.size(), P = size_t(size_) * size_t(size_);
     for (size_t p = 0; p < P; ++p) {
         const double irr = w.data[3 * p];
         if (!(irr > 1e-9)) continue;
@@ -98,22 +121,19 @@ bool PlanPictureScorer::init(const BrdfDatabase& db, const std::vector<int>& col
         for (size_t ch = 0; ch < 3; ++ch) {
             const size_t row = 3 * size_t(cell) + ch;
             for (size_t k = 0; k < K; ++k) {
-                const double f = db.value(cols[k], row);
+                const double f = db.value(cols_[k], row);
                 truth_.push_back(f);
                 log_.push_back(std::log(std::max(f, 0.0) + kDatabaseLogEps));
             }
             for (size_t c = 0; c < 3; ++c) log_.push_back(c == ch ? 1.0 : 0.0);
             weight_.push_back(irr);
+            view_.push_back(index);
         }
-    }
-    if (weight_.empty()) {
-        if (err) *err = "plan: the default scene shows no lit pixel of the database's grid";
-        return false;
     }
     return true;
 }
 
-double PlanPictureScorer::score(const std::vector<size_t>& rows) const {
+double PlanPictureScorer::score(const std::vector<size_t>& rows, std::vector<double>* lambdas, bool reuse) const {
     const BrdfDatabase& db = *db_;
     const Index K = Index(cols_.size()), D = K + 3;
     // The log design of the plan's rows (fit_combination's, weighted by cos theta_i) and its Gram.
@@ -130,6 +150,7 @@ double PlanPictureScorer::score(const std::vector<size_t>& rows) const {
     const size_t PC = weight_.size();
     const double pixels = double(size_) * double(size_) * 3.0;
     std::vector<double> psnr(static_cast<size_t>(K));
+    if (lambdas) lambdas->resize(size_t(K), 0.0);
     parallel_for(size_t(K), 0, [&](size_t j) {
         // Material j from the others: the normal equations without its row and column,
         // columns normalised, ridge as fit_combination_log.
@@ -144,24 +165,33 @@ double PlanPictureScorer::score(const std::vector<size_t>& rows) const {
             g(a) = A(C[a], Index(j)) * s(a);
             for (Index b = 0; b < n; ++b) B(a, b) = A(C[a], C[b]) * s(a) * s(b);
         }
-        Eigen::SelfAdjointEigenSolver<MatrixXd> es(B, Eigen::EigenvaluesOnly);
-        const double lo = es.eigenvalues()(0), hi = es.eigenvalues()(n - 1);
-        const double cond = lo > hi * 1e-300 ? hi / lo : std::numeric_limits<double>::infinity();
-        const double kappa = std::max(max_condition, 2.0);
-        if (cond > kappa) B.diagonal().array() += std::max(0.0, (hi - kappa * lo) / (kappa - 1.0));
+        double lambda = 0.0;
+        if (lambdas && reuse) {
+            lambda = (*lambdas)[j];
+        } else {
+            Eigen::SelfAdjointEigenSolver<MatrixXd> es(B, Eigen::EigenvaluesOnly);
+            const double lo = es.eigenvalues()(0), hi = es.eigenvalues()(n - 1);
+            const double cond = lo > hi * 1e-300 ? hi / lo : std::numeric_limits<double>::infinity();
+            const double kappa = std::max(max_condition, 2.0);
+            if (cond > kappa) lambda = std::max(0.0, (hi - kappa * lo) / (kappa - 1.0));
+            if (lambdas) (*lambdas)[j] = lambda;
+        }
+        B.diagonal().array() += lambda;
         const VectorXd c = B.ldlt().solve(g);
         std::vector<double> coef(static_cast<size_t>(D), 0.0);
         for (Index a = 0; a < n; ++a) coef[size_t(C[a])] = c(a) * s(a);
-        double se = 0.0;
+        std::vector<double> se(size_t(views_), 0.0);
         for (size_t i = 0; i < PC; ++i) {
             const double* l = &log_[i * size_t(D)];
             double e = 0.0;
             for (Index k = 0; k < D; ++k) e += coef[size_t(k)] * l[k];
             const double f = std::exp(std::min(e, 700.0)) - kDatabaseLogEps;
             const double d = std::clamp(f * weight_[i], 0.0, 1.0) - std::min(truth_[i * size_t(K) + j] * weight_[i], 1.0);
-            se += d * d;
+            se[size_t(view_[i])] += d * d;
         }
-        psnr[j] = -10.0 * std::log10(std::max(se / pixels, 1e-12));
+        double sum = 0.0;
+        for (double e : se) sum += -10.0 * std::log10(std::max(e / pixels, 1e-12));
+        psnr[j] = sum / double(views_);
     });
     double sum = 0.0;
     for (double x : psnr) sum += x;

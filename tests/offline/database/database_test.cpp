@@ -341,18 +341,20 @@ TEST_CASE("plan: greedy conditions far better than random; deterministic; JSON r
     CHECK(!sepal::plan_measurement(db, bad, &back, &err));
 }
 
-TEST_CASE("plan: picture keeps, of its random candidates, the one whose leave-one-out pictures are best") {
+TEST_CASE("plan: picture keeps the random candidate whose leave-one-out pictures are best, then swaps rows while they improve") {
     const sepal::BrdfDatabase& db = coarse();
     std::string err;
     std::vector<int> cols;
     for (int k = 0; k < db.size(); ++k) cols.push_back(k);
     sepal::PlanPictureScorer scorer;
-    REQUIRE_MESSAGE(scorer.init(db, cols, 64, &err), err);
-    CHECK(scorer.pixels() > 1000);  // the lit sphere of the default scene at 64 x 64
+    REQUIRE_MESSAGE(scorer.init(db, cols, sepal::PlanOptions{}.picture_size, &err), err);
+    MESSAGE(scorer.pixels() << " lit pixels in the judged views");
+    CHECK(scorer.pixels() > 1500);  // the lit sphere in 5 views at 32 x 32
     sepal::PlanOptions o;
     o.method = sepal::PlanMethod::kPicture;
     o.samples = 48;
     o.candidates = 6;
+    o.picture_swaps = 0;
     o.seed = 3;
     sepal::MeasurementPlan p, again;
     REQUIRE_MESSAGE(sepal::plan_measurement(db, o, &p, &err), err);
@@ -373,6 +375,20 @@ TEST_CASE("plan: picture keeps, of its random candidates, the one whose leave-on
     CHECK(p.picture_db == doctest::Approx(best));
     CHECK(scorer.score(p.rows) == doctest::Approx(best));
     CHECK(best > worst);  // the candidates differ: the choice is not a tie
+    // Then swaps: the figure only rises, and the same options give the same plan.
+    o.picture_swaps = 300;
+    sepal::MeasurementPlan swapped, swapped_again;
+    REQUIRE(sepal::plan_measurement(db, o, &swapped, &err));
+    REQUIRE(sepal::plan_measurement(db, o, &swapped_again, &err));
+    CHECK(swapped.rows == swapped_again.rows);
+    MESSAGE("after " << o.picture_swaps << " proposals (" << swapped.swaps << " kept): " << swapped.picture_db << " dB");
+    CHECK(swapped.swaps > 0);
+    CHECK(swapped.picture_db > best);
+    CHECK(scorer.score(swapped.rows) == doctest::Approx(swapped.picture_db));
+    o.picture_swaps = -1;
+    CHECK_FALSE(sepal::plan_measurement(db, o, &p, &err));
+    CHECK(err.find("-1 picture swaps") != std::string::npos);
+    o.picture_swaps = 0;
     o.candidates = 0;
     CHECK_FALSE(sepal::plan_measurement(db, o, &p, &err));
     CHECK(err.find("0 candidates") != std::string::npos);
