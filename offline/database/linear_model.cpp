@@ -72,8 +72,7 @@ double ridge_lambda(const MatrixXd& A, double max_condition, CombinationFit* fit
     double lo, hi;
     extreme_eigenvalues(A, &lo, &hi);
     fit->condition = condition_of(lo, hi);
-    const double kappa = std::max(max_condition, 2.0);
-    return fit->condition > kappa ? std::max(0.0, (hi - kappa * lo) / (kappa - 1.0)) : 0.0;
+    return ridge_for_condition(lo, hi, max_condition);
 }
 
 // The log-space model's value from its exponent sum s (before the channel offset's exp).
@@ -134,6 +133,11 @@ void fit_combination_log(const BrdfDatabase& db, const std::vector<size_t>& rows
 }
 
 }  // namespace
+
+double ridge_for_condition(double lo, double hi, double max_condition) {
+    const double kappa = std::max(max_condition, 2.0);
+    return condition_of(lo, hi) > kappa ? std::max(0.0, (hi - kappa * lo) / (kappa - 1.0)) : 0.0;
+}
 
 const char* fit_space_name(FitSpace s) { return s == FitSpace::kLog ? "log" : "linear"; }
 

@@ -116,6 +116,10 @@ bool fit_combination(const BrdfDatabase& db, const std::vector<size_t>& rows,
                      const std::vector<double>& values, const std::vector<uint8_t>& use,
                      const FitOptions& opt, CombinationFit* fit, std::string* err);
 
+// The fits' Tikhonov weight for a symmetric matrix of extreme eigenvalues lo and hi: 0 while
+// hi / lo <= max_condition, else the lambda that brings (hi + lambda) / (lo + lambda) to it.
+double ridge_for_condition(double lo, double hi, double max_condition);
+
 // Condition number of the column-normalised X^T X of these rows (the plan's figure of merit):
 // in linear space with `weighted`, rows scaled by 1/sigma; in log space the log model's
 // design (log values and channel indicators, times cos theta_i): the system fit_combination solves.

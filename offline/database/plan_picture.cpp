@@ -170,10 +170,7 @@ double PlanPictureScorer::score(const std::vector<size_t>& rows, std::vector<dou
             lambda = (*lambdas)[j];
         } else {
             Eigen::SelfAdjointEigenSolver<MatrixXd> es(B, Eigen::EigenvaluesOnly);
-            const double lo = es.eigenvalues()(0), hi = es.eigenvalues()(n - 1);
-            const double cond = lo > hi * 1e-300 ? hi / lo : std::numeric_limits<double>::infinity();
-            const double kappa = std::max(max_condition, 2.0);
-            if (cond > kappa) lambda = std::max(0.0, (hi - kappa * lo) / (kappa - 1.0));
+            lambda = ridge_for_condition(es.eigenvalues()(0), es.eigenvalues()(n - 1), max_condition);
             if (lambdas) (*lambdas)[j] = lambda;
         }
         B.diagonal().array() += lambda;
