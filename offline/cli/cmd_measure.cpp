@@ -75,7 +75,6 @@ struct PlanArgs {
     int swaps = 400;
     int candidates = 32;
     int picture_swaps = 2000;
-    bool progress = false;
     std::vector<std::string> exclude, materials;
 };
 
@@ -98,7 +97,7 @@ int run_plan(const PlanArgs& a, const CommandIO& io) {
     o.max_swaps = a.swaps;
     o.candidates = a.candidates;
     o.picture_swaps = a.picture_swaps;
-    o.progress = a.progress ? io.err : nullptr;
+    o.progress = io.err;  // picture: a line per 500 swaps (a minute's work)
     o.space = a.space == "linear" ? FitSpace::kLinear : FitSpace::kLog;
     o.objective = a.objective == "condition" ? PlanObjective::kCondition : PlanObjective::kPrediction;
     const auto t0 = Clock::now();
@@ -391,7 +390,7 @@ CommandRun setup_plan(CLI::App& c) {
         ->check(CLI::Range(1, 1024))->capture_default_str();
     c.add_option("--picture-swaps", a->picture_swaps, "picture: row exchanges proposed after the best candidate")
         ->check(CLI::Range(0, 1 << 20))->capture_default_str();
-    c.add_flag("--progress", a->progress, "picture: each candidate's figure on stderr");
+
     c.add_option("--space", a->space, "the model the plan is for: log (reconstruct's default) or linear (the paper's)")
         ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
     c.add_option("--objective", a->objective,

@@ -331,15 +331,16 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
     PlanPictureScorer scorer;
     if (!scorer.init(db, cols, o.picture_size, err)) return false;
     double best = -std::numeric_limits<double>::infinity();
+    uint64_t best_seed = o.seed;
     for (int s = 0; s < o.candidates; ++s) {
         std::vector<size_t> rows = random_rows(db.rows(), size_t(o.samples), o.seed + uint64_t(s));
         const double score = scorer.score(rows);
-        if (o.progress)
-            std::fprintf(o.progress, "plan: candidate %d/%d (seed %llu): leave-one-out pictures %.2f dB\n", s + 1,
-                         o.candidates, (unsigned long long)(o.seed + uint64_t(s)), score);
-        if (score > best) best = score, plan->rows = std::move(rows);
+        if (score > best) best = score, plan->rows = std::move(rows), best_seed = o.seed + uint64_t(s);
     }
-    constexpr int kRefresh = 100;
+    if (o.progress)
+        std::fprintf(o.progress, "plan: the best of %d random plans (seed %llu): leave-one-out pictures %.2f dB\n",
+                     o.candidates, (unsigned long long)best_seed, best);
+    constexpr int kRefresh = 100, kReport = 500;
     std::vector<uint8_t> taken(db.rows(), 0);
     for (size_t r : plan->rows) taken[r] = 1;
     std::vector<double> lambdas;
@@ -368,7 +369,7 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
                 for (size_t x : plan->rows) taken[x] = 1;
                 current = scorer.score(plan->rows, &lambdas);
             }
-            if (o.progress)
+            if (o.progress && (t % kReport == 0 || t == o.picture_swaps))
                 std::fprintf(o.progress, "plan: %d/%d swaps proposed, %d kept: leave-one-out pictures %.2f dB\n", t,
                              o.picture_swaps, plan->swaps, best);
         }
