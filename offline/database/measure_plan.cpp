@@ -347,7 +347,9 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
     std::vector<size_t> best_rows = plan->rows;
     double current = scorer.score(plan->rows, &lambdas);
     SplitMix64 rng(o.seed ^ 0x5eb1c7u);
-    for (int t = 1; t <= o.picture_swaps; ++t) {
+    // A plan of every row has no row to swap in.
+    const int swaps = plan->rows.size() < db.rows() ? o.picture_swaps : 0;
+    for (int t = 1; t <= swaps; ++t) {
         const size_t i = std::min(plan->rows.size() - 1, size_t(rng.uniform() * double(plan->rows.size())));
         size_t r = db.rows();
         while (r >= db.rows() || taken[r]) r = size_t(rng.uniform() * double(db.rows()));
@@ -359,7 +361,7 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
         } else {
             plan->rows[i] = old;
         }
-        if (t % kRefresh == 0 || t == o.picture_swaps) {
+        if (t % kRefresh == 0 || t == swaps) {
             current = scorer.score(plan->rows, &lambdas);
             if (current >= best) {
                 best = current, best_rows = plan->rows;
@@ -369,7 +371,7 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
                 for (size_t x : plan->rows) taken[x] = 1;
                 current = scorer.score(plan->rows, &lambdas);
             }
-            if (o.progress && (t % kReport == 0 || t == o.picture_swaps))
+            if (o.progress && (t % kReport == 0 || t == swaps))
                 std::fprintf(o.progress, "plan: %d/%d swaps proposed, %d kept: leave-one-out pictures %.2f dB\n", t,
                              o.picture_swaps, plan->swaps, best);
         }

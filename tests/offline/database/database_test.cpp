@@ -388,6 +388,14 @@ TEST_CASE("plan: picture keeps the random candidate whose leave-one-out pictures
     o.picture_swaps = -1;
     CHECK_FALSE(sepal::plan_measurement(db, o, &p, &err));
     CHECK(err.find("-1 picture swaps") != std::string::npos);
+    // Every row of the database: nothing to swap in, and the planner still ends.
+    o.samples = int(db.rows());
+    o.candidates = 1;
+    o.picture_swaps = 50;
+    REQUIRE_MESSAGE(sepal::plan_measurement(db, o, &p, &err), err);
+    CHECK(p.rows.size() == db.rows());
+    CHECK(p.swaps == 0);
+    o.samples = 48;
     o.picture_swaps = 0;
     o.candidates = 0;
     CHECK_FALSE(sepal::plan_measurement(db, o, &p, &err));
