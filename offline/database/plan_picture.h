@@ -8,7 +8,7 @@
 //
 // Usage:
 //   sepal::PlanPictureScorer s;
-//   if (!s.init(db, cols, 64, &err)) ...            // cols: the materials in use
+//   if (!s.init(db, cols, 32, &err)) ...            // cols: the materials in use; 32 x 32 views
 //   double db_mean = s.score(plan_rows);             // higher is better
 //
 // Why: a plan chosen for the fit's conditioning or its prediction variance treats the misfit
@@ -16,9 +16,10 @@
 // by the picture). Scoring plans on the database's own leave-one-out pictures measures the
 // misfit where the picture looks.
 // How, cheaply: each view is drawn once by the exact renderer with a recording BRDF, giving
-// each lit pixel its direction pair (mapped to the grid cell holding it; the table's lookup
-// interpolates, so the figure is within a few tenths of a dB of a rendered one) and its
-// irradiance times cos theta_i. A plan's fits all come from one Gram matrix of its log design
+// each lit pixel its direction pair (mapped to the grid cell holding it, where the table's
+// lookup interpolates: scored on the default scene alone at 64 x 64, the figure sat about 1 dB
+// above the 256 x 256 render's and followed it across plans and materials with correlation
+// 0.99) and its irradiance times cos theta_i. A plan's fits all come from one Gram matrix of its log design
 // (each material regressed on the others: exactly fit_combination's ridge rule), and each
 // picture is K dot products per pixel channel. Cost: a few hundredths of a second per plan for
 // 99 materials in 5 views of 32 x 32 on 2 cores (with the ridge weights given), a tenth with
