@@ -345,6 +345,7 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
     for (size_t r : plan->rows) taken[r] = 1;
     std::vector<double> lambdas;
     std::vector<size_t> best_rows = plan->rows;
+    int best_swaps = 0;
     double current = scorer.score(plan->rows, &lambdas);
     SplitMix64 rng(o.seed ^ 0x5eb1c7u);
     // A plan of every row has no row to swap in.
@@ -364,10 +365,10 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
         if (t % kRefresh == 0 || t == swaps) {
             current = scorer.score(plan->rows, &lambdas);
             if (current >= best) {
-                best = current, best_rows = plan->rows;
+                best = current, best_rows = plan->rows, best_swaps = plan->swaps;
             } else {
                 for (size_t x : plan->rows) taken[x] = 0;
-                plan->rows = best_rows;
+                plan->rows = best_rows, plan->swaps = best_swaps;
                 for (size_t x : plan->rows) taken[x] = 1;
                 current = scorer.score(plan->rows, &lambdas);
             }
@@ -377,6 +378,7 @@ bool plan_picture(const BrdfDatabase& db, const PlanOptions& o, const std::vecto
         }
     }
     plan->rows = best_rows;
+    plan->swaps = best_swaps;  // the swaps in the plan kept, not those a refresh undid
     plan->picture_db = best;
     return true;
 }

@@ -1,8 +1,8 @@
 #include "database/plan_picture.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 
 #include <Eigen/Core>
@@ -13,6 +13,7 @@
 #include "bake/picture.h"
 #include "brdf/brdf.h"
 #include "database/linear_model.h"
+#include "measured/tabulated.h"
 #include "reference/render_exact.h"
 #include "util/parallel.h"
 
@@ -54,17 +55,6 @@ class RecordingBrdf : public Brdf {
     mutable std::vector<std::pair<glm::dvec3, glm::dvec3>> calls_;
 };
 
-// The grid cell holding a direction pair (tabulated.h's indexing, theta_h sqrt-spaced).
-size_t grid_cell_of(const DatabaseGrid& g, const glm::dvec3& wi, const glm::dvec3& wo) {
-    const HalfDiff h = to_half_diff(wi, wo);
-    const double half_pi = 1.57079632679489661923, pi = 3.14159265358979323846;
-    const double phi_d = h.phi_d < 0.0 ? h.phi_d + pi : h.phi_d;
-    auto index = [](double u, int n) { return std::min(n - 1, std::max(0, int(u * n))); };
-    const int ih = index(std::sqrt(std::max(h.theta_h, 0.0) / half_pi), g.n_theta_h);
-    const int id = index(h.theta_d / half_pi, g.n_theta_d);
-    const int ip = index(phi_d / pi, g.n_phi_d);
-    return size_t(ip) + size_t(g.n_phi_d) * (size_t(id) + size_t(g.n_theta_d) * size_t(ih));
-}
 
 }  // namespace
 
@@ -116,7 +106,9 @@ bool PlanPictureScorer::add_view(const BakeView& v, int index, std::string* err)
         // light and one sample); it is left out of the figure.
         if (std::fabs(q - call) > 0.01 || call < 1.0 || call > double(rec.calls().size())) continue;
         const auto& pair = rec.calls()[size_t(call) - 1];
-        const int64_t cell = db.valid_index(grid_cell_of(db.grid(), pair.first, pair.second));
+        const DatabaseGrid& g = db.grid();
+        const int64_t cell = db.valid_index(table_cell_index(g.n_theta_h, g.n_theta_d, g.n_phi_d, ThetaHMapping::kSqrt,
+                                                             to_half_diff(pair.first, pair.second)));
         if (cell < 0) continue;
         for (size_t ch = 0; ch < 3; ++ch) {
             const size_t row = 3 * size_t(cell) + ch;
@@ -136,15 +128,22 @@ bool PlanPictureScorer::add_view(const BakeView& v, int index, std::string* err)
 double PlanPictureScorer::score(const std::vector<size_t>& rows, std::vector<double>* lambdas, bool reuse) const {
     const BrdfDatabase& db = *db_;
     const Index K = Index(cols_.size()), D = K + 3;
-    // The log design of the plan's rows (fit_combination's, weighted by cos theta_i) and its Gram.
-    MatrixXd X(Index(rows.size()), D);
-    std::vector<float> values(static_cast<size_t>(db.size()));
-    std::vector<double> out(static_cast<size_t>(D));
-    for (size_t i = 0; i < rows.size(); ++i) {
-        for (int k = 0; k < db.size(); ++k) values[size_t(k)] = db.value(k, rows[i]);
-        log_design_row(db, rows[i], values.data(), cols_, out.data());
-        for (Index j = 0; j < D; ++j) X(Index(i), j) = out[size_t(j)];
+    // The log design of the plan's rows (fit_combination's, weighted by cos theta_i) and its
+    // Gram. Rows the last call had at the same place are kept: a swap search changes one per
+    // call, and each new one reads K values scattered over the table.
+    if (design_rows_.size() != rows.size()) {
+        design_rows_.assign(rows.size(), SIZE_MAX);
+        design_.assign(rows.size() * size_t(D), 0.0);
     }
+    std::vector<float> values(static_cast<size_t>(db.size()));
+    for (size_t i = 0; i < rows.size(); ++i) {
+        if (design_rows_[i] == rows[i]) continue;
+        for (int k = 0; k < db.size(); ++k) values[size_t(k)] = db.value(k, rows[i]);
+        log_design_row(db, rows[i], values.data(), cols_, &design_[i * size_t(D)]);
+        design_rows_[i] = rows[i];
+    }
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> X(
+        design_.data(), Index(rows.size()), D);
     const MatrixXd A = X.transpose() * X;
     const double max_condition = FitOptions{}.max_condition;
     const size_t PC = weight_.size();

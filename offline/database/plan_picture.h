@@ -41,6 +41,7 @@ class PlanPictureScorer {
     // picture from these database rows. lambdas (optional, one per material in use): with
     // `reuse`, the ridge weights to use (skipping the eigenvalues that choose them, most of
     // the cost; a swap search refreshes them now and then), else filled with the ones chosen.
+    // Not for concurrent calls on one scorer: it keeps the last plan's design rows.
     double score(const std::vector<size_t>& rows, std::vector<double>* lambdas = nullptr, bool reuse = false) const;
     size_t pixels() const { return weight_.size() / 3; }
 
@@ -55,6 +56,9 @@ class PlanPictureScorer {
     std::vector<double> log_;     // per pixel channel: log(f_k + eps) for k in cols_, then 3 indicators
     std::vector<double> truth_;   // per pixel channel: f_k for k in cols_
     std::vector<double> weight_;  // per pixel channel: irradiance times cos theta_i
+    // The last scored plan's rows and their log design rows (K + 3 each).
+    mutable std::vector<size_t> design_rows_;
+    mutable std::vector<double> design_;
 };
 
 }  // namespace sepal

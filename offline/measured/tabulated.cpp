@@ -34,6 +34,13 @@ int clamp_index(double u, int n) {
 
 // phi_d folded as MERL does: a negative phi_d gets pi added (values outside [-pi, pi] are
 // first brought into it), giving [0, pi].
+// 0..1 along the theta_h axis.
+double theta_h_unit_of(double theta_h, ThetaHMapping mapping) {
+    if (!(theta_h > 0.0)) return 0.0;  // MERL: index 0 when theta_h <= 0 (and for NaN)
+    const double u = theta_h / kHalfPi;
+    return mapping == ThetaHMapping::kSqrt ? std::sqrt(u) : u;
+}
+
 double fold_phi_d(double pd) {
     if (!std::isfinite(pd)) return 0.0;
     if (pd < -kPi || pd > kPi) pd = std::fmod(pd, kPi);
@@ -122,17 +129,15 @@ Tabulated Tabulated::merl() {
     return t;
 }
 
-double Tabulated::theta_h_unit(double theta_h) const {
-    if (!(theta_h > 0.0)) return 0.0;  // MERL: index 0 when theta_h <= 0 (and for NaN)
-    const double u = theta_h / kHalfPi;
-    return mapping_ == ThetaHMapping::kSqrt ? std::sqrt(u) : u;
-}
+double Tabulated::theta_h_unit(double theta_h) const { return theta_h_unit_of(theta_h, mapping_); }
 
-size_t Tabulated::cell_index(const HalfDiff& a) const {
-    const int ih = clamp_index(theta_h_unit(a.theta_h) * n_[0], n_[0]);
-    const int id = clamp_index(a.theta_d / kHalfPi * n_[1], n_[1]);
-    const int ip = clamp_index(fold_phi_d(a.phi_d) / kPi * n_[2], n_[2]);
-    return index(ih, id, ip);
+size_t Tabulated::cell_index(const HalfDiff& a) const { return table_cell_index(n_[0], n_[1], n_[2], mapping_, a); }
+
+size_t table_cell_index(int n_theta_h, int n_theta_d, int n_phi_d, ThetaHMapping mapping, const HalfDiff& a) {
+    const int ih = clamp_index(theta_h_unit_of(a.theta_h, mapping) * n_theta_h, n_theta_h);
+    const int id = clamp_index(a.theta_d / kHalfPi * n_theta_d, n_theta_d);
+    const int ip = clamp_index(fold_phi_d(a.phi_d) / kPi * n_phi_d, n_phi_d);
+    return size_t(ip) + size_t(n_phi_d) * (size_t(id) + size_t(n_theta_d) * size_t(ih));
 }
 
 HalfDiff table_cell_center(int n_theta_h, int n_theta_d, int n_phi_d, ThetaHMapping mapping,

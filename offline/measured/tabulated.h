@@ -53,6 +53,10 @@ enum class ThetaHMapping { kLinear, kSqrt };
 HalfDiff table_cell_center(int n_theta_h, int n_theta_d, int n_phi_d, ThetaHMapping mapping,
                            size_t i);
 
+// The cell of an n_theta_h x n_theta_d x n_phi_d table containing these angles (the index
+// formulas above); Tabulated::cell_index of a table of that shape, without allocating one.
+size_t table_cell_index(int n_theta_h, int n_theta_d, int n_phi_d, ThetaHMapping mapping, const HalfDiff& a);
+
 class Tabulated {
   public:
     enum class State : uint8_t { kMissing = 0, kMeasured = 1, kFilled = 2 };
