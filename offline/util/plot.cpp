@@ -339,7 +339,13 @@ Image comparison_sheet(const Image& reference, const Image& test, const std::str
     const std::string titles[3] = {reference_title, test_title, scale_text};
     for (int k = 0; k < 3; ++k) {
         const int x0 = gap + k * (w + gap);
-        draw_text(&out, x0 + (w - int(titles[k].size()) * 6 * 2) / 2, 4, titles[k], black, 2);
+        // A title wider than its panel would run into the next one: half size, then its tail
+        // (a path's end names the file) behind "..".
+        const int max_chars = std::max(3, w / 6);
+        std::string t = titles[k];
+        if (int(t.size()) > max_chars) t = ".." + t.substr(t.size() - size_t(max_chars - 2));
+        const int scale = int(t.size()) * 12 <= w ? 2 : 1;
+        draw_text(&out, x0 + std::max(0, (w - int(t.size()) * 6 * scale) / 2), scale == 2 ? 4 : 8, t, black, scale);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
                 for (int c = 0; c < 3; ++c) out.at(x0 + x, title + y, c) = panels[k]->at(x, y, c);
