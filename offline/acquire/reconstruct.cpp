@@ -8,12 +8,13 @@
 
 #include <glm/glm.hpp>
 
+#include "brdf/brdf_util.h"  // kPi
 #include "util/parallel.h"
 
 namespace sepal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = 1e300;
 
 // Samples of each atlas texel: (capture, index) pairs in capture order.
 struct TexelIndex {
@@ -169,12 +170,81 @@ int drop_empty_clusters(const std::vector<int>& measured, const std::vector<Lafo
     return kept;
 }
 
+// A cluster without a plausible fit keeps its colour: the model becomes diffuse, rho_d by
+// weighted least squares on its samples (f = rho_d / pi), its lobes switched off (C = 0).
+void drop_lobes(const std::vector<BrdfSample>& s, LafortuneModel* m) {
+    glm::dvec3 num(0);
+    double den = 0;
+    for (const BrdfSample& x : s) {
+        num += x.weight * x.weight * x.value;
+        den += x.weight * x.weight;
+    }
+    const glm::dvec3 rho = den > 0 ? num * (kPi / den) : glm::dvec3(0);
+    m->rho_d = glm::clamp(rho, glm::dvec3(0), glm::dvec3(1));
+    for (LafortuneLobe& l : m->lobes) l = LafortuneLobe{0, 0, 0, 1, glm::dvec3(1)};
+}
+
+// The final fit's options for one cluster, chosen by how well each candidate predicts views it
+// was not fitted to. Candidates: the options as given (the previous iteration's start), one
+// lobe from the grid's starts, one more lobe from the grid's. A candidate whose fit to all
+// samples does not render as fitted (the spec clamps it: a negative diffuse colour that a
+// lobe made up for) or creates energy (max_albedo) is out. The samples fall into kFolds folds
+// by capture; each remaining candidate is fitted to all but one fold and scored by its
+// weighted residual on that fold; the lowest total wins, the earlier (fewer parameters) where
+// no fold can be held out. A model fitted to every view can bend where none measured (a lobe
+// that lives only at grazing angles, a second lobe where the data hold one); held-out views
+// and the energy bound see that. False when no candidate is plausible.
+bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, const LafortuneFitOptions& given,
+                int max_lobes, bool tint, LafortuneFitOptions* out) {
+    constexpr int kFolds = 3;
+    std::vector<LafortuneFitOptions> cand{given};
+    LafortuneFitOptions grid = given;
+    grid.start = nullptr;
+    if (given.start) cand.push_back(grid);
+    if (grid.lobes < max_lobes) {
+        ++grid.lobes;
+        cand.push_back(grid);
+    }
+    double best = kInf;
+    int pick = -1;
+    for (size_t c = 0; c < cand.size(); ++c) {
+        LafortuneFit all;
+        if (!fit_lafortune(s, cand[c], &all, nullptr)) continue;
+        if (tint) tint_lafortune_lobes(s, &all.model);
+        if (!lafortune_plausible(all.model)) continue;
+        double score = 0;
+        for (int f = 0; f < kFolds && score < best; ++f) {
+            std::vector<BrdfSample> fit_s, test_s;
+            for (size_t i = 0; i < s.size(); ++i) (view[i] % kFolds == f ? test_s : fit_s).push_back(s[i]);
+            LafortuneFit fit;
+            if (test_s.empty() || !fit_lafortune(fit_s, cand[c], &fit, nullptr)) {
+                score = kInf;
+                break;
+            }
+            if (tint) tint_lafortune_lobes(fit_s, &fit.model);
+            for (const BrdfSample& x : test_s) {
+                const glm::dvec3 d = (fit.model.eval(x.wi, x.wo) - x.value) * x.weight;
+                score += glm::dot(d, d);
+            }
+        }
+        if (pick < 0 || score < best) {
+            best = score;
+            pick = int(c);
+        }
+    }
+    if (pick < 0) return false;
+    *out = cand[size_t(pick)];
+    return true;
+}
+
 // (2) A Lafortune fit per cluster; texels reassigned to the fit that explains their samples
 // best; repeated o.iterations times. A cluster with too few samples for a fit, or whose fit
 // fails, is dissolved into the nearest (by colour) and the iteration runs again.
 bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
                   const std::vector<glm::dvec3>& colour, const ReconstructOptions& o, size_t n,
-                  std::vector<int>* cluster, std::vector<LafortuneFit>* fits_out, std::string* err) {
+                  std::vector<int>* cluster, std::vector<LafortuneFit>* fits_out, std::vector<uint8_t>* dropped_out,
+                  std::string* err) {
+    std::vector<uint8_t> dropped;
     constexpr int kMinClusterSamples = 16;
     std::vector<LafortuneFit> fits;
     for (int it = 0; it <= o.iterations; ++it) {
@@ -194,6 +264,7 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
         std::vector<LafortuneFit> next(static_cast<size_t>(kept));
         std::vector<std::string> errors(static_cast<size_t>(kept));
         std::vector<int> ok(size_t(kept), 0);
+        dropped.assign(size_t(kept), 0);
         parallel_for(size_t(kept), o.threads, [&](size_t k) {
             std::vector<std::pair<int, int>> refs;
             for (int t : measured)
@@ -207,8 +278,18 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
             fo.lobes = o.lobes;
             fo.sigma = 1.0;  // weights are 1 / std (capture.h)
             if (warm) fo.start = &kept_fits[k].model;
+            if (it == o.iterations && o.choose_fit) {
+                std::vector<int> view;
+                for (size_t j = 0; j < refs.size(); j += stride) view.push_back(refs[j].first);
+                LafortuneFitOptions chosen;
+                if (chosen_fit(s, view, fo, o.max_lobes, o.tint_lobes, &chosen))
+                    fo = chosen;
+                else
+                    dropped[k] = 1;
+            }
             ok[k] = fit_lafortune(s, fo, &next[k], &errors[k]);
             if (ok[k] && o.tint_lobes) tint_lafortune_lobes(s, &next[k].model);
+            if (ok[k] && dropped[k]) drop_lobes(s, &next[k].model);
         });
         bool redo = false;
         for (int k = 0; k < kept && !redo; ++k)
@@ -243,6 +324,7 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
         for (int t : measured) (*cluster)[size_t(t)] = reassigned[size_t(t)];
     }
     *fits_out = std::move(fits);
+    *dropped_out = std::move(dropped);
     return true;
 }
 
@@ -314,8 +396,8 @@ void fill_unmeasured(const SurfaceAtlas& a, const std::vector<int>& measured, in
 
 bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const ReconstructOptions& o,
                  Reconstruction* out, std::string* err) {
-    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4) {
-        if (err) *err = "reconstruct: clusters must be 1..8 and lobes 1..4";
+    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4 || o.max_lobes < o.lobes || o.max_lobes > 4) {
+        if (err) *err = "reconstruct: clusters must be 1..8, lobes 1..4 and max_lobes lobes..4";
         return false;
     }
     const SurfaceAtlas& a = obj.atlas;
@@ -332,11 +414,13 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
     std::vector<int> cluster(n, -1);
     colour_clusters(caps, ix, measured, o.clusters, &colour, &cluster);
     std::vector<LafortuneFit> fits;
-    if (!fit_clusters(caps, ix, measured, colour, o, n, &cluster, &fits, err)) return false;
+    std::vector<uint8_t> dropped;
+    if (!fit_clusters(caps, ix, measured, colour, o, n, &cluster, &fits, &dropped, err)) return false;
     const int K = int(fits.size());
 
     Reconstruction r;
     r.basis = fits;
+    r.lobes_dropped = dropped;
     r.samples.assign(n, 0);
     for (int t : a.texels) r.samples[size_t(t)] = ix.count(t);
     r.svbrdf.maps.width = r.svbrdf.maps.height = a.res;
@@ -378,7 +462,19 @@ std::vector<TexelFit> fit_texels(const AcqObject& obj, const std::vector<Capture
             for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) s.push_back(sample_of(caps, ix.refs[size_t(j)]));
             LafortuneFitOptions fo;
             fo.sigma = 1.0;
-            fo.start = &r.texel_model[size_t(t)];
+            // The per-texel fits have one lobe; a cluster model of two (choose_fit) starts them
+            // from its stronger one (the larger peak at normal incidence).
+            LafortuneModel start = r.texel_model[size_t(t)];
+            if (start.lobes.size() > 1) {
+                auto peak = [](const LafortuneLobe& l) {
+                    return std::pow(std::fabs(l.cz), l.n) * (l.colour.x + l.colour.y + l.colour.z);
+                };
+                const LafortuneLobe keep = *std::max_element(
+                    start.lobes.begin(), start.lobes.end(),
+                    [&](const LafortuneLobe& a, const LafortuneLobe& b) { return peak(a) < peak(b); });
+                start.lobes = {keep};
+            }
+            fo.start = &start;
             fo.max_evaluations = 100;
             LafortuneFit f;
             if (!fit_lafortune(s, fo, &f, nullptr)) continue;

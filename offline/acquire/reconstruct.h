@@ -14,7 +14,12 @@
 // lobes then coloured by tint_lafortune_lobes; at most max_cluster_samples per cluster, taken
 // at an even stride), then every texel
 // moves to the cluster whose fit explains its own samples best (weighted residual), and
-// again, `iterations` times: the paper's cluster refinement by BRDF distance; (3) per texel,
+// again, `iterations` times: the paper's cluster refinement by BRDF distance. The last fit of
+// each cluster is chosen (choose_fit) among the iterated one, one from the grid's starts and
+// one with a lobe more, by their residuals on captures each was not fitted to (three folds of
+// views), among those that are plausible (fit/lafortune_fit.h lafortune_plausible: it renders
+// as fitted and creates no energy); a cluster without a plausible fit becomes diffuse
+// (lobes_dropped). (3) Per texel,
 // non-negative weights over the basis by least squares on its samples with a weak pull
 // (ridge_share of the data's own scale) towards its cluster, so a texel with one or two
 // samples stays its cluster's material; texels with no sample copy their nearest measured
@@ -24,6 +29,7 @@
 // where a texel has enough samples for them.
 // Limits: 1..8 clusters; deterministic for equal inputs whatever the thread count.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,7 +42,8 @@ namespace sepal {
 
 struct ReconstructOptions {
     // More clusters than the truth has materials: k-means on colour splits or merges some
-    // (a 64^2 sphere, 27 planned views: 24.9 dB with 4, 31.5 with 6, 31.5 with 8).
+    // (a 128^2 sphere, 27 planned views, exact renders: 23.5 dB with 4, 33.6 with 6, 32.7 with
+    // 8; the torus 37.4, 37.3, 36.9).
     int clusters = 6;
     int lobes = 1;
     int iterations = 2;
@@ -45,6 +52,10 @@ struct ReconstructOptions {
     // metallic paint's highlight takes its colour instead of white. basis[k].params and .cov
     // stay those of the white fit.
     bool tint_lobes = true;
+    // The last iteration's fit per cluster chosen by cross-validation over the captures
+    // (above); false: the iterated fit as it is, plausible or not.
+    bool choose_fit = true;
+    int max_lobes = 2;  // the most lobes choose_fit tries: lobes..max_lobes, at most lobes + 1
     double ridge_share = 1e-3;
     bool project = true;  // false: skip step (3), svbrdf.maps.w left empty (planning estimates)
     int threads = 0;
@@ -52,6 +63,9 @@ struct ReconstructOptions {
 
 struct Reconstruction {
     std::vector<LafortuneFit> basis;        // per cluster
+    // Per cluster: 1 where no fit was plausible (choose_fit) and the model was made diffuse;
+    // basis[k].params and .cov are then those of the iterated fit, not of the model.
+    std::vector<uint8_t> lobes_dropped;
     std::vector<int> cluster;               // per atlas texel; -1 for invalid texels
     std::vector<int> samples;               // per atlas texel
     BlendSvbrdf svbrdf;                     // the basis with per-texel weights

@@ -115,6 +115,15 @@ bool fit_lafortune(const std::vector<BrdfSample>& samples, const LafortuneFitOpt
 // unchanged) when the samples do not determine it (no sample where the lobe is non-zero).
 bool tint_lafortune_lobes(const std::vector<BrdfSample>& samples, LafortuneModel* model);
 
+// Whether a fitted model can stand for a material: its spec renders it as fitted (spec()
+// clamps nothing: a negative diffuse colour that a lobe made up for does not) and its
+// directional albedo stays <= kPlausibleAlbedo at incidence 0..89 degrees, any channel (no
+// created energy: a lobe fitted where no sample was, such as one living only at grazing
+// angles, fails it). *albedo (optional): the largest albedo found (+inf when the spec does
+// not build). Cost: about 1.5 million model evaluations.
+constexpr double kPlausibleAlbedo = 1.1;
+bool lafortune_plausible(const LafortuneModel& m, double* albedo = nullptr);
+
 // Parameter vector <-> model, with the layout of fit_lafortune (channels, lobes, isotropic).
 Eigen::VectorXd lafortune_params(const LafortuneModel& m, int channels, bool isotropic);
 LafortuneModel lafortune_from_params(const Eigen::VectorXd& p, int channels, int lobes, bool isotropic);

@@ -42,6 +42,7 @@
 #include "acquire/session.h"
 #include "bake/asset_file.h"
 #include "bake/bake.h"
+#include "brdf/brdf_util.h"
 #include "common/render_gl.h"
 #include "common/scene_flags.h"
 #include "util/image.h"
@@ -229,10 +230,50 @@ double mean_psnr_exact(const AcqObject& obj, const BlendSvbrdf& truth, const Ble
     return sum / double(views.size());
 }
 
+// What the Lafortune basis can show at best: each true material fitted (lobes, tinted) to
+// 6000 noise-free samples spread over the directions the captures can measure (both within
+// the rig's 80 degrees, weights as a capture's), rendered with the true weights. NaN when a
+// fit fails.
+double model_limit(const AcqObject& obj, const BlendSvbrdf& truth, int lobes, const RigOptions& rig) {
+    std::vector<std::string> specs;
+    const double cut = std::cos(deg2rad(rig.max_angle_deg));
+    auto cosine_dir = [](Rng* rng) {  // cosine-weighted over the hemisphere
+        const double u1 = rng->uniform(), phi = 2 * kPi * rng->uniform(), r = std::sqrt(u1);
+        return glm::dvec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(1 - u1));
+    };
+    for (int k = 0; k < truth.materials(); ++k) {
+        Rng rng(uint64_t(7 + k));
+        std::vector<BrdfSample> s;
+        while (s.size() < 6000) {
+            BrdfSample x;
+            x.wi = cosine_dir(&rng);
+            x.wo = cosine_dir(&rng);
+            if (x.wi.z < cut || x.wo.z < cut) continue;
+            x.value = truth.basis[size_t(k)]->eval(x.wi, x.wo);
+            // A capture's weight (capture.h) with E = cos(theta_i) in the rig's units.
+            x.weight = x.wo.z / (radiance_std(rig, luminance(x.value) * x.wi.z) / x.wi.z);
+            s.push_back(x);
+        }
+        LafortuneFitOptions fo;
+        fo.lobes = lobes;
+        fo.sigma = 1.0;
+        LafortuneFit f;
+        std::string err;
+        if (!fit_lafortune(s, fo, &f, &err)) return NAN;
+        tint_lafortune_lobes(s, &f.model);
+        specs.push_back(f.model.spec());
+    }
+    BlendSvbrdf fit;
+    std::string err;
+    if (!make_blend_svbrdf(truth.maps, specs, &fit, &err)) return NAN;
+    return mean_psnr_exact(obj, truth, fit, rig);
+}
+
 struct ObjectResult {
     std::string name;
     AcqObject obj;
     BlendSvbrdf truth;
+    double limit[2] = {NAN, NAN};  // model_limit with 1 and 2 lobes
     Run runs[3];
     Image truth_img;
     std::vector<LafortuneModel> reference;  // session.h's oracle_estimates
@@ -241,6 +282,7 @@ struct ObjectResult {
 
 void run_object(ObjectResult* R, int views, bool gl) {
     const RigOptions rig;
+    for (int l = 0; l < 2; ++l) R->limit[l] = model_limit(R->obj, R->truth, l + 1, rig);
     const std::vector<int> map_views = {3, 9, 18, views};
     for (Run& run : R->runs) {
         SessionOptions so;
@@ -290,7 +332,7 @@ void run_object(ObjectResult* R, int views, bool gl) {
             for (int t : R->obj.atlas.texels) full += tf[size_t(t)].fitted && tf[size_t(t)].rank == 6;
             run.texel_fit_share = double(full) / double(R->obj.atlas.texels.size());
         }
-        if (gl && run.final_ok && run.strategy != Strategy::kExpert) {
+        if (gl && run.final_ok) {
             std::vector<BakedBasis> basis;
             if (!bake_basis(run.final_recon, &basis, &err)) {
                 std::fprintf(stderr, "bench acquire: bake: %s\n", err.c_str());
@@ -423,6 +465,7 @@ int main(int argc, char** argv) {
     j.key("objects").begin_array();
     for (const ObjectResult& R : results) {
         j.begin_object().key("object").value(R.name).key("texels").value(int(R.obj.atlas.texels.size()));
+        j.key("model_limit_psnr_exact").begin_object().key("lobes_1").value(R.limit[0]).key("lobes_2").value(R.limit[1]).end_object();
         j.key("cov_where_both_full_rank").begin_array();
         for (int b = 0; b < 2; ++b)
             j.begin_object().key("baseline").value(strategy_name(kStrategies[b + 1])).key("texels").value(R.pair[b].texels)
@@ -554,23 +597,24 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "bench acquire: %s\n", err.c_str());
     }
     {  // renders
-        const int cols = 5, sz = kRenderSize;
+        const int cols = 7, sz = kRenderSize;
         Image img = white(80 + cols * (sz + pad), 24 + int(results.size()) * (sz + pad + 2 * label));
-        const char* heads[5] = {"truth (exact)", "planned, exact", "planned, gles1", "random, exact", "random, gles1"};
+        const char* heads[cols] = {"truth (exact)",  "planned, exact", "planned, gles1", "random, exact",
+                                   "random, gles1", "ring, exact",    "ring, gles1"};
         for (int c = 0; c < cols; ++c) draw_text(&img, 80 + c * (sz + pad), 6, heads[c], black);
         for (size_t o = 0; o < results.size(); ++o) {
             const ObjectResult& R = results[o];
             const int y = 24 + int(o) * (sz + pad + 2 * label);
             draw_text(&img, 6, y + sz / 2, R.name, black);
             blit(&img, clip01(R.truth_img), 80, y);
-            const Image* imgs[4] = {&R.runs[0].render_exact_img, &R.runs[0].render_gles1_img, &R.runs[1].render_exact_img,
-                                    &R.runs[1].render_gles1_img};
-            const double ps[4] = {R.runs[0].psnr_exact, R.runs[0].psnr_gles1, R.runs[1].psnr_exact, R.runs[1].psnr_gles1};
-            for (int c = 0; c < 4; ++c) {
-                if (!imgs[c]->empty()) blit(&img, clip01(*imgs[c]), 80 + (c + 1) * (sz + pad), y);
+            for (int c = 0; c < cols - 1; ++c) {
+                const Run& run = R.runs[c / 2];
+                const Image& shown = c % 2 ? run.render_gles1_img : run.render_exact_img;
+                const double ps = c % 2 ? run.psnr_gles1 : run.psnr_exact;
+                if (!shown.empty()) blit(&img, clip01(shown), 80 + (c + 1) * (sz + pad), y);
                 char buf[64];
-                std::snprintf(buf, sizeof buf, "%.1f dB (mean of 6)", ps[c]);
-                if (std::isfinite(ps[c])) draw_text(&img, 80 + (c + 1) * (sz + pad), y + sz + 3, buf, black);
+                std::snprintf(buf, sizeof buf, "%.1f dB (mean of 6)", ps);
+                if (std::isfinite(ps)) draw_text(&img, 80 + (c + 1) * (sz + pad), y + sz + 3, buf, black);
             }
         }
         if (!write_png(out + "/acquire_renders.png", img, &err)) std::fprintf(stderr, "bench acquire: %s\n", err.c_str());
@@ -591,6 +635,9 @@ int main(int argc, char** argv) {
                         100.0 * u.by_rank[1] / u.texels, 100.0 * u.by_rank[2] / u.texels, 100.0 * u.by_rank[3] / u.texels,
                         100.0 * u.by_rank[4] / u.texels, u.mean_log_cov_all, run.psnr_exact, run.psnr_gles1);
         }
+    std::printf("\nthe Lafortune basis's limit (true materials fitted densely, true weights), PSNR exact:\n");
+    for (const ObjectResult& R : results)
+        std::printf("  %s: one lobe %.1f dB, two lobes %.1f dB\n", R.name.c_str(), R.limit[0], R.limit[1]);
     std::printf("\nmean log10 ||CoV|| where the planner and a baseline both reached full rank:\n");
     for (const ObjectResult& R : results)
         for (int b = 0; b < 2; ++b)

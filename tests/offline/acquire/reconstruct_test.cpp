@@ -2,12 +2,14 @@
 // SVBRDF, and the per-texel weights reproduce it.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/glm.hpp>
 
 #include "acquire/planner.h"
 #include "acquire/reconstruct.h"
+#include "util/image.h"
 
 namespace {
 
@@ -99,4 +101,56 @@ TEST_CASE("reconstruct: refuses captures without samples and bad options") {
     CHECK_FALSE(sepal::reconstruct(s.obj, s.caps, o, &r, &err));
     CHECK_FALSE(sepal::reconstruct(s.obj, {}, sepal::ReconstructOptions(), &r, &err));
     CHECK(err.find("no texel") != std::string::npos);
+}
+
+TEST_CASE("reconstruct: chosen fits are plausible where the iterated ones create energy; the renders gain") {
+    // The default SVBRDF (two MERL materials among four) on a small sphere from 12 random
+    // views (seed 4): the iterated fits of two of five clusters put lobes where no sample was
+    // (albedo 1e7 at grazing incidence). choose_fit replaces them (or makes them diffuse);
+    // seven views unlike the captures render 2.9 dB closer on average. Not every capture set
+    // gains: seeds 3 and 6 lose 1.7 and 2.3 dB, seeds 1, 2 and 5 have nothing to replace; the
+    // bench's planned 27-view sphere gains 2.4 dB (docs/acquisition.md).
+    sepal::AcqObject obj;
+    sepal::BlendSvbrdf truth;
+    std::string err;
+    REQUIRE(sepal::make_object("sphere", 32, &obj, &err));
+    REQUIRE_MESSAGE(sepal::make_svbrdf(32, sepal::SvbrdfGenOptions(), &truth, &err), err);
+    const sepal::RigOptions rig;
+    std::vector<sepal::Capture> caps;
+    for (int k = 0; k < 12; ++k) {
+        sepal::Capture c;
+        sepal::capture_atlas(obj, truth, sepal::random_view(rig, 4, k), rig, uint64_t(k), &c);
+        caps.push_back(std::move(c));
+    }
+    const sepal::ViewPair views[] = {
+        sepal::view_from_angles(35, 30, 75, 50),   sepal::view_from_angles(155, -35, 120, -10),
+        sepal::view_from_angles(275, 10, 305, 35), sepal::view_from_angles(95, 65, 40, 40),
+        sepal::view_from_angles(215, 25, 180, 50), sepal::view_from_angles(330, -60, 10, -30),
+        sepal::view_from_angles(200, -20, 240, 10)};
+    auto clip = [](sepal::Image* img) {
+        for (float& v : img->data) v = std::min(1.0f, std::max(0.0f, v));
+    };
+    double psnr[2] = {0, 0};
+    int implausible[2] = {0, 0};
+    for (int choose = 0; choose < 2; ++choose) {
+        sepal::ReconstructOptions o;
+        o.choose_fit = choose == 1;
+        sepal::Reconstruction r;
+        REQUIRE_MESSAGE(sepal::reconstruct(obj, caps, o, &r, &err), err);
+        for (const sepal::LafortuneFit& f : r.basis) implausible[choose] += !sepal::lafortune_plausible(f.model);
+        for (const sepal::ViewPair& v : views) {
+            const sepal_scene scene = sepal::scene_for_view(obj, v, rig);
+            sepal::Image want, got;
+            REQUIRE(sepal::render_svbrdf(obj, truth, scene, 64, 64, sepal::RenderSvbrdfOptions(), &want, &err));
+            REQUIRE(sepal::render_svbrdf(obj, r.svbrdf, scene, 64, 64, sepal::RenderSvbrdfOptions(), &got, &err));
+            clip(&want);
+            clip(&got);
+            psnr[choose] += sepal::diff_images(want, got, 0).psnr / 7;
+        }
+    }
+    MESSAGE("iterated fits: " << implausible[0] << " implausible, " << psnr[0] << " dB; chosen: " << implausible[1]
+                              << ", " << psnr[1] << " dB");
+    CHECK(implausible[0] > 0);  // the case this test is for
+    CHECK(implausible[1] == 0);
+    CHECK(psnr[1] > psnr[0] + 2);
 }

@@ -326,3 +326,32 @@ TEST_CASE("fit lafortune: tint_lafortune_lobes recovers a coloured highlight; th
     CHECK_FALSE(sepal::tint_lafortune_lobes(s, &zero));
     CHECK(zero.lobes[0].colour == dvec3(1.0));
 }
+
+TEST_CASE("fit lafortune: lafortune_plausible refuses created energy and models their spec would change") {
+    auto model = [](glm::dvec3 rho, double cxy, double cz, double n) {
+        sepal::LafortuneModel m;
+        m.rho_d = rho;
+        sepal::LafortuneLobe l;
+        l.cx = l.cy = cxy;
+        l.cz = cz;
+        l.n = n;
+        m.lobes = {l};
+        return m;
+    };
+    double a = 0;
+    // A specular lobe and a retro-reflective one, both conserving.
+    CHECK(sepal::lafortune_plausible(model(glm::dvec3(0.1, 0.2, 0.5), -1, 0.99, 40), &a));
+    CHECK(a < 0.61);
+    CHECK(sepal::lafortune_plausible(model(glm::dvec3(0.3), 0.5, 0.5, 5), &a));
+    // The acquisition bench's gold-paint misfit: a lobe that lives at grazing angles only
+    // (Cz < 0), measured nowhere, with an albedo of about 1e8 at 89 degrees.
+    CHECK_FALSE(sepal::lafortune_plausible(model(glm::dvec3(0.09, 0.015, 0), -4.4, -4.69, 14.55), &a));
+    CHECK(a > 1e6);
+    // A negative diffuse colour that a lobe made up for: the spec clamps it to 0, so what
+    // renders is not what was fitted.
+    CHECK_FALSE(sepal::lafortune_plausible(model(glm::dvec3(-0.1, 0.2, 0.2), -1, 0.99, 40), &a));
+    CHECK(a < 1);
+    // Just above the bound: a lobe brighter than any surface reflects.
+    CHECK_FALSE(sepal::lafortune_plausible(model(glm::dvec3(0.5), -1.2, 1.2, 4), &a));
+    CHECK(a > sepal::kPlausibleAlbedo);
+}
