@@ -237,11 +237,30 @@ bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, 
     return true;
 }
 
+// Every measured texel to the cluster whose model explains its samples best (weighted
+// residual).
+void reassign(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+              const std::vector<LafortuneFit>& fits, int threads, std::vector<int>* cluster) {
+    parallel_for(64, threads, [&](size_t chunk) {
+        for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
+            const int t = measured[m];
+            double best = kInf;
+            for (size_t k = 0; k < fits.size(); ++k) {
+                const double r = texel_residual(fits[k].model, caps, ix, t);
+                if (r < best) {
+                    best = r;
+                    (*cluster)[size_t(t)] = int(k);
+                }
+            }
+        }
+    });
+}
+
 // (2) A Lafortune fit per cluster; texels reassigned to the fit that explains their samples
 // best; repeated o.iterations times. A cluster with too few samples for a fit, or whose fit
 // fails, is dissolved into the nearest (by colour) and the iteration runs again.
 bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
-                  const std::vector<glm::dvec3>& colour, const ReconstructOptions& o, size_t n,
+                  const std::vector<glm::dvec3>& colour, const ReconstructOptions& o,
                   std::vector<int>* cluster, std::vector<LafortuneFit>* fits_out, std::vector<uint8_t>* dropped_out,
                   std::string* err) {
     std::vector<uint8_t> dropped;
@@ -307,59 +326,124 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
         }
         fits = std::move(next);
         if (it == o.iterations) break;
-        std::vector<int> reassigned(n, -1);
-        parallel_for(64, o.threads, [&](size_t chunk) {
-            for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
-                const int t = measured[m];
-                double best = 1e300;
-                for (size_t k = 0; k < fits.size(); ++k) {
-                    const double r = texel_residual(fits[k].model, caps, ix, t);
-                    if (r < best) {
-                        best = r;
-                        reassigned[size_t(t)] = int(k);
-                    }
-                }
-            }
-        });
-        for (int t : measured) (*cluster)[size_t(t)] = reassigned[size_t(t)];
+        reassign(caps, ix, measured, fits, o.threads, cluster);
     }
+    // The chosen fits are not the ones the texels were last assigned by: once more by them.
+    if (o.choose_fit) reassign(caps, ix, measured, fits, o.threads, cluster);
     *fits_out = std::move(fits);
     *dropped_out = std::move(dropped);
     return true;
 }
 
 // (3) Per measured texel, non-negative weights over the basis: weighted least squares on
-// its samples, ridge-pulled towards its own cluster's model.
-void project_weights(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
-                     const std::vector<int>& cluster, const std::vector<LafortuneFit>& fits,
-                     const ReconstructOptions& o, std::vector<float>* weights) {
+// its samples, ridge-pulled towards its own cluster's model. The normal equations are kept
+// per fold of captures (index % kWeightFolds) so that a ridge can be scored on views its
+// weights were not fitted to: x^T A_f x - 2 x^T b_f + c_f is fold f's weighted residual.
+constexpr int kWeightFolds = 3;
+
+struct TexelSystem {
+    std::vector<double> A, b;  // per fold: K x K, K
+    double c[kWeightFolds] = {0, 0, 0};
+};
+
+void texel_system(const std::vector<Capture>& caps, const TexelIndex& ix, int t,
+                  const std::vector<LafortuneFit>& fits, TexelSystem* sys) {
     const int K = int(fits.size());
-    parallel_for(64, o.threads, [&](size_t chunk) {
+    sys->A.assign(size_t(kWeightFolds * K * K), 0.0);
+    sys->b.assign(size_t(kWeightFolds * K), 0.0);
+    std::fill(sys->c, sys->c + kWeightFolds, 0.0);
+    std::vector<glm::dvec3> fk(static_cast<size_t>(K));
+    for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) {
+        const int f = ix.refs[size_t(j)].first % kWeightFolds;
+        const BrdfSample s = sample_of(caps, ix.refs[size_t(j)]);
+        const double w2 = s.weight * s.weight;
+        for (int k = 0; k < K; ++k) fk[size_t(k)] = fits[size_t(k)].model.eval(s.wi, s.wo);
+        double* A = &sys->A[size_t(f * K * K)];
+        double* b = &sys->b[size_t(f * K)];
+        for (int k = 0; k < K; ++k) {
+            b[k] += w2 * glm::dot(fk[size_t(k)], s.value);
+            for (int l = 0; l < K; ++l) A[k * K + l] += w2 * glm::dot(fk[size_t(k)], fk[size_t(l)]);
+        }
+        sys->c[f] += w2 * glm::dot(s.value, s.value);
+    }
+}
+
+// The weights from the folds not equal to `skip` (-1: all), ridge_share of their own scale
+// towards cluster c.
+void solve_weights(const TexelSystem& sys, int K, int skip, int c, double ridge_share, std::vector<double>* A,
+                   std::vector<double>* b, std::vector<double>* x) {
+    std::fill(A->begin(), A->end(), 0.0);
+    std::fill(b->begin(), b->end(), 0.0);
+    for (int f = 0; f < kWeightFolds; ++f) {
+        if (f == skip) continue;
+        for (int i = 0; i < K * K; ++i) (*A)[size_t(i)] += sys.A[size_t(f * K * K + i)];
+        for (int i = 0; i < K; ++i) (*b)[size_t(i)] += sys.b[size_t(f * K + i)];
+    }
+    double trace = 0;
+    for (int k = 0; k < K; ++k) trace += (*A)[size_t(k * K + k)];
+    const double ridge = ridge_share * trace / K + 1e-30;
+    for (int k = 0; k < K; ++k) {
+        (*A)[size_t(k * K + k)] += ridge;
+        (*x)[size_t(k)] = k == c ? 1.0 : 0.0;
+    }
+    (*b)[size_t(c)] += ridge;
+    nnls_small(*A, *b, K, x);
+}
+
+// The ridge share for the weights: o.ridge_share, or (o.choose_ridge) the candidate whose
+// weights best predict each texel's held-out folds, summed over the measured texels.
+double chosen_ridge(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+                    const std::vector<int>& cluster, const std::vector<LafortuneFit>& fits,
+                    const ReconstructOptions& o) {
+    if (!o.choose_ridge) return o.ridge_share;
+    static const double kCandidates[] = {1e-3, 1e-2, 1e-1, 1.0};
+    constexpr int kC = 4, kChunks = 64;
+    const int K = int(fits.size());
+    std::vector<double> score(size_t(kChunks * kC), 0.0);  // per chunk: summed in order below
+    parallel_for(kChunks, o.threads, [&](size_t chunk) {
+        TexelSystem sys;
         std::vector<double> A(static_cast<size_t>(K * K)), b(static_cast<size_t>(K)), x(static_cast<size_t>(K));
-        std::vector<glm::dvec3> fk(static_cast<size_t>(K));
+        for (size_t m = measured.size() * chunk / kChunks; m < measured.size() * (chunk + 1) / kChunks; ++m) {
+            const int t = measured[m];
+            texel_system(caps, ix, t, fits, &sys);
+            for (int r = 0; r < kC; ++r)
+                for (int f = 0; f < kWeightFolds; ++f) {
+                    solve_weights(sys, K, f, cluster[size_t(t)], kCandidates[r], &A, &b, &x);
+                    const double* Af = &sys.A[size_t(f * K * K)];
+                    const double* bf = &sys.b[size_t(f * K)];
+                    double e = sys.c[f];
+                    for (int k = 0; k < K; ++k) {
+                        e -= 2 * x[size_t(k)] * bf[k];
+                        for (int l = 0; l < K; ++l) e += x[size_t(k)] * Af[k * K + l] * x[size_t(l)];
+                    }
+                    score[chunk * kC + size_t(r)] += e;
+                }
+        }
+    });
+    int best = 0;
+    double best_score = kInf;
+    for (int r = 0; r < kC; ++r) {
+        double sum = 0;
+        for (int chunk = 0; chunk < kChunks; ++chunk) sum += score[size_t(chunk * kC + r)];
+        if (sum < best_score) {
+            best_score = sum;
+            best = r;
+        }
+    }
+    return kCandidates[best];
+}
+
+void project_weights(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+                     const std::vector<int>& cluster, const std::vector<LafortuneFit>& fits, double ridge_share,
+                     int threads, std::vector<float>* weights) {
+    const int K = int(fits.size());
+    parallel_for(64, threads, [&](size_t chunk) {
+        TexelSystem sys;
+        std::vector<double> A(static_cast<size_t>(K * K)), b(static_cast<size_t>(K)), x(static_cast<size_t>(K));
         for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
             const int t = measured[m];
-            std::fill(A.begin(), A.end(), 0.0);
-            std::fill(b.begin(), b.end(), 0.0);
-            for (int j = ix.start[size_t(t)]; j < ix.start[size_t(t) + 1]; ++j) {
-                const BrdfSample s = sample_of(caps, ix.refs[size_t(j)]);
-                const double w2 = s.weight * s.weight;
-                for (int k = 0; k < K; ++k) fk[size_t(k)] = fits[size_t(k)].model.eval(s.wi, s.wo);
-                for (int k = 0; k < K; ++k) {
-                    b[size_t(k)] += w2 * glm::dot(fk[size_t(k)], s.value);
-                    for (int l = 0; l < K; ++l) A[size_t(k * K + l)] += w2 * glm::dot(fk[size_t(k)], fk[size_t(l)]);
-                }
-            }
-            double trace = 0;
-            for (int k = 0; k < K; ++k) trace += A[size_t(k * K + k)];
-            const double ridge = o.ridge_share * trace / K + 1e-30;
-            const int c = cluster[size_t(t)];
-            for (int k = 0; k < K; ++k) {
-                A[size_t(k * K + k)] += ridge;
-                x[size_t(k)] = k == c ? 1.0 : 0.0;
-            }
-            b[size_t(c)] += ridge;
-            nnls_small(A, b, K, &x);
+            texel_system(caps, ix, t, fits, &sys);
+            solve_weights(sys, K, -1, cluster[size_t(t)], ridge_share, &A, &b, &x);
             for (int k = 0; k < K; ++k) (*weights)[size_t(t) * size_t(K) + size_t(k)] = float(x[size_t(k)]);
         }
     });
@@ -415,7 +499,7 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
     colour_clusters(caps, ix, measured, o.clusters, &colour, &cluster);
     std::vector<LafortuneFit> fits;
     std::vector<uint8_t> dropped;
-    if (!fit_clusters(caps, ix, measured, colour, o, n, &cluster, &fits, &dropped, err)) return false;
+    if (!fit_clusters(caps, ix, measured, colour, o, &cluster, &fits, &dropped, err)) return false;
     const int K = int(fits.size());
 
     Reconstruction r;
@@ -437,7 +521,8 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
     }
     if (o.project) {
         r.svbrdf.maps.w.assign(n * size_t(K), 0.0f);
-        project_weights(caps, ix, measured, cluster, fits, o, &r.svbrdf.maps.w);
+        r.ridge_share = chosen_ridge(caps, ix, measured, cluster, fits, o);
+        project_weights(caps, ix, measured, cluster, fits, r.ridge_share, o.threads, &r.svbrdf.maps.w);
     }
     fill_unmeasured(a, measured, K, o.project, &cluster, &r.svbrdf.maps.w);
     r.cluster = cluster;

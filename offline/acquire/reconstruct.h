@@ -19,10 +19,10 @@
 // one with a lobe more, by their residuals on captures each was not fitted to (three folds of
 // views), among those that are plausible (fit/lafortune_fit.h lafortune_plausible: it renders
 // as fitted and creates no energy); a cluster without a plausible fit becomes diffuse
-// (lobes_dropped). (3) Per texel,
-// non-negative weights over the basis by least squares on its samples with a weak pull
-// (ridge_share of the data's own scale) towards its cluster, so a texel with one or two
-// samples stays its cluster's material; texels with no sample copy their nearest measured
+// (lobes_dropped); then every texel moves once more, to the chosen fit that explains it best.
+// (3) Per texel, non-negative weights over the basis by least squares on its samples with a
+// pull (ridge_share of the data's own scale, chosen by held-out views: choose_ridge) towards
+// its cluster, so a texel with one or two samples stays its cluster's material; texels with no sample copy their nearest measured
 // neighbour in the atlas. Empty clusters are dropped; a cluster with fewer than 16 samples,
 // or whose fit fails, is dissolved into the cluster nearest in colour.
 // fit_texels: the per-texel Lafortune fits with covariance (each from its cluster's model),
@@ -42,8 +42,8 @@ namespace sepal {
 
 struct ReconstructOptions {
     // More clusters than the truth has materials: k-means on colour splits or merges some
-    // (a 128^2 sphere, 27 planned views, exact renders: 23.5 dB with 4, 33.6 with 6, 32.7 with
-    // 8; the torus 37.4, 37.3, 36.9).
+    // (the bench's 128^2 sphere, 27 planned views, exact renders: 25.1 dB with 4, 34.9 with
+    // 6, 34.2 with 8; the torus 39.5, 39.7, 34.5).
     int clusters = 6;
     int lobes = 1;
     int iterations = 2;
@@ -57,6 +57,10 @@ struct ReconstructOptions {
     bool choose_fit = true;
     int max_lobes = 2;  // the most lobes choose_fit tries: lobes..max_lobes, at most lobes + 1
     double ridge_share = 1e-3;
+    // The ridge share chosen by held-out views instead (reconstruct.cpp chosen_ridge): among
+    // 1e-3, 1e-2, 0.1 and 1, the one whose weights best predict captures they were not fitted
+    // to (three folds), summed over the measured texels. Reconstruction::ridge_share says which.
+    bool choose_ridge = true;
     bool project = true;  // false: skip step (3), svbrdf.maps.w left empty (planning estimates)
     int threads = 0;
 };
@@ -69,6 +73,7 @@ struct Reconstruction {
     std::vector<int> cluster;               // per atlas texel; -1 for invalid texels
     std::vector<int> samples;               // per atlas texel
     BlendSvbrdf svbrdf;                     // the basis with per-texel weights
+    double ridge_share = 0;                 // of the weights (project only)
     std::vector<LafortuneModel> texel_model;  // per atlas texel: its cluster's model
 };
 
