@@ -69,6 +69,18 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
     std::fprintf(io.out, "residual   rms %.6g /sr, noise scale %.6g (%s), %d evaluations\n", r.rms, r.sigma,
                  a.o.sigma > 0 ? "given" : "estimated", r.evaluations);
     std::fprintf(io.out, "spec       %s%s\n", spec.c_str(), clamped ? "  (clamped into the spec's ranges)" : "");
+    // A lobe fitted where the samples have none (often at grazing angles) can create energy
+    // that renders as a glare in views unlike the measured ones.
+    double max_albedo = 0;
+    const bool plausible = lafortune_plausible(r.model, &max_albedo);
+    std::fprintf(io.out, "energy     largest directional albedo %.3g (incidence 0..89 degrees, any channel)\n",
+                 max_albedo);
+    if (max_albedo > kPlausibleAlbedo)
+        std::fprintf(io.out,
+                     "warning    the model reflects more light than it receives (albedo above %.1f): a lobe "
+                     "grew where the samples have none, or they are not one material; its renders glare where "
+                     "nothing was measured. Fit each material's samples apart, or with fewer lobes\n",
+                     kPlausibleAlbedo);
     Json picture;
     if (!a.truth.empty()) {
         std::unique_ptr<Brdf> truth = make_brdf(a.truth, &err), fitted = make_brdf(spec, &err);
@@ -104,6 +116,8 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
                   {"channels", a.o.channels},
                   {"spec", spec},
                   {"clamped", clamped},
+                  {"max_albedo", max_albedo},
+                  {"plausible", plausible},
                   {"rank", r.rank},
                   {"rss", r.rss},
                   {"rms", r.rms},

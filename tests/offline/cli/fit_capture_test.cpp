@@ -126,6 +126,19 @@ TEST_CASE("sepal fit lafortune: a known model is recovered within its 95% interv
     CHECK(out.find("1 lobe does not describe these samples") != std::string::npos);
     REQUIRE_MESSAGE(sepal::read_json_file(dir + "/mixed.json", &j, &err), err);
     CHECK_FALSE(j["model_fits_noise"].get<bool>());
+    CHECK(out.find("energy     largest directional albedo") != std::string::npos);
+    CHECK(j["plausible"].get<bool>() == (j["max_albedo"].get<double>() <= sepal::kPlausibleAlbedo));
+    // Samples of a model that reflects more than it receives: the fit recovers it and says so.
+    auto hot = sepal::make_brdf("lafortune:rho_d=0.5/0.5/0.5,lobe=-1.2/-1.2/1.2/4", &err);
+    REQUIRE_MESSAGE(hot, err);
+    std::vector<sepal::BrdfSample> h = s;
+    for (sepal::BrdfSample& x : h) x.value = hot->eval(x.wi, x.wo);
+    REQUIRE_MESSAGE(sepal::write_brdf_samples(dir + "/hot.csv", h, "test", &err), err);
+    REQUIRE(run("fit", {"lafortune", dir + "/hot.csv", "-o", dir + "/hot.json"}, &out) == 0);
+    CHECK_MESSAGE(out.find("warning    the model reflects more light than it receives") != std::string::npos, out);
+    REQUIRE_MESSAGE(sepal::read_json_file(dir + "/hot.json", &j, &err), err);
+    CHECK_FALSE(j["plausible"].get<bool>());
+    CHECK(j["max_albedo"].get<double>() > sepal::kPlausibleAlbedo);
     // Refusals: a missing file, a bad lobe count; a failed fit writes no JSON.
     CHECK(run("fit", {"lafortune", dir + "/none.csv", "-o", dir + "/x.json"}, &out) == 2);
     CHECK(run("fit", {"lafortune", dir + "/s.csv", "--lobes", "5"}, &out) == 2);
