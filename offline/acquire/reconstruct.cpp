@@ -227,6 +227,7 @@ bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, 
                 score += glm::dot(d, d);
             }
         }
+        if (!(score < kInf)) score = kInf;  // NaN too: it must not block the later candidates
         if (pick < 0 || score < best) {
             best = score;
             pick = int(c);
@@ -328,8 +329,24 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
         if (it == o.iterations) break;
         reassign(caps, ix, measured, fits, o.threads, cluster);
     }
-    // The chosen fits are not the ones the texels were last assigned by: once more by them.
-    if (o.choose_fit) reassign(caps, ix, measured, fits, o.threads, cluster);
+    // The chosen fits are not the ones the texels were last assigned by: once more by them,
+    // and a cluster this empties goes (with its fit and flag).
+    if (o.choose_fit) {
+        reassign(caps, ix, measured, fits, o.threads, cluster);
+        std::vector<int> count(fits.size(), 0), remap(fits.size(), -1);
+        for (int t : measured) ++count[size_t((*cluster)[size_t(t)])];
+        std::vector<LafortuneFit> kept;
+        std::vector<uint8_t> kept_dropped;
+        for (size_t k = 0; k < fits.size(); ++k)
+            if (count[k] > 0) {
+                remap[k] = int(kept.size());
+                kept.push_back(std::move(fits[k]));
+                kept_dropped.push_back(dropped[k]);
+            }
+        for (int t : measured) (*cluster)[size_t(t)] = remap[size_t((*cluster)[size_t(t)])];
+        fits = std::move(kept);
+        dropped = std::move(kept_dropped);
+    }
     *fits_out = std::move(fits);
     *dropped_out = std::move(dropped);
     return true;
@@ -480,8 +497,8 @@ void fill_unmeasured(const SurfaceAtlas& a, const std::vector<int>& measured, in
 
 bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const ReconstructOptions& o,
                  Reconstruction* out, std::string* err) {
-    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4 || o.max_lobes < o.lobes || o.max_lobes > 4) {
-        if (err) *err = "reconstruct: clusters must be 1..8, lobes 1..4 and max_lobes lobes..4";
+    if (o.clusters < 1 || o.clusters > 8 || o.lobes < 1 || o.lobes > 4 || o.max_lobes < 1 || o.max_lobes > 4) {
+        if (err) *err = "reconstruct: clusters must be 1..8, lobes and max_lobes 1..4";
         return false;
     }
     const SurfaceAtlas& a = obj.atlas;
@@ -550,6 +567,8 @@ std::vector<TexelFit> fit_texels(const AcqObject& obj, const std::vector<Capture
             // The per-texel fits have one lobe; a cluster model of two (choose_fit) starts them
             // from its stronger one (the larger peak at normal incidence).
             LafortuneModel start = r.texel_model[size_t(t)];
+            bool lobe_off = true;  // a cluster made diffuse (lobes_dropped): C = 0 cannot move
+            for (const LafortuneLobe& l : start.lobes) lobe_off = lobe_off && l.cx == 0 && l.cy == 0 && l.cz == 0;
             if (start.lobes.size() > 1) {
                 auto peak = [](const LafortuneLobe& l) {
                     return std::pow(std::fabs(l.cz), l.n) * (l.colour.x + l.colour.y + l.colour.z);
@@ -559,7 +578,7 @@ std::vector<TexelFit> fit_texels(const AcqObject& obj, const std::vector<Capture
                     [&](const LafortuneLobe& a, const LafortuneLobe& b) { return peak(a) < peak(b); });
                 start.lobes = {keep};
             }
-            fo.start = &start;
+            fo.start = lobe_off ? nullptr : &start;  // nullptr: the grid's starts
             fo.max_evaluations = 100;
             LafortuneFit f;
             if (!fit_lafortune(s, fo, &f, nullptr)) continue;

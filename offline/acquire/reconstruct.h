@@ -19,14 +19,19 @@
 // one with a lobe more, by their residuals on captures each was not fitted to (three folds of
 // views), among those that are plausible (fit/lafortune_fit.h lafortune_plausible: it renders
 // as fitted and creates no energy); a cluster without a plausible fit becomes diffuse
-// (lobes_dropped); then every texel moves once more, to the chosen fit that explains it best.
+// (lobes_dropped); then every texel moves once more, to the chosen fit that explains it best
+// (a cluster this empties is dropped).
 // (3) Per texel, non-negative weights over the basis by least squares on its samples with a
 // pull (ridge_share of the data's own scale, chosen by held-out views: choose_ridge) towards
 // its cluster, so a texel with one or two samples stays its cluster's material; texels with no sample copy their nearest measured
 // neighbour in the atlas. Empty clusters are dropped; a cluster with fewer than 16 samples,
 // or whose fit fails, is dissolved into the cluster nearest in colour.
-// fit_texels: the per-texel Lafortune fits with covariance (each from its cluster's model),
-// where a texel has enough samples for them.
+// fit_texels: the per-texel Lafortune fits with covariance (each from its cluster's model, its
+// stronger lobe where it has two, the grid's starts where it was made diffuse), where a texel
+// has enough samples for them.
+// The held-out scores are not wholly held out: the iterated fit's folds start from a model
+// fitted to every view, and the weights' basis was too; they favour the iterated fit and the
+// weaker pull a little.
 // Limits: 1..8 clusters; deterministic for equal inputs whatever the thread count.
 #pragma once
 #include <cstdint>
@@ -55,7 +60,7 @@ struct ReconstructOptions {
     // The last iteration's fit per cluster chosen by cross-validation over the captures
     // (above); false: the iterated fit as it is, plausible or not.
     bool choose_fit = true;
-    int max_lobes = 2;  // the most lobes choose_fit tries: lobes..max_lobes, at most lobes + 1
+    int max_lobes = 2;  // choose_fit tries lobes + 1 lobes when that is <= max_lobes (1..4)
     double ridge_share = 1e-3;
     // The ridge share chosen by held-out views instead (reconstruct.cpp chosen_ridge): among
     // 1e-3, 1e-2, 0.1 and 1, the one whose weights best predict captures they were not fitted

@@ -7,8 +7,10 @@
 // the covariance at the minimum; "unmeasured" when the samples do not determine it), the
 // rank, the residual and the model as a spec that `sepal bake` and `sepal render` take; a
 // warning when weighted samples' residual is over twice their stated noise (the model does
-// not fit them, and the intervals would be too narrow).
-// fit.json holds the same with the full covariance matrix (null where unmeasured). --truth SPEC
+// not fit them, and the intervals would be too narrow); the model's largest directional albedo,
+// with a warning above kPlausibleAlbedo (fit/lafortune_fit.h: it creates energy).
+// fit.json holds the same with the full covariance matrix (null where unmeasured), max_albedo,
+// and plausible (lafortune_plausible: no energy created and nothing clamped). --truth SPEC
 // (the BRDF the samples came from, when it is known) judges the fit by its picture
 // (cli/picture_report.h: exact renders in the default scene and the held-out conditions).
 #include <cmath>

@@ -331,10 +331,15 @@ bool lafortune_plausible(const LafortuneModel& m, double* albedo) {
     double most = b ? 0.0 : std::numeric_limits<double>::infinity();
     // 32 samples resolve lobes up to the spec's exponents to 1e-5 (brdf_util.h); the angles
     // reach the grazing incidence where misfitted lobes put their energy.
+    bool anisotropic = false;  // then the incidence azimuth matters: along x and along y
+    for (const LafortuneLobe& l : m.lobes) anisotropic = anisotropic || l.cx != l.cy;
     if (b)
-        for (double deg : {0.0, 20.0, 40.0, 60.0, 75.0, 85.0, 89.0}) {
-            const glm::dvec3 a = directional_albedo(*b, deg2rad(deg), 32);
-            most = std::max({most, a.x, a.y, a.z});
+        for (double phi : {0.0, kPi / 2}) {
+            for (double deg : {0.0, 20.0, 40.0, 60.0, 75.0, 85.0, 89.0}) {
+                const glm::dvec3 a = directional_albedo(*b, deg2rad(deg), 32, phi);
+                most = std::max({most, a.x, a.y, a.z});
+            }
+            if (!anisotropic) break;
         }
     if (albedo) *albedo = most;
     // 1.1, not 1: fits to noisy samples of a conserving material, and Lafortune lobes that

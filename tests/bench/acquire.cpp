@@ -635,7 +635,8 @@ int main(int argc, char** argv) {
                         100.0 * u.by_rank[1] / u.texels, 100.0 * u.by_rank[2] / u.texels, 100.0 * u.by_rank[3] / u.texels,
                         100.0 * u.by_rank[4] / u.texels, u.mean_log_cov_all, run.psnr_exact, run.psnr_gles1);
         }
-    std::printf("\nthe Lafortune basis's limit (true materials fitted densely, true weights), PSNR exact:\n");
+    std::printf("\nthe Lafortune basis for reference (true materials fitted densely, true weights; not a bound), "
+                "PSNR exact:\n");
     for (const ObjectResult& R : results)
         std::printf("  %s: one lobe %.1f dB, two lobes %.1f dB\n", R.name.c_str(), R.limit[0], R.limit[1]);
     std::printf("\nmean log10 ||CoV|| where the planner and a baseline both reached full rank:\n");

@@ -176,3 +176,20 @@ TEST_CASE("reconstruct: the weights' ridge is chosen by held-out views: little w
     MESSAGE("chosen ridge share: noise x0.2 " << chosen[0] << ", x20 " << chosen[1]);
     CHECK(chosen[1] > chosen[0]);
 }
+
+TEST_CASE("reconstruct: the same captures give the same reconstruction with 1 and 2 threads") {
+    const Setup s = setup(1.0, 0.1);
+    sepal::Reconstruction r[2];
+    std::string err;
+    for (int i = 0; i < 2; ++i) {
+        sepal::ReconstructOptions o;
+        o.clusters = 3;
+        o.threads = i + 1;
+        REQUIRE_MESSAGE(sepal::reconstruct(s.obj, s.caps, o, &r[i], &err), err);
+    }
+    CHECK(r[0].cluster == r[1].cluster);
+    CHECK(r[0].svbrdf.maps.w == r[1].svbrdf.maps.w);
+    CHECK(r[0].svbrdf.specs == r[1].svbrdf.specs);
+    CHECK(r[0].ridge_share == r[1].ridge_share);
+    CHECK(r[0].lobes_dropped == r[1].lobes_dropped);
+}

@@ -351,6 +351,10 @@ TEST_CASE("fit lafortune: lafortune_plausible refuses created energy and models 
     // renders is not what was fitted.
     CHECK_FALSE(sepal::lafortune_plausible(model(glm::dvec3(-0.1, 0.2, 0.2), -1, 0.99, 40), &a));
     CHECK(a < 1);
+    // An anisotropic lobe whose energy is along y only: seen from incidence in the yz plane.
+    sepal::LafortuneModel aniso = model(glm::dvec3(0.1), -1, 0.99, 40);
+    aniso.lobes[0].cy = -8;
+    CHECK_FALSE(sepal::lafortune_plausible(aniso, &a));
     // Just above the bound: a lobe brighter than any surface reflects.
     CHECK_FALSE(sepal::lafortune_plausible(model(glm::dvec3(0.5), -1.2, 1.2, 4), &a));
     CHECK(a > sepal::kPlausibleAlbedo);
