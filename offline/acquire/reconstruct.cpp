@@ -153,9 +153,12 @@ bool dissolve_cluster(int gone, const std::vector<int>& measured, const std::vec
 }
 
 // Renumbers the clusters in order without the empty ones; the fits of the kept clusters
-// (those fits has) in *kept_fits. Returns the number kept.
+// (those fits has) in *kept_fits, and their flags (optional, one per fit) kept the same way.
+// Returns the number kept.
 int drop_empty_clusters(const std::vector<int>& measured, const std::vector<LafortuneFit>& fits,
-                        std::vector<int>* cluster, std::vector<LafortuneFit>* kept_fits) {
+                        std::vector<int>* cluster, std::vector<LafortuneFit>* kept_fits,
+                        std::vector<uint8_t>* flags = nullptr) {
+    std::vector<uint8_t> kept_flags;
     int K = 0;
     for (int t : measured) K = std::max(K, (*cluster)[size_t(t)] + 1);
     std::vector<int> cnt(size_t(K), 0), remap(size_t(K), -1);
@@ -165,8 +168,10 @@ int drop_empty_clusters(const std::vector<int>& measured, const std::vector<Lafo
         if (cnt[size_t(k)] > 0) {
             remap[size_t(k)] = kept++;
             if (size_t(k) < fits.size()) kept_fits->push_back(fits[size_t(k)]);
+            if (flags && size_t(k) < flags->size()) kept_flags.push_back((*flags)[size_t(k)]);
         }
     for (int t : measured) (*cluster)[size_t(t)] = remap[size_t((*cluster)[size_t(t)])];
+    if (flags) *flags = std::move(kept_flags);
     return kept;
 }
 
@@ -193,9 +198,10 @@ void drop_lobes(const std::vector<BrdfSample>& s, LafortuneModel* m) {
 // weighted residual on that fold; the lowest total wins, the earlier (fewer parameters) where
 // no fold can be held out. A model fitted to every view can bend where none measured (a lobe
 // that lives only at grazing angles, a second lobe where the data hold one); held-out views
-// and the energy bound see that. False when no candidate is plausible.
+// and the energy bound see that. *out: the winner's fit to all samples (tinted when `tint`);
+// false when no candidate is plausible.
 bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, const LafortuneFitOptions& given,
-                int max_lobes, bool tint, LafortuneFitOptions* out) {
+                int max_lobes, bool tint, LafortuneFit* out) {
     constexpr int kFolds = 3;
     std::vector<LafortuneFitOptions> cand{given};
     LafortuneFitOptions grid = given;
@@ -205,8 +211,11 @@ bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, 
         ++grid.lobes;
         cand.push_back(grid);
     }
+    std::vector<BrdfSample> fit_of[kFolds], test_of[kFolds];  // fold f: fitted without it, tested on it
+    for (int f = 0; f < kFolds; ++f)
+        for (size_t i = 0; i < s.size(); ++i) (view[i] % kFolds == f ? test_of[f] : fit_of[f]).push_back(s[i]);
     double best = kInf;
-    int pick = -1;
+    bool picked = false;
     for (size_t c = 0; c < cand.size(); ++c) {
         LafortuneFit all;
         if (!fit_lafortune(s, cand[c], &all, nullptr)) continue;
@@ -214,8 +223,8 @@ bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, 
         if (!lafortune_plausible(all.model)) continue;
         double score = 0;
         for (int f = 0; f < kFolds && score < best; ++f) {
-            std::vector<BrdfSample> fit_s, test_s;
-            for (size_t i = 0; i < s.size(); ++i) (view[i] % kFolds == f ? test_s : fit_s).push_back(s[i]);
+            const std::vector<BrdfSample>& fit_s = fit_of[f];
+            const std::vector<BrdfSample>& test_s = test_of[f];
             LafortuneFit fit;
             if (test_s.empty() || !fit_lafortune(fit_s, cand[c], &fit, nullptr)) {
                 score = kInf;
@@ -228,14 +237,13 @@ bool chosen_fit(const std::vector<BrdfSample>& s, const std::vector<int>& view, 
             }
         }
         if (!(score < kInf)) score = kInf;  // NaN too: it must not block the later candidates
-        if (pick < 0 || score < best) {
+        if (!picked || score < best) {
             best = score;
-            pick = int(c);
+            picked = true;
+            *out = std::move(all);
         }
     }
-    if (pick < 0) return false;
-    *out = cand[size_t(pick)];
-    return true;
+    return picked;
 }
 
 // Every measured texel to the cluster whose model explains its samples best (weighted
@@ -301,11 +309,11 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
             if (it == o.iterations && o.choose_fit) {
                 std::vector<int> view;
                 for (size_t j = 0; j < refs.size(); j += stride) view.push_back(refs[j].first);
-                LafortuneFitOptions chosen;
-                if (chosen_fit(s, view, fo, o.max_lobes, o.tint_lobes, &chosen))
-                    fo = chosen;
-                else
-                    dropped[k] = 1;
+                if (chosen_fit(s, view, fo, o.max_lobes, o.tint_lobes, &next[k])) {
+                    ok[k] = 1;
+                    return;
+                }
+                dropped[k] = 1;
             }
             ok[k] = fit_lafortune(s, fo, &next[k], &errors[k]);
             if (ok[k] && o.tint_lobes) tint_lafortune_lobes(s, &next[k].model);
@@ -333,19 +341,9 @@ bool fit_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const 
     // and a cluster this empties goes (with its fit and flag).
     if (o.choose_fit) {
         reassign(caps, ix, measured, fits, o.threads, cluster);
-        std::vector<int> count(fits.size(), 0), remap(fits.size(), -1);
-        for (int t : measured) ++count[size_t((*cluster)[size_t(t)])];
         std::vector<LafortuneFit> kept;
-        std::vector<uint8_t> kept_dropped;
-        for (size_t k = 0; k < fits.size(); ++k)
-            if (count[k] > 0) {
-                remap[k] = int(kept.size());
-                kept.push_back(std::move(fits[k]));
-                kept_dropped.push_back(dropped[k]);
-            }
-        for (int t : measured) (*cluster)[size_t(t)] = remap[size_t((*cluster)[size_t(t)])];
+        drop_empty_clusters(measured, fits, cluster, &kept, &dropped);
         fits = std::move(kept);
-        dropped = std::move(kept_dropped);
     }
     *fits_out = std::move(fits);
     *dropped_out = std::move(dropped);
@@ -567,8 +565,8 @@ std::vector<TexelFit> fit_texels(const AcqObject& obj, const std::vector<Capture
             // The per-texel fits have one lobe; a cluster model of two (choose_fit) starts them
             // from its stronger one (the larger peak at normal incidence).
             LafortuneModel start = r.texel_model[size_t(t)];
-            bool lobe_off = true;  // a cluster made diffuse (lobes_dropped): C = 0 cannot move
-            for (const LafortuneLobe& l : start.lobes) lobe_off = lobe_off && l.cx == 0 && l.cy == 0 && l.cz == 0;
+            const int c = r.cluster[size_t(t)];  // a cluster made diffuse: its C = 0 lobe cannot move
+            const bool lobe_off = size_t(c) < r.lobes_dropped.size() && r.lobes_dropped[size_t(c)];
             if (start.lobes.size() > 1) {
                 auto peak = [](const LafortuneLobe& l) {
                     return std::pow(std::fabs(l.cz), l.n) * (l.colour.x + l.colour.y + l.colour.z);
