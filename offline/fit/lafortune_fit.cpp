@@ -329,8 +329,9 @@ bool lafortune_plausible(const LafortuneModel& m, double* albedo) {
     bool clamped = false;
     std::unique_ptr<Brdf> b = make_analytic_brdf(m.spec(&clamped), nullptr);
     double most = b ? 0.0 : std::numeric_limits<double>::infinity();
-    // 32 samples resolve lobes up to the spec's exponents to 1e-5 (brdf_util.h); the angles
-    // reach the grazing incidence where misfitted lobes put their energy.
+    // 32 samples: the quadrature's panels are graded towards the mirror direction
+    // (brdf_util.h), and a bound of 1.1 needs percent accuracy, not more; the angles reach the
+    // grazing incidence where misfitted lobes put their energy.
     bool anisotropic = false;  // then the incidence azimuth matters: along x and along y
     for (const LafortuneLobe& l : m.lobes) anisotropic = anisotropic || l.cx != l.cy;
     if (b)

@@ -230,7 +230,8 @@ double mean_psnr_exact(const AcqObject& obj, const BlendSvbrdf& truth, const Ble
     return sum / double(views.size());
 }
 
-// What the Lafortune basis can show at best: each true material fitted (lobes, tinted) to
+// The Lafortune basis for reference (not a bound: a reconstruction has more clusters than the
+// truth has materials, and mixes them per texel): each true material fitted (lobes, tinted) to
 // 6000 noise-free samples spread over the directions the captures can measure (both within
 // the rig's 80 degrees, weights as a capture's), rendered with the true weights. NaN when a
 // fit fails.
