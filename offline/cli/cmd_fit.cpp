@@ -1,5 +1,5 @@
-// sepal fit lafortune SAMPLES -o fit.json [--lobes N] [--anisotropic] [--grey] [--sigma S]
-//                      [--truth SPEC]
+// sepal fit lafortune SAMPLES -o fit.json [--lobes N] [--anisotropic] [--forward] [--grey]
+//                      [--sigma S] [--truth SPEC]
 //
 // A Lafortune model fitted to scattered samples (Lensch et al. 2003, section 4; the library
 // is offline/fit/): SAMPLES is a samples.csv (what `sepal measure capture` writes; format in
@@ -115,6 +115,7 @@ int run_fit_lafortune(FitArgs& a, const CommandIO& io) {
                   {"residuals", r.residuals},
                   {"lobes", a.o.lobes},
                   {"isotropic", a.o.isotropic},
+                  {"forward", a.o.forward},
                   {"channels", a.o.channels},
                   {"spec", spec},
                   {"clamped", clamped},
@@ -146,6 +147,9 @@ CommandRun setup_fit_lafortune(CLI::App& c) {
     c.add_option("--truth", a->truth, "the BRDF the samples came from: the fit's picture against it");
     c.add_option("--lobes", a->o.lobes, "specular lobes")->check(CLI::Range(1, 4))->capture_default_str();
     c.add_flag("--anisotropic", a->anisotropic, "fit Cx and Cy apart (default: Cx = Cy)");
+    c.add_flag("--forward", a->o.forward,
+               "keep the lobes forward and the diffuse colour >= 0 (Cx, Cy <= 0, Cz >= 0, n >= 1): no grazing or "
+               "retro lobe where the samples are sparse");
     c.add_flag("--grey", a->grey, "one grey diffuse value from the samples' luminance (default: RGB)");
     c.add_option("--sigma", a->o.sigma,
                  "the samples' known noise (weights are 1/std relative to it); default: estimated from the residual")

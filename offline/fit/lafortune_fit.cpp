@@ -65,9 +65,23 @@ struct Problem {
     std::vector<double> value;  // channels per sample
     int channels = 3, lobes = 1;
     bool isotropic = true;
+    bool forward = false;  // LafortuneFitOptions::forward: x kept inside its bounds
     int params() const { return channels + lobes * lobe_params(isotropic); }
     int samples() const { return int(weight.size()); }
 };
+
+// Clamps x into LafortuneFitOptions::forward's bounds (no-op without them).
+void project(const Problem& pb, Eigen::VectorXd* x) {
+    if (!pb.forward) return;
+    const int C = pb.channels, np = lobe_params(pb.isotropic);
+    for (int c = 0; c < C; ++c) (*x)[c] = std::max(0.0, (*x)[c]);
+    for (int k = 0; k < pb.lobes; ++k) {
+        const int i = C + k * np;
+        for (int j = 0; j < np - 2; ++j) (*x)[i + j] = std::min(0.0, (*x)[i + j]);
+        (*x)[i + np - 2] = std::max(0.0, (*x)[i + np - 2]);
+        (*x)[i + np - 1] = std::max(1.0, (*x)[i + np - 1]);
+    }
+}
 
 // The weighted residuals of a parameter vector.
 void residuals(const Problem& pb, const Eigen::VectorXd& x, Eigen::VectorXd* r) {
@@ -137,10 +151,13 @@ int minimize_lm(const Problem& pb, Eigen::VectorXd* x, int max_evaluations, int*
             Ad.diagonal() += mu * scale;
             delta = Ad.ldlt().solve(-g);
             if (!delta.allFinite()) return kLmStuck;
+            x_try = *x + delta;
+            project(pb, &x_try);
+            // A projected step is the step taken: the model's predicted reduction is its own.
+            if (pb.forward) delta = x_try - *x;
             const double step = delta.cwiseProduct(scale.cwiseSqrt()).norm();
             const double size = x->cwiseProduct(scale.cwiseSqrt()).norm();
             if (step <= tol * size) return kLmStep;
-            x_try = *x + delta;
             residuals(pb, x_try, &r_try);
             ++*evaluations;
             ++used;
@@ -193,6 +210,7 @@ std::vector<Eigen::VectorXd> grid_starts(const Problem& pb, int keep) {
         for (double ratio : kRatios)
             for (double n : kExponents) {
                 bool any = false;
+                if (pb.forward && ratio > 0) continue;  // a retro lobe
                 for (int s = 0; s < S; ++s) {
                     const Products& p = pb.prod[size_t(s)];
                     const double d = ratio * (p.xx + p.yy) + p.zz;
@@ -431,6 +449,7 @@ bool fit_lafortune(const std::vector<BrdfSample>& samples, const LafortuneFitOpt
     pb.channels = o.channels;
     pb.lobes = o.lobes;
     pb.isotropic = o.isotropic;
+    pb.forward = o.forward;
     for (size_t i = 0; i < samples.size(); ++i) {
         const BrdfSample& s = samples[i];
         const bool finite = std::isfinite(s.wi.x + s.wi.y + s.wi.z + s.wo.x + s.wo.y + s.wo.z) &&
@@ -472,6 +491,7 @@ bool fit_lafortune(const std::vector<BrdfSample>& samples, const LafortuneFitOpt
     int best_status = 0;
     for (const Eigen::VectorXd& x0 : starts) {
         Eigen::VectorXd x = x0;
+        project(pb, &x);
         const int status = minimize_lm(pb, &x, o.max_evaluations, &evaluations);
         const double r = x.allFinite() ? rss_of(pb, x) : kInf;
         if (r < best_rss) {

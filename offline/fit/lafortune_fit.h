@@ -78,6 +78,13 @@ struct LafortuneFitOptions {
     // Start here instead of the grid (per-texel fits start from their cluster's model).
     const LafortuneModel* start = nullptr;
     int max_evaluations = 400;  // function evaluations of the LM solver
+    // Keep the fit a diffuse colour and forward lobes: rho_d >= 0, Cx, Cy <= 0, Cz >= 0,
+    // n >= 1 (projected steps: each trial point is clamped into these bounds, and the
+    // grid's starts keep to them). A lobe with Cz < 0 lives only at grazing angles, and one
+    // with Cx, Cy > 0 is a retro-reflection; fitted to sparse captures, such lobes can explain
+    // a few samples while creating energy where none was measured. Off: the model's full
+    // range (Lafortune's retro and grazing lobes, a negative diffuse term a lobe makes up).
+    bool forward = false;
 };
 
 // Why the Levenberg-Marquardt solver stopped (LafortuneFit::lm_status): converged on the

@@ -141,6 +141,19 @@ TEST_CASE("sepal fit lafortune: a known model is recovered within its 95% interv
     REQUIRE_MESSAGE(sepal::read_json_file(dir + "/hot.json", &j, &err), err);
     CHECK_FALSE(j["plausible"].get<bool>());
     CHECK(j["max_albedo"].get<double>() > sepal::kPlausibleAlbedo);
+    // A retro-reflective lobe: the free fit follows it; --forward keeps Cxy <= 0 and says so.
+    auto retro = sepal::make_brdf("lafortune:rho_d=0.05/0.1/0.4,lobe=0.6/0.6/0.5/4", &err);
+    REQUIRE_MESSAGE(retro, err);
+    for (sepal::BrdfSample& x : h) x.value = retro->eval(x.wi, x.wo);
+    REQUIRE_MESSAGE(sepal::write_brdf_samples(dir + "/retro.csv", h, "test", &err), err);
+    REQUIRE(run("fit", {"lafortune", dir + "/retro.csv", "-o", dir + "/retro.json"}, &out) == 0);
+    REQUIRE_MESSAGE(sepal::read_json_file(dir + "/retro.json", &j, &err), err);
+    CHECK_FALSE(j["forward"].get<bool>());
+    CHECK(j["parameters"][3]["value"].get<double>() > 0.3);
+    REQUIRE(run("fit", {"lafortune", dir + "/retro.csv", "--forward", "-o", dir + "/retro.json"}, &out) == 0);
+    REQUIRE_MESSAGE(sepal::read_json_file(dir + "/retro.json", &j, &err), err);
+    CHECK(j["forward"].get<bool>());
+    CHECK(j["parameters"][3]["value"].get<double>() <= 0.0);
     // Refusals: a missing file, a bad lobe count; a failed fit writes no JSON.
     CHECK(run("fit", {"lafortune", dir + "/none.csv", "-o", dir + "/x.json"}, &out) == 2);
     CHECK(run("fit", {"lafortune", dir + "/s.csv", "--lobes", "5"}, &out) == 2);

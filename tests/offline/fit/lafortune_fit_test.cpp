@@ -359,3 +359,46 @@ TEST_CASE("fit lafortune: lafortune_plausible refuses created energy and models 
     CHECK_FALSE(sepal::lafortune_plausible(model(glm::dvec3(0.5), -1.2, 1.2, 4), &a));
     CHECK(a > sepal::kPlausibleAlbedo);
 }
+
+TEST_CASE("fit lafortune: forward keeps the fit inside its bounds, and gives the free fit where that is inside") {
+    sepal::SplitMix64 r(11);
+    std::string err;
+    sepal::LafortuneFitOptions free_o, fwd_o;
+    fwd_o.forward = true;
+    // A forward material: the bounds are not active, both fits recover it.
+    LafortuneModel specular;
+    specular.rho_d = dvec3(0.3, 0.2, 0.1);
+    specular.lobes.push_back({-0.95, -0.95, 0.98, 25});
+    auto samples = make_samples(specular, 200, 0.0, r);
+    sepal::LafortuneFit a, b;
+    REQUIRE(sepal::fit_lafortune(samples, free_o, &a, &err));
+    REQUIRE(sepal::fit_lafortune(samples, fwd_o, &b, &err));
+    for (int j = 0; j < a.params.size(); ++j) CHECK(b.params[j] == doctest::Approx(a.params[j]).epsilon(1e-6));
+    // A retro-reflective lobe (Cxy > 0) over a dark blue: the free fit finds it; the forward
+    // fit may not leave its bounds, so it explains the data less well but stays inside.
+    LafortuneModel retro;
+    retro.rho_d = dvec3(0.05, 0.1, 0.4);
+    retro.lobes.push_back({0.6, 0.6, 0.5, 4});
+    samples = make_samples(retro, 300, 0.002, r);
+    REQUIRE(sepal::fit_lafortune(samples, free_o, &a, &err));
+    REQUIRE(sepal::fit_lafortune(samples, fwd_o, &b, &err));
+    CHECK(a.model.lobes[0].cx > 0.3);
+    CHECK(b.rss > a.rss);
+    const sepal::LafortuneLobe& l = b.model.lobes[0];
+    CHECK(l.cx <= 0);
+    CHECK(l.cy <= 0);
+    CHECK(l.cz >= 0);
+    CHECK(l.n >= 1);
+    for (int c = 0; c < 3; ++c) CHECK(b.model.rho_d[c] >= 0);
+    CHECK(b.lm_status != sepal::kLmStuck);
+    // Two lobes and anisotropic layouts keep the bounds too.
+    fwd_o.lobes = 2;
+    fwd_o.isotropic = false;
+    REQUIRE(sepal::fit_lafortune(samples, fwd_o, &b, &err));
+    for (const sepal::LafortuneLobe& k : b.model.lobes) {
+        CHECK(k.cx <= 0);
+        CHECK(k.cy <= 0);
+        CHECK(k.cz >= 0);
+        CHECK(k.n >= 1);
+    }
+}
