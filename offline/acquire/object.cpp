@@ -16,6 +16,19 @@ glm::vec3 SurfaceAtlas::local(int texel, const glm::dvec3& d) const {
     return glm::vec3(glm::dot(w, tangent[i]), glm::dot(w, bitangent[i]), glm::dot(w, normal[i]));
 }
 
+int SurfaceAtlas::step(int texel, int dx, int dy) const {
+    int x = texel % res + dx, y = texel / res + dy;
+    if (x < 0 || x >= res) {
+        if (!wrap_u) return -1;
+        x = (x % res + res) % res;
+    }
+    if (y < 0 || y >= res) {
+        if (!wrap_v) return -1;
+        y = (y % res + res) % res;
+    }
+    return y * res + x;
+}
+
 sepal_mesh AcqObject::mesh() const {
     sepal_mesh m;
     m.vertices = const_cast<sepal_vertex*>(vertices.data());
@@ -185,6 +198,8 @@ bool make_object(const std::string& name, int atlas_res, AcqObject* out, std::st
         return false;
     }
     if (!build_atlas(o.mesh(), atlas_res, &o.atlas, err)) return false;
+    o.atlas.wrap_u = name != "wave";
+    o.atlas.wrap_v = name == "torus";
     *out = std::move(o);
     return true;
 }

@@ -37,7 +37,13 @@ struct SurfaceAtlas {
     std::vector<glm::vec3> position, normal, tangent, bitangent;
     std::vector<uint8_t> valid;
     std::vector<int> texels;  // indices of the valid texels, in order
+    // Whether the surface continues across the u = 0 / 1 and the v = 0 / 1 edges of the UV
+    // square (the torus both ways, the sphere around only: its v runs pole to pole).
+    bool wrap_u = false, wrap_v = false;
     glm::vec3 local(int texel, const glm::dvec3& world_dir) const;  // world -> (t, b, n)
+    // The texel dx, dy texels from `texel` on the surface: across a wrapping edge, or -1 past
+    // one that does not wrap.
+    int step(int texel, int dx, int dy) const;
 };
 
 struct AcqObject {

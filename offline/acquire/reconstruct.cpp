@@ -73,25 +73,26 @@ void nnls_small(const std::vector<double>& A, const std::vector<double>& b, int 
         }
 }
 
-// (1) The initial clusters. Per measured texel, the median of its own and its measured
-// 8-neighbours' values per channel (times pi: the albedo of a Lambertian with that value);
+// (1) The initial clusters. Per measured texel, the median of its own and its 8 neighbours'
+// values per channel (times pi: the albedo of a Lambertian with that value);
 // pooled because a texel alone has a handful of samples (4 to 8 on the bench's planned
 // sphere) and the median of so few can be a highlight. Then k-means on these colours, seeded
 // by bisection: from one cluster, the one with the largest squared spread is split along its
 // principal axis (2-means from its mean +- one standard deviation) until there are `clusters`.
-// Deterministic, and outliers do not seed clusters: farthest-point seeding picked the few
-// texels seen only in highlights, and with 4 clusters on the bench's planned sphere the
-// white and blue materials shared one. Seeded by bisection, the bench's planned sphere renders
-// within 0.3 dB with 4, 6 or 8 clusters (its "reconstruction's choices" lines).
-void texel_colours(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured, int res,
-                   std::vector<glm::dvec3>* colour) {
+// Deterministic, and a split follows where most of the spread is, not single outliers:
+// farthest-point seeding picked the few texels seen only in highlights, and with 4 clusters
+// on the bench's planned sphere the white and blue materials shared one. Seeded by bisection,
+// the bench's planned sphere renders within 1.1 dB with 4, 6 or 8 clusters (its
+// "reconstruction's choices" lines).
+void texel_colours(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
+                   const SurfaceAtlas& atlas, std::vector<glm::dvec3>* colour) {
     std::vector<double> ch[3];
     for (int t : measured) {
         for (std::vector<double>& c : ch) c.clear();
-        const int x = t % res, y = t / res;
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
-                const int q = ((y + dy + res) % res) * res + (x + dx + res) % res;
+                const int q = atlas.step(t, dx, dy);
+                if (q < 0) continue;
                 for (int k = ix.start[size_t(q)]; k < ix.start[size_t(q) + 1]; ++k) {
                     const glm::vec3& v = caps[size_t(ix.refs[size_t(k)].first)].value[size_t(ix.refs[size_t(k)].second)];
                     for (int c = 0; c < 3; ++c) ch[c].push_back(double(v[c]) * kPi);
@@ -106,7 +107,7 @@ void texel_colours(const std::vector<Capture>& caps, const TexelIndex& ix, const
 }
 
 // Splits cluster k of `centre` in two along its principal axis; the new one is appended.
-// False when its texels all have one colour.
+// False (nothing changed) when its colours do not spread or one side would be empty.
 bool split_cluster(const std::vector<glm::dvec3>& colour, const std::vector<int>& measured, int k,
                    std::vector<glm::dvec3>* centre, std::vector<int>* cluster) {
     glm::dmat3 C(0.0);
@@ -117,45 +118,53 @@ bool split_cluster(const std::vector<glm::dvec3>& colour, const std::vector<int>
             C += glm::outerProduct(d, d);
             ++n;
         }
-    glm::dvec3 v(1.0, 0.9, 0.8);  // power iteration towards the largest eigenvector (3 x 3: no library)
+    // Power iteration towards the largest eigenvector (3 x 3: no library), from the column of
+    // the largest variance: never orthogonal to the axis of the spread.
+    int widest = 0;
+    for (int i = 1; i < 3; ++i)
+        if (C[i][i] > C[widest][widest]) widest = i;
+    glm::dvec3 v = C[widest];
     for (int it = 0; it < 64; ++it) {
         const glm::dvec3 w = C * v;
         const double l = glm::length(w);
         if (!(l > 0)) return false;
         v = w / l;
     }
+    const glm::dvec3 m = (*centre)[size_t(k)];
     const double sd = std::sqrt(glm::dot(v, C * v) / std::max(1, n));
-    if (!(sd > 0)) return false;
-    glm::dvec3 a = (*centre)[size_t(k)] + sd * v, b = (*centre)[size_t(k)] - sd * v;
-    const int kb = int(centre->size());
+    if (!(sd > 1e-9 * (1 + glm::length(m)))) return false;
+    glm::dvec3 a = m + sd * v, b = m - sd * v;
+    std::vector<int> side;  // per member: 0 with a, 1 with b
+    for (int t : measured)
+        if ((*cluster)[size_t(t)] == k) side.push_back(0);
     for (int it = 0; it < 10; ++it) {
         glm::dvec3 sa(0), sb(0);
         int na = 0, nb = 0;
+        size_t i = 0;
         for (int t : measured) {
-            int& c = (*cluster)[size_t(t)];
-            if (c != k && c != kb) continue;
+            if ((*cluster)[size_t(t)] != k) continue;
             const glm::dvec3& x = colour[size_t(t)];
-            if (glm::dot(x - a, x - a) <= glm::dot(x - b, x - b)) {
-                c = k;
-                sa += x;
-                ++na;
-            } else {
-                c = kb;
-                sb += x;
-                ++nb;
-            }
+            side[i] = glm::dot(x - a, x - a) <= glm::dot(x - b, x - b) ? 0 : 1;
+            (side[i] ? sb : sa) += x;
+            ++(side[i++] ? nb : na);
         }
-        if (na) a = sa / double(na);
-        if (nb) b = sb / double(nb);
+        if (na == 0 || nb == 0) return false;
+        a = sa / double(na);
+        b = sb / double(nb);
     }
+    const int kb = int(centre->size());
+    size_t i = 0;
+    for (int t : measured)
+        if ((*cluster)[size_t(t)] == k && side[i++]) (*cluster)[size_t(t)] = kb;
     (*centre)[size_t(k)] = a;
     centre->push_back(b);
     return true;
 }
 
 void colour_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
-                     int clusters, int res, std::vector<glm::dvec3>* colour, std::vector<int>* cluster) {
-    texel_colours(caps, ix, measured, res, colour);
+                     int clusters, const SurfaceAtlas& atlas, std::vector<glm::dvec3>* colour,
+                     std::vector<int>* cluster) {
+    texel_colours(caps, ix, measured, atlas, colour);
     const std::vector<glm::dvec3>& col = *colour;
     glm::dvec3 mean(0);
     for (int t : measured) {
@@ -163,14 +172,22 @@ void colour_clusters(const std::vector<Capture>& caps, const TexelIndex& ix, con
         (*cluster)[size_t(t)] = 0;
     }
     std::vector<glm::dvec3> centre{mean / double(measured.size())};
+    std::vector<uint8_t> whole{0};  // per cluster: a split failed, it stays as it is
     while (int(centre.size()) < clusters) {
         std::vector<double> spread(centre.size(), 0.0);
         for (int t : measured) {
             const glm::dvec3 d = col[size_t(t)] - centre[size_t((*cluster)[size_t(t)])];
             spread[size_t((*cluster)[size_t(t)])] += glm::dot(d, d);
         }
-        const int k = int(std::max_element(spread.begin(), spread.end()) - spread.begin());
-        if (!split_cluster(col, measured, k, &centre, cluster)) break;  // one colour left to split
+        int k = -1;
+        for (int c = 0; c < int(centre.size()); ++c)
+            if (!whole[size_t(c)] && (k < 0 || spread[size_t(c)] > spread[size_t(k)])) k = c;
+        if (k < 0) break;  // nothing left to split: fewer clusters
+        if (split_cluster(col, measured, k, &centre, cluster)) {
+            whole.push_back(0);
+        } else {
+            whole[size_t(k)] = 1;
+        }
     }
     for (int it = 0; it < 10; ++it) {
         for (int t : measured) {
@@ -455,8 +472,8 @@ void texel_system(const std::vector<Capture>& caps, const TexelIndex& ix, int t,
 }
 
 // What a texel's weights are pulled towards: its cluster's material (one-hot), or, given
-// earlier weights, the mean of its measured 8-neighbours' (wrapping at the atlas's borders
-// like the meshes' UVs; its cluster where no neighbour was measured). For scoring a held-out
+// earlier weights, the mean of its measured 8-neighbours' (across the atlas's edges where the
+// surface continues: SurfaceAtlas::step; its cluster where no neighbour was measured). For scoring a held-out
 // fold f the earlier weights are those solved without fold f: a neighbour's fold f holds the
 // same views, so weights fitted to it would carry the held-out views into the prior.
 struct WeightPrior {
@@ -465,7 +482,7 @@ struct WeightPrior {
     // null: one-hot.
     const std::vector<float>* earlier[kWeightFolds + 1] = {};
     const std::vector<uint8_t>* measured = nullptr;  // per texel
-    int res = 0;
+    const SurfaceAtlas* atlas = nullptr;
 
     // fold: the held-out fold, -1 for none.
     void of(int t, int K, int fold, double* p) const {
@@ -473,11 +490,10 @@ struct WeightPrior {
         int n = 0;
         const std::vector<float>* w = earlier[fold < 0 ? kWeightFolds : fold];
         if (w) {
-            const int x = t % res, y = t / res;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
-                    const int q = ((y + dy + res) % res) * res + (x + dx + res) % res;
-                    if (q == t || !(*measured)[size_t(q)]) continue;
+                    const int q = atlas->step(t, dx, dy);
+                    if (q < 0 || q == t || !(*measured)[size_t(q)]) continue;
                     for (int k = 0; k < K; ++k) p[k] += double((*w)[size_t(q) * size_t(K) + size_t(k)]);
                     ++n;
                 }
@@ -577,22 +593,19 @@ void project_weights(const std::vector<Capture>& caps, const TexelIndex& ix, con
 }
 
 // (4) Texels without samples: the nearest measured texel's cluster and weights (breadth
-// first over the atlas grid, wrapping at its borders like the meshes' UVs).
+// first over the atlas grid, across its edges where the surface continues).
 void fill_unmeasured(const SurfaceAtlas& a, const std::vector<int>& measured, int K, bool weights_too,
                      std::vector<int>* cluster, std::vector<float>* weights) {
     const size_t n = a.valid.size();
     std::deque<int> queue(measured.begin(), measured.end());
     std::vector<uint8_t> done(n, 0);
     for (int t : measured) done[size_t(t)] = 1;
-    const int res = a.res;
     while (!queue.empty()) {
         const int t = queue.front();
         queue.pop_front();
-        const int x = t % res, y = t / res;
-        const int nb[4] = {y * res + (x + 1) % res, y * res + (x + res - 1) % res, ((y + 1) % res) * res + x,
-                           ((y + res - 1) % res) * res + x};
+        const int nb[4] = {a.step(t, 1, 0), a.step(t, -1, 0), a.step(t, 0, 1), a.step(t, 0, -1)};
         for (int q : nb) {
-            if (done[size_t(q)] || !a.valid[size_t(q)]) continue;
+            if (q < 0 || done[size_t(q)] || !a.valid[size_t(q)]) continue;
             done[size_t(q)] = 1;
             (*cluster)[size_t(q)] = (*cluster)[size_t(t)];
             if (weights_too)
@@ -623,7 +636,7 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
     }
     std::vector<glm::dvec3> colour(n, glm::dvec3(0));
     std::vector<int> cluster(n, -1);
-    colour_clusters(caps, ix, measured, o.clusters, a.res, &colour, &cluster);
+    colour_clusters(caps, ix, measured, o.clusters, a, &colour, &cluster);
     std::vector<LafortuneFit> fits;
     std::vector<uint8_t> dropped;
     if (!fit_clusters(caps, ix, measured, colour, o, &cluster, &fits, &dropped, err)) return false;
@@ -658,7 +671,7 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
             std::vector<float> earlier[kWeightFolds + 1];
             WeightPrior near = own;
             near.measured = &is_measured;
-            near.res = a.res;
+            near.atlas = &a;
             earlier[kWeightFolds] = r.svbrdf.maps.w;
             for (int f = 0; f <= kWeightFolds; ++f) {
                 if (f < kWeightFolds) {

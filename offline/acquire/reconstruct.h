@@ -9,8 +9,8 @@
 //   r.basis[k].cov      // each basis material's parameters with their covariance
 //
 // Steps: (1) per texel, the median of its own and its measured neighbours' values times pi (a
-// diffuse colour that highlights hardly move), and k-means on it, seeded by bisection
-// (deterministic; no cluster grows around outliers); (2) a
+// diffuse colour that highlights hardly move), and k-means on it, seeded by bisection (the
+// widest cluster split along its principal axis: deterministic); (2) a
 // Lafortune fit per cluster on its pooled samples (fit/lafortune_fit.h, RGB diffuse, white
 // lobes then coloured by tint_lafortune_lobes; at most max_cluster_samples per cluster, taken
 // at an even stride), then every texel
@@ -49,8 +49,8 @@
 namespace sepal {
 
 struct ReconstructOptions {
-    // The bench's 128^2 sphere, 27 planned views, exact renders: 37.5 dB with 4 clusters (the
-    // truth's material count), 37.7 with 6, 37.8 with 8; the torus 40.0, 40.0, 40.4.
+    // The bench's 128^2 sphere, 27 planned views, exact renders: 35.7 dB with 4 clusters (the
+    // truth's material count), 36.8 with 6, 35.8 with 8; the torus 40.0, 40.0, 40.4.
     int clusters = 6;
     int lobes = 1;
     int iterations = 2;
@@ -65,7 +65,7 @@ struct ReconstructOptions {
     int max_lobes = 2;  // choose_fit tries lobes + 1 lobes when that is <= max_lobes (1..4)
     // The extra lobe's candidate fitted forward (fit/lafortune_fit.h LafortuneFitOptions::
     // forward); false: over the model's full range, where the bench's gold clusters took
-    // lobes at grazing angles: the planned sphere 31.0 dB instead of 37.7, the torus 34.9
+    // lobes at grazing angles: the planned sphere 30.5 dB instead of 36.8, the torus 34.9
     // instead of 40.0 (its "free second lobe" lines).
     bool forward_lobes = true;
     double ridge_share = 1e-3;
@@ -77,9 +77,9 @@ struct ReconstructOptions {
     // instead of their cluster (the share chosen the same way, or ridge_share;
     // Reconstruction::spatial_share): a texel has a handful of samples (4 to 8 on the bench's
     // planned sphere), its neighbours together many. The bench's planned sphere and torus:
-    // 37.2 and 39.3 dB without, 37.7 and 40.0 with. It blurs material boundaries one or two
-    // texels wide: a 32^2 sphere from 12 random views renders 0.1-1.1 dB worse with it on 10
-    // of 12 view sets; off for coarse atlases.
+    // 36.5 and 39.3 dB without, 36.8 and 40.0 with. It blurs material boundaries one or two
+    // texels wide: a 32^2 sphere from 12 random views renders 0.5 dB worse with it
+    // (reconstruct_test.cpp); set it false for coarse atlases.
     bool spatial = true;
     bool project = true;  // false: skip step (3), svbrdf.maps.w left empty (planning estimates)
     int threads = 0;

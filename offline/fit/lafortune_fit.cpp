@@ -70,16 +70,30 @@ struct Problem {
     int samples() const { return int(weight.size()); }
 };
 
-// Clamps x into LafortuneFitOptions::forward's bounds (no-op without them).
+// LafortuneFitOptions::forward's bounds on parameter j: rho_d >= 0, Cx, Cy <= 0, Cz >= 0,
+// n >= 1 (-inf / +inf where a side is free).
+void bounds(const Problem& pb, int j, double* lo, double* hi) {
+    constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    *lo = -kInfinity;
+    *hi = kInfinity;
+    const int C = pb.channels, np = lobe_params(pb.isotropic);
+    if (j < C) {
+        *lo = 0;
+        return;
+    }
+    const int i = (j - C) % np;
+    if (i < np - 2) *hi = 0;
+    else if (i == np - 2) *lo = 0;
+    else *lo = 1;
+}
+
+// Clamps x into the bounds (no-op without them).
 void project(const Problem& pb, Eigen::VectorXd* x) {
     if (!pb.forward) return;
-    const int C = pb.channels, np = lobe_params(pb.isotropic);
-    for (int c = 0; c < C; ++c) (*x)[c] = std::max(0.0, (*x)[c]);
-    for (int k = 0; k < pb.lobes; ++k) {
-        const int i = C + k * np;
-        for (int j = 0; j < np - 2; ++j) (*x)[i + j] = std::min(0.0, (*x)[i + j]);
-        (*x)[i + np - 2] = std::max(0.0, (*x)[i + np - 2]);
-        (*x)[i + np - 1] = std::max(1.0, (*x)[i + np - 1]);
+    for (int j = 0; j < pb.params(); ++j) {
+        double lo, hi;
+        bounds(pb, j, &lo, &hi);
+        (*x)[j] = std::min(hi, std::max(lo, (*x)[j]));
     }
 }
 

@@ -79,8 +79,12 @@ struct LafortuneFitOptions {
     const LafortuneModel* start = nullptr;
     int max_evaluations = 400;  // function evaluations of the LM solver
     // Keep the fit a diffuse colour and forward lobes: rho_d >= 0, Cx, Cy <= 0, Cz >= 0,
-    // n >= 1 (projected steps: each trial point is clamped into these bounds, and the
-    // grid's starts keep to them). A lobe with Cz < 0 lives only at grazing angles, and one
+    // n >= 1 (projected steps: each trial step is clamped into the bounds, and the grid's
+    // starts keep to them). Clamped, not solved without the bound parameters: near a bound the
+    // solver can stop short of the constrained minimum (taking them out of the system reached
+    // other minima, and the acquisition bench's expert sphere rendered 3.4 dB worse). The
+    // covariance stays the unconstrained one: a parameter that ends on its bound gets an
+    // interval reaching past it. A lobe with Cz < 0 lives only at grazing angles, and one
     // with Cx, Cy > 0 is a retro-reflection; fitted to sparse captures, such lobes can explain
     // a few samples while creating energy where none was measured. Off: the model's full
     // range (Lafortune's retro and grazing lobes, a negative diffuse term a lobe makes up).

@@ -284,14 +284,16 @@ struct ObjectResult {
     std::vector<std::pair<std::string, double>> choices;
 };
 
-// The planned captures reconstructed with one option changed at a time, rendered exactly.
-void reconstruction_choices(ObjectResult* R, const std::vector<Capture>& caps, const RigOptions& rig) {
+// The planned captures reconstructed with one option changed at a time, rendered exactly;
+// `defaults`: the figure of the default reconstruction, already measured.
+void reconstruction_choices(ObjectResult* R, const std::vector<Capture>& caps, const RigOptions& rig,
+                            double defaults) {
     struct Variant {
         const char* name;
         void (*set)(ReconstructOptions*);
     };
+    R->choices.push_back({"defaults", defaults});
     static const Variant kVariants[] = {
-        {"defaults", [](ReconstructOptions*) {}},
         {"spatial off", [](ReconstructOptions* o) { o->spatial = false; }},
         {"free second lobe", [](ReconstructOptions* o) { o->forward_lobes = false; }},
         {"no second lobe", [](ReconstructOptions* o) { o->max_lobes = 1; }},
@@ -359,7 +361,7 @@ void run_object(ObjectResult* R, int views, bool gl) {
             int full = 0;
             for (int t : R->obj.atlas.texels) full += tf[size_t(t)].fitted && tf[size_t(t)].rank == 6;
             run.texel_fit_share = double(full) / double(R->obj.atlas.texels.size());
-            if (run.strategy == Strategy::kPlanner) reconstruction_choices(R, run.session.captures, rig);
+            if (run.strategy == Strategy::kPlanner) reconstruction_choices(R, run.session.captures, rig, run.psnr_exact);
         }
         if (gl && run.final_ok) {
             std::vector<BakedBasis> basis;

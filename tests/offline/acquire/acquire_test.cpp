@@ -55,6 +55,22 @@ TEST_CASE("acquire atlas: sphere texels lie on the sphere with orthonormal frame
     CHECK_FALSE(sepal::make_object("sphere", 4, &bad, &err));
 }
 
+TEST_CASE("acquire atlas: neighbours cross the UV square's edges only where the surface continues") {
+    std::string err;
+    sepal::AcqObject sphere, torus, wave;
+    REQUIRE(sepal::make_object("sphere", 16, &sphere, &err));
+    REQUIRE(sepal::make_object("torus", 16, &torus, &err));
+    REQUIRE(sepal::make_object("wave", 16, &wave, &err));
+    const int corner = 0, inner = 5 * 16 + 5;
+    CHECK(sphere.atlas.step(inner, 1, -1) == 4 * 16 + 6);
+    CHECK(sphere.atlas.step(corner, -1, 0) == 15);  // around the sphere
+    CHECK(sphere.atlas.step(corner, 0, -1) == -1);  // past a pole
+    CHECK(torus.atlas.step(corner, -1, -1) == 15 * 16 + 15);
+    CHECK(wave.atlas.step(corner, -1, 0) == -1);
+    CHECK(wave.atlas.step(corner, 0, -1) == -1);
+    CHECK(wave.atlas.step(corner, 1, 1) == 17);
+}
+
 TEST_CASE("acquire atlas: every texel a render looks up inside the mesh is set, the sphere's poles included") {
     // Renders and photographs take the texel under a pixel's interpolated UV (capture.cpp):
     // points all over every triangle, its corners and edges included, must land on set texels.

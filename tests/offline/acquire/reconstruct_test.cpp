@@ -147,10 +147,17 @@ double held_out_psnr(const DefaultScene& s, const sepal::Reconstruction& r) {
     return psnr;
 }
 
+// Reconstructs the scene's captures with `o` into *r; returns held_out_psnr.
+double reconstructed_psnr(const DefaultScene& s, const sepal::ReconstructOptions& o, sepal::Reconstruction* r) {
+    std::string err;
+    REQUIRE_MESSAGE(sepal::reconstruct(s.obj, s.caps, o, r, &err), err);
+    return held_out_psnr(s, *r);
+}
+
 TEST_CASE("reconstruct: chosen fits are plausible where the iterated ones create energy; the renders gain") {
-    // Seed 10: the iterated fits of two of the six clusters put lobes where no sample was.
-    // choose_fit replaces them; the held-out views render 4.1 dB closer. Over seeds 1..12 it
-    // gains 0 to 4.1 dB where something is replaced, and loses 0.17 dB at worst.
+    // Seed 10: the iterated fits of two of the six clusters put lobes where no sample was;
+    // choose_fit replaces them, and the held-out views render 4 dB closer. Not every capture
+    // set has something to replace; where nothing is, the choice moves the renders little.
     DefaultScene s;
     default_scene(10, &s);
     double psnr[2] = {0, 0};
@@ -159,10 +166,8 @@ TEST_CASE("reconstruct: chosen fits are plausible where the iterated ones create
         sepal::ReconstructOptions o;
         o.choose_fit = choose == 1;
         sepal::Reconstruction r;
-        std::string err;
-        REQUIRE_MESSAGE(sepal::reconstruct(s.obj, s.caps, o, &r, &err), err);
+        psnr[choose] = reconstructed_psnr(s, o, &r);
         for (const sepal::LafortuneFit& f : r.basis) implausible[choose] += !sepal::lafortune_plausible(f.model);
-        psnr[choose] = held_out_psnr(s, r);
     }
     MESSAGE("iterated fits: " << implausible[0] << " implausible, " << psnr[0] << " dB; chosen: " << implausible[1]
                               << ", " << psnr[1] << " dB");
@@ -255,4 +260,19 @@ TEST_CASE("reconstruct: weights pulled towards their neighbours are closer to th
             CHECK(error[1] <= 1.01 * error[0]);
         }
     }
+    // Its cost where material boundaries are a texel or two wide (the default SVBRDF on a
+    // 32x32 atlas): the pull blurs them. docs/acquisition.md quotes this case; the bound keeps
+    // the loss from growing unnoticed.
+    DefaultScene d;
+    default_scene(4, &d);
+    double psnr[2] = {0, 0};
+    for (int spatial = 0; spatial < 2; ++spatial) {
+        sepal::ReconstructOptions o;
+        o.spatial = spatial == 1;
+        sepal::Reconstruction r;
+        psnr[spatial] = reconstructed_psnr(d, o, &r);
+    }
+    MESSAGE("32x32 atlas, 12 random views: " << psnr[0] << " dB pulled to the cluster, " << psnr[1]
+                                             << " dB to the neighbours");
+    CHECK(psnr[1] > psnr[0] - 1.0);
 }

@@ -395,6 +395,7 @@ TEST_CASE("fit lafortune: forward keeps the fit inside its bounds, and gives the
     fwd_o.lobes = 2;
     fwd_o.isotropic = false;
     REQUIRE(sepal::fit_lafortune(samples, fwd_o, &b, &err));
+    for (int c = 0; c < 3; ++c) CHECK(b.model.rho_d[c] >= 0);
     for (const sepal::LafortuneLobe& k : b.model.lobes) {
         CHECK(k.cx <= 0);
         CHECK(k.cy <= 0);
