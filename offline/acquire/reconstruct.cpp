@@ -573,10 +573,11 @@ double chosen_ridge(const std::vector<Capture>& caps, const TexelIndex& ix, cons
     return kCandidates[best];
 }
 
-// The weights of the measured texels, from all folds (skip -1) or without fold `skip`.
+// The weights of the measured texels from all folds into *weights and, for each f where
+// without[f] is given, from all folds but f into *without[f]: one texel system for them all.
 void project_weights(const std::vector<Capture>& caps, const TexelIndex& ix, const std::vector<int>& measured,
-                     const WeightPrior& prior, const std::vector<LafortuneFit>& fits, double ridge_share, int skip,
-                     int threads, std::vector<float>* weights) {
+                     const WeightPrior& prior, const std::vector<LafortuneFit>& fits, double ridge_share,
+                     int threads, std::vector<float>* weights, std::vector<float>* const* without = nullptr) {
     const int K = int(fits.size());
     parallel_for(64, threads, [&](size_t chunk) {
         TexelSystem sys;
@@ -585,9 +586,13 @@ void project_weights(const std::vector<Capture>& caps, const TexelIndex& ix, con
         for (size_t m = measured.size() * chunk / 64; m < measured.size() * (chunk + 1) / 64; ++m) {
             const int t = measured[m];
             texel_system(caps, ix, t, fits, &sys);
-            prior.of(t, K, skip, p.data());
-            solve_weights(sys, K, skip, p.data(), ridge_share, &A, &b, &x);
-            for (int k = 0; k < K; ++k) (*weights)[size_t(t) * size_t(K) + size_t(k)] = float(x[size_t(k)]);
+            for (int skip = -1; skip < kWeightFolds; ++skip) {
+                std::vector<float>* out = skip < 0 ? weights : without ? without[skip] : nullptr;
+                if (!out) continue;
+                prior.of(t, K, skip, p.data());
+                solve_weights(sys, K, skip, p.data(), ridge_share, &A, &b, &x);
+                for (int k = 0; k < K; ++k) (*out)[size_t(t) * size_t(K) + size_t(k)] = float(x[size_t(k)]);
+            }
         }
     });
 }
@@ -664,24 +669,27 @@ bool reconstruct(const AcqObject& obj, const std::vector<Capture>& caps, const R
         WeightPrior own;
         own.cluster = &cluster;
         r.ridge_share = chosen_ridge(caps, ix, measured, own, fits, o);
-        project_weights(caps, ix, measured, own, fits, r.ridge_share, -1, o.threads, &r.svbrdf.maps.w);
+        // With the neighbours' pull to come, also the weights without each fold: its priors
+        // when that fold is held out.
+        std::vector<float> earlier[kWeightFolds];
+        std::vector<float>* without[kWeightFolds] = {};
+        if (o.spatial)
+            for (int f = 0; f < kWeightFolds; ++f) {
+                earlier[f].assign(n * size_t(K), 0.0f);
+                without[f] = &earlier[f];
+            }
+        project_weights(caps, ix, measured, own, fits, r.ridge_share, o.threads, &r.svbrdf.maps.w, without);
         if (o.spatial) {
             std::vector<uint8_t> is_measured(n, 0);
             for (int t : measured) is_measured[size_t(t)] = 1;
-            std::vector<float> earlier[kWeightFolds + 1];
+            const std::vector<float> all = r.svbrdf.maps.w;
             WeightPrior near = own;
             near.measured = &is_measured;
             near.atlas = &a;
-            earlier[kWeightFolds] = r.svbrdf.maps.w;
-            for (int f = 0; f <= kWeightFolds; ++f) {
-                if (f < kWeightFolds) {
-                    earlier[f].assign(n * size_t(K), 0.0f);
-                    project_weights(caps, ix, measured, own, fits, r.ridge_share, f, o.threads, &earlier[f]);
-                }
-                near.earlier[f] = &earlier[f];
-            }
+            for (int f = 0; f < kWeightFolds; ++f) near.earlier[f] = &earlier[f];
+            near.earlier[kWeightFolds] = &all;
             r.spatial_share = chosen_ridge(caps, ix, measured, near, fits, o);
-            project_weights(caps, ix, measured, near, fits, r.spatial_share, -1, o.threads, &r.svbrdf.maps.w);
+            project_weights(caps, ix, measured, near, fits, r.spatial_share, o.threads, &r.svbrdf.maps.w);
         }
     }
     fill_unmeasured(a, measured, K, o.project, &cluster, &r.svbrdf.maps.w);

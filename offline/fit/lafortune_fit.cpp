@@ -73,9 +73,8 @@ struct Problem {
 // LafortuneFitOptions::forward's bounds on parameter j: rho_d >= 0, Cx, Cy <= 0, Cz >= 0,
 // n >= 1 (-inf / +inf where a side is free).
 void bounds(const Problem& pb, int j, double* lo, double* hi) {
-    constexpr double kInfinity = std::numeric_limits<double>::infinity();
-    *lo = -kInfinity;
-    *hi = kInfinity;
+    *lo = -kInf;
+    *hi = kInf;
     const int C = pb.channels, np = lobe_params(pb.isotropic);
     if (j < C) {
         *lo = 0;

@@ -147,11 +147,17 @@ double held_out_psnr(const DefaultScene& s, const sepal::Reconstruction& r) {
     return psnr;
 }
 
-// Reconstructs the scene's captures with `o` into *r; returns held_out_psnr.
-double reconstructed_psnr(const DefaultScene& s, const sepal::ReconstructOptions& o, sepal::Reconstruction* r) {
-    std::string err;
-    REQUIRE_MESSAGE(sepal::reconstruct(s.obj, s.caps, o, r, &err), err);
-    return held_out_psnr(s, *r);
+// The scene's captures reconstructed with a default option off ([0]) and on ([1]) into r;
+// their held_out_psnr into psnr.
+void psnr_off_on(const DefaultScene& s, bool sepal::ReconstructOptions::*option, sepal::Reconstruction r[2],
+                 double psnr[2]) {
+    for (int on = 0; on < 2; ++on) {
+        sepal::ReconstructOptions o;
+        o.*option = on == 1;
+        std::string err;
+        REQUIRE_MESSAGE(sepal::reconstruct(s.obj, s.caps, o, &r[on], &err), err);
+        psnr[on] = held_out_psnr(s, r[on]);
+    }
 }
 
 TEST_CASE("reconstruct: chosen fits are plausible where the iterated ones create energy; the renders gain") {
@@ -162,13 +168,10 @@ TEST_CASE("reconstruct: chosen fits are plausible where the iterated ones create
     default_scene(10, &s);
     double psnr[2] = {0, 0};
     int implausible[2] = {0, 0};
-    for (int choose = 0; choose < 2; ++choose) {
-        sepal::ReconstructOptions o;
-        o.choose_fit = choose == 1;
-        sepal::Reconstruction r;
-        psnr[choose] = reconstructed_psnr(s, o, &r);
-        for (const sepal::LafortuneFit& f : r.basis) implausible[choose] += !sepal::lafortune_plausible(f.model);
-    }
+    sepal::Reconstruction r[2];
+    psnr_off_on(s, &sepal::ReconstructOptions::choose_fit, r, psnr);
+    for (int choose = 0; choose < 2; ++choose)
+        for (const sepal::LafortuneFit& f : r[choose].basis) implausible[choose] += !sepal::lafortune_plausible(f.model);
     MESSAGE("iterated fits: " << implausible[0] << " implausible, " << psnr[0] << " dB; chosen: " << implausible[1]
                               << ", " << psnr[1] << " dB");
     CHECK(implausible[0] > 0);  // the case this test is for
@@ -266,12 +269,8 @@ TEST_CASE("reconstruct: weights pulled towards their neighbours are closer to th
     DefaultScene d;
     default_scene(4, &d);
     double psnr[2] = {0, 0};
-    for (int spatial = 0; spatial < 2; ++spatial) {
-        sepal::ReconstructOptions o;
-        o.spatial = spatial == 1;
-        sepal::Reconstruction r;
-        psnr[spatial] = reconstructed_psnr(d, o, &r);
-    }
+    sepal::Reconstruction r[2];
+    psnr_off_on(d, &sepal::ReconstructOptions::spatial, r, psnr);
     MESSAGE("32x32 atlas, 12 random views: " << psnr[0] << " dB pulled to the cluster, " << psnr[1]
                                              << " dB to the neighbours");
     CHECK(psnr[1] > psnr[0] - 1.0);
