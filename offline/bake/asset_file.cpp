@@ -1,5 +1,7 @@
 #include "bake/asset_file.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 
@@ -53,8 +55,16 @@ bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string
         Payload p{SEPAL_FMT_TAG_DIFFUSE, {}};
         sepal_fmt_diffuse d{};
         d.side = asset.diffuse_side;
+        for (size_t k = 0; k < asset.diffuse_profile.size(); ++k)
+            if (!(asset.diffuse_profile[k] >= 0.0f && asset.diffuse_profile[k] <= 1.0f)) {
+                if (err)
+                    *err = "asset: diffuse profile value " + std::to_string(asset.diffuse_profile[k]) +
+                           " outside [0,1] (sample " + std::to_string(k / 3) + ", channel " + std::to_string(k % 3) + ")";
+                return false;
+            }
+        const std::vector<uint16_t> q = diffuse_profile_u16(asset.diffuse_profile, &d.layout);
         append(&p.bytes, &d, sizeof d);
-        append(&p.bytes, asset.diffuse_profile.data(), asset.diffuse_profile.size() * sizeof(float));
+        append(&p.bytes, q.data(), q.size() * sizeof(uint16_t));
         chunks.push_back(std::move(p));
     }
     if (asset.has_profile) {
@@ -121,8 +131,27 @@ bool asset_needs_version2(const AssetData& a) {
     return v2 || asset_has_light_range(a) || a.has_profile;  // 2.3, 2.4
 }
 
+namespace {
+// encode_asset refuses values outside [0,1] before this; the clamp keeps other callers' q in range.
+uint16_t diffuse_u16(float v) { return uint16_t(std::lround(double(std::min(1.0f, std::max(0.0f, v))) * 65535.0)); }
+}  // namespace
+
+float diffuse_u16_value(uint16_t q) { return float(q) / 65535.0f; }
+
+std::vector<uint16_t> diffuse_profile_u16(const std::vector<float>& rgb, uint32_t* layout) {
+    bool grey = true;
+    for (size_t k = 0; k + 2 < rgb.size() && grey; k += 3)
+        grey = diffuse_u16(rgb[k]) == diffuse_u16(rgb[k + 1]) && diffuse_u16(rgb[k]) == diffuse_u16(rgb[k + 2]);
+    *layout = grey ? SEPAL_FMT_DIFFUSE_GREY_U16 : SEPAL_FMT_DIFFUSE_RGB_U16;
+    std::vector<uint16_t> q;
+    q.reserve(grey ? rgb.size() / 3 : rgb.size());
+    for (size_t k = 0; k < rgb.size(); k += grey ? 3 : 1) q.push_back(diffuse_u16(rgb[k]));
+    return q;
+}
+
 uint16_t asset_minor_version(const AssetData& a) {
-    return a.has_profile                                      ? SEPAL_FMT_VERSION_MINOR_PROFILE
+    return !a.diffuse_profile.empty()                         ? SEPAL_FMT_VERSION_MINOR_DIFFUSE16
+           : a.has_profile                                    ? SEPAL_FMT_VERSION_MINOR_PROFILE
            : asset_has_light_range(a)                         ? SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE
            : a.material.param == SEPAL_PARAM_AXIS             ? SEPAL_FMT_VERSION_MINOR_AXIS
            : a.material.flags & SEPAL_MATERIAL_RECIPROCAL     ? SEPAL_FMT_VERSION_MINOR_RECIPROCAL

@@ -28,7 +28,8 @@ struct AssetData {
     std::vector<AssetTexture> textures;
     sepal_fmt_plan plan{};  // pass_count is filled in by the encoder
     std::vector<sepal_fmt_pass> passes;
-    // The diffuse profile (format 2, DIFF chunk): side * side RGB samples, or empty.
+    // The diffuse profile (format 2, DIFF chunk): side * side RGB samples in [0,1], or empty;
+    // written in 16 bits (diffuse_profile_u16).
     uint32_t diffuse_side = 0;
     std::vector<float> diffuse_profile;
     std::string meta;  // JSON manifest; may be empty
@@ -45,9 +46,16 @@ bool asset_needs_version2(const AssetData& asset);
 // True when the material's light range (2.3) is set: encode_asset then writes 2.3 and the
 // 96-byte MATL chunk.
 bool asset_has_light_range(const AssetData& asset);
-// The header's minor version for a version-2 asset: 2.4 with a profile, 2.3 with a light
-// range, 2.2 for axis, 2.1 for reciprocal, else 2.0.
+// The header's minor version for a version-2 asset: 2.5 with a diffuse profile, 2.4 with a
+// device profile, 2.3 with a light range, 2.2 for axis, 2.1 for reciprocal, else 2.0.
 uint16_t asset_minor_version(const AssetData& asset);
+// The DIFF chunk stores the diffuse profile in 16 bits (format 2.5): once per sample when its
+// three channels round to the same value (SEPAL_FMT_DIFFUSE_GREY_U16), else per channel
+// (RGB_U16), each the nearest of q / 65535. diffuse_u16_value(q) is what q reads back as,
+// bit for bit the runtime's decoding: the bake stores its profile as such values, so what it
+// judges is what it writes.
+std::vector<uint16_t> diffuse_profile_u16(const std::vector<float>& rgb, uint32_t* layout);
+float diffuse_u16_value(uint16_t q);
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
 
 }  // namespace sepal

@@ -6,6 +6,7 @@
 
 #include <glm/common.hpp>
 
+#include "bake/asset_file.h"
 #include "brdf/brdf_util.h"
 #include "factor/factor_error.h"
 #include "sepal/sepal_asset.h"
@@ -46,7 +47,7 @@ glm::dvec3 estimate_diffuse(const Brdf& f, double quantile, int threads) {
 double DiffusePart::eval(int c, double cos_i, double cos_o) const {
     if (side < 2) return scale[c];
     // The runtime's own lookup, so the bake subtracts exactly what the runtime adds.
-    return scale[c] * double(sepal_diffuse_profile(profile.data(), uint32_t(side), float(cos_i), float(cos_o), c));
+    return scale[c] * double(sepal_diffuse_profile(profile.data(), uint32_t(side), SEPAL_FMT_DIFFUSE_RGB_F32, float(cos_i), float(cos_o), c));
 }
 
 DiffusePart estimate_diffuse_profile(const Brdf& f, int side, int threads) {
@@ -90,7 +91,10 @@ DiffusePart estimate_diffuse_profile(const Brdf& f, int side, int threads) {
     d.profile.resize(size_t(nodes) * 3);
     for (int k = 0; k < nodes; ++k)
         for (int c = 0; c < 3; ++c)
-            d.profile[size_t(k) * 3 + c] = d.scale[c] > 0 ? float(std::min(1.0, floor[size_t(k)][c] / d.scale[c])) : 0.0f;
+            // Rounded down to the 16 bits the asset stores: still at or below f.
+            d.profile[size_t(k) * 3 + c] =
+                d.scale[c] > 0 ? diffuse_u16_value(uint16_t(std::floor(glm::clamp(floor[size_t(k)][c] / d.scale[c], 0.0, 1.0) * 65535.0)))
+                               : 0.0f;
     return d;
 }
 

@@ -56,7 +56,8 @@ glm::dvec3 estimate_diffuse(const Brdf& f, double quantile = 0.005, int threads 
 // minimum of f over every azimuth (and, for anisotropic BRDFs, orientation) and over the
 // cosines of the cells around the node, so the bilinear profile stays at or below f (no
 // lobe leaks into it, not even at normal incidence, where every azimuth is the mirror
-// one). Returned constant (side 0) when the profile varies by under 2%, or all zero.
+// one), each node rounded down to the 16 bits the asset stores (asset_file.h). Returned
+// constant (side 0) when the profile varies by under 2%, or all zero.
 DiffusePart estimate_diffuse_profile(const Brdf& f, int side = 16, int threads = 0);
 
 // The weight of a fitted value in the radiance fit (FactorOptions::value_weight): what an

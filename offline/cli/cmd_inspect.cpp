@@ -41,7 +41,11 @@ int run_inspect(const std::string& path, const CommandIO& io) {
         std::fprintf(io.out, "radiance    factors hold f cos(theta_i); diffuse part %g %g %g /sr%s\n", double(m.diffuse[0]),
                      double(m.diffuse[1]), double(m.diffuse[2]),
                      a->diffuse_profile ? (" times a " + std::to_string(a->diffuse_side) + "x" +
-                                           std::to_string(a->diffuse_side) + " profile over the two cosines")
+                                           std::to_string(a->diffuse_side) + " profile over the two cosines (" +
+                                           (a->diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_F32   ? "RGB floats"
+                                            : a->diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_U16 ? "RGB, 16 bits"
+                                                                                             : "grey, 16 bits") +
+                                           ")")
                                               .c_str()
                                         : "");
     if (m.flags & SEPAL_MATERIAL_RECIPROCAL)

@@ -125,7 +125,7 @@ glm::dvec3 evaluate_radiance(const Factored& f, const glm::dvec3& wi, const glm:
     glm::dvec3 d = f.diffuse;
     if (f.diffuse_side >= 2)
         for (int c = 0; c < 3; ++c)
-            d[c] *= double(sepal_diffuse_profile(f.diffuse_profile.data(), uint32_t(f.diffuse_side), float(wi.z),
+            d[c] *= double(sepal_diffuse_profile(f.diffuse_profile.data(), uint32_t(f.diffuse_side), SEPAL_FMT_DIFFUSE_RGB_F32, float(wi.z),
                                                  float(wo.z), c));
     return sum + d * wi.z;
 }

@@ -19,8 +19,20 @@ static_assert(sizeof(sepal_fmt_profile) == 48, "device profile layout");
 
 namespace srt {
 
-void diffuse_profile_rgb(const void* profile, uint32_t side, float cos_i, float cos_o, float out[3]) {
-    if (!profile || side < 2) {
+float diffuse_sample(const void* profile, uint32_t layout, size_t k, int c) {
+    const uint8_t* b = (const uint8_t*)profile;
+    if (layout == SEPAL_FMT_DIFFUSE_RGB_F32) {
+        float v;
+        memcpy(&v, b + 4 * (k * 3 + (size_t)c), 4);
+        return v;
+    }
+    uint16_t q;
+    memcpy(&q, b + 2 * (layout == SEPAL_FMT_DIFFUSE_GREY_U16 ? k : k * 3 + (size_t)c), 2);
+    return (float)q / 65535.0f;
+}
+
+void diffuse_profile_rgb(const void* profile, uint32_t side, uint32_t layout, float cos_i, float cos_o, float out[3]) {
+    if (!profile || side < 2 || layout >= SEPAL_FMT_DIFFUSE_LAYOUT_COUNT) {
         out[0] = out[1] = out[2] = 1.0f;
         return;
     }
@@ -32,13 +44,8 @@ void diffuse_profile_rgb(const void* profile, uint32_t side, float cos_i, float 
     if (i0 > (int)side - 2) i0 = (int)side - 2;
     if (j0 > (int)side - 2) j0 = (int)side - 2;
     const float ax = x - (float)i0, ay = y - (float)j0;
-    const uint8_t* b = (const uint8_t*)profile;
     for (int c = 0; c < 3; ++c) {
-        auto at = [&](int i, int j) {
-            float v;
-            memcpy(&v, b + 4 * (((size_t)j * side + (size_t)i) * 3 + (size_t)c), 4);
-            return v;
-        };
+        auto at = [&](int i, int j) { return diffuse_sample(profile, layout, (size_t)j * side + (size_t)i, c); };
         out[c] = (1 - ay) * ((1 - ax) * at(i0, j0) + ax * at(i0 + 1, j0)) +
                  ay * ((1 - ax) * at(i0, j0 + 1) + ax * at(i0 + 1, j0 + 1));
     }
@@ -46,9 +53,10 @@ void diffuse_profile_rgb(const void* profile, uint32_t side, float cos_i, float 
 
 }  // namespace srt
 
-extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c) {
+extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, uint32_t layout, float cos_i, float cos_o,
+                                       int c) {
     float rgb[3];
-    srt::diffuse_profile_rgb(profile, side, cos_i, cos_o, rgb);
+    srt::diffuse_profile_rgb(profile, side, layout, cos_i, cos_o, rgb);
     return c >= 0 && c < 3 ? rgb[c] : 1.0f;
 }
 
@@ -454,7 +462,8 @@ void default_profile(sepal_asset* out) {
     }
 }
 
-// The DIFF chunk (format 2): a diffuse profile of side x side RGB samples in [0,1].
+// The DIFF chunk (format 2): a diffuse profile of side x side RGB samples in [0,1], as
+// floats (2.0 on) or 16-bit (2.5 on).
 sepal_result parse_diffuse(const sepal_fmt_header& h, const uint8_t* p, uint64_t size, sepal_asset* out,
                            sepal_error* err) {
     sepal_fmt_diffuse dh;
@@ -463,14 +472,23 @@ sepal_result parse_diffuse(const sepal_fmt_header& h, const uint8_t* p, uint64_t
     memcpy(&dh, p, sizeof dh);
     if (!all_zero(dh.reserved, sizeof dh.reserved))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: DIFF chunk's reserved words are not 0");
-    if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE ||
-        size != sizeof dh + (uint64_t)dh.side * dh.side * 3 * sizeof(float))
+    if (dh.layout >= SEPAL_FMT_DIFFUSE_LAYOUT_COUNT ||
+        (dh.layout != SEPAL_FMT_DIFFUSE_RGB_F32 && h.version_minor < SEPAL_FMT_VERSION_MINOR_DIFFUSE16))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
-                         "asset: diffuse profile of side %u (2..%d) in a %llu-byte chunk", dh.side,
-                         SEPAL_FMT_MAX_DIFFUSE_SIDE, (unsigned long long)size);
+                         "asset: diffuse profile layout %u (0..%d; 1 and 2 from format 2.%d on) in a 2.%u file",
+                         dh.layout, SEPAL_FMT_DIFFUSE_LAYOUT_COUNT - 1, SEPAL_FMT_VERSION_MINOR_DIFFUSE16,
+                         (unsigned)h.version_minor);
+    const uint64_t values = (uint64_t)dh.side * dh.side * (dh.layout == SEPAL_FMT_DIFFUSE_GREY_U16 ? 1 : 3);
+    const uint64_t value_bytes = dh.layout == SEPAL_FMT_DIFFUSE_RGB_F32 ? sizeof(float) : sizeof(uint16_t);
+    if (dh.side < 2 || dh.side > SEPAL_FMT_MAX_DIFFUSE_SIDE || size != sizeof dh + values * value_bytes)
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: diffuse profile of side %u (2..%d), layout %u, in a %llu-byte chunk", dh.side,
+                         SEPAL_FMT_MAX_DIFFUSE_SIDE, dh.layout, (unsigned long long)size);
     out->diffuse_profile = p + sizeof dh;
     out->diffuse_side = dh.side;
-    for (uint32_t k = 0; k < dh.side * dh.side * 3; ++k) {
+    out->diffuse_layout = dh.layout;
+    // 16-bit samples are in [0,1] by construction.
+    for (uint32_t k = 0; dh.layout == SEPAL_FMT_DIFFUSE_RGB_F32 && k < dh.side * dh.side * 3; ++k) {
         float v;
         memcpy(&v, out->diffuse_profile + 4 * (size_t)k, 4);
         if (!(v >= 0.0f && v <= 1.0f))

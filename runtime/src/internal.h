@@ -32,7 +32,9 @@ int gles_major_version(const char* version);
 inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 // sepal_diffuse_profile's three channels at once (the bilinear weights found once): the
 // per-vertex colours and the CPU backend call it per vertex or pixel and light.
-void diffuse_profile_rgb(const void* profile, uint32_t side, float cos_i, float cos_o, float out[3]);
+// layout: sepal_fmt_diffuse_layout (the runtime's own copy is RGB_F32).
+float diffuse_sample(const void* profile, uint32_t layout, size_t k, int c);
+void diffuse_profile_rgb(const void* profile, uint32_t side, uint32_t layout, float cos_i, float cos_o, float out[3]);
 
 // Below this gs-half's frame is undefined (a fallback is taken and counted): |t'|^2 =
 // 1 - h.x^2 (h within 1e-3 rad of the tangent). param.cpp, the batched set-up and

@@ -146,7 +146,11 @@ sepal_result material_plan(const sepal_caps* caps, const sepal_asset* asset, int
     out->texture_count = asset->texture_count;
     if (asset->diffuse_profile) {
         out->diffuse_side = asset->diffuse_side;
-        memcpy(out->diffuse_profile, asset->diffuse_profile, (size_t)asset->diffuse_side * asset->diffuse_side * 3 * sizeof(float));
+        // Decoded once into floats (any layout): the per-vertex colours read it every frame.
+        const size_t samples = (size_t)asset->diffuse_side * asset->diffuse_side;
+        for (size_t k = 0; k < samples; ++k)
+            for (int c = 0; c < 3; ++c)
+                out->diffuse_profile[3 * k + (size_t)c] = srt::diffuse_sample(asset->diffuse_profile, asset->diffuse_layout, k, c);
     }
     for (uint32_t i = 0; i < asset->texture_count; ++i) {
         const sepal_fmt_texture& td = asset->textures[i].desc;

@@ -381,7 +381,7 @@ void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass
         // Per channel: a luminance material's colour ratio is in the pass colour.
         const float s = uses_cosine ? scale * in.cosine[i] : scale;
         float prof[3] = {1.0f, 1.0f, 1.0f};
-        if (profile) diffuse_profile_rgb(in.profile, in.profile_side, in.cosine[i], in.view_cosine[i], prof);
+        if (profile) diffuse_profile_rgb(in.profile, in.profile_side, SEPAL_FMT_DIFFUSE_RGB_F32, in.cosine[i], in.view_cosine[i], prof);
         for (int k = 0; k < 3; ++k) {
             float v = pass.color[k] * in.irradiance[3 * i + k] * s;
             if (profile) v *= prof[k];

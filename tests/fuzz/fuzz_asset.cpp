@@ -39,11 +39,12 @@ uint32_t walk(const sepal_asset& a, const uint8_t* base, size_t size) {
         sum = sepal_crc32(sum, a.meta, a.meta_bytes);
     }
     if (a.diffuse_profile) {
-        sepal_fuzz::check(inside(a.diffuse_profile, size_t(a.diffuse_side) * a.diffuse_side * 12), h,
+        const size_t sample_bytes = a.diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_F32 ? 12 : a.diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_U16 ? 6 : 2;
+        sepal_fuzz::check(inside(a.diffuse_profile, size_t(a.diffuse_side) * a.diffuse_side * sample_bytes), h,
                           "diffuse profile outside the buffer");
         for (float ci : {-1.0f, 0.0f, 0.3f, 1.0f, 2.0f, NAN})
             for (int c = 0; c < 3; ++c) {
-                const float v = sepal_diffuse_profile(a.diffuse_profile, a.diffuse_side, ci, 0.5f, c);
+                const float v = sepal_diffuse_profile(a.diffuse_profile, a.diffuse_side, a.diffuse_layout, ci, 0.5f, c);
                 sepal_fuzz::check(v >= 0.0f && v <= 1.0f, h, "diffuse profile value outside [0,1]");
             }
     }

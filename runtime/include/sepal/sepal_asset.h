@@ -44,10 +44,12 @@ typedef struct sepal_asset {
     sepal_fmt_pass passes[SEPAL_FMT_MAX_PASSES];
     const char* meta;  // not NUL-terminated; NULL when absent
     uint32_t meta_bytes;
-    // The diffuse profile: side * side * 3 floats in the caller's buffer (read them with
-    // memcpy: 4-byte aligned only), or NULL with side 0 (profile 1 everywhere).
+    // The diffuse profile: side * side samples in the caller's buffer, stored as
+    // diffuse_layout says (sepal_fmt_diffuse_layout; read them through sepal_diffuse_profile
+    // or with memcpy: no alignment is promised), or NULL with side 0 (profile 1 everywhere).
     const uint8_t* diffuse_profile;
     uint32_t diffuse_side;
+    uint32_t diffuse_layout;
     // The device profile it was judged for (format 2.4's PROF chunk), or without the chunk
     // the default profile (sepal_format.h): has_profile says which.
     sepal_fmt_profile profile;
@@ -55,8 +57,10 @@ typedef struct sepal_asset {
 } sepal_asset;
 
 // The diffuse profile at (cos theta_i, cos theta_o), channel c (bilinear, clamped to [0,1]
-// in both, NaN read as 0); 1 without a profile. profile: side * side * 3 floats (any alignment).
-float sepal_diffuse_profile(const void* profile, uint32_t side, float cos_i, float cos_o, int c);
+// in both, NaN read as 0); 1 without a profile. profile: side * side samples in `layout`
+// (sepal_fmt_diffuse_layout; any alignment), e.g. an asset's diffuse_profile, diffuse_side
+// and diffuse_layout.
+float sepal_diffuse_profile(const void* profile, uint32_t side, uint32_t layout, float cos_i, float cos_o, int c);
 
 // Validates everything (sizes, bounds, checksums, enums, cross references) and fills
 // out. Any failure returns a code and a message naming the problem; out is then

@@ -11,8 +11,8 @@
 //                        level is rows of width*channels*(bits/8) bytes, row 0 first, row 0
 //                        being texture coordinate t = 0 (the order glTexImage2D takes)
 //   'PLAN' exactly one   sepal_fmt_plan followed by pass_count sepal_fmt_pass
-//   'DIFF' optional (v2) sepal_fmt_diffuse followed by side*side*3 floats: the shape of a
-//                        radiance material's diffuse part (see below)
+//   'DIFF' optional (v2) sepal_fmt_diffuse followed by its samples in its layout: the shape
+//                        of a radiance material's diffuse part (see below)
 //   'PROF' optional (2.4) sepal_fmt_profile: the device profile the bake judged it for
 //   'META' optional      UTF-8 JSON for people and tools; the runtime ignores it
 //   unknown tags are skipped (forward compatibility), but still checksummed.
@@ -62,6 +62,12 @@
 // units, its own largest texture, blend subtraction. Writers write 2.4 (and the chunk) only
 // for assets baked for another profile, so default bakes stay byte-identical; older readers
 // skip the chunk (unknown tags are skipped) and read the rest as before.
+// Version 2.5 stores the diffuse profile in 16 bits (sepal_fmt_diffuse.layout): per channel
+// (RGB_U16) or, when its three channels are equal, once (GREY_U16): 512 or 1536 bytes for
+// the default 16 x 16 profile where RGB floats took 3072, with a step of 1/65535 against the
+// 8-bit framebuffer's 1/255. Writers write 2.5 for every asset with a profile (they no longer
+// write RGB_F32); readers take all three layouts, RGB_F32 in any version 2 file. A 2.4 reader
+// refuses a 16-bit profile (the layout word was reserved, 0).
 //
 // Data only: constants, enums and the file's structs. The reader (sepal_asset_parse), the
 // texture coordinates of the parameterizations and the checksum are in sepal_asset.h.
@@ -77,13 +83,15 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 4
+#define SEPAL_FMT_VERSION_MINOR 5
 // The minor version that introduced reciprocal materials (2.1), the axis parameterization
-// (2.2) and the light range (2.3); other version-2 assets are 2.0.
+// (2.2), the light range (2.3), the device profile (2.4) and the 16-bit diffuse profile
+// (2.5); other version-2 assets are 2.0.
 #define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
 #define SEPAL_FMT_VERSION_MINOR_AXIS 2
 #define SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE 3
 #define SEPAL_FMT_VERSION_MINOR_PROFILE 4
+#define SEPAL_FMT_VERSION_MINOR_DIFFUSE16 5
 // The MATL chunk's size before 2.3 (the material up to and including diffuse).
 #define SEPAL_FMT_MATERIAL_BYTES_V2 64u
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
@@ -246,9 +254,18 @@ typedef struct sepal_fmt_plan {
 // The diffuse profile (version 2, radiance materials with a diffuse part): side x side RGB
 // samples of P(cos theta_i, cos theta_o) in [0,1], sample (i, j) at cos theta_i = i / (side
 // - 1), cos theta_o = j / (side - 1), row j = 0 first; looked up bilinearly (clamped).
+// Stored in one of the layouts below (the word was reserved, 0, before 2.5):
+typedef enum sepal_fmt_diffuse_layout {
+    SEPAL_FMT_DIFFUSE_RGB_F32 = 0,   // side*side*3 floats, R G B per sample (2.0..2.4)
+    SEPAL_FMT_DIFFUSE_RGB_U16 = 1,   // side*side*3 uint16 q, the value q / 65535 (2.5)
+    SEPAL_FMT_DIFFUSE_GREY_U16 = 2,  // side*side uint16 q, R = G = B = q / 65535 (2.5)
+    SEPAL_FMT_DIFFUSE_LAYOUT_COUNT
+} sepal_fmt_diffuse_layout;
+
 typedef struct sepal_fmt_diffuse {
     uint32_t side;         // 2..SEPAL_FMT_MAX_DIFFUSE_SIDE
-    uint32_t reserved[3];  // 0
+    uint32_t layout;       // sepal_fmt_diffuse_layout
+    uint32_t reserved[2];  // 0
 } sepal_fmt_diffuse;
 
 // The device profile the asset was judged for (version 2.4, the PROF chunk; 48 bytes).

@@ -12,6 +12,8 @@
 #include "bake/image_score.h"
 #include "bake/radiance.h"
 #include "cli/cli.h"
+#include "fuzz/fuzz.h"
+#include "util/io.h"
 #include "util/parallel.h"
 #include "sepal/sepal_asset.h"
 #include "spec/spec.h"
@@ -87,14 +89,18 @@ TEST_CASE("format 2: radiance materials, the diffuse part and its profile round-
         CHECK(parsed->material.diffuse[1] == 0.1f);
         CHECK(parsed->diffuse_side == (profile ? 4u : 0u));
         CHECK((parsed->diffuse_profile != nullptr) == profile);
-        // The lookup: nodes exactly, bilinear between them, 1 without a profile.
+        // The lookup: nodes exactly (to the 16 bits stored: 2.5), bilinear between them, 1
+        // without a profile.
         if (profile) {
-            CHECK(sepal_diffuse_profile(parsed->diffuse_profile, 4, 1.0f / 3.0f, 0.0f, 2) ==
-                  doctest::Approx(a.diffuse_profile[5]));
-            const float mid = sepal_diffuse_profile(parsed->diffuse_profile, 4, 0.5f, 0.0f, 0);
-            CHECK(mid == doctest::Approx(0.5 * (a.diffuse_profile[3] + a.diffuse_profile[6])));
+            CHECK(parsed->header.version_minor == SEPAL_FMT_VERSION_MINOR_DIFFUSE16);
+            CHECK(parsed->diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_U16);  // its channels differ
+            const uint32_t l = parsed->diffuse_layout;
+            CHECK(std::fabs(sepal_diffuse_profile(parsed->diffuse_profile, 4, l, 1.0f / 3.0f, 0.0f, 2) -
+                            a.diffuse_profile[5]) <= 0.5f / 65535.0f + 1e-7f);
+            const float mid = sepal_diffuse_profile(parsed->diffuse_profile, 4, l, 0.5f, 0.0f, 0);
+            CHECK(mid == doctest::Approx(0.5 * (a.diffuse_profile[3] + a.diffuse_profile[6])).epsilon(1e-4));
         } else {
-            CHECK(sepal_diffuse_profile(nullptr, 0, 0.3f, 0.7f, 1) == 1.0f);
+            CHECK(sepal_diffuse_profile(nullptr, 0, SEPAL_FMT_DIFFUSE_RGB_U16, 0.3f, 0.7f, 1) == 1.0f);
         }
     }
     // Without version-2 features the writer writes 1.0 (earlier assets stay byte-identical).
@@ -110,6 +116,62 @@ TEST_CASE("format 2: radiance materials, the diffuse part and its profile round-
     uint16_t major = 0;
     std::memcpy(&major, bytes.data() + 8, 2);
     CHECK(major == 1);
+}
+
+TEST_CASE("format 2.5: a grey diffuse profile is stored once in 16 bits, an RGB one per channel; 2.0's floats still read") {
+    // Grey: 16 + 4 x 4 x 2 bytes of DIFF payload (floats took 16 + 4 x 4 x 12), read back as
+    // the writer's values q / 65535, the bake's own rounding (diffuse_u16_value).
+    sepal::AssetData a = radiance_asset(true);
+    for (size_t k = 0; k < a.diffuse_profile.size(); ++k)
+        a.diffuse_profile[k] = sepal::diffuse_u16_value(uint16_t(1000 * (k / 3) + 7));
+    std::vector<uint8_t> grey, rgb;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &grey, &err), err);
+    a.diffuse_profile[4] = sepal::diffuse_u16_value(3);  // one channel of one sample differs
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &rgb, &err), err);
+    CHECK(rgb.size() - grey.size() == 4 * 4 * 4);  // 6 bytes a sample instead of 2, 8-byte aligned
+    auto parsed = std::make_unique<sepal_asset>();
+    sepal_error e{};
+    REQUIRE(sepal_asset_parse(grey.data(), grey.size(), parsed.get(), &e) == SEPAL_OK);
+    CHECK(parsed->diffuse_layout == SEPAL_FMT_DIFFUSE_GREY_U16);
+    for (int c = 0; c < 3; ++c)  // node (1, 2): sample 9
+        CHECK(sepal_diffuse_profile(parsed->diffuse_profile, 4, parsed->diffuse_layout, 1.0f / 3.0f, 2.0f / 3.0f, c) ==
+              sepal::diffuse_u16_value(9007));
+    REQUIRE(sepal_asset_parse(rgb.data(), rgb.size(), parsed.get(), &e) == SEPAL_OK);
+    CHECK(parsed->diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_U16);
+    CHECK(sepal_diffuse_profile(parsed->diffuse_profile, 4, parsed->diffuse_layout, 1.0f / 3.0f, 0.0f, 1) ==
+          sepal::diffuse_u16_value(3));
+
+    // A 16-bit layout in a 2.4 header, or an unknown layout, is refused by name (the grey
+    // file patched, its checksums fixed so the field checks behind them are reached).
+    auto patched = [&](uint16_t minor, uint32_t layout) {
+        std::vector<uint8_t> b = grey;
+        std::memcpy(b.data() + 10, &minor, 2);
+        const sepal_fmt_header* h = reinterpret_cast<const sepal_fmt_header*>(b.data());
+        for (uint32_t i = 0; i < h->chunk_count; ++i) {
+            sepal_fmt_chunk c;
+            std::memcpy(&c, b.data() + sizeof(sepal_fmt_header) + i * sizeof c, sizeof c);
+            if (c.tag == SEPAL_FMT_TAG_DIFFUSE) std::memcpy(b.data() + c.offset + 4, &layout, 4);
+        }
+        sepal_fuzz::fix_asset_checksums(&b);
+        sepal_error pe{};
+        auto out = std::make_unique<sepal_asset>();
+        CHECK(sepal_asset_parse(b.data(), b.size(), out.get(), &pe) != SEPAL_OK);
+        return std::string(pe.message);
+    };
+    CHECK(patched(SEPAL_FMT_VERSION_MINOR_PROFILE, SEPAL_FMT_DIFFUSE_GREY_U16).find("layout 2") != std::string::npos);
+    CHECK(patched(SEPAL_FMT_VERSION_MINOR_DIFFUSE16, 7).find("layout 7") != std::string::npos);
+
+    // 2.0 assets (RGB floats) read as they always did.
+    std::vector<uint8_t> old;
+    REQUIRE(sepal::read_file(sepal_test::source_path("fixtures/fuzz-seeds/asset/ct_rus.sepal"), &old, &err));
+    REQUIRE_MESSAGE(sepal_asset_parse(old.data(), old.size(), parsed.get(), &e) == SEPAL_OK, e.message);
+    CHECK(parsed->header.version_minor == 0);
+    CHECK(parsed->diffuse_layout == SEPAL_FMT_DIFFUSE_RGB_F32);
+    float first;
+    std::memcpy(&first, parsed->diffuse_profile, 4);
+    CHECK(sepal_diffuse_profile(parsed->diffuse_profile, parsed->diffuse_side, parsed->diffuse_layout, 0.0f, 0.0f, 0) ==
+          first);
 }
 
 TEST_CASE("format 2: the reader refuses inconsistent radiance materials, naming the problem") {
@@ -240,7 +302,7 @@ TEST_CASE("sepal bake: --target, --white, --fit, --min-psnr; the candidate table
     REQUIRE(sepal_test::run_cmd("inspect", {dir + "/c.sepal"}, &out) == 0);
     CHECK(out.find("format 1.0") != std::string::npos);
     REQUIRE(sepal_test::run_cmd("inspect", {dir + "/a.sepal"}, &out) == 0);
-    CHECK(out.find("format 2.3") != std::string::npos);  // the light range
+    CHECK(out.find("format 2.5") != std::string::npos);  // the light range (2.3) and a 16-bit diffuse profile (2.5)
     CHECK(out.find("lights      holds for irradiance") != std::string::npos);
     CHECK(out.find("image       held-out") != std::string::npos);
     CHECK(out.find("diffuse") != std::string::npos);

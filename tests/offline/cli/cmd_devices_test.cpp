@@ -60,7 +60,7 @@ TEST_CASE("sepal render warns when the context is weaker than the asset's profil
                                 &out) == 0);
     CHECK(contains(out, "device profile gles1-minimum: judged at 5/6/5 framebuffer bits, textures at or under 64"));
     REQUIRE(sepal_test::run_cmd("inspect", {dir + "/m.sepal"}, &out) == 0);
-    CHECK(contains(out, "format 2.4"));
+    CHECK(contains(out, "format 2.5"));  // the profile (2.4) and blinn's 16-bit diffuse profile (2.5)
     CHECK(contains(out, "device      judged for profile gles1-minimum: framebuffer 5/6/5 bits, textures at or under 64"));
     REQUIRE(sepal_test::run_cmd("render", {dir + "/m.sepal", "--backend", "gles1", "--size", "32x32", "--framebuffer",
                                            "565", "-o", dir + "/r.png"},
