@@ -71,6 +71,10 @@ struct BakeOptions {
     std::vector<std::pair<int, int>> ladder = {{32, 16}, {64, 16}, {128, 8}};  // (half-angle, other)
     int ladder_iv = 32;
     double climb_db = 0.5;
+    // The runner-up half-angle pair of the first rung, when within this of the climber, is
+    // tried with the other factor at finer_other on the first rung too, and its best
+    // configuration gets more_terms like the winner's.
+    double second_climb_db = 1.0;
     int finer_other = 32;
     // With max_bytes (and the ladder), every kept pair is also factored with both factors at
     // small_rung: the sizes an 8 KB material needs sit below the ladder's first rung.
@@ -130,7 +134,9 @@ struct BakeOptions {
     int coarse_res = 16;
     int coarse_terms = 3;
     int coarse_size = 64;
-    double keep_db = 1.5;
+    // 2.5, not 1.5: 16 texels misrank pairs that turn on the ladder (cook-torrance's gs-half,
+    // 1.6 dB behind vh there, leads it by 2.3 dB at 32/32).
+    double keep_db = 2.5;
     int keep = 2;
     double tie_db = 0.2;    // the winner: fewest passes, then bytes, within this of the best worth
     // The winner's worth: its PSNR less bytes_db per doubling of its bytes (a candidate of
