@@ -1075,7 +1075,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         char note[240];
         std::snprintf(note, sizeof note,
                       "device profile %s: judged at %u/%u/%u framebuffer bits, textures at or under %u, %s; recorded "
-                      "in the asset (format 2.4)",
+                      "in the asset (its PROF chunk, format 2.4 on)",
                       f.name, f.red_bits, f.green_bits, f.blue_bits, f.max_texture_size,
                       (f.flags & SEPAL_PROFILE_BLEND_SUBTRACT) ? "blend subtraction" : "subtraction by inversion");
         out->notes.push_back(note);

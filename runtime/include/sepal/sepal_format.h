@@ -60,7 +60,7 @@
 // (sepal_draw_stats.weaker_context). An asset without the chunk was judged for the default
 // profile: SEPAL_FMT_DEFAULT_PROFILE_BITS per channel, SEPAL_FMT_DEFAULT_PROFILE_UNITS
 // units, its own largest texture, blend subtraction. Writers write 2.4 (and the chunk) only
-// for assets baked for another profile, so default bakes stay byte-identical; older readers
+// for assets baked for another profile, so default bakes stayed byte-identical (until 2.5); older readers
 // skip the chunk (unknown tags are skipped) and read the rest as before.
 // Version 2.5 stores the diffuse profile in 16 bits (sepal_fmt_diffuse.layout): per channel
 // (RGB_U16) or, when its three channels are equal, once (GREY_U16): 512 or 1536 bytes for
