@@ -1,6 +1,5 @@
 #include "bake/asset_file.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -18,6 +17,22 @@ void append(std::vector<uint8_t>* v, const void* p, size_t n) {
 
 void pad8(std::vector<uint8_t>* v) {
     while (v->size() % 8) v->push_back(0);
+}
+
+// The DIFF chunk's samples (format 2.5): the nearest q / 65535 of each value (encode_asset
+// has refused values outside [0,1]), once per sample when its three channels round alike
+// (GREY_U16), else per channel (RGB_U16).
+uint16_t diffuse_u16(float v) { return uint16_t(std::lround(double(v) * 65535.0)); }
+
+std::vector<uint16_t> diffuse_profile_u16(const std::vector<float>& rgb, uint32_t* layout) {
+    bool grey = true;
+    for (size_t k = 0; k + 2 < rgb.size() && grey; k += 3)
+        grey = diffuse_u16(rgb[k]) == diffuse_u16(rgb[k + 1]) && diffuse_u16(rgb[k]) == diffuse_u16(rgb[k + 2]);
+    *layout = grey ? SEPAL_FMT_DIFFUSE_GREY_U16 : SEPAL_FMT_DIFFUSE_RGB_U16;
+    std::vector<uint16_t> q;
+    q.reserve(grey ? rgb.size() / 3 : rgb.size());
+    for (size_t k = 0; k < rgb.size(); k += grey ? 3 : 1) q.push_back(diffuse_u16(rgb[k]));
+    return q;
 }
 
 }  // namespace
@@ -131,23 +146,7 @@ bool asset_needs_version2(const AssetData& a) {
     return v2 || asset_has_light_range(a) || a.has_profile;  // 2.3, 2.4
 }
 
-namespace {
-// encode_asset refuses values outside [0,1] before this; the clamp keeps other callers' q in range.
-uint16_t diffuse_u16(float v) { return uint16_t(std::lround(double(std::min(1.0f, std::max(0.0f, v))) * 65535.0)); }
-}  // namespace
-
 float diffuse_u16_value(uint16_t q) { return float(q) / 65535.0f; }
-
-std::vector<uint16_t> diffuse_profile_u16(const std::vector<float>& rgb, uint32_t* layout) {
-    bool grey = true;
-    for (size_t k = 0; k + 2 < rgb.size() && grey; k += 3)
-        grey = diffuse_u16(rgb[k]) == diffuse_u16(rgb[k + 1]) && diffuse_u16(rgb[k]) == diffuse_u16(rgb[k + 2]);
-    *layout = grey ? SEPAL_FMT_DIFFUSE_GREY_U16 : SEPAL_FMT_DIFFUSE_RGB_U16;
-    std::vector<uint16_t> q;
-    q.reserve(grey ? rgb.size() / 3 : rgb.size());
-    for (size_t k = 0; k < rgb.size(); k += grey ? 3 : 1) q.push_back(diffuse_u16(rgb[k]));
-    return q;
-}
 
 uint16_t asset_minor_version(const AssetData& a) {
     return !a.diffuse_profile.empty()                         ? SEPAL_FMT_VERSION_MINOR_DIFFUSE16

@@ -29,7 +29,7 @@ struct AssetData {
     sepal_fmt_plan plan{};  // pass_count is filled in by the encoder
     std::vector<sepal_fmt_pass> passes;
     // The diffuse profile (format 2, DIFF chunk): side * side RGB samples in [0,1], or empty;
-    // written in 16 bits (diffuse_profile_u16).
+    // written in 16 bits (format 2.5, below).
     uint32_t diffuse_side = 0;
     std::vector<float> diffuse_profile;
     std::string meta;  // JSON manifest; may be empty
@@ -54,7 +54,6 @@ uint16_t asset_minor_version(const AssetData& asset);
 // (RGB_U16), each the nearest of q / 65535. diffuse_u16_value(q) is what q reads back as,
 // bit for bit the runtime's decoding: the bake stores its profile as such values, so what it
 // judges is what it writes.
-std::vector<uint16_t> diffuse_profile_u16(const std::vector<float>& rgb, uint32_t* layout);
 float diffuse_u16_value(uint16_t q);
 bool write_asset(const std::string& path, const AssetData& asset, std::string* err);
 

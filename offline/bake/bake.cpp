@@ -821,8 +821,8 @@ std::vector<Pair> ladder(Search& search, const BakeOptions& o, const std::vector
         const size_t reached =
             search.climb(std::get<0>(top), std::get<1>(top), std::get<2>(top), rung_best[size_t(top_pair)], terms, judge);
         int second = -1;
-        for (size_t i = 0; i < pairs.size(); ++i)
-            if (reached == 0 && half_sop(top) && half_sop(pairs[i]) && std::get<0>(pairs[i]) != std::get<0>(top) &&
+        for (size_t i = 0; reached == 0 && half_sop(top) && i < pairs.size(); ++i)
+            if (half_sop(pairs[i]) && std::get<0>(pairs[i]) != std::get<0>(top) &&
                 rung_best[i] >= rung_best[size_t(top_pair)] - o.second_climb_db &&
                 (second < 0 || rung_best[i] > rung_best[size_t(second)]))
                 second = int(i);
