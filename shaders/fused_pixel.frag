@@ -46,14 +46,21 @@ void coords(vec3 wi, vec3 wo, out vec2 g, out vec2 h) {
     if (u_param == 0) {  // iv
         g = hemi(wi);
         h = hemi(wo);
-    } else if (u_param == 1) {  // gs-half, Kautz-McCool eq. 6
-        // t - (h.t) h with 1 - h.x^2 written as h.y^2 + h.z^2 (no cancellation near h = t);
-        // within 1e-3 rad of t (|t'|^2 = 1 - h.x^2 <= 1e-6) Gram-Schmidt on s instead.
-        vec3 tp = vec3(hv.y * hv.y + hv.z * hv.z, -hv.x * hv.y, -hv.x * hv.z);
-        tp = tp.x > 1e-6 ? normalize(tp) : normalize(vec3(-hv.x * hv.y, hv.x * hv.x + hv.z * hv.z, -hv.y * hv.z));
-        vec3 sp = cross(hv, tp);
-        g = hemi(hv);
-        h = hemi(vec3(dot(wi, tp), dot(wi, sp), dot(wi, hv)));
+    } else if (u_param == 1 || u_param == 6) {
+        // gs-half (Kautz-McCool eq. 6): h, then wi in the frame about h; gs-mirror: the mirror
+        // direction r of wi, then wo in the frame about r.
+        // t - (a.t) a with 1 - a.x^2 written as a.y^2 + a.z^2 (no cancellation near a = t);
+        // within 1e-3 rad of t (|t'|^2 = 1 - a.x^2 <= 1e-6) Gram-Schmidt on s instead.
+        vec3 a = u_param == 1 ? hv : vec3(-wi.xy, wi.z);
+        vec3 v = u_param == 1 ? wi : wo;
+        vec3 tp = vec3(a.y * a.y + a.z * a.z, -a.x * a.y, -a.x * a.z);
+        tp = tp.x > 1e-6 ? normalize(tp) : normalize(vec3(-a.x * a.y, a.x * a.x + a.z * a.z, -a.y * a.z));
+        vec3 sp = cross(a, tp);
+        g = hemi(a);
+        vec3 d = vec3(dot(v, tp), dot(v, sp), dot(v, a));
+        // gs-mirror: wo behind r's horizon goes to the rim (runtime/src/internal.h's mirror_rim).
+        if (u_param == 6 && d.z < 0.0) d = dot(d.xy, d.xy) > 1e-24 ? vec3(normalize(d.xy), 0.0) : vec3(1.0, 0.0, 0.0);
+        h = hemi(d);
     } else if (u_param == 2) {  // vh
         g = hemi(wo);
         h = hemi(hv);

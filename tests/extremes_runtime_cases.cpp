@@ -397,6 +397,7 @@ bool bake_asset(const std::string& spec, sepal_param param, int res, sepal::Asse
                 : param == SEPAL_PARAM_IV         ? sepal::Param::IncidentView
                 : param == SEPAL_PARAM_VH         ? sepal::Param::ViewHalf
                 : param == SEPAL_PARAM_AXIS       ? sepal::Param::Axis
+                : param == SEPAL_PARAM_GS_MIRROR  ? sepal::Param::GsMirror
                                                 : sepal::Param::GsHalf};
     o.resolutions = {res};
     o.methods = {sepal::Method::NMF};

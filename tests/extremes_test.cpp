@@ -52,7 +52,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const Param kAllParams[] = {Param::IncidentView, Param::GsHalf, Param::ViewHalf,
-                            Param::Rusinkiewicz, Param::ElevAzim, Param::Axis};
+                            Param::Rusinkiewicz, Param::ElevAzim, Param::Axis, Param::GsMirror};
 const Method kAllMethods[] = {Method::SVD, Method::ND, Method::NMF, Method::ACLS};
 
 glm::dvec3 dir(double theta, double phi) {
@@ -281,6 +281,9 @@ TEST_CASE("extremes: parameterizations stay finite and inside [0,1] at grazing, 
                 // 1e-8 of the horizon lands on the rim of the XY map in double precision).
                 glm::dvec3 px, py, wi, wo;
                 if (std::min(pr.first.z, pr.second.z) < 1e-6) continue;
+                // gs-mirror's eye behind r's horizon reads H's rim (param.h): no way back.
+                const glm::dvec3 r(-pr.first.x, -pr.first.y, pr.first.z);
+                if (p == Param::GsMirror && glm::dot(pr.second, r) < 1e-6) continue;
                 if (!factor_point(p, m, 0, tc.x, &px) || !factor_point(p, m, 1, tc.y, &py)) continue;
                 REQUIRE(combine_points(p, px, py, &wi, &wo));
                 // The round trip loses about 1e-16 / z near the rim, and acos(z) (elev-azim's
@@ -1347,6 +1350,23 @@ TEST_CASE("extreme parameterizations: texture coordinates near h = t and h = n a
     // Within 1e-3 rad of t the frame is undefined for mediump shaders; the runtime takes
     // Gram-Schmidt on s there, everywhere alike, and counts it.
     check(SEPAL_PARAM_GS_HALF, sepal::Param::GsHalf, dir(89.99, 0.01), dir(89.99, -0.01), 0, 1);
+    // gs-mirror's frame about r = (-wi.x, -wi.y, wi.z) is singular at r = t: a light grazing
+    // along -t, whatever the eye. Away from it, and 0.1 degrees from it, as gs-half's; within
+    // 1e-3 rad, Gram-Schmidt on s, counted.
+    check(SEPAL_PARAM_GS_MIRROR, sepal::Param::GsMirror, dir(40, 30), dir(35, 215), 1e-6, 0);
+    check(SEPAL_PARAM_GS_MIRROR, sepal::Param::GsMirror, dir(89.9, 180.05), dir(30, 10), 2e-4, 0);
+    check(SEPAL_PARAM_GS_MIRROR, sepal::Param::GsMirror, dir(89.99, 180.01), dir(30, 10), 0, 1);
+    // An eye behind r's horizon (light and eye on the same side, far from n) reads H's rim,
+    // not its fold: wi = wo grazing is wo = -r nearly, which an XY map folds onto the lobe's
+    // peak at the centre.
+    for (const glm::dvec3& w : {dir(60, 0), dir(89, 40)}) {
+        check(SEPAL_PARAM_GS_MIRROR, sepal::Param::GsMirror, w, w, 1e-6, 0);
+        const float fw[3] = {float(w.x), float(w.y), float(w.z)};
+        float g[2], h[2];
+        REQUIRE(srt::param_texcoords(SEPAL_PARAM_GS_MIRROR, SEPAL_MAP_XY, fw, fw, g, h, false, nullptr) == 1);
+        const float x = 2 * h[0] - 1, y = 2 * h[1] - 1;
+        CHECK(x * x + y * y == doctest::Approx(1.0).epsilon(1e-5));
+    }
     // rusinkiewicz near its pole h = n: mirror pairs whose half vector is tilted from n by
     // 1e-2 .. 1e-5 rad towards azimuth 50 degrees. sin(theta_h) comes from h.x, h.y (the
     // old sqrt(1 - h.z^2) gave 0 below 3e-4 rad: an error of the tilt itself, 5e-5 at 1e-4).

@@ -142,14 +142,15 @@ bool asset_needs_version2(const AssetData& a) {
     bool v2 = m.flags != 0 || m.diffuse[0] != 0.0f || m.diffuse[1] != 0.0f || m.diffuse[2] != 0.0f ||
               !a.diffuse_profile.empty();
     for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE || p.op == SEPAL_OP_RECIPROCAL;
-    v2 = v2 || m.param == SEPAL_PARAM_AXIS;  // 2.2
+    v2 = v2 || m.param == SEPAL_PARAM_AXIS || m.param == SEPAL_PARAM_GS_MIRROR;  // 2.2, 2.6
     return v2 || asset_has_light_range(a) || a.has_profile;  // 2.3, 2.4
 }
 
 float diffuse_u16_value(uint16_t q) { return float(q) / 65535.0f; }
 
 uint16_t asset_minor_version(const AssetData& a) {
-    return !a.diffuse_profile.empty()                         ? SEPAL_FMT_VERSION_MINOR_DIFFUSE16
+    return a.material.param == SEPAL_PARAM_GS_MIRROR          ? SEPAL_FMT_VERSION_MINOR_MIRROR
+           : !a.diffuse_profile.empty()                       ? SEPAL_FMT_VERSION_MINOR_DIFFUSE16
            : a.has_profile                                    ? SEPAL_FMT_VERSION_MINOR_PROFILE
            : asset_has_light_range(a)                         ? SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE
            : a.material.param == SEPAL_PARAM_AXIS             ? SEPAL_FMT_VERSION_MINOR_AXIS

@@ -32,6 +32,7 @@ sepal_param to_fmt(Param p) {
         case Param::ViewHalf: return SEPAL_PARAM_VH;
         case Param::Rusinkiewicz: return SEPAL_PARAM_RUSINKIEWICZ;
         case Param::Axis: return SEPAL_PARAM_AXIS;
+        case Param::GsMirror: return SEPAL_PARAM_GS_MIRROR;
         default: return SEPAL_PARAM_ELEV_AZIM;
     }
 }
@@ -802,10 +803,14 @@ std::vector<Pair> ladder(Search& search, const BakeOptions& o, const std::vector
     // under the 8:1 range: axis 29.44 dB against vh 29.35, axis 64/16 29.9 dB, vh 8/128
     // 39.0). Further behind it does not (lafortune: axis 42.79, gs-half 42.45; climbed,
     // gs-half 128/8 won by 0.9 dB at 7 times the bytes).
-    if (top_pair >= 0 && std::get<0>(pairs[size_t(top_pair)]) == Param::Axis) {
+    auto best_half = [&]() {  // the half-angle sum-of-products pair best on the first rung, or -1
         int half = -1;
         for (size_t i = 0; i < pairs.size(); ++i)
             if (half_sop(pairs[i]) && (half < 0 || rung_best[i] > rung_best[size_t(half)])) half = int(i);
+        return half;
+    };
+    if (top_pair >= 0 && std::get<0>(pairs[size_t(top_pair)]) == Param::Axis) {
+        const int half = best_half();
         if (half >= 0 && rung_best[size_t(half)] >= top - o.tie_db) top_pair = half;
     }
     // The first rung does not settle which half-angle pair wins once both factors are finer:
@@ -831,6 +836,20 @@ std::vector<Pair> ladder(Search& search, const BakeOptions& o, const std::vector
             climbers.push_back(p);
             search.run(std::get<0>(p), std::get<1>(p), o.ladder[0].first, o.finer_other, std::get<2>(p), terms, false,
                        judge);
+        }
+        // gs-mirror holds a lobe about the mirror direction in one product (phong n=1000: 1
+        // term at 16/64, 43.3 dB, where vh took 8 terms at 8/128 for 39.4) and a half-angle
+        // lobe only roughly, yet on the first rung it can lead the half-angle pairs of a
+        // narrow half-angle lobe that only their finer rungs resolve (ward: gs-mirror climbed
+        // to 16/32 x6, 29.9 dB, where gs-half reaches 45.7 at 128/8). So when it climbs, the
+        // best half-angle pair climbs too.
+        if (std::get<0>(top) == Param::GsMirror) {
+            const int half = best_half();
+            if (half >= 0) {
+                const Pair& p = pairs[size_t(half)];
+                climbers.push_back(p);
+                search.climb(std::get<0>(p), std::get<1>(p), std::get<2>(p), rung_best[size_t(half)], terms, judge);
+            }
         }
     }
     if (o.max_bytes > 0)

@@ -57,7 +57,7 @@
 namespace sepal {
 
 struct BakeOptions {
-    std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Axis};
+    std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Axis, Param::GsMirror};
     std::vector<HemiMap> maps = {HemiMap::XY};
     // Texels per side: of both factors, or with smooth_resolutions given, of the sharp
     // factor (param.h: gs-half's G, vh's H, axis's G) while the other one takes each of smooth_resolutions not

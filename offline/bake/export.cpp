@@ -60,7 +60,7 @@ bool export_shading(const ExportInfo& info, const std::string& dir, Json* manife
     return true;
 }
 
-const char* kParamNames[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis"};
+const char* kParamNames[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis", "gs-mirror"};
 
 // Writes every texture's levels and level-0 floats, then the manifest.
 bool export_textures(const std::vector<AssetTexture>& textures, const ExportInfo& info, const std::string& dir,

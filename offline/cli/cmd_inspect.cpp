@@ -28,7 +28,7 @@ int run_inspect(const std::string& path, const CommandIO& io) {
         std::fprintf(io.err, "sepal inspect: %s: invalid: %s\n", path.c_str(), e.message);
         return kExitBadInput;
     }
-    static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis"};
+    static const char* kParams[] = {"iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis", "gs-mirror"};
     const sepal_fmt_material& m = a->material;
     std::fprintf(io.out, "file        %s: %zu bytes, format %u.%u, %u chunks, checksums good\n", path.c_str(),
                  bytes.size(), a->header.version_major, a->header.version_minor, a->header.chunk_count);

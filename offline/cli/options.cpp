@@ -11,7 +11,7 @@ namespace {
 
 // Every enumerator a user may name; a new one (a new factor method) joins here and in its
 // *_name()/parse_*() pair.
-const Param kParams[] = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Rusinkiewicz, Param::ElevAzim, Param::Axis};
+const Param kParams[] = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Rusinkiewicz, Param::ElevAzim, Param::Axis, Param::GsMirror};
 const HemiMap kMaps[] = {HemiMap::XY, HemiMap::Parabolic};
 const Method kMethods[] = {Method::SVD, Method::WSVD, Method::ND, Method::NMF, Method::ACLS, Method::Homomorphic};
 const ColourMode kColours[] = {ColourMode::PerChannel, ColourMode::Luminance};

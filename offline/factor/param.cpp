@@ -20,7 +20,8 @@ constexpr NamedParam kParams[] = {{Param::IncidentView, "iv"},
                                   {Param::ViewHalf, "vh"},
                                   {Param::Rusinkiewicz, "rusinkiewicz"},
                                   {Param::ElevAzim, "elev-azim"},
-                                  {Param::Axis, "axis"}};
+                                  {Param::Axis, "axis"},
+                                  {Param::GsMirror, "gs-mirror"}};
 
 glm::dvec3 rotate_z(const glm::dvec3& v, double a) {
     const double c = std::cos(a), s = std::sin(a);
@@ -51,6 +52,9 @@ glm::dvec3 axis_direction(double alpha, double beta) {
     const double ca = std::cos(alpha);
     return {std::sin(alpha), ca * std::sin(beta), ca * std::cos(beta)};
 }
+
+// gs-mirror's r: wi reflected about the normal (an involution: mirror(mirror(w)) = w).
+glm::dvec3 mirror(const glm::dvec3& w) { return {-w.x, -w.y, w.z}; }
 
 glm::dvec3 difference_rusinkiewicz(const glm::dvec3& h, const glm::dvec3& wi) {
     const double theta_h = std::acos(glm::clamp(h.z, -1.0, 1.0));
@@ -83,7 +87,7 @@ double rusinkiewicz_phi_h(const glm::dvec3& h, bool* fallback) {
 }
 
 bool frame_fallback(Param p, const glm::dvec3& point) {
-    if (p == Param::GsHalf) {
+    if (p == Param::GsHalf || p == Param::GsMirror) {
         glm::dvec3 tp, sp;
         return !gs_half_frame(point, &tp, &sp);
     }
@@ -120,7 +124,8 @@ bool parse_map(const std::string& name, HemiMap* m) {
 }
 
 bool hardware_compatible(Param p) {
-    return p == Param::IncidentView || p == Param::GsHalf || p == Param::ViewHalf || p == Param::Axis;
+    return p == Param::IncidentView || p == Param::GsHalf || p == Param::ViewHalf || p == Param::Axis ||
+           p == Param::GsMirror;
 }
 
 bool angle_textures(Param p) { return p == Param::ElevAzim || p == Param::Axis; }
@@ -134,7 +139,7 @@ int half_angle_factor(Param p) {
     }
 }
 
-int sharp_factor(Param p) { return p == Param::Axis ? 0 : half_angle_factor(p); }
+int sharp_factor(Param p) { return p == Param::Axis ? 0 : p == Param::GsMirror ? 1 : half_angle_factor(p); }
 
 bool factor_wraps(Param p, int which) { return p == Param::ElevAzim && which == 1; }
 
@@ -198,6 +203,19 @@ bool param_forward(Param p, HemiMap m, const glm::dvec3& wi, const glm::dvec3& w
             tc->x = {axis_alpha(wi) / kPi + 0.5, axis_alpha(wo) / kPi + 0.5};
             tc->y = {axis_beta(wi) / kPi + 0.5, axis_beta(wo) / kPi + 0.5};
             return true;
+        case Param::GsMirror: {
+            const glm::dvec3 r = mirror(wi);
+            glm::dvec3 tp, sp;
+            gs_half_frame(r, &tp, &sp);
+            tc->x = map_forward(m, r);
+            glm::dvec3 d(glm::dot(wo, tp), glm::dot(wo, sp), glm::dot(wo, r));
+            if (d.z < 0) {  // behind r's horizon: to the rim (param.h)
+                const double l = std::sqrt(d.x * d.x + d.y * d.y);
+                d = l > 1e-12 ? glm::dvec3(d.x / l, d.y / l, 0.0) : glm::dvec3(1, 0, 0);
+            }
+            tc->y = map_forward(m, d);
+            return true;
+        }
     }
     return false;
 }
@@ -254,6 +272,13 @@ bool combine_points(Param p, const glm::dvec3& px, const glm::dvec3& py, glm::dv
             *wi = axis_direction(px.x, py.x);
             *wo = axis_direction(px.y, py.y);
             break;
+        case Param::GsMirror: {
+            glm::dvec3 tp, sp;
+            gs_half_frame(px, &tp, &sp);
+            *wo = py.x * tp + py.y * sp + py.z * px;
+            *wi = mirror(px);
+            break;
+        }
     }
     // Renormalize against rounding: evaluators expect unit vectors.
     *wi = glm::normalize(*wi);

@@ -34,6 +34,18 @@
 //                 its shadowing and masking on the betas. Both poles (w = +-t) lie on the
 //                 horizon, so every coordinate is smooth above it: hardware-compatible. No
 //                 hemisphere map applies; every texel is valid.
+//   gs-mirror     Gram-Schmidt mirror/view: x = r = (-wi.x, -wi.y, wi.z), the mirror
+//                 direction of wi; y = wo in the frame (t', s', r) of gs-half's eq. 6 about
+//                 r instead of h. A lobe about the mirror direction, (wo.r)^n (Phong,
+//                 Lafortune's isotropic lobes), times cos(theta_i) = r.z is one product:
+//                 G(r) = r.z, H(y) = y.z^n. (Under gs-half or vh it is no product at all:
+//                 Phong n=1000 took eight terms at 8/128 texels for 39 dB.)
+//                 wo.r < 0 (light and eye on the same side, far from the normal) lies
+//                 behind r's horizon, where no hemisphere map reaches (XY would fold wo = -r
+//                 onto the lobe's peak): y is taken to the rim, (y.x, y.y) / |(y.x, y.y)|, z
+//                 = 0, the value at wo.r = 0 (a lobe about r is 0 there). Such pairs do not
+//                 come back through combine_points. The runtime does the same.
+//                                                                      hardware-compatible
 // Hemisphere maps for a unit vector a with a.z >= 0 in its frame:
 //   XY         (u, v) = ((a.x + 1)/2, (a.y + 1)/2)
 //   parabolic  (u, v) = ((a.x/(1 + a.z) + 1)/2, (a.y/(1 + a.z) + 1)/2)
@@ -59,7 +71,9 @@
 //     axis        beta = atan2(w.s, w.n) is undefined at w = +-t (on the horizon, so only
 //                 for grazing pairs): 0 there; alpha is atan2(w.t, |(w.s, w.n)|), asin(w.t)
 //                 for a unit w without asin's loss of precision near the poles.
-//     frame_fallback() says whether a G point (the half vector) takes a fallback.
+//     gs-mirror   as gs-half, with r for h: r = +-t is the light grazing along t.
+//     frame_fallback() says whether a G point (the half vector, gs-mirror's r) takes a
+//     fallback.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -70,21 +84,21 @@
 
 namespace sepal {
 
-enum class Param { IncidentView, GsHalf, ViewHalf, Rusinkiewicz, ElevAzim, Axis };
+enum class Param { IncidentView, GsHalf, ViewHalf, Rusinkiewicz, ElevAzim, Axis, GsMirror };
 enum class HemiMap { XY, Parabolic };
 
-const char* param_name(Param p);  // "iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis"
+const char* param_name(Param p);  // "iv", "gs-half", "vh", "rusinkiewicz", "elev-azim", "axis", "gs-mirror"
 bool parse_param(const std::string& name, Param* p);
 const char* map_name(HemiMap m);  // "xy", "parabolic"
 bool parse_map(const std::string& name, HemiMap* m);
 // True when texture coordinates computed per vertex may be interpolated linearly
-// (iv, gs-half, vh, axis): the parameterizations the GL ES backends can use.
+// (iv, gs-half, vh, axis, gs-mirror): the parameterizations the GL ES backends can use.
 bool hardware_compatible(Param p);
 // Which factor depends on the half vector h only: 0 (G), 1 (H), or -1 (none).
 int half_angle_factor(Param p);
 // Which factor holds a lobe's sharp part, the one a bake gives the finer resolution: the
-// half-angle factor, axis's G (the lobe along alpha_i + alpha_o), or -1 (iv, elev-azim:
-// both factors alike).
+// half-angle factor, axis's G (the lobe along alpha_i + alpha_o), gs-mirror's H (wo about
+// the mirror direction), or -1 (iv, elev-azim: both factors alike).
 int sharp_factor(Param p);
 // True when factor `which` (0 = G, 1 = H) is periodic in u and v (elev-azim's azimuths);
 // all other factors clamp at the texture edge.
@@ -119,7 +133,7 @@ double rusinkiewicz_phi_h(const glm::dvec3& h, bool* fallback = nullptr);
 // True for the parameterizations whose factors are plain angle textures (elev-azim, axis):
 // no hemisphere map applies.
 bool angle_textures(Param p);
-// True when the G point (the half vector of gs-half or rusinkiewicz) has a degenerate frame
+// True when the G point (the half vector of gs-half or rusinkiewicz, gs-mirror's r) has a degenerate frame
 // and the fallback above applies; always false for the other parameterizations.
 bool frame_fallback(Param p, const glm::dvec3& point);
 

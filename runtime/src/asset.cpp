@@ -325,6 +325,11 @@ sepal_result check_material(const sepal_fmt_header& h, sepal_asset* out, bool* r
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
                          "asset: the axis parameterization needs version 2.2 (this file is %u.%u)", h.version_major,
                          h.version_minor);
+    if (m.param == SEPAL_PARAM_GS_MIRROR &&
+        (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_MIRROR)))
+        return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                         "asset: the gs-mirror parameterization needs version 2.6 (this file is %u.%u)",
+                         h.version_major, h.version_minor);
     // Version 1 left these words reserved (written as 0).
     if (h.version_major < 2 && !all_zero(&m.flags, sizeof m.flags + sizeof m.diffuse))
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,

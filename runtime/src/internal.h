@@ -118,10 +118,24 @@ inline void axis_uv(float a0, float a1, float a2, float* alpha_u, float* beta_u)
     *beta_u = b < 0.0f ? 0.0f : b > 1.0f ? 1.0f : b;
 }
 
+// gs-mirror's H point d (wo in the frame about r) behind r's horizon (wo.r < 0: light and eye
+// on the same side, far from the normal) has no place in a hemisphere map, whose XY form would
+// fold it onto its mirror image (wo = -r onto the lobe's peak): it is taken to the rim, the
+// value at wo.r = 0 (offline/factor/param.h). Branch-free for the batched set-up.
+inline void mirror_rim(float d[3]) {
+    const float l2 = d[0] * d[0] + d[1] * d[1];
+    const bool behind = d[2] < 0.0f, flat = !(l2 > 1e-24f);
+    const float inv = 1.0f / sqrtf(flat ? 1.0f : l2);
+    d[0] = behind ? (flat ? 1.0f : d[0] * inv) : d[0];
+    d[1] = behind ? (flat ? 0.0f : d[1] * inv) : d[1];
+    d[2] = behind ? 0.0f : d[2];
+}
+
 // True for the parameterizations whose coordinates may be computed per vertex and
-// interpolated (iv, gs-half, vh, axis): GL ES 1.1 and the per-vertex GL ES 2 paths.
+// interpolated (iv, gs-half, vh, axis, gs-mirror): GL ES 1.1 and the per-vertex GL ES 2 paths.
 inline bool param_per_vertex(sepal_param p) {
-    return p == SEPAL_PARAM_IV || p == SEPAL_PARAM_GS_HALF || p == SEPAL_PARAM_VH || p == SEPAL_PARAM_AXIS;
+    return p == SEPAL_PARAM_IV || p == SEPAL_PARAM_GS_HALF || p == SEPAL_PARAM_VH || p == SEPAL_PARAM_AXIS ||
+           p == SEPAL_PARAM_GS_MIRROR;
 }
 
 // Unit direction from a surface point towards a light, and the light's falloff there

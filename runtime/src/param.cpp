@@ -37,6 +37,31 @@ bool normalize(float v[3], const float fallback[3]) {
     return false;
 }
 
+// v in gs-half's frame about the unit vector a (Kautz-McCool eq. 6): t' = norm(t - (a.t) a),
+// s' = a x t', d = (v.t', v.s', v.a). False when the fallback frame was taken.
+bool gs_coords(const float a[3], const float v[3], float d[3]) {
+    static const float kUp[3] = {0, 0, 1};
+    bool ok = true;
+    // The first component of t - (a.t) a is 1 - a.x^2 = a.y^2 + a.z^2, written so because
+    // near a = t (gs-half: grazing retro-reflection; gs-mirror: light grazing along t, the
+    // frame's singularity) the difference cancels.
+    float tp[3] = {a[1] * a[1] + a[2] * a[2], -a[0] * a[1], -a[0] * a[2]};
+    if (tp[0] > srt::kGsMin2) {  // |t'|^2 = 1 - a.x^2 = tp[0] for a unit a
+        const float inv = 1.0f / sqrtf(tp[0] * tp[0] + tp[1] * tp[1] + tp[2] * tp[2]);
+        tp[0] *= inv, tp[1] *= inv, tp[2] *= inv;
+    } else {  // a within 1e-3 rad of +-t: Gram-Schmidt on s instead
+        float ty[3] = {-a[0] * a[1], a[0] * a[0] + a[2] * a[2], -a[1] * a[2]};
+        normalize(ty, kUp);
+        tp[0] = ty[0], tp[1] = ty[1], tp[2] = ty[2];
+        ok = false;
+    }
+    const float sp[3] = {a[1] * tp[2] - a[2] * tp[1], a[2] * tp[0] - a[0] * tp[2], a[0] * tp[1] - a[1] * tp[0]};
+    d[0] = v[0] * tp[0] + v[1] * tp[1] + v[2] * tp[2];
+    d[1] = v[0] * sp[0] + v[1] * sp[1] + v[2] * sp[2];
+    d[2] = v[0] * a[0] + v[1] * a[1] + v[2] * a[2];
+    return ok;
+}
+
 }  // namespace
 
 namespace srt {
@@ -61,24 +86,17 @@ int param_texcoords(sepal_param p, sepal_hemi_map m, const float wi[3], const fl
             break;
         case SEPAL_PARAM_GS_HALF: {
             map(m, half, g);
-            // Kautz-McCool eq. 6: t' = norm(t - (h.t) h), s' = h x t'. The first component
-            // of t - (h.t) h is 1 - h.x^2 = h.y^2 + h.z^2, written so because near h = t
-            // (grazing retro-reflection, the frame's singularity) the difference cancels.
-            float tp[3] = {half[1] * half[1] + half[2] * half[2], -half[0] * half[1], -half[0] * half[2]};
-            if (tp[0] > kGsMin2) {  // |t'|^2 = 1 - h.x^2 = tp[0] for a unit h
-                const float inv = 1.0f / sqrtf(tp[0] * tp[0] + tp[1] * tp[1] + tp[2] * tp[2]);
-                tp[0] *= inv, tp[1] *= inv, tp[2] *= inv;
-            } else {  // h within 1e-3 rad of +-t: Gram-Schmidt on s instead
-                float ty[3] = {-half[0] * half[1], half[0] * half[0] + half[2] * half[2], -half[1] * half[2]};
-                normalize(ty, kUp);
-                tp[0] = ty[0], tp[1] = ty[1], tp[2] = ty[2];
-                fallback = true;
-            }
-            const float sp[3] = {half[1] * tp[2] - half[2] * tp[1], half[2] * tp[0] - half[0] * tp[2],
-                                 half[0] * tp[1] - half[1] * tp[0]};
-            const float d[3] = {wi[0] * tp[0] + wi[1] * tp[1] + wi[2] * tp[2],
-                                wi[0] * sp[0] + wi[1] * sp[1] + wi[2] * sp[2],
-                                wi[0] * half[0] + wi[1] * half[1] + wi[2] * half[2]};
+            float d[3];
+            fallback = !gs_coords(half, wi, d) || fallback;
+            map(m, d, h);
+            break;
+        }
+        case SEPAL_PARAM_GS_MIRROR: {
+            const float r[3] = {-wi[0], -wi[1], wi[2]};
+            map(m, r, g);
+            float d[3];
+            fallback = !gs_coords(r, wo, d);
+            mirror_rim(d);
             map(m, d, h);
             break;
         }

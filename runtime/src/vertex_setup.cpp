@@ -193,7 +193,22 @@ inline void map_uv(float pm, float om, float a0, float a1, float a2, float* u, f
     *v = 0.5f * (a1 / d + 1.0f);
 }
 
-// One light over lanes [0, m): param_texcoords (iv, vh, gs-half or axis), cos(theta_i) and E,
+// v in param.cpp's Gram-Schmidt frame about the unit vector a (gs-half: a = h, v = wi;
+// gs-mirror: a = r, v = wo); false where param.cpp takes its fallback frame (the lane is
+// redone by setup_one).
+inline bool gs_coords(float a0, float a1, float a2, float v0, float v1, float v2, float d[3]) {
+    float p0 = a1 * a1 + a2 * a2, p1 = -a0 * a1, p2 = -a0 * a2;
+    const bool ok = p0 > kGsMin2;
+    const float ip = 1.0f / sqrtf(p0 * p0 + p1 * p1 + p2 * p2);
+    p0 *= ip, p1 *= ip, p2 *= ip;
+    const float q0 = a1 * p2 - a2 * p1, q1 = a2 * p0 - a0 * p2, q2 = a0 * p1 - a1 * p0;
+    d[0] = v0 * p0 + v1 * p1 + v2 * p2;
+    d[1] = v0 * q0 + v1 * q1 + v2 * q2;
+    d[2] = v0 * a0 + v1 * a1 + v2 * a2;
+    return ok;
+}
+
+// One light over lanes [0, m): param_texcoords (iv, vh, gs-half, axis or gs-mirror), cos(theta_i) and E,
 // as setup_one computes them.
 template <sepal_param P>
 void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
@@ -226,6 +241,12 @@ void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
         } else if (P == SEPAL_PARAM_AXIS) {  // G (alpha_i, alpha_o), H (beta_i, beta_o)
             axis_uv(wi0, wi1, wi2, &B.gu[j], &B.hu[j]);
             axis_uv(wo0, wo1, wo2, &B.gv[j], &B.hv[j]);
+        } else if (P == SEPAL_PARAM_GS_MIRROR) {  // the frame about r = (-wi.x, -wi.y, wi.z)
+            map_uv(pm, om, -wi0, -wi1, wi2, &B.gu[j], &B.gv[j]);
+            float d[3];
+            ok = ok & gs_coords(-wi0, -wi1, wi2, wo0, wo1, wo2, d);
+            mirror_rim(d);
+            map_uv(pm, om, d[0], d[1], d[2], &B.hu[j], &B.hv[j]);
         } else {
             float h0 = wi0 + wo0, h1 = wi1 + wo1, h2 = wi2 + wo2;
             const float lh = sqrtf(h0 * h0 + h1 * h1 + h2 * h2);
@@ -237,13 +258,9 @@ void batch_light_of(Batch& B, int m, const sepal_light& light, bool parabolic) {
                 map_uv(pm, om, h0, h1, h2, &B.hu[j], &B.hv[j]);
             } else {  // gs-half: param.cpp's Kautz-McCool frame
                 map_uv(pm, om, h0, h1, h2, &B.gu[j], &B.gv[j]);
-                float p0 = h1 * h1 + h2 * h2, p1 = -h0 * h1, p2 = -h0 * h2;
-                ok = ok & (p0 > kGsMin2);
-                const float ip = 1.0f / sqrtf(p0 * p0 + p1 * p1 + p2 * p2);
-                p0 *= ip, p1 *= ip, p2 *= ip;
-                const float q0 = h1 * p2 - h2 * p1, q1 = h2 * p0 - h0 * p2, q2 = h0 * p1 - h1 * p0;
-                map_uv(pm, om, wi0 * p0 + wi1 * p1 + wi2 * p2, wi0 * q0 + wi1 * q1 + wi2 * q2,
-                          wi0 * h0 + wi1 * h1 + wi2 * h2, &B.hu[j], &B.hv[j]);
+                float d[3];
+                ok = ok & gs_coords(h0, h1, h2, wi0, wi1, wi2, d);
+                map_uv(pm, om, d[0], d[1], d[2], &B.hu[j], &B.hv[j]);
             }
         }
         const float cosine = above ? wi2 : 0.0f;
@@ -331,6 +348,7 @@ VertexSetupResult setup_vertices(sepal_param param, sepal_hemi_map map, const Me
                                    : param == SEPAL_PARAM_VH    ? batch_light_of<SEPAL_PARAM_VH>
                                    : param == SEPAL_PARAM_IV    ? batch_light_of<SEPAL_PARAM_IV>
                                    : param == SEPAL_PARAM_AXIS  ? batch_light_of<SEPAL_PARAM_AXIS>
+                                   : param == SEPAL_PARAM_GS_MIRROR ? batch_light_of<SEPAL_PARAM_GS_MIRROR>
                                                                 : nullptr;
     if (batch_light && !swapped && (map == SEPAL_MAP_XY || map == SEPAL_MAP_PARABOLIC))
         setup_batched(batch_light, param, map, mesh, scene, scratch, r, batch);

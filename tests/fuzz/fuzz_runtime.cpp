@@ -53,7 +53,7 @@ extern "C" int sepal_fuzz_runtime(const uint8_t* data, size_t size) {
         const sepal_result r = srt::material_plan(&caps, &asset, kSide, kSide, srt::material(&material), &err);
         // GL ES 1.1 draws only the per-vertex parameterizations; anything else the reader
         // accepted, every GL backend must take.
-        const bool per_vertex = asset.material.param <= SEPAL_PARAM_VH || asset.material.param == SEPAL_PARAM_AXIS;
+        const bool per_vertex = srt::param_per_vertex(sepal_param(asset.material.param));
         if (c.version == 2 || per_vertex) sepal_fuzz::check(r == SEPAL_OK, h, err.message);
         else sepal_fuzz::check(r == SEPAL_ERR_UNSUPPORTED && err.message[0], h, "per-pixel asset on GL ES 1.1 not refused");
     }
@@ -78,7 +78,7 @@ extern "C" int sepal_fuzz_runtime(const uint8_t* data, size_t size) {
     static std::vector<float> escratch(sepal_emulate_scratch_floats(kSide, kSide, s.mesh.vertex_count, 1));
     for (int version : {1, 2}) {
         // GL ES 1.1 and GL ES 2's multipass need per-vertex coordinates.
-        if (asset.material.param > SEPAL_PARAM_VH && asset.material.param != SEPAL_PARAM_AXIS) continue;
+        if (!srt::param_per_vertex(sepal_param(asset.material.param))) continue;
         sepal_emulate_desc e = {};
         e.asset = &asset;
         e.mesh = &s.mesh;

@@ -81,7 +81,7 @@ TEST_CASE("gles2 fused shaders against the CPU backend") {
 
 TEST_CASE("gles2 fused-pixel takes every parameterization; per-vertex modes refuse the per-pixel ones") {
     for (sepal_param param : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_RUSINKIEWICZ, SEPAL_PARAM_ELEV_AZIM,
-                              SEPAL_PARAM_AXIS}) {
+                              SEPAL_PARAM_AXIS, SEPAL_PARAM_GS_MIRROR}) {
         CAPTURE(int(param));
         const sepal::AssetData a = signed_asset(param);
         sepal_ports::SceneSetup s = test_scene("sphere", 2);

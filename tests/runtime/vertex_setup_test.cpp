@@ -117,7 +117,7 @@ TEST_CASE("vertex set-up: the batched path is the reference's, bit for bit") {
     }
     scene.lights[3].intensity[1] = 3e38f;  // overflows over a short distance
     const sepal_param params[] = {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_RUSINKIEWICZ,
-                                  SEPAL_PARAM_ELEV_AZIM, SEPAL_PARAM_AXIS};
+                                  SEPAL_PARAM_ELEV_AZIM, SEPAL_PARAM_AXIS, SEPAL_PARAM_GS_MIRROR};
     const sepal_hemi_map maps[] = {SEPAL_MAP_XY, SEPAL_MAP_PARABOLIC};
     for (uint32_t seed : {1u, 2u, 3u}) {
         Mesh odd = odd_sphere(scene, seed);
@@ -141,7 +141,7 @@ TEST_CASE("vertex set-up: the batched path is the reference's, bit for bit") {
     Mesh big = sphere(SEPAL_SCENE_SPHERE_SLICES, SEPAL_SCENE_SPHERE_STACKS);
     sepal_scene s;
     sepal_scene_default(&s);
-    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_AXIS})
+    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_AXIS, SEPAL_PARAM_GS_MIRROR})
         compare(big.mesh(), s, p, SEPAL_MAP_XY, false);
     // Counts the batches leave to the reference are still counted: an odd mesh's statistics
     // are not zero (the comparison above would pass trivially if both were).
@@ -219,7 +219,7 @@ TEST_CASE("vertex set-up: the engine's strided vertices under an affine model, b
     // The inverse transpose of m's 3 x 3 (any invertible matrix: the set-up takes it as given).
     const float n9[9] = {1.3f, -0.2f, 0.05f, -0.1f, 2.1f, -0.3f, 0.0f, 0.0f, 0.8f};
     std::memcpy(moved.n, n9, sizeof n9);
-    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_AXIS})
+    for (sepal_param p : {SEPAL_PARAM_IV, SEPAL_PARAM_GS_HALF, SEPAL_PARAM_VH, SEPAL_PARAM_AXIS, SEPAL_PARAM_GS_MIRROR})
         for (sepal_hemi_map map : {SEPAL_MAP_XY, SEPAL_MAP_PARABOLIC}) {
             CAPTURE(int(p));
             CAPTURE(int(map));

@@ -68,6 +68,10 @@
 // 8-bit framebuffer's 1/255. Writers write 2.5 for every asset with a profile (they no longer
 // write RGB_F32); readers take all three layouts, RGB_F32 in any version 2 file. A 2.4 reader
 // refuses a 16-bit profile (the layout word was reserved, 0).
+// Version 2.6 adds the gs-mirror parameterization (SEPAL_PARAM_GS_MIRROR: gs-half's
+// Gram-Schmidt frame about the mirror direction of wi instead of h, per vertex like
+// gs-half). Writers write 2.6 only for gs-mirror assets; older readers refuse them at the
+// unknown parameterization.
 //
 // Data only: constants, enums and the file's structs. The reader (sepal_asset_parse), the
 // texture coordinates of the parameterizations and the checksum are in sepal_asset.h.
@@ -83,15 +87,16 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 5
+#define SEPAL_FMT_VERSION_MINOR 6
 // The minor version that introduced reciprocal materials (2.1), the axis parameterization
-// (2.2), the light range (2.3), the device profile (2.4) and the 16-bit diffuse profile
-// (2.5); other version-2 assets are 2.0.
+// (2.2), the light range (2.3), the device profile (2.4), the 16-bit diffuse profile (2.5)
+// and the gs-mirror parameterization (2.6); other version-2 assets are 2.0.
 #define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
 #define SEPAL_FMT_VERSION_MINOR_AXIS 2
 #define SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE 3
 #define SEPAL_FMT_VERSION_MINOR_PROFILE 4
 #define SEPAL_FMT_VERSION_MINOR_DIFFUSE16 5
+#define SEPAL_FMT_VERSION_MINOR_MIRROR 6
 // The MATL chunk's size before 2.3 (the material up to and including diffuse).
 #define SEPAL_FMT_MATERIAL_BYTES_V2 64u
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
@@ -128,7 +133,7 @@ extern "C" {
 #define SEPAL_FMT_MAX_RECIPROCAL_TERMS 2
 
 // Parameterizations (NOTES.md section 1; offline/factor/param.h). Per-vertex (GL ES 1.1)
-// paths can use iv, gs-half, vh and axis; rusinkiewicz and elev-azim need per-pixel
+// paths can use iv, gs-half, vh, axis and gs-mirror; rusinkiewicz and elev-azim need per-pixel
 // evaluation (shaders or the CPU).
 typedef enum sepal_param {
     SEPAL_PARAM_IV = 0,            // x = wi, y = wo
@@ -139,7 +144,12 @@ typedef enum sepal_param {
     // Angles about the tangent (version 2.2): G at (alpha_i, alpha_o), H at (beta_i, beta_o),
     // alpha = asin(w.x), beta = atan2(w.y, w.z), u = angle / pi + 1/2.
     SEPAL_PARAM_AXIS = 5,
-    SEPAL_PARAM_COUNT = 6
+    // Gram-Schmidt mirror/view (version 2.6): G at r = (-wi.x, -wi.y, wi.z), the mirror
+    // direction of wi; H at wo in the frame (t', s', r), t' = norm(t - (r.t) r), s' = r x t'
+    // (gs-half's frame about r instead of h). A lobe about the mirror direction (Phong,
+    // Lafortune) is one product here: G carries cos(theta_i), H the lobe.
+    SEPAL_PARAM_GS_MIRROR = 6,
+    SEPAL_PARAM_COUNT = 7
 } sepal_param;
 
 typedef enum sepal_hemi_map { SEPAL_MAP_XY = 0, SEPAL_MAP_PARABOLIC = 1, SEPAL_MAP_COUNT = 2 } sepal_hemi_map;
