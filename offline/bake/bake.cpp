@@ -339,10 +339,34 @@ std::string judged_on(const BakeOptions& o) {
 }
 
 // The judge's framebuffer and capability mask: the profile's (8 bits, mask 0 by default).
-void configure_judge(const BakeOptions& o, ImageJudge* judge) {
+// A judge that ranks candidates (ranking) on a profile with framebuffer objects takes the
+// 8-bit sum itself: the runtime writes it to the profile's framebuffer once, and that one
+// rounding is every candidate's alike. Judged after it, the rounding's noise compressed the
+// candidates' differences below tie_db, and the fewest passes won where they held worse
+// (lafortune 2 lobes on mali400: 2 passes, 46.1 dB held out on 565, where the 5-pass asset
+// drawn on 565 holds 48.1 against a limit of 48.7). Without them every pass rounds to the
+// profile's bits, which the candidates' plans decide: judged so.
+void configure_judge(const BakeOptions& o, ImageJudge* judge, bool ranking) {
     const ProfileLimits l = profile_limits(bake_profile(o));
-    judge->set_framebuffer(l.bits, (l.blend_subtract ? 0u : uint32_t(SEPAL_MASK_BLEND_SUBTRACT)) |
-                                       (l.fbo ? 0u : uint32_t(SEPAL_MASK_FBO)));
+    const int eight[3] = {8, 8, 8};
+    judge->set_framebuffer(ranking && l.fbo ? eight : l.bits,
+                           (l.blend_subtract ? 0u : uint32_t(SEPAL_MASK_BLEND_SUBTRACT)) |
+                               (l.fbo ? 0u : uint32_t(SEPAL_MASK_FBO)));
+}
+
+// The bake's note on the device profile it judged for (custom_profile(o) only).
+std::string profile_note(const BakeOptions& o) {
+    const sepal_fmt_profile f = profile_record(bake_profile(o));
+    char note[320];
+    std::snprintf(note, sizeof note,
+                  "device profile %s: judged at %u/%u/%u framebuffer bits (%s), textures at or under %u, %s; "
+                  "recorded in the asset (its PROF chunk, format 2.4 on)",
+                  f.name, f.red_bits, f.green_bits, f.blue_bits,
+                  profile_limits(bake_profile(o)).fbo ? "ranked on the 8-bit sum written to them once"
+                                                      : "every pass rounded to them",
+                  f.max_texture_size,
+                  (f.flags & SEPAL_PROFILE_BLEND_SUBTRACT) ? "blend subtraction" : "subtraction by inversion");
+    return note;
 }
 
 // The profile's record (format 2.4) on an asset baked for one other than the default, before
@@ -605,7 +629,7 @@ bool held_out(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::stri
     ImageScore s;
     if (!condition_views(conditions, &views, err) || !judge.init(brdf, views, o.judge_size, o.threads, err))
         return false;
-    configure_judge(o, &judge);
+    configure_judge(o, &judge, false);
     if (!encode_asset(out->asset, &bytes, err) || !judge.score(bytes, o.target, &s, err)) return false;
     out->held_out_psnr = s.psnr;
     out->held_out_psnr_views = s.per_view;
@@ -1011,8 +1035,8 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     ImageJudge judge, coarse_judge;
     if (!judge.init(brdf, views, o.judge_size, o.threads, err)) return false;
     if (coarse && !coarse_judge.init(brdf, views, o.coarse_size, o.threads, err)) return false;
-    configure_judge(o, &judge);
-    configure_judge(o, &coarse_judge);
+    configure_judge(o, &judge, true);
+    configure_judge(o, &coarse_judge, true);
     // What the factors see: f capped at --cap, and for the radiance fit f cos(theta_i) capped
     // at the views' white level minus the diffuse part. Every error is measured against the
     // original BRDF.
@@ -1089,16 +1113,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     out->winner = best;
     BakeCandidate& w = out->candidates[size_t(best)];
     winner_notes(w, o, views.size(), out);
-    if (custom_profile(o)) {
-        const sepal_fmt_profile f = profile_record(bake_profile(o));
-        char note[240];
-        std::snprintf(note, sizeof note,
-                      "device profile %s: judged at %u/%u/%u framebuffer bits, textures at or under %u, %s; recorded "
-                      "in the asset (its PROF chunk, format 2.4 on)",
-                      f.name, f.red_bits, f.green_bits, f.blue_bits, f.max_texture_size,
-                      (f.flags & SEPAL_PROFILE_BLEND_SUBTRACT) ? "blend subtraction" : "subtraction by inversion");
-        out->notes.push_back(note);
-    }
+    if (custom_profile(o)) out->notes.push_back(profile_note(o));
     // The winner's counts: its factorization's, and its textures' and plan's (made again:
     // cheap and deterministic).
     const Factorization* fz = search.factorization_of(size_t(best));

@@ -154,3 +154,37 @@ TEST_CASE("devices: docs/devices.md's table is the profiles' table, figure for f
     }
     CHECK(rows == sepal::device_profiles().size());
 }
+
+TEST_CASE("devices: with framebuffer objects a 565 profile ranks on the 8-bit sum; without them every pass rounds") {
+    // The runtime sums the passes in an 8-bit target and writes the sum to the 5/6/5
+    // framebuffer once: that rounding is every candidate's, so mali400 (framebuffer objects)
+    // ranks as the default profile does (same figures, same winner), and reports its held-out
+    // figure on 5/6/5.
+    // gles1-minimum (none) rounds every pass, which the plans decide.
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("blinn", &err);
+    REQUIRE_MESSAGE(f, err);
+    auto bake = [&](const char* profile) {
+        sepal::BakeOptions o;
+        o.params = {sepal::Param::GsHalf};
+        o.resolutions = {16};
+        o.terms = {1, 2};
+        o.judge_size = 32;
+        o.profile = profile;
+        sepal::BakeResult r;
+        REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+        return r;
+    };
+    const sepal::BakeResult def = bake("default"), mali = bake("mali400"), minimum = bake("gles1-minimum");
+    REQUIRE(def.candidates.size() == mali.candidates.size());
+    REQUIRE(def.candidates.size() == minimum.candidates.size());
+    bool minimum_differs = false;
+    for (size_t i = 0; i < def.candidates.size(); ++i) {
+        CAPTURE(i);
+        CHECK(mali.candidates[i].psnr == def.candidates[i].psnr);
+        minimum_differs = minimum_differs || minimum.candidates[i].psnr < def.candidates[i].psnr - 0.5;
+    }
+    CHECK(minimum_differs);
+    CHECK(mali.winner == def.winner);
+    CHECK(mali.held_out_psnr != def.held_out_psnr);  // the device's 5/6/5 frame
+}
