@@ -83,7 +83,7 @@ int sepal_asset_eval(const sepal_asset* asset, const float wi[3], const float wo
 
 // ---- parameterization (runtime/src/param.cpp) --------------------------------------------
 // Texture coordinates of the G and H factors for one direction pair in the local frame
-// (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh, axis); the same
+// (n = +z, t = +x), for the per-vertex parameterizations (iv, gs-half, vh, axis, gs-mirror); the same
 // maths as offline/factor/param.h. Returns 1 when both directions are above the horizon, 0
 // otherwise (coordinates are still filled and continuous, for interpolation).
 // Returns -1 for the per-pixel-only parameterizations, and for an unknown parameterization or
