@@ -92,6 +92,12 @@ sepal::AssetData signed_asset(sepal_param param) {
 }
 
 // Renders an asset with the CPU backend.
+double image_peak(const sepal::Image& im) {
+    double peak = 0;
+    for (float v : im.data) peak = std::max<double>(peak, v);
+    return peak;
+}
+
 sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup& s,
                         const sepal_ports::Rgba8Image* diffuse) {
     std::vector<uint8_t> bytes;

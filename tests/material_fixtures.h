@@ -42,6 +42,8 @@ sepal::Image render_cpu(const sepal::AssetData& a, const sepal_ports::SceneSetup
                         const sepal_ports::Rgba8Image* diffuse = nullptr);
 // 128x96, the named mesh, `lights` lights alternating point and directional.
 sepal_ports::SceneSetup test_scene(const char* mesh, int lights);
+// The largest channel value of an image (a test that the picture is lit at all).
+double image_peak(const sepal::Image& im);
 
 // A small bake of `spec` for runtime tests: one parameterization, method, factor resolution
 // and term count, judged at judge_size; radiance: the format-2 fit (else factors of f).

@@ -60,8 +60,9 @@ struct BakeOptions {
     std::vector<Param> params = {Param::GsHalf, Param::IncidentView, Param::ViewHalf, Param::Axis, Param::GsMirror};
     std::vector<HemiMap> maps = {HemiMap::XY};
     // Texels per side: of both factors, or with smooth_resolutions given, of the sharp
-    // factor (param.h: gs-half's G, vh's H, axis's G) while the other one takes each of smooth_resolutions not
-    // above it (the lobe's factor is sharp, the other smooth: both need not pay for it).
+    // factor (param.h: gs-half's G, vh's H, axis's G, gs-mirror's H) while the other one
+    // takes each of smooth_resolutions not above it (the lobe's factor is sharp, the other
+    // smooth: both need not pay for it).
     // Empty: the ladder. Every kept pair is factored on the ladder's first rung (iv: both
     // factors at ladder_iv), and the best one climbs while a rung gains climb_db; on the
     // rung it reached, the other factor is tried at finer_other too (it holds the grazing

@@ -102,16 +102,27 @@ TEST_CASE("gles1 material: every capability-masked path renders the full path's 
 }
 
 namespace {
-// An encoded asset's header with another minor version (and its header CRC redone).
-void patch_minor(std::vector<uint8_t>* bytes, uint16_t minor) {
+// The asset is written as version 2.`minor`, and the same file patched to one minor version
+// older is refused with `message` (patched minor version and header CRC).
+void check_version_gate(const sepal::AssetData& a, uint16_t minor, const char* message) {
+    std::vector<uint8_t> bytes;
+    std::string err;
+    REQUIRE_MESSAGE(sepal::encode_asset(a, &bytes, &err), err);
+    auto parsed = std::make_unique<sepal_asset>();
+    sepal_error e{};
+    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
+    CHECK(parsed->header.version_major == 2);
+    CHECK(parsed->header.version_minor == minor);
     sepal_fmt_header h;
-    memcpy(&h, bytes->data(), sizeof h);
-    h.version_minor = minor;
+    memcpy(&h, bytes.data(), sizeof h);
+    h.version_minor = uint16_t(minor - 1);
     h.header_crc = 0;
-    memcpy(bytes->data(), &h, sizeof h);
-    const uint32_t crc = sepal_crc32(0, bytes->data(), sizeof h);
-    h.header_crc = sepal_crc32(crc, bytes->data() + sizeof h, h.chunk_count * sizeof(sepal_fmt_chunk));
-    memcpy(bytes->data(), &h, sizeof h);
+    memcpy(bytes.data(), &h, sizeof h);
+    const uint32_t crc = sepal_crc32(0, bytes.data(), sizeof h);
+    h.header_crc = sepal_crc32(crc, bytes.data() + sizeof h, h.chunk_count * sizeof(sepal_fmt_chunk));
+    memcpy(bytes.data(), &h, sizeof h);
+    CHECK(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) != SEPAL_OK);
+    CHECK(std::string(e.message).find(message) != std::string::npos);
 }
 }  // namespace
 
@@ -159,19 +170,9 @@ TEST_CASE("gles1 material: gs-mirror draws Phong's lobe in one product per verte
     const sepal::ImageDiff dh = sepal::diff_images(exact, gh.image, 3.0);
     CAPTURE(dh.psnr);
     CHECK(dh.psnr < dx.psnr - 6.0);
-    double peak = 0;
-    for (float v : cpu.data) peak = std::max<double>(peak, v);
-    CHECK(peak > 0.1);
+    CHECK(image_peak(cpu) > 0.1);
     // Written as 2.6; a 2.5 header cannot hold it.
-    std::vector<uint8_t> bytes;
-    REQUIRE(sepal::encode_asset(a, &bytes, &err));
-    auto parsed = std::make_unique<sepal_asset>();
-    sepal_error e{};
-    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
-    CHECK(parsed->header.version_minor == SEPAL_FMT_VERSION_MINOR_MIRROR);
-    patch_minor(&bytes, SEPAL_FMT_VERSION_MINOR_MIRROR - 1);
-    CHECK(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) != SEPAL_OK);
-    CHECK(std::string(e.message).find("gs-mirror parameterization needs version 2.6") != std::string::npos);
+    check_version_gate(a, SEPAL_FMT_VERSION_MINOR_MIRROR, "gs-mirror parameterization needs version 2.6");
 }
 
 TEST_CASE("gles1 material: the axis parameterization is drawn per vertex; format 2.2 only for it") {
@@ -196,22 +197,14 @@ TEST_CASE("gles1 material: the axis parameterization is drawn per vertex; format
     // Per-vertex against per-pixel coordinates and 8-bit passes, as for the others.
     CHECK(d.psnr > 38.0);
     CHECK(d.share_over < 0.02);
-    double peak = 0;
-    for (float v : cpu.data) peak = std::max<double>(peak, v);
-    CHECK(peak > 0.1);
-    // Written as 2.2; a 2.1 header cannot hold it (patched minor version and header CRC).
-    std::vector<uint8_t> bytes;
-    REQUIRE(sepal::encode_asset(a, &bytes, &err));
-    auto parsed = std::make_unique<sepal_asset>();
-    sepal_error e{};
-    REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
-    CHECK(parsed->header.version_major == 2);
-    CHECK(parsed->header.version_minor == SEPAL_FMT_VERSION_MINOR_AXIS);
-    patch_minor(&bytes, SEPAL_FMT_VERSION_MINOR_AXIS - 1);
-    CHECK(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) != SEPAL_OK);
-    CHECK(std::string(e.message).find("axis parameterization needs version 2.2") != std::string::npos);
+    CHECK(image_peak(cpu) > 0.1);
+    // Written as 2.2; a 2.1 header cannot hold it.
+    check_version_gate(a, SEPAL_FMT_VERSION_MINOR_AXIS, "axis parameterization needs version 2.2");
     // The other parameterizations stay where they were (gs-half: 1.0).
     a.material.param = SEPAL_PARAM_GS_HALF;
+    std::vector<uint8_t> bytes;
+    auto parsed = std::make_unique<sepal_asset>();
+    sepal_error e{};
     REQUIRE(sepal::encode_asset(a, &bytes, &err));
     REQUIRE(sepal_asset_parse(bytes.data(), bytes.size(), parsed.get(), &e) == SEPAL_OK);
     CHECK(parsed->header.version_major == 1);
@@ -280,9 +273,7 @@ TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the s
     REQUIRE(sepal::read_image(dir + "/v1.png", &v1, &err));
     CHECK(sepal::diff_images(r, v, 0).max_diff == 0);
     CHECK(sepal::diff_images(r, v1, 0).max_diff <= 4);
-    double peak = 0;
-    for (float x : r.data) peak = std::max<double>(peak, x);
-    CHECK(peak > 0.2);
+    CHECK(image_peak(r) > 0.2);
     // Refusals: not an asset, a corrupt asset, a bad mask.
     CHECK(sepal_test::run(sepal_test::bin("sepal") + " render ward --backend gles1 -o " + dir + "/x.png", &out) == 2);
     CHECK(out.find("baked asset") != std::string::npos);
