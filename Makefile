@@ -186,7 +186,7 @@ run: deps ## build, bake the default material, render it headless on GL ES 1.1 t
 	  $(BIN_SEPAL) diff $(BUILD)/out/sepal-run-held-out-exact.png $(BUILD)/out/sepal-run-held-out.png --sheet $(RUN_SHEET) | \
 	  sed -n "s|^psnr *\([^ ]* dB\).*|PSNR against the exact render, held out (its worst condition: $$flags): \1|p"
 	@sed -n 's/^held-out: /the bake: held-out /p' $(BUILD)/out/ward.bake.txt
-	@echo "exact | gles1 | error heatmap, the held-out condition: $(RUN_SHEET)"
+	@echo "exact | gles1 | error heatmap, the held-out condition, and its window of the largest difference magnified: $(RUN_SHEET)"
 	@echo $(RUN_OUT)
 
 # Re-baked when the tool changes; the bake is deterministic.

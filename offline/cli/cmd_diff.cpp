@@ -74,7 +74,13 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
             std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
             return kExitBadInput;
         }
-        std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels)\n", args.sheet.c_str(), args.sheet_scale);
+        std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels", args.sheet.c_str(), args.sheet_scale);
+        const int side = std::min(a.width, a.height) / 8;
+        int wx = 0, wy = 0;
+        if (std::min(a.width, a.height) >= 64 && worst_window(a, b, side, &wx, &wy))
+            std::fprintf(io.out, "; under them the %dx%d window of the largest difference at x %d, y %d, %dx", side,
+                         side, wx, wy, std::min(a.width, a.height) / side);
+        std::fprintf(io.out, ")\n");
     }
     if (!written.commit(&err)) {
         std::fprintf(io.err, "sepal diff: %s\n", err.c_str());
@@ -111,7 +117,7 @@ CommandRun setup_diff(CLI::App& app) {
         ->check(CLI::Range(int64_t(1), int64_t(kMaxImageSide) * kMaxImageSide))
         ->capture_default_str();
     app.add_option("--heatmap", a->heatmap, "write the per-pixel difference as a PNG");
-    app.add_option("--sheet", a->sheet, "write A | B | their difference side by side as a PNG");
+    app.add_option("--sheet", a->sheet, "write A | B | their difference side by side as a PNG, under them the window of the largest difference magnified");
     app.add_option("--sheet-scale", a->sheet_scale, "the sheet's difference scale: 8-bit levels shown as white")
         ->check(positive())->capture_default_str();
     return [a](const CommandIO& io) { return run_diff(*a, io); };

@@ -325,14 +325,63 @@ std::string render_plot_svg(const std::vector<PlotPanel>& panels, int columns, i
     return head + canvas.body + "</svg>\n";
 }
 
+bool worst_window(const Image& a, const Image& b, int side, int* x0, int* y0) {
+    const Image ra = to_rgb(a), rb = to_rgb(b);
+    const int w = ra.width, h = ra.height;
+    if (side < 1 || side > w || side > h || rb.width != w || rb.height != h) return false;
+    // Summed-area table of the squared differences, one row and column of zeros in front.
+    std::vector<double> sat(size_t(w + 1) * size_t(h + 1), 0.0);
+    auto at = [&](int x, int y) -> double& { return sat[size_t(y) * size_t(w + 1) + size_t(x)]; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double e = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double d = double(ra.at(x, y, c)) - rb.at(x, y, c);
+                e += d * d;
+            }
+            at(x + 1, y + 1) = e + at(x, y + 1) + at(x + 1, y) - at(x, y);
+        }
+    double best = 0;
+    for (int y = 0; y + side <= h; ++y)
+        for (int x = 0; x + side <= w; ++x) {
+            const double e = at(x + side, y + side) - at(x, y + side) - at(x + side, y) + at(x, y);
+            if (e > best) best = e, *x0 = x, *y0 = y;
+        }
+    return best > 0;
+}
+
+namespace {
+
+// A one-pixel outline just outside a window of a panel drawn at (px, py) on the sheet.
+void outline(Image* out, int px, int py, int x0, int y0, int side, const glm::dvec3& colour) {
+    auto put = [&](int x, int y) {
+        if (x < 0 || y < 0 || x >= out->width || y >= out->height) return;
+        for (int c = 0; c < 3; ++c) out->at(x, y, c) = float(colour[c]);
+    };
+    for (int t = -1; t <= side; ++t) {
+        put(px + x0 + t, py + y0 - 1);
+        put(px + x0 + t, py + y0 + side);
+        put(px + x0 - 1, py + y0 + t);
+        put(px + x0 + side, py + y0 + t);
+    }
+}
+
+}  // namespace
+
 Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
                        const std::string& test_title, double full_scale) {
     const Image a = to_rgb(reference), b = to_rgb(test);
     const Image heat = diff_heatmap(a, b, full_scale);
     const int w = a.width, h = a.height, gap = 8, title = 24, bar = 14, ticks = 22;
-    Image out(3 * w + 4 * gap, title + h + gap + bar + ticks, 3);
+    // The magnified row: a window an eighth of the smaller side, scaled up to fill it.
+    const int side = std::min(w, h) / 8;
+    int wx = 0, wy = 0;
+    const bool magnify = std::min(w, h) >= 64 && worst_window(a, b, side, &wx, &wy);
+    const int zoom = magnify ? std::min(w, h) / side : 0;
+    const int zoom_h = magnify ? title + side * zoom + gap : 0;
+    Image out(3 * w + 4 * gap, title + h + gap + bar + ticks + zoom_h, 3);
     for (float& v : out.data) v = 1.0f;
-    const glm::dvec3 black(0, 0, 0);
+    const glm::dvec3 black(0, 0, 0), mark(0.1, 0.75, 1.0);
     const Image* panels[3] = {&a, &b, &heat};
     char scale_text[64];
     std::snprintf(scale_text, sizeof scale_text, "|difference|, 8-bit levels");
@@ -366,6 +415,21 @@ Image comparison_sheet(const Image& reference, const Image& test, const std::str
             for (int c = 0; c < 3; ++c) out.at(std::min(x, out.width - 1), y, c) = 0.0f;
         const int tw = int(std::string(label).size()) * 6;
         draw_text(&out, std::clamp(x - tw / 2, 0, out.width - tw), by + bar + 6, label, black);
+    }
+    if (!magnify) return out;
+    const int zy = by + bar + ticks;
+    char zoom_text[160];
+    std::snprintf(zoom_text, sizeof zoom_text, "the %dx%d window of the largest difference (x %d..%d, y %d..%d), %dx",
+                  side, side, wx, wx + side - 1, wy, wy + side - 1, zoom);
+    const int text_scale = int(std::string(zoom_text).size()) * 12 <= out.width - 2 * gap ? 2 : 1;
+    draw_text(&out, gap, text_scale == 2 ? zy + 4 : zy + 8, zoom_text, black, text_scale);
+    for (int k = 0; k < 3; ++k) {
+        const int x0 = gap + k * (w + gap);
+        outline(&out, x0, title, wx, wy, side, mark);
+        for (int y = 0; y < side * zoom; ++y)
+            for (int x = 0; x < side * zoom; ++x)
+                for (int c = 0; c < 3; ++c)
+                    out.at(x0 + x, zy + title + y, c) = panels[k]->at(wx + x / zoom, wy + y / zoom, c);
     }
     return out;
 }

@@ -60,8 +60,17 @@ glm::dvec3 plot_colour(int index);
 // Three panels side by side for people: a reference image, a test image and the heatmap of
 // their difference (diff_heatmap, full_scale 8-bit levels to white), each titled, with a
 // labelled colour bar under the heatmap. Both images the same size (RGB or grey).
+// When they differ and are at least 64 pixels a side, a second row shows the three panels'
+// window of the largest difference (worst_window, a side of an eighth of the smaller image
+// side) magnified to the panel's size with nearest-neighbour pixels, outlined in the first
+// row: a highlight a few pixels wide is where bakes go wrong, and at full size it is a dot.
 Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
                        const std::string& test_title, double full_scale);
+
+// The side x side window of two same-size images with the largest sum of squared channel
+// differences (the first in row-major order on ties); false when they are equal or smaller
+// than the window.
+bool worst_window(const Image& a, const Image& b, int side, int* x0, int* y0);
 
 // Draws text with stb_easy_font (printable ASCII; anything else draws as '?') at (x, y) =
 // top-left corner, scale >= 1 (pixel size): capitals are 7 pixels tall at scale 1, descenders
