@@ -169,7 +169,7 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
     auto holds = [&o](const BakeCandidate& c) { return o.goal_worst_db <= 0 || c.worst_view() >= o.goal_worst_db; };
     bool any_holds = false;
     for (BakeCandidate& c : *candidates) {
-        c.meets = c.ok && !c.coarse && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
+        c.meets = c.ok && !c.coarse && !c.unranked && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
                   (o.min_psnr < 0 || c.psnr >= o.min_psnr) && (o.max_passes < 0 || c.passes <= o.max_passes) &&
                   (o.max_bytes < 0 || c.bytes <= o.max_bytes);
         any_holds = any_holds || (c.meets && holds(c));
@@ -438,6 +438,13 @@ void stamp_light_range(const BakeOptions& o, const BakeResult& r, AssetData* a) 
     m.max_lights = uint32_t(o.light_range.max_lights);
 }
 
+// A candidate the fine judge weighs: encoded, past the coarse stage and within the budgets
+// that do not read the image (bytes, passes).
+bool rankable(const BakeCandidate& c, const BakeOptions& o) {
+    return c.ok && !c.coarse && (o.max_passes < 0 || c.passes <= o.max_passes) &&
+           (o.max_bytes < 0 || c.bytes <= o.max_bytes);
+}
+
 class Search {
   public:
     // source: what the factors see; plain: f itself (capped at --cap), what homomorphic
@@ -559,26 +566,14 @@ class Search {
                 out_->candidates.push_back(std::move(c));
                 index_.push_back(out_->candidates.size() - 1);
             }
-        // Judge and measure this factorization's candidates: images in parallel (each one
-        // independent and single-threaded, so the result does not depend on the threads).
+        // Judge and measure this factorization's candidates.
         std::vector<size_t> mine;
         for (size_t i = 0; i < index_.size(); ++i)
             if (index_[i] >= first) mine.push_back(i);
-        std::vector<std::string> errors(mine.size());
-        std::vector<ImageScore> scores(mine.size());
-        parallel_for(mine.size(), o_.threads, [&](size_t j) {
-            judge.score(bytes_[mine[j]], o_.target, &scores[j], &errors[j]);
-        });
+        judge_images(mine, judge);
         for (size_t j = 0; j < mine.size(); ++j) {
             BakeCandidate& c = out_->candidates[index_[mine[j]]];
-            if (!errors[j].empty()) {
-                c.ok = false;
-                c.note = errors[j];
-                continue;
-            }
-            c.psnr = scores[j].psnr;
-            c.psnr_views = scores[j].per_view;
-            c.doublings = scores[j].doublings;
+            if (!c.ok) continue;
             const Factored& f = fz.result.by_terms[size_t(c.terms - 1)];
             c.error_float = ev_.measure(f).relative;
             const ApproxError qe = ev_.measure(dequantize(c.asset, f));
@@ -600,6 +595,20 @@ class Search {
         factorizations_.push_back(std::move(fz));
     }
 
+    // The encoded candidates (not the coarse stage's) with a figure of at least `floor`
+    // judged again on `judge` (their images only: the direction-space figures and the bytes
+    // stay); the others become unranked.
+    void rejudge(const ImageJudge& judge, double floor) {
+        std::vector<size_t> mine;
+        for (size_t i = 0; i < index_.size(); ++i) {
+            BakeCandidate& c = out_->candidates[index_[i]];
+            if (!c.ok || c.coarse) continue;
+            if (rankable(c, o_) && c.psnr >= floor) mine.push_back(i);
+            else c.unranked = true;
+        }
+        judge_images(mine, judge);
+    }
+
     // The factorization a candidate came from.
     const Factorization* factorization_of(size_t candidate) const {
         for (size_t i = 0; i < index_.size(); ++i)
@@ -608,6 +617,28 @@ class Search {
     }
 
   private:
+    // The encoded candidates `mine` (indices into bytes_) judged on `judge`: their image
+    // figures, or ok = false with the judge's error. Images in parallel, each independent and
+    // single-threaded, so the result does not depend on the threads.
+    void judge_images(const std::vector<size_t>& mine, const ImageJudge& judge) {
+        std::vector<std::string> errors(mine.size());
+        std::vector<ImageScore> scores(mine.size());
+        parallel_for(mine.size(), o_.threads, [&](size_t j) {
+            judge.score(bytes_[mine[j]], o_.target, &scores[j], &errors[j]);
+        });
+        for (size_t j = 0; j < mine.size(); ++j) {
+            BakeCandidate& c = out_->candidates[index_[mine[j]]];
+            if (!errors[j].empty()) {
+                c.ok = false;
+                c.note = errors[j];
+                continue;
+            }
+            c.psnr = scores[j].psnr;
+            c.psnr_views = scores[j].per_view;
+            c.doublings = scores[j].doublings;
+        }
+    }
+
     const Brdf& brdf_;
     const BakeOptions& o_;
     BakeResult* out_;
@@ -627,7 +658,7 @@ bool held_out(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::stri
     ImageJudge judge;
     std::vector<uint8_t> bytes;
     ImageScore s;
-    if (!condition_views(conditions, &views, err) || !judge.init(brdf, views, o.judge_size, o.threads, err))
+    if (!condition_views(conditions, &views, err) || !judge.init(brdf, views, out->judge_size, o.threads, err))
         return false;
     configure_judge(o, &judge, false);
     if (!encode_asset(out->asset, &bytes, err) || !judge.score(bytes, o.target, &s, err)) return false;
@@ -635,11 +666,52 @@ bool held_out(const Brdf& brdf, const BakeOptions& o, BakeResult* out, std::stri
     out->held_out_psnr_views = s.per_view;
     out->held_out_share16 = s.share_over16;
     // The flags reproduce the figure: the judge's size, not sepal render's default 512.
-    const std::string size = " --size " + std::to_string(o.judge_size) + "x" + std::to_string(o.judge_size);
+    const std::string size = " --size " + std::to_string(out->judge_size) + "x" + std::to_string(out->judge_size);
     for (const LightCondition& c : conditions) {
         out->held_out_views.push_back(c.name);
         out->held_out_flags.push_back(c.flags() + size);
     }
+    return true;
+}
+
+constexpr int kMaxJudgeSize = 2048;
+
+// The best figure of the ranked candidates, and whether one with a sharp factor of
+// fine_judge_texels or more is within fine_judge_db of it (BakeOptions::fine_judge_texels).
+bool fine_judge_needed(const std::vector<BakeCandidate>& candidates, const BakeOptions& o, double* best) {
+    if (o.fine_judge_texels <= 0 || 2 * o.judge_size > kMaxJudgeSize) return false;
+    *best = -1e30;
+    for (const BakeCandidate& c : candidates)
+        if (rankable(c, o)) *best = std::max(*best, c.psnr);
+    for (const BakeCandidate& c : candidates) {
+        if (!rankable(c, o) || c.psnr < *best - o.fine_judge_db) continue;
+        const int sharp = sharp_factor(c.param);
+        const int texels = sharp == 0 ? c.res : sharp == 1 ? c.res_h : std::max(c.res, c.res_h);
+        if (texels >= o.fine_judge_texels) return true;
+    }
+    return false;
+}
+
+// Every candidate judged again at twice the judge's size when one needs it (above); sets
+// out->judge_size to the size the winner is chosen at.
+bool fine_judge(const Brdf& brdf, const BakeOptions& o, const std::vector<BakeView>& views, Search& search,
+                BakeResult* out, std::string* err) {
+    out->judge_size = o.judge_size;
+    double best = 0;
+    if (!fine_judge_needed(out->candidates, o, &best)) return true;
+    const int size = 2 * o.judge_size;
+    if (o.progress && isatty(2)) std::fprintf(stderr, "\rbake: judging again at %dx%d        ", size, size);
+    ImageJudge fine;
+    if (!fine.init(brdf, views, size, o.threads, err)) return false;
+    configure_judge(o, &fine, true);
+    search.rejudge(fine, best - o.fine_keep_db);
+    out->judge_size = size;
+    char note[240];
+    std::snprintf(note, sizeof note, "judged at %dx%d: a candidate within %.2g dB of the best has a sharp factor of %d "
+                  "or more texels a side, finer than %dx%d images resolve; the candidates within %.2g dB of the best "
+                  "judged again and ranked", size, size, o.fine_judge_db, o.fine_judge_texels, o.judge_size,
+                  o.judge_size, o.fine_keep_db);
+    out->notes.push_back(note);
     return true;
 }
 
@@ -676,7 +748,8 @@ bool validate_options(const BakeOptions& o, const std::vector<Method>& methods, 
         for (Param p : o.params)
             if (!hardware_compatible(p))
                 return fail(std::string("--param ") + param_name(p) + " needs per-pixel coordinates: --target cpu");
-    if (o.judge_size < 8 || o.judge_size > 2048 || (o.coarse_res > 0 && (o.coarse_size < 8 || o.coarse_size > 2048)))
+    if (o.judge_size < 8 || o.judge_size > kMaxJudgeSize ||
+        (o.coarse_res > 0 && (o.coarse_size < 8 || o.coarse_size > kMaxJudgeSize)))
         return fail("judged images must be 8..2048 pixels per side");
     return true;
 }
@@ -1101,6 +1174,7 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
     if (!o.resolutions.empty()) grid(search, o, terms, judge, pairs);
     else climbers = ladder(search, o, terms, judge, pairs, all_pairs);
     if (o.climb_terms && !o.more_terms.empty()) more_terms(search, o, terms, judge, climbers);
+    if (!fine_judge(brdf, o, views, search, out, err)) return false;
     if (o.progress && isatty(2)) std::fprintf(stderr, "\r%80s\r", "");
     const int best = choose_winner(&out->candidates, o);
     mark_front(&out->candidates, o);

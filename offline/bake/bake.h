@@ -23,7 +23,8 @@
 // each is first factored at coarse_res and judged on small images; only the best (and
 // those within keep_db of it, at most keep) go on to the listed resolutions, where every
 // k-term solution (prefix for svd) and depth is quantized (quantize.h), planned (plan.h),
-// encoded, judged at judge_size and measured. The winner: with min_psnr (or max_error), the
+// encoded, judged at judge_size (and the front-runners again at twice that when one has a
+// 128-texel sharp factor: fine_judge_texels) and measured. The winner: with min_psnr (or max_error), the
 // fastest predicted frame (cost_model.h) that meets every budget; otherwise the highest PSNR
 // within the pass and byte budgets among the candidates whose every view reaches
 // goal_worst_db (all of them when none does), where anything within tie_db of it that needs
@@ -127,6 +128,18 @@ struct BakeOptions {
     std::vector<BakeView> views;
     bool held_out = true;   // judge the winner on the held-out conditions (the report's headline)
     int judge_size = 128;   // pixels per side of the judged images
+    // When a candidate whose sharp factor has fine_judge_texels or more texels a side (the
+    // ladder's last rung; 0: never) is within fine_judge_db of the best figure, the candidates
+    // within fine_keep_db of it are judged again at twice judge_size, and the winner (among
+    // those only) and the held-out figure come from those images: a 128-texel factor holds a
+    // lobe a few pixels wide at 128 x 128, where which pixel centres it hits, not the
+    // factors, decides the ranking (cook-torrance m=0.05: 16/64 won with a square-edged
+    // highlight, 39.6 dB in its worst held-out condition at 512; judged at 256, 8/128: 42.4).
+    int fine_judge_texels = 128;
+    double fine_judge_db = 1.0;
+    // The winners at 256 were 0.12-0.27 dB behind the best at 128 (phong n=1000, cayman,
+    // cook-torrance m=0.05): candidates further behind are not judged again.
+    double fine_keep_db = 0.5;
     // Coarse stage (only with more than one parameterization, map or method listed): every
     // pair factored at coarse_res (0: no coarse stage) with up to coarse_terms terms and
     // judged at coarse_size; per family (Kautz-McCool's parameterizations and homomorphic;
@@ -216,6 +229,7 @@ struct BakeCandidate {
     double factor_seconds = 0;  // its factorization's sampling and fitting time (shared by its term counts)
     bool on_front = false;      // no other candidate is as fast and as accurate, and better in one
     bool meets = false;         // within every budget
+    bool unranked = false;      // left at the first judge's size by the fine judge: never the winner
     AssetData asset;            // with BakeOptions::keep_assets (and the winner's, always)
     std::string label() const;  // "gs-half/xy 64 nmf x2 8b", "gs-half/xy 128/16 nmf x1 8b"
     double worst_view() const;  // the lowest of psnr_views (psnr without them)
@@ -251,6 +265,7 @@ struct BakeResult {
     // psnr pooled over them; per condition its PSNR and the share of pixels more than 16
     // levels from the exact render; the flags that render each (`sepal render`).
     double held_out_psnr = 0;
+    int judge_size = 0;  // the images' side the winner and the held-out figure were judged at
     std::vector<std::string> held_out_views, held_out_flags;
     std::vector<double> held_out_psnr_views, held_out_share16;
     DiffusePart diffuse;             // the radiance fit's diffuse part

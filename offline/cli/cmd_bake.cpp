@@ -72,7 +72,7 @@ void print_candidates(const BakeResult& r, FILE* out) {
                      "passes", "dbl", "bytes", "ms", "fit s", "(* on the front)");
     for (size_t i = 0; i < r.candidates.size(); ++i) {
         const BakeCandidate& c = r.candidates[i];
-        const std::string label = c.label() + (c.coarse ? " (c)" : "");
+        const std::string label = c.label() + (c.coarse ? " (c)" : c.unranked ? " (u)" : "");
         if (!c.ok) {
             std::fprintf(out, "%-34s  skipped: %s\n", label.c_str(), c.note.c_str());
             continue;
@@ -89,8 +89,11 @@ void print_candidates(const BakeResult& r, FILE* out) {
         std::fprintf(out,
                      "PSNR: on %s against the exact render, pooled over the training views %s (sepal diff's PSNR is "
                      "of one image pair); worst: the worst of those views; dbl: framebuffer doublings of the %s "
-                     "view's frame on %s (as sepal inspect prints); (c): coarse stage\n",
-                     r.target_label.c_str(), names.c_str(), r.views.front().c_str(), r.target_label.c_str());
+                     "view's frame on %s (as sepal inspect prints); (c): coarse stage%s\n",
+                     r.target_label.c_str(), names.c_str(), r.views.front().c_str(), r.target_label.c_str(),
+                     std::any_of(r.candidates.begin(), r.candidates.end(), [](const BakeCandidate& c) { return c.unranked; })
+                         ? "; (u): judged at the first size only, not ranked (the fine judge's note)"
+                         : "");
     }
 }
 
@@ -233,7 +236,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         std::fprintf(io.out,
                      "held-out: %.2f dB on %s at %dx%d pooled over the %zu conditions below (worst %.2f dB; in-sample "
                      "%.2f dB, pooled over the training views) for lights %s\n",
-                     r.held_out_psnr, r.target_label.c_str(), o.judge_size, o.judge_size, r.held_out_views.size(), worst,
+                     r.held_out_psnr, r.target_label.c_str(), r.judge_size, r.judge_size, r.held_out_views.size(), worst,
                      w.psnr,
                      describe_light_range(o.light_range).c_str());
         for (size_t i = 0; i < r.held_out_views.size(); ++i)
@@ -297,6 +300,10 @@ CommandRun setup_bake(CLI::App& app) {
         ->check(finite_range(0, 1))->capture_default_str();
     app.add_option("--judge-size", o.judge_size, "pixels per side of the judged images")
         ->check(CLI::Range(8, 2048))->capture_default_str();
+    app.add_option("--fine-judge-texels", o.fine_judge_texels,
+                   "judge every candidate again at twice --judge-size when one's sharp factor has this many texels "
+                   "a side (0: never)")
+        ->check(CLI::Range(0, 4096))->capture_default_str();
     app.add_option("--iters", o.iterations, "nmf/acls outer iterations per term count (0: the method's default)")
         ->check(CLI::Range(0, 100000))->capture_default_str();
     app.add_option("--min-psnr", o.min_psnr, "budget: dB on the target, e.g. 35")->check(positive());

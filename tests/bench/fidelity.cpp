@@ -21,8 +21,9 @@
 // all cores, comparable only on a quiet machine.
 // With --ranges, the light range's trade instead: every material baked for 1:1, 2:1, 4:1, 8:1,
 // 16:1 and --white none (8:1 conditions): bytes, passes, doublings, bake seconds, the held-out
-// PSNR on its own range's conditions and on the 16:1 range's (GL ES 1.1 emulated at the bake's
-// judge size, 128x128): DIR/light-range.json, .md and .png.
+// PSNR on its own range's conditions and on the 16:1 range's (GL ES 1.1 emulated at 128x128,
+// whatever size the bake judged at: "judge_size", "psnr_held_out_bake"), the in-sample figure
+// (the bake's, at its judge size): DIR/light-range.json, .md and .png.
 // With --rgb565, the 16-bit framebuffer instead (bake/devices.h): every material (--only: a
 // comma-separated list) baked twice, for the default profile (8888) and for gles1:mali400
 // (5/6/5), and drawn by llvmpipe on GL ES 1.1 into an RGB565 pbuffer at 512x512 in the
@@ -184,8 +185,14 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
                 seconds = seconds_since(t0);
                 cpu = cpu_seconds() - c0;
             }
-            sepal::ImageScore s16;
-            if (!baked || !sepal::encode_asset(r.asset, &bytes, &err) || !judge16.score(bytes, o.target, &s16, &err)) {
+            // The own range's held-out conditions at 128x128 whatever size the bake judged at
+            // (the fine judge's 256 would not compare across rows and ranges).
+            sepal::ImageScore s16, own_s;
+            std::vector<sepal::BakeView> own_views;
+            sepal::ImageJudge own_judge;
+            if (!baked || !sepal::encode_asset(r.asset, &bytes, &err) || !judge16.score(bytes, o.target, &s16, &err) ||
+                !sepal::condition_views(sepal::held_out_conditions(o.light_range), &own_views, &err) ||
+                !own_judge.init(*f, own_views, 128, threads, &err) || !own_judge.score(bytes, o.target, &own_s, &err)) {
                 std::fprintf(stderr, "bench: %s %s: %s\n", m.name, rg.name, err.c_str());
                 ++failures;
                 continue;
@@ -193,7 +200,7 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
             const sepal::BakeCandidate& w = r.candidates[size_t(r.winner)];
             const double worst = *std::min_element(s16.per_view.begin(), s16.per_view.end());
             std::printf("%-22s %5s %8zu %6d %4d %7.1f %8.2f %8.2f %8.2f %8.2f\n", m.name, rg.name, bytes.size(), w.passes,
-                        w.doublings, seconds, r.held_out_psnr, s16.psnr, worst, w.psnr);
+                        w.doublings, seconds, own_s.psnr, s16.psnr, worst, w.psnr);
             std::fflush(stdout);
             held16[size_t(ri)].push_back(s16.psnr);
             worst16[size_t(ri)].push_back(worst);
@@ -202,16 +209,17 @@ int ranges_main(const std::string& only, int threads, const std::string& out) {
             cpus[size_t(ri)].push_back(cpu);
             passes[size_t(ri)].push_back(w.passes);
             dbl[size_t(ri)].push_back(w.doublings);
-            own[size_t(ri)].push_back(r.held_out_psnr);
+            own[size_t(ri)].push_back(own_s.psnr);
             j.begin_object().key("material").value(m.name).key("range").value(rg.name).key("ratio").value(rg.ratio);
             j.key("white_level").value(r.white).key("bytes").value(int64_t(bytes.size())).key("passes").value(w.passes);
             j.key("doublings").value(w.doublings).key("bake_seconds").value(seconds).key("bake_cpu_seconds").value(cpu);
-            j.key("winner").value(w.label());
-            j.key("psnr_held_out").value(r.held_out_psnr).key("psnr_held_out_16").value(s16.psnr);
+            j.key("winner").value(w.label()).key("judge_size").value(r.judge_size);
+            j.key("psnr_held_out").value(own_s.psnr).key("psnr_held_out_bake").value(r.held_out_psnr);
+            j.key("psnr_held_out_16").value(s16.psnr);
             j.key("psnr_held_out_16_worst").value(worst).key("psnr_in_sample").value(w.psnr).end_object();
             char row[400];
             std::snprintf(row, sizeof row, "| %s | %s | %zu | %d | %d | %.1f (%.1f) | %.1f | %.1f | %.1f | %.1f |\n", m.name,
-                          rg.name, bytes.size(), w.passes, w.doublings, seconds, cpu, r.held_out_psnr, s16.psnr, worst, w.psnr);
+                          rg.name, bytes.size(), w.passes, w.doublings, seconds, cpu, own_s.psnr, s16.psnr, worst, w.psnr);
             md += row;
         }
     }
@@ -551,7 +559,8 @@ int main(int argc, char** argv) {
         j.key("psnr_gles1").value(p1).key("psnr_gles2").value(p2).key("psnr_cpu").value(pc);
         j.key("psnr_gles1_grazing").value(pg).key("psnr_exact_point").value(pe).key("psnr_judged").value(w.psnr);
         j.key("psnr_in_sample").value(w.psnr).key("psnr_held_out").value(ph).key("psnr_held_out_worst").value(worst);
-        j.key("psnr_held_out_bake").value(r.held_out_psnr).key("held_out").begin_array();
+        j.key("psnr_held_out_bake").value(r.held_out_psnr).key("judge_size").value(r.judge_size);
+        j.key("held_out").begin_array();
         for (size_t i = 0; i < held.size(); ++i)
             j.begin_object().key("name").value(held[i].name).key("psnr_gles1").value(held_psnr[i])
                 .key("share_over_16").value(held_share[i]).key("psnr_bake").value(r.held_out_psnr_views[i]).end_object();

@@ -10,6 +10,8 @@
 #include <tuple>
 
 #include "bake/bake.h"
+#include "bake/image_score.h"
+#include "bake/light_range.h"
 #include "brdf/brdf.h"
 #include "spec/spec.h"
 #include "test_util.h"
@@ -335,6 +337,7 @@ TEST_CASE("bake: gs-mirror takes a lobe about the mirror direction; a half-angle
         REQUIRE_MESSAGE(f, err);
         sepal::BakeOptions o;
         o.threads = 2;
+        o.fine_judge_texels = 0;  // both at 128 x 128: the parameterization's effect alone
         if (!mirror) o.params.erase(std::remove(o.params.begin(), o.params.end(), sepal::Param::GsMirror), o.params.end());
         sepal::BakeResult r;
         REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
@@ -356,4 +359,52 @@ TEST_CASE("bake: gs-mirror takes a lobe about the mirror direction; a half-angle
     MESSAGE("phong n=1000: " << w.label() << " " << w.psnr << " dB in training, " << with.held_out_psnr
                              << " held out; without gs-mirror " << v.label() << " " << v.psnr << " / "
                              << without.held_out_psnr << "; ward: " << h.label() << " " << h.psnr);
+}
+
+TEST_CASE("bake: a sharp factor of 128 texels has every candidate judged again at twice the size") {
+    // cook-torrance m=0.05: at 128 x 128 its 3-degree highlight is a few pixels and the
+    // 16/64 asset won; its 64-texel sharp factor draws the highlight's edge square at 512.
+    // Judged again at 256, a 128-texel one wins, and holds the held-out conditions better at
+    // one common size (256, where neither was chosen).
+    std::string err;
+    const std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("cook-torrance:m=0.05", &err);
+    REQUIRE_MESSAGE(f, err);
+    auto bake = [&](int fine_texels) {
+        sepal::BakeOptions o;
+        o.threads = 2;
+        o.fine_judge_texels = fine_texels;
+        sepal::BakeResult r;
+        REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
+        REQUIRE(r.winner >= 0);
+        return r;
+    };
+    const sepal::BakeResult fine = bake(128), plain = bake(0);
+    CHECK(fine.judge_size == 256);
+    CHECK(plain.judge_size == 128);
+    CHECK(std::any_of(fine.notes.begin(), fine.notes.end(),
+                      [](const std::string& n) { return n.rfind("judged at 256x256", 0) == 0; }));
+    CHECK(fine.held_out_flags.front().find("--size 256x256") != std::string::npos);
+    const sepal::BakeCandidate& w = fine.candidates[size_t(fine.winner)];
+    const sepal::BakeCandidate& p = plain.candidates[size_t(plain.winner)];
+    CHECK(std::max(w.res, w.res_h) == 128);
+    CHECK(std::max(p.res, p.res_h) < 128);
+    std::vector<sepal::BakeView> views;
+    REQUIRE_MESSAGE(sepal::condition_views(sepal::held_out_conditions(sepal::LightRange()), &views, &err), err);
+    sepal::ImageJudge judge;
+    REQUIRE_MESSAGE(judge.init(*f, views, 256, 2, &err), err);
+    auto held = [&](const sepal::BakeResult& r) {
+        std::vector<uint8_t> bytes;
+        REQUIRE_MESSAGE(sepal::encode_asset(r.asset, &bytes, &err), err);
+        sepal::ImageScore s;
+        REQUIRE_MESSAGE(judge.score(bytes, sepal::Target::Gles1, &s, &err), err);
+        return s;
+    };
+    const sepal::ImageScore a = held(fine), b = held(plain);
+    const double worst_a = *std::min_element(a.per_view.begin(), a.per_view.end());
+    const double worst_b = *std::min_element(b.per_view.begin(), b.per_view.end());
+    CHECK(a.psnr >= b.psnr + 1.0);
+    CHECK(worst_a >= worst_b + 1.0);
+    MESSAGE("cook-torrance m=0.05 held out at 256: " << w.label() << " " << a.psnr << " dB (worst " << worst_a
+                                                     << "); judged at 128 only, " << p.label() << " " << b.psnr
+                                                     << " (worst " << worst_b << ")");
 }
