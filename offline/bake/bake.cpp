@@ -692,8 +692,8 @@ bool fine_judge_needed(const std::vector<BakeCandidate>& candidates, const BakeO
     return false;
 }
 
-// Every candidate judged again at twice the judge's size when one needs it (above); sets
-// out->judge_size to the size the winner is chosen at.
+// The front-runners judged again at twice the judge's size when one needs it (above), the
+// rest unranked; sets out->judge_size to the size the winner is chosen at.
 bool fine_judge(const Brdf& brdf, const BakeOptions& o, const std::vector<BakeView>& views, Search& search,
                 BakeResult* out, std::string* err) {
     out->judge_size = o.judge_size;

@@ -75,11 +75,10 @@ int run_diff(const DiffArgs& args, const CommandIO& io) {
             return kExitBadInput;
         }
         std::fprintf(io.out, "sheet      %s (A | B | |B - A|, 0..%g levels", args.sheet.c_str(), args.sheet_scale);
-        const int side = std::min(a.width, a.height) / 8;
-        int wx = 0, wy = 0;
-        if (std::min(a.width, a.height) >= 64 && worst_window(a, b, side, &wx, &wy))
-            std::fprintf(io.out, "; under them the %dx%d window of the largest difference at x %d, y %d, %dx", side,
-                         side, wx, wy, std::min(a.width, a.height) / side);
+        SheetWindow win;
+        if (sheet_window(a, b, &win))
+            std::fprintf(io.out, "; under them the %dx%d window of the largest difference at x %d, y %d, %dx", win.side,
+                         win.side, win.x, win.y, win.zoom);
         std::fprintf(io.out, ")\n");
     }
     if (!written.commit(&err)) {

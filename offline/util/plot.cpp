@@ -350,6 +350,14 @@ bool worst_window(const Image& a, const Image& b, int side, int* x0, int* y0) {
     return best > 0;
 }
 
+bool sheet_window(const Image& a, const Image& b, SheetWindow* out) {
+    const int small = std::min(a.width, a.height);
+    if (small < 64) return false;
+    out->side = small / 8;
+    out->zoom = small / out->side;
+    return worst_window(a, b, out->side, &out->x, &out->y);
+}
+
 namespace {
 
 // A one-pixel outline just outside a window of a panel drawn at (px, py) on the sheet.
@@ -374,10 +382,9 @@ Image comparison_sheet(const Image& reference, const Image& test, const std::str
     const Image heat = diff_heatmap(a, b, full_scale);
     const int w = a.width, h = a.height, gap = 8, title = 24, bar = 14, ticks = 22;
     // The magnified row: a window an eighth of the smaller side, scaled up to fill it.
-    const int side = std::min(w, h) / 8;
-    int wx = 0, wy = 0;
-    const bool magnify = std::min(w, h) >= 64 && worst_window(a, b, side, &wx, &wy);
-    const int zoom = magnify ? std::min(w, h) / side : 0;
+    SheetWindow win;
+    const bool magnify = sheet_window(a, b, &win);
+    const int side = win.side, wx = win.x, wy = win.y, zoom = win.zoom;
     const int zoom_h = magnify ? title + side * zoom + gap : 0;
     Image out(3 * w + 4 * gap, title + h + gap + bar + ticks + zoom_h, 3);
     for (float& v : out.data) v = 1.0f;

@@ -67,6 +67,14 @@ glm::dvec3 plot_colour(int index);
 Image comparison_sheet(const Image& reference, const Image& test, const std::string& reference_title,
                        const std::string& test_title, double full_scale);
 
+// The sheet's magnified window (comparison_sheet): false when the images are equal or under
+// 64 pixels a side; else its side (an eighth of the smaller image side), its top-left corner
+// (worst_window) and the magnification that fills the panel.
+struct SheetWindow {
+    int side = 0, x = 0, y = 0, zoom = 0;
+};
+bool sheet_window(const Image& a, const Image& b, SheetWindow* out);
+
 // The side x side window of two same-size images with the largest sum of squared channel
 // differences (the first in row-major order on ties); false when they are equal or smaller
 // than the window.
