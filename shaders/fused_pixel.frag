@@ -21,6 +21,7 @@ uniform int u_terms;
 uniform vec3 u_ratio;  // per-channel multiplier (luminance materials)
 uniform float u_out_scale;
 uniform float u_factor_cosine;  // 1: factors of f (times cos); 0: radiance factors
+uniform float u_horizon;        // radiance factors' horizon window c0 (format 2.7); 0: none
 uniform vec3 u_diffuse;         // radiance materials' diffuse part (first group only)
 uniform sampler2D u_profile;    // its profile over (cos theta_i, cos theta_o), if u_profile_on
 uniform float u_profile_on;
@@ -136,7 +137,8 @@ void main() {
         vec3 profile = vec3(1.0);
         if (u_profile_on > 0.5)
             profile = texture2D(u_profile, (vec2(wi.z, wo.z) * (u_profile_side - 1.0) + 0.5) / u_profile_side).rgb;
-        sum += (max(f * u_ratio, 0.0) * mix(1.0, wi.z, u_factor_cosine) + u_diffuse * profile * wi.z) * falloff *
+        float window = u_horizon > 0.0 ? min(1.0, wi.z / u_horizon) : 1.0;
+        sum += (max(f * u_ratio, 0.0) * mix(window, wi.z, u_factor_cosine) + u_diffuse * profile * wi.z) * falloff *
                u_light_intensity[l];
     }
     gl_FragColor = vec4(sum * u_out_scale, 1.0);

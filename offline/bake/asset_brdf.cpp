@@ -8,9 +8,11 @@
 
 namespace sepal {
 
-std::string evaluation_formula(bool radiance, bool reciprocal, bool profile, bool capped) {
+std::string evaluation_formula(bool radiance, bool reciprocal, bool profile, bool capped, double horizon) {
+    char window[64] = "";
+    if (radiance && horizon > 0) std::snprintf(window, sizeof window, " min(1, cos(theta_i) / %.6g)", horizon);
     std::string sum = std::string("max(0, ratio_c sum_k G_k(x) H_k(y)") + (reciprocal ? " G_k(x~))" : ")") +
-                      (radiance ? "" : " cos(theta_i)") + " + diffuse_c cos(theta_i)" +
+                      (radiance ? window : " cos(theta_i)") + " + diffuse_c cos(theta_i)" +
                       (profile ? " profile_c(cos(theta_i), cos(theta_o))" : "");
     return capped ? "min(white_level, " + sum + ")" : sum;
 }
@@ -76,7 +78,7 @@ std::string AssetBrdf::info() const {
         std::snprintf(line, sizeof line, "white level        none (nothing capped)\n");
     s += line;
     const std::string sum = evaluation_formula(radiance, (m.flags & SEPAL_MATERIAL_RECIPROCAL) != 0,
-                                               asset_->diffuse_side > 0, m.white_level > 0);
+                                               asset_->diffuse_side > 0, m.white_level > 0, m.horizon);
     s += "evaluated as       f cos(theta_i) = " + sum + ", level 0 sampled bilinearly as the CPU backend does\n";
     return s;
 }

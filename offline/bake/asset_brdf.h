@@ -29,8 +29,9 @@
 
 namespace sepal {
 
-// The formula of f_c cos(theta_i) in these terms (for `sepal info` and the export's manifest).
-std::string evaluation_formula(bool radiance, bool reciprocal, bool profile, bool capped);
+// The formula of f_c cos(theta_i) in these terms (for `sepal info` and the export's manifest);
+// horizon: the radiance factors' horizon window c0 (0: none).
+std::string evaluation_formula(bool radiance, bool reciprocal, bool profile, bool capped, double horizon);
 
 class AssetBrdf : public Brdf {
   public:

@@ -143,13 +143,14 @@ bool asset_needs_version2(const AssetData& a) {
               !a.diffuse_profile.empty();
     for (const sepal_fmt_pass& p : a.passes) v2 = v2 || p.op == SEPAL_OP_DIFFUSE || p.op == SEPAL_OP_RECIPROCAL;
     v2 = v2 || m.param == SEPAL_PARAM_AXIS || m.param == SEPAL_PARAM_GS_MIRROR;  // 2.2, 2.6
-    return v2 || asset_has_light_range(a) || a.has_profile;  // 2.3, 2.4
+    return v2 || asset_has_light_range(a) || a.has_profile || m.horizon != 0.0f;  // 2.3, 2.4, 2.7
 }
 
 float diffuse_u16_value(uint16_t q) { return float(q) / 65535.0f; }
 
 uint16_t asset_minor_version(const AssetData& a) {
-    return a.material.param == SEPAL_PARAM_GS_MIRROR          ? SEPAL_FMT_VERSION_MINOR_MIRROR
+    return a.material.horizon > 0.0f                          ? SEPAL_FMT_VERSION_MINOR_HORIZON
+           : a.material.param == SEPAL_PARAM_GS_MIRROR        ? SEPAL_FMT_VERSION_MINOR_MIRROR
            : !a.diffuse_profile.empty()                       ? SEPAL_FMT_VERSION_MINOR_DIFFUSE16
            : a.has_profile                                    ? SEPAL_FMT_VERSION_MINOR_PROFILE
            : asset_has_light_range(a)                         ? SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE

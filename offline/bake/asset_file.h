@@ -40,7 +40,7 @@ struct AssetData {
 
 bool encode_asset(const AssetData& asset, std::vector<uint8_t>* out, std::string* err);
 // True when the asset uses a version-2 feature (radiance or reciprocal flag, diffuse part or
-// profile, DIFFUSE or RECIPROCAL pass, light range, device profile); encode_asset writes
+// profile, DIFFUSE or RECIPROCAL pass, light range, device profile, horizon window); encode_asset writes
 // version 1.0 otherwise.
 bool asset_needs_version2(const AssetData& asset);
 // True when the material's light range (2.3) is set: encode_asset then writes 2.3 and the

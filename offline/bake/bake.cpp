@@ -236,6 +236,7 @@ bool make_asset(const Factored& f, int terms, const QuantizeOptions& q, AssetDat
     }
     if (f.radiance) {
         a.material.flags = SEPAL_MATERIAL_RADIANCE;
+        a.material.horizon = float(f.horizon);
         for (int c = 0; c < 3; ++c) a.material.diffuse[c] = float(f.diffuse[c]);
         if (f.diffuse_side >= 2 && (f.diffuse.x > 0 || f.diffuse.y > 0 || f.diffuse.z > 0)) {
             a.diffuse_side = uint32_t(f.diffuse_side);
@@ -515,12 +516,23 @@ class Search {
             const double emax = range_irradiance_max(o_.light_range);
             fz.fo.value_weight = [emax](const glm::dvec3& v) { return display_weight(v, emax); };
         }
+        // Under the horizon window an error in the factors shows times w(cos theta_i): weighed
+        // by w^2, the fit minimizes the drawn error as it did without the window (a floor, as
+        // for entries below the horizon, keeps the band's entries in the solve).
+        if (!homomorphic && o_.radiance && out_->horizon > 0) {
+            const double c0 = out_->horizon;
+            fz.fo.confidence = [c0](const glm::dvec3& wi, const glm::dvec3&) {
+                const double w = std::min(1.0, std::max(0.0, wi.z) / c0);
+                return std::max(w * w, 0.01);
+            };
+        }
         fz.ok = factor_brdf(homomorphic ? plain_ : source_, fz.fo, &fz.result, &fz.err);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         fz.capped = capped_count_() - before;
         if (fz.ok && !homomorphic)
             for (Factored& f : fz.result.by_terms) {
                 f.radiance = o_.radiance;
+                f.horizon = out_->horizon;
                 f.diffuse = out_->diffuse.scale;
                 f.diffuse_side = out_->diffuse.side;
                 f.diffuse_profile = out_->diffuse.profile;
@@ -751,6 +763,8 @@ bool validate_options(const BakeOptions& o, const std::vector<Method>& methods, 
     if (o.judge_size < 8 || o.judge_size > kMaxJudgeSize ||
         (o.coarse_res > 0 && (o.coarse_size < 8 || o.coarse_size > kMaxJudgeSize)))
         return fail("judged images must be 8..2048 pixels per side");
+    if (!(o.horizon >= 0 && o.horizon <= 1))
+        return fail("--horizon " + std::to_string(o.horizon) + " outside 0..1 (a cosine; 0: none)");
     return true;
 }
 
@@ -1127,9 +1141,11 @@ bool bake(const Brdf& brdf, const BakeOptions& options, BakeResult* out, std::st
         else if (o.diffuse_side > 0) out->diffuse = estimate_diffuse_profile(base, o.diffuse_side, o.threads);
         else out->diffuse.scale = estimate_diffuse(base, o.diffuse_quantile, o.threads);
     }
+    out->horizon = o.radiance ? o.horizon : 0.0;
     RadianceTarget rt;
     rt.white = out->white;
     rt.diffuse = out->diffuse;
+    rt.horizon = out->horizon;
     const RadianceBrdf radiance(base, rt);
     const Brdf& source = o.radiance ? static_cast<const Brdf&>(radiance) : base;
     {

@@ -162,6 +162,14 @@ struct BakeOptions {
     // unless diffuse_given.
     bool radiance = true;
     double white = 0;
+    // The radiance fit's horizon window c0 (format 2.7, sepal_horizon_window; 0: none, the
+    // factors hold f cos(theta_i) down to the horizon and format 2.6 or older is written):
+    // the vertex colour, not the factors, takes the radiance to 0 at the horizon, so a lit
+    // crescent ends without the factors' step (entries weighed by w^2, the drawn error). In
+    // [0, 1]. Off by default: measured on the fidelity bench, 0.1 moves the fit's error
+    // into other views by +-2 dB and misranks cook-torrance (docs/fidelity.md, "The horizon
+    // window").
+    double horizon = 0;
     // The radiance fit's entry weights: Display weighs each value's error as a display shows
     // it across the light range (radiance.h, display_weight); Uniform counts every entry alike.
     enum class FitWeight { Display, Uniform };
@@ -260,6 +268,7 @@ struct BakeResult {
     std::string target_label;        // "gles1", or "gles1:PROFILE" when judged on a device profile
     std::vector<std::string> views;  // the judged (training) views' names
     double white = 0;                // the radiance fit's cap (0: none or not a radiance fit)
+    double horizon = 0;              // the radiance fit's horizon window c0 (0: none)
     double irradiance_min = 0;       // the dimmest light the asset holds for (the header's; 0: any)
     // The winner on the held-out conditions (BakeOptions::held_out): the headline figure.
     // psnr pooled over them; per condition its PSNR and the share of pixels more than 16

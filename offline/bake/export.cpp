@@ -24,6 +24,7 @@ struct ExportInfo {
     int diffuse_side = 0;
     const float* diffuse_profile = nullptr;  // side * side * 3, index (j * side + i) * 3 + c
     double white_level = 0;
+    double horizon = 0;  // the radiance factors' horizon window (format 2.7; 0: none)
     const sepal_fmt_material* range = nullptr;  // light range (format 2.3), when declared
 };
 
@@ -48,13 +49,15 @@ bool export_shading(const ExportInfo& info, const std::string& dir, Json* manife
         m["diffuse_profile"] = nullptr;
     }
     m["white_level"] = info.white_level > 0 ? Json(info.white_level) : Json(nullptr);
+    m["horizon"] = info.horizon > 0 ? Json(info.horizon) : Json(nullptr);
     if (info.range)
         m["light_range"] = {{"irradiance_min", double(info.range->irradiance_min)},
                             {"irradiance_max", double(info.range->irradiance_max)},
                             {"cone_degrees", double(info.range->cone_degrees)},
                             {"max_lights", int(info.range->max_lights)}};
     m["evaluation"] = "f_c cos(theta_i) = " +
-                      evaluation_formula(info.radiance, info.reciprocal, info.diffuse_side > 0, info.white_level > 0) +
+                      evaluation_formula(info.radiance, info.reciprocal, info.diffuse_side > 0, info.white_level > 0,
+                                         info.horizon) +
                       ", per channel c; G_k, H_k = scale * q + bias sampled bilinearly at the pair's coordinates "
                       "(param, map); `sepal eval ASSET` prints it";
     return true;
@@ -176,6 +179,7 @@ bool export_asset(const AssetData& a, const std::string& dir, std::string* err) 
         info.diffuse_profile = a.diffuse_profile.data();
     }
     info.white_level = a.material.white_level;
+    info.horizon = a.material.horizon;
     if (asset_has_light_range(a)) info.range = &a.material;
     return export_textures(a.textures, info, dir, err);
 }
@@ -190,6 +194,7 @@ bool export_factored(const Factored& f, const std::string& dir, std::string* err
     info.terms = f.term_count();
     info.ratio[0] = float(f.ratio.x), info.ratio[1] = float(f.ratio.y), info.ratio[2] = float(f.ratio.z);
     info.radiance = f.radiance;
+    info.horizon = f.radiance ? f.horizon : 0.0;
     info.reciprocal = f.form == Form::Reciprocal;
     for (int c = 0; c < 3; ++c) info.diffuse[c] = f.diffuse[c];
     if (f.diffuse_side > 0 && f.diffuse_profile.size() == size_t(f.diffuse_side) * f.diffuse_side * 3) {

@@ -109,10 +109,12 @@ glm::dvec3 RadianceBrdf::eval(const glm::dvec3& wi, const glm::dvec3& wo) const 
     const glm::dvec3 f = f_.eval(wi, wo);
     glm::dvec3 g;
     bool capped = false, floored = false;
+    // Divided by the horizon window: cos_i / w(cos_i) = max(cos_i, c0).
+    const double u = std::max(wi.z, t_.horizon);
     for (int c = 0; c < 3; ++c) {
-        double r = f[c] * wi.z;
+        double r = f[c] * u;
         if (t_.white > 0 && r > t_.white) r = t_.white, capped = true;
-        r -= t_.diffuse.eval(c, wi.z, wo.z) * wi.z;
+        r -= t_.diffuse.eval(c, wi.z, wo.z) * u;
         if (r < 0) r = 0, floored = true;
         g[c] = r;
     }

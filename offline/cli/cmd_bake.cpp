@@ -282,6 +282,10 @@ CommandRun setup_bake(CLI::App& app) {
     app.add_option("--white", a->white, "the radiance fit's cap: auto (from the light range's dimmest light), none, or "
                                         "f cos per steradian")
         ->capture_default_str();
+    app.add_option("--horizon", o.horizon,
+                   "the radiance fit's horizon window: below this cos(theta_i) the vertex colour, not the factors, "
+                   "takes the light to 0 at the horizon (format 2.7; 0: none, e.g. 0.1)")
+        ->check(finite_range(0, 1))->capture_default_str();
     // The lighting the asset must hold under (light_range.h): ranked on training conditions
     // drawn from it, reported on held-out ones; the white level follows from its dimmest light.
     app.add_option("--light-range", o.light_range.ratio,

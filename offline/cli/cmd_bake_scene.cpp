@@ -101,6 +101,11 @@ std::string scene_bake_key(const Brdf& brdf, const BakeOptions& o, const std::st
     desc += tail + views_key + range;
     for (const std::string& m : o.light_range.meshes) desc += m + ",";
     if (o.judge_size != BakeOptions().judge_size) desc += "|judge " + std::to_string(o.judge_size);
+    if (o.horizon != BakeOptions().horizon) {
+        char horizon[48];
+        std::snprintf(horizon, sizeof horizon, "|horizon %.9g", o.horizon);
+        desc += horizon;
+    }
     uint32_t crc = sepal_crc32(0, desc.data(), desc.size());
     crc = sepal_crc32(crc, measured.data(), measured.size());
     char key[16];

@@ -37,8 +37,12 @@ int run_inspect(const std::string& path, const CommandIO& io) {
                  : m.map == SEPAL_MAP_XY                                          ? "xy"
                                                                                   : "parabolic", m.color_mode == SEPAL_COLOR_PER_CHANNEL ? "rgb" : "luminance",
                  m.terms, double(m.ratio[0]), double(m.ratio[1]), double(m.ratio[2]));
+    char window[96] = "";
+    if (m.horizon > 0)  // format 2.7
+        std::snprintf(window, sizeof window, " over min(1, cos(theta_i) / %g) (the horizon window)", double(m.horizon));
     if (m.flags & SEPAL_MATERIAL_RADIANCE)
-        std::fprintf(io.out, "radiance    factors hold f cos(theta_i); diffuse part %g %g %g /sr%s\n", double(m.diffuse[0]),
+        std::fprintf(io.out, "radiance    factors hold f cos(theta_i)%s; diffuse part %g %g %g /sr%s\n", window,
+                     double(m.diffuse[0]),
                      double(m.diffuse[1]), double(m.diffuse[2]),
                      a->diffuse_profile ? (" times a " + std::to_string(a->diffuse_side) + "x" +
                                            std::to_string(a->diffuse_side) + " profile over the two cosines (" +

@@ -122,12 +122,13 @@ glm::dvec3 evaluate_radiance(const Factored& f, const glm::dvec3& wi, const glm:
     if (!(wi.z > 0) || !(wo.z > 0)) return glm::dvec3(0);
     const glm::dvec3 sum = evaluate(f, wi, wo, terms);
     if (!f.radiance) return sum * wi.z;
+    const double window = double(sepal_horizon_window(float(f.horizon), float(wi.z)));
     glm::dvec3 d = f.diffuse;
     if (f.diffuse_side >= 2)
         for (int c = 0; c < 3; ++c)
             d[c] *= double(sepal_diffuse_profile(f.diffuse_profile.data(), uint32_t(f.diffuse_side), SEPAL_FMT_DIFFUSE_RGB_F32, float(wi.z),
                                                  float(wo.z), c));
-    return sum + d * wi.z;
+    return sum * window + d * wi.z;
 }
 
 }  // namespace sepal

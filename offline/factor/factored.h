@@ -76,6 +76,9 @@ struct Factored {
     // factor_brdf never sets these; evaluate() returns the sum of the terms either way.
     bool radiance = false;
     glm::dvec3 diffuse{0, 0, 0};
+    // Radiance factors' horizon window c0 (sepal_horizon_window): the sum is multiplied by
+    // min(1, cos_i / c0). 0: none.
+    double horizon = 0;
     // Optional profile of the diffuse part over (cos theta_i, cos theta_o): side x side RGB
     // in [0,1], the format's DIFF chunk (sepal_diffuse_profile); side 0: constant.
     int diffuse_side = 0;

@@ -53,6 +53,11 @@ void diffuse_profile_rgb(const void* profile, uint32_t side, uint32_t layout, fl
 
 }  // namespace srt
 
+extern "C" float sepal_horizon_window(float horizon, float cos_i) {
+    if (!(cos_i > 0.0f)) return 0.0f;
+    return horizon > 0.0f && cos_i < horizon ? cos_i / horizon : 1.0f;
+}
+
 extern "C" float sepal_diffuse_profile(const void* profile, uint32_t side, uint32_t layout, float cos_i, float cos_o,
                                        int c) {
     float rgb[3];
@@ -299,6 +304,18 @@ sepal_result check_material(const sepal_fmt_header& h, sepal_asset* out, bool* r
                              (double)m.irradiance_min, (double)m.irradiance_max, (double)m.cone_degrees,
                              m.max_lights, SEPAL_MAX_LIGHTS);
         if (m.white_level == 0.0f && m.irradiance_min == 0.0f) meta_white_level(out->meta, out->meta_bytes, &m);
+    }
+    if (m.horizon != 0.0f) {
+        if (!(m.horizon > 0.0f && m.horizon <= 1.0f))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT, "asset: horizon window %g outside (0, 1] (0: none)",
+                             (double)m.horizon);
+        if (!(m.flags & SEPAL_MATERIAL_RADIANCE))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: a horizon window (%g) on a material that is not a radiance one", (double)m.horizon);
+        if (h.version_major < 2 || (h.version_major == 2 && h.version_minor < SEPAL_FMT_VERSION_MINOR_HORIZON))
+            return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,
+                             "asset: the horizon window needs version 2.7 (this file is %u.%u)", h.version_major,
+                             h.version_minor);
     }
     if (m.param >= SEPAL_PARAM_COUNT || m.map >= SEPAL_MAP_COUNT || m.color_mode >= SEPAL_COLOR_COUNT)
         return srt::fail(err, SEPAL_ERR_INVALID_ARGUMENT,

@@ -73,12 +73,13 @@ bool eval_pair(const sepal_asset& a, const AssetTerms& t, const float wi[3], con
     // A signed factorization can dip below 0 where f is near 0: clamp, as the fused shaders
     // do (a BRDF is never negative).
     if (f[0] < 0.0f || f[1] < 0.0f || f[2] < 0.0f) ++counts->negative_clamped;
-    // Radiance materials hold cos(theta_i) in their factors and add the diffuse part.
+    // Radiance materials hold cos(theta_i) in their factors (divided by the horizon window,
+    // format 2.7) and add the diffuse part.
     const bool radiance = (a.material.flags & SEPAL_MATERIAL_RADIANCE) != 0;
     float prof[3];
     diffuse_profile_rgb(a.diffuse_profile, a.diffuse_side, a.diffuse_layout, wi[2], wo[2], prof);
     for (int c = 0; c < 3; ++c)
-        f_cos[c] = (f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? 1.0f : wi[2]) + a.material.diffuse[c] * wi[2] * prof[c];
+        f_cos[c] = (f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? sepal_horizon_window(a.material.horizon, wi[2]) : wi[2]) + a.material.diffuse[c] * wi[2] * prof[c];
     return true;
 }
 

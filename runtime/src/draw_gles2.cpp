@@ -214,6 +214,7 @@ void fused_terms(const Frame& f, GLuint p, int first, int count) {
     if (p == m->program_fused_pixel) {
         const float zero[3] = {0, 0, 0};
         glUniform1f(loc(p, "u_factor_cosine"), (m->info.flags & SEPAL_MATERIAL_RADIANCE) ? 0.0f : 1.0f);
+        glUniform1f(loc(p, "u_horizon"), m->info.horizon);
         glUniform3fv(loc(p, "u_diffuse"), 1, first == 0 ? m->info.diffuse : zero);
         // The diffuse profile at (cos theta_i, cos theta_o), in the unit after the factors'.
         const int unit = 2 * m->fused_group;

@@ -397,7 +397,7 @@ void fill_pass_colors(const sepal_fmt_material& info, const sepal_fmt_pass& pass
     const uint32_t term = third ? in.material->texture_term[pass.tex0] : 0;
     for (int i = 0; i < n; ++i) {
         // Per channel: a luminance material's colour ratio is in the pass colour.
-        const float s = uses_cosine ? scale * in.cosine[i] : scale;
+        const float s = uses_cosine ? scale * in.cosine[i] : scale * sepal_horizon_window(info.horizon, in.cosine[i]);
         float prof[3] = {1.0f, 1.0f, 1.0f};
         if (profile) diffuse_profile_rgb(in.profile, in.profile_side, SEPAL_FMT_DIFFUSE_RGB_F32, in.cosine[i], in.view_cosine[i], prof);
         for (int k = 0; k < 3; ++k) {

@@ -11,9 +11,9 @@
 //
 // Limits: a little-endian host; files up to SEPAL_FMT_MAX_FILE_BYTES. No allocation.
 //
-// Thread safety: sepal_asset_parse, sepal_asset_eval, sepal_diffuse_profile, sepal_param_texcoords(_pixel) and
-// sepal_crc32 keep no state: any threads may call them at once (sepal_asset_parse on distinct
-// outputs). A parsed sepal_asset is only read afterwards and may be shared between threads
+// Thread safety: sepal_asset_parse, sepal_asset_eval, sepal_diffuse_profile,
+// sepal_horizon_window, sepal_param_texcoords(_pixel) and sepal_crc32 keep no state: any
+// threads may call them at once (sepal_asset_parse on distinct outputs). A parsed sepal_asset is only read afterwards and may be shared between threads
 // (and materials) while its bytes stay alive.
 #pragma once
 #include <stddef.h>
@@ -61,6 +61,11 @@ typedef struct sepal_asset {
 // (sepal_fmt_diffuse_layout; any alignment), e.g. an asset's diffuse_profile, diffuse_side
 // and diffuse_layout.
 float sepal_diffuse_profile(const void* profile, uint32_t side, uint32_t layout, float cos_i, float cos_o, int c);
+
+// The horizon window of a radiance material (format 2.7; sepal_fmt_material.horizon = c0):
+// min(1, cos_i / c0) for cos_i > 0, 0 at and below the horizon; 1 above it when c0 is 0 (no
+// window). What a light's irradiance E is multiplied by before the factors' sum.
+float sepal_horizon_window(float horizon, float cos_i);
 
 // Validates everything (sizes, bounds, checksums, enums, cross references) and fills
 // out. Any failure returns a code and a message naming the problem; out is then

@@ -72,6 +72,15 @@
 // Gram-Schmidt frame about the mirror direction of wi instead of h, per vertex like
 // gs-half). Writers write 2.6 only for gs-mirror assets; older readers refuse them at the
 // unknown parameterization.
+// Version 2.7 adds the horizon window of radiance materials (sepal_fmt_material.horizon,
+// c0 in (0, 1]): the factors hold g / w(cos theta_i) with w(c) = min(1, c / c0), and the
+// vertex colour carries E w(cos theta_i) instead of E, so a light contributes
+//   E w(cos theta_i) (sum_k G_k H_k) + E cos(theta_i) diffuse.
+// Why: f cos(theta_i) falls to 0 at the horizon, a step no product of two textures makes
+// (their value at the last texels before it is what a lit crescent ends on), while w is
+// per vertex and exact; over cos(theta_i) < c0 the factors hold f c0, bounded and smooth.
+// Writers write 2.7 only for assets with a window; a 2.6 reader refuses them (the word was
+// reserved, 0), and an asset without one means what it meant.
 //
 // Data only: constants, enums and the file's structs. The reader (sepal_asset_parse), the
 // texture coordinates of the parameterizations and the checksum are in sepal_asset.h.
@@ -87,16 +96,18 @@ extern "C" {
 #define SEPAL_FMT_MAGIC "SEPALBRD"
 // The newest version this header reads and writes; readers also take major 1.
 #define SEPAL_FMT_VERSION_MAJOR 2
-#define SEPAL_FMT_VERSION_MINOR 6
+#define SEPAL_FMT_VERSION_MINOR 7
 // The minor version that introduced reciprocal materials (2.1), the axis parameterization
-// (2.2), the light range (2.3), the device profile (2.4), the 16-bit diffuse profile (2.5)
-// and the gs-mirror parameterization (2.6); other version-2 assets are 2.0.
+// (2.2), the light range (2.3), the device profile (2.4), the 16-bit diffuse profile (2.5),
+// the gs-mirror parameterization (2.6) and the horizon window (2.7); other version-2
+// assets are 2.0.
 #define SEPAL_FMT_VERSION_MINOR_RECIPROCAL 1
 #define SEPAL_FMT_VERSION_MINOR_AXIS 2
 #define SEPAL_FMT_VERSION_MINOR_LIGHT_RANGE 3
 #define SEPAL_FMT_VERSION_MINOR_PROFILE 4
 #define SEPAL_FMT_VERSION_MINOR_DIFFUSE16 5
 #define SEPAL_FMT_VERSION_MINOR_MIRROR 6
+#define SEPAL_FMT_VERSION_MINOR_HORIZON 7
 // The MATL chunk's size before 2.3 (the material up to and including diffuse).
 #define SEPAL_FMT_MATERIAL_BYTES_V2 64u
 #define SEPAL_FMT_VERSION_MAJOR_OLDEST 1
@@ -228,7 +239,10 @@ typedef struct sepal_fmt_material {
     float irradiance_max;  // the brightest light the bake judged it under; >= irradiance_min
     float cone_degrees;    // light directions within this of the scene's up (90: any above the horizon), 0..180
     uint32_t max_lights;   // lights at once it was judged under, 0..SEPAL_MAX_LIGHTS (0: undeclared)
-    uint32_t reserved1[3]; // 0
+    // Version 2.7 (0 before): the horizon window's c0 (see the top), 0 (none) or in (0, 1];
+    // radiance materials only.
+    float horizon;
+    uint32_t reserved1[2]; // 0
 } sepal_fmt_material;
 
 // sepal_fmt_material.flags
