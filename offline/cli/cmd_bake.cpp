@@ -159,6 +159,8 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
         j["target"] = target_name(r.target);
         j["profile"] = o.profile.empty() ? "default" : o.profile;
         j["white_level"] = r.white;
+        j["horizon"] = r.horizon;
+        j["judge_size"] = r.judge_size;
         j["colour"] = colour_name(r.colour);
         j["colour_residual"] = r.colour_residual;
         j["diffuse"] = {r.diffuse.scale.x, r.diffuse.scale.y, r.diffuse.scale.z};
@@ -209,6 +211,7 @@ int run_bake(BakeArgs& args, const CommandIO& io) {
             x["bytes"] = c.bytes;
             x["ms_predicted"] = c.ms;
             x["on_front"] = c.on_front;
+            x["unranked"] = c.unranked;
             x["factor_seconds"] = c.factor_seconds;
             x["meets"] = c.meets;
             j["candidates"].push_back(std::move(x));

@@ -194,6 +194,11 @@ TEST_CASE("sepal bake, sepal inspect: the command line, the export and refusals"
     CHECK(manifest.good());
     std::ifstream report(dir + "/b.json");
     CHECK(report.good());
+    const std::string text((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+    // What the winner was judged at and what its factors hold, beside the candidates.
+    CHECK(text.find("\"judge_size\": 128") != std::string::npos);
+    CHECK(text.find("\"horizon\": 0.0") != std::string::npos);
+    CHECK(text.find("\"unranked\": false") != std::string::npos);
     // Bad usage and impossible budgets: exit 2, no output file.
     CHECK(sepal_test::run(sepal + " bake 'blinn:n=20' --res 24 -o " + dir + "/x.sepal", &out) == 2);
     CHECK(out.find("power of two") != std::string::npos);
