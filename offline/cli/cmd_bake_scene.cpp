@@ -8,7 +8,8 @@
 //      "bits": 8, "cap": 2},
 //     {"name": "paint", "spec": "cornell/garnet_red.brdf"}]}
 // Only "name" and "spec" are required; the rest default as in `sepal bake`, plus "target"
-// ("gles1", "gles2", "cpu"), "min_psnr" (dB) and "white" (a number, "auto" or "none").
+// ("gles1", "gles2", "cpu"), "min_psnr" (dB), "white" (a number, "auto" or "none") and
+// "horizon" (the horizon window, 0..1: --horizon).
 // Optional top-level "views": the scene's views the bake judges candidates by (and takes its
 // white level from) instead of the default scene and its grazing twin, each a name and
 // scene flags as `sepal render` takes them:
@@ -154,7 +155,7 @@ bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* e
     std::string& perr = *err;
     static const char* const kKnown[] = {"name",       "spec",      "param", "map",  "method", "res",
                                          "terms",      "max_error", "max_passes", "max_bytes", "bits", "cap",
-                                         "target",     "white",     "min_psnr", "lights"};
+                                         "target",     "white",     "min_psnr", "lights", "horizon"};
     bool ok = true;
     for (const auto& member : mat.items()) {
         bool known = false;
@@ -162,11 +163,11 @@ bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* e
         if (!known && ok) {
             ok = false;
             perr = f.where + ": unknown key \"" + member.key() + "\" (known: name, spec, param, map, method, "
-                   "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr, lights)";
+                   "res, terms, max_error, max_passes, max_bytes, bits, cap, target, white, min_psnr, lights, horizon)";
         }
     }
     int bits = 8;
-    ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, axis, rusinkiewicz, elev-azim"), &o.params, &perr) &&
+    ok = ok && list<Param>(f, "param", named(parse_param, "gs-half, iv, vh, axis, gs-mirror, rusinkiewicz, elev-azim"), &o.params, &perr) &&
          list<HemiMap>(f, "map", named(parse_map, "xy, parabolic"), &o.maps, &perr) &&
          list<Method>(f, "method", named(parse_method, "acls, wsvd, svd, nmf, nd"), &o.methods, &perr) &&
          list<int>(f, "res", int_item, &o.resolutions, &perr) && list<int>(f, "terms", int_item, &o.terms, &perr) &&
@@ -174,7 +175,8 @@ bool scene_material_options(const JsonField& f, BakeOptions* out, std::string* e
          json_int(f, "max_passes", 1, 1 << 20, &o.max_passes, &perr) &&
          json_int(f, "max_bytes", int64_t(1), int64_t(1) << 40, &o.max_bytes, &perr) &&
          json_int(f, "bits", 8, 16, &bits, &perr) && json_number(f, "cap", 1e-12, 1e30, &o.cap, &perr) &&
-         json_number(f, "min_psnr", 1e-3, 1e3, &o.min_psnr, &perr);
+         json_number(f, "min_psnr", 1e-3, 1e3, &o.min_psnr, &perr) &&
+         json_number(f, "horizon", 0, 1, &o.horizon, &perr);
     std::string target, white;
     if (ok && json_string(f, "target", &target, &perr) && !target.empty() && !parse_target(target, &o.target))
         ok = false, perr = f.where + ".target: \"" + target + "\" is not one of gles1, gles2, cpu";

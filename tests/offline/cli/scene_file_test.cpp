@@ -5,7 +5,10 @@
 #include <cmath>
 #include <fstream>
 
+#include "brdf/brdf.h"
+#include "cli/bake_scene.h"
 #include "cli/scene_file.h"
+#include "spec/spec.h"
 #include "test_util.h"
 #include "util/json.h"
 
@@ -132,6 +135,7 @@ TEST_CASE("scene file: bad input is refused with the JSON path") {
         {"far before near", [](sepal::Json& j) { j["camera"]["near"] = 5, j["camera"]["far"] = 1; }, "far must be beyond near"},
         {"material option", [](sepal::Json& j) { j["materials"][0]["res"] = "big"; }, "materials[0].res"},
         {"material key", [](sepal::Json& j) { j["materials"][0]["colour"] = 1; }, "materials[0]: unknown key \"colour\""},
+        {"material horizon", [](sepal::Json& j) { j["materials"][0]["horizon"] = 1.5; }, "materials[0].horizon"},
         {"material name twice", [](sepal::Json& j) { j["materials"].push_back(j["materials"][0]); },
          "materials[1].name: \"m\" is used twice"},
         {"measured file missing", [](sepal::Json& j) { j["materials"][0]["spec"] = "absent.brdf"; }, "materials[0].spec"},
@@ -174,4 +178,24 @@ TEST_CASE("render --scene: flags that do not apply are refused") {
     CHECK(text.find("or --scene FILE") != std::string::npos);
     CHECK(sepal_test::run_cmd("render", {"cook-torrance", "--time", "2", "-o", out}, &text) == 2);
     CHECK(text.find("--time, --cache and --export apply with --scene") != std::string::npos);
+}
+
+TEST_CASE("scene file: a material's horizon window reaches its bake and its bake key") {
+    std::string err;
+    std::unique_ptr<sepal::Brdf> f = sepal::make_brdf("cook-torrance", &err);
+    REQUIRE_MESSAGE(f, err);
+    const sepal::Json plain = {{"name", "m"}, {"spec", "cook-torrance"}};
+    sepal::Json windowed = plain, zero = plain;
+    windowed["horizon"] = 0.1;
+    zero["horizon"] = 0;
+    sepal::BakeOptions a, b, c;
+    REQUIRE(sepal::scene_material_options({plain, "materials[0]"}, &a, &err));
+    REQUIRE(sepal::scene_material_options({windowed, "materials[0]"}, &b, &err));
+    REQUIRE(sepal::scene_material_options({zero, "materials[0]"}, &c, &err));
+    CHECK(a.horizon == 0.0);
+    CHECK(b.horizon == 0.1);
+    // Another window is another asset; none (0, the default) keeps the key assets already hold.
+    const std::string ka = sepal::scene_bake_key(*f, a, "", {}), kb = sepal::scene_bake_key(*f, b, "", {});
+    CHECK(ka != kb);
+    CHECK(sepal::scene_bake_key(*f, c, "", {}) == ka);
 }
