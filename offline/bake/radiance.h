@@ -46,8 +46,8 @@ struct RadianceTarget {
     double white = 0;      // cap on f cos(theta_i), per steradian; <= 0: none
     DiffusePart diffuse;   // subtracted times cos(theta_i)
     // The horizon window's c0 (format 2.7, sepal_horizon_window): below it the factors hold
-    // f c0 where f cos(theta_i) falls to 0 at the horizon, and the vertex colour carries
-    // cos(theta_i) / c0. 0: none.
+    // f c0 where f cos(theta_i) falls to 0 at the horizon, and the backends multiply the
+    // light by cos(theta_i) / c0. 0: none.
     double horizon = 0;
 };
 
@@ -74,8 +74,9 @@ DiffusePart estimate_diffuse_profile(const Brdf& f, int side = 16, int threads =
 // or back light shows (measured: docs/fidelity.md, "The fit's weights").
 double display_weight(const glm::dvec3& value, double irradiance_max);
 
-// g(wi, wo) = max(0, min(f u, white) - diffuse u) per channel, u = max(cos_i, horizon) (the
-// radiance a light shows divided by its horizon window), the function the bake factors; counts how many evaluations the cap and the floor at 0 changed (thread-safe).
+// g(wi, wo) = max(0, min(f u, white) - diffuse u) per channel, u = max(cos_i, horizon) (what
+// a light shows over its horizon window; cos_i without one), the function the bake factors;
+// counts how many evaluations the cap and the floor at 0 changed (thread-safe).
 class RadianceBrdf : public Brdf {
   public:
     RadianceBrdf(const Brdf& f, const RadianceTarget& t) : f_(f), t_(t) {}

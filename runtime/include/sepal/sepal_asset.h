@@ -13,8 +13,9 @@
 //
 // Thread safety: sepal_asset_parse, sepal_asset_eval, sepal_diffuse_profile,
 // sepal_horizon_window, sepal_param_texcoords(_pixel) and sepal_crc32 keep no state: any
-// threads may call them at once (sepal_asset_parse on distinct outputs). A parsed sepal_asset is only read afterwards and may be shared between threads
-// (and materials) while its bytes stay alive.
+// threads may call them at once (sepal_asset_parse on distinct outputs). A parsed
+// sepal_asset is only read afterwards and may be shared between threads (and materials)
+// while its bytes stay alive.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

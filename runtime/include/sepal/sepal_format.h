@@ -74,11 +74,12 @@
 // unknown parameterization.
 // Version 2.7 adds the horizon window of radiance materials (sepal_fmt_material.horizon,
 // c0 in (0, 1]): the factors hold g / w(cos theta_i) with w(c) = min(1, c / c0), and the
-// vertex colour carries E w(cos theta_i) instead of E, so a light contributes
+// backends multiply E by w (the multipass ones in the vertex colour, per vertex), so a
+// light contributes
 //   E w(cos theta_i) (sum_k G_k H_k) + E cos(theta_i) diffuse.
-// Why: f cos(theta_i) falls to 0 at the horizon, a step no product of two textures makes
-// (their value at the last texels before it is what a lit crescent ends on), while w is
-// per vertex and exact; over cos(theta_i) < c0 the factors hold f c0, bounded and smooth.
+// Why: f cos(theta_i) falls to 0 at the horizon, a fall no product of two textures makes
+// (their last texels are what a lit crescent ends on), while w is computed from the light
+// itself; over cos(theta_i) < c0 the factors hold f c0, bounded and smooth.
 // Writers write 2.7 only for assets with a window; a 2.6 reader refuses them (the word was
 // reserved, 0), and an asset without one means what it meant.
 //
