@@ -21,6 +21,7 @@
 #include "bake/quantize.h"
 #include "bake/radiance.h"
 #include "util/parallel.h"
+#include "sepal/sepal_asset.h"
 
 namespace sepal {
 namespace {
@@ -160,6 +161,13 @@ double BakeCandidate::worst_view() const {
     return psnr_views.empty() ? psnr : *std::min_element(psnr_views.begin(), psnr_views.end());
 }
 
+// A candidate the winner and the fine judge weigh: encoded, past the coarse stage and within the budgets
+// that do not read the image (bytes, passes).
+bool rankable(const BakeCandidate& c, const BakeOptions& o) {
+    return c.ok && !c.coarse && (o.max_passes < 0 || c.passes <= o.max_passes) &&
+           (o.max_bytes < 0 || c.bytes <= o.max_bytes);
+}
+
 int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) {
     // The image figure less bytes_db per doubling of the asset's bytes.
     auto worth = [&o](const BakeCandidate& c) { return c.psnr - o.bytes_db * std::log2(double(std::max<int64_t>(c.bytes, 1))); };
@@ -169,9 +177,8 @@ int choose_winner(std::vector<BakeCandidate>* candidates, const BakeOptions& o) 
     auto holds = [&o](const BakeCandidate& c) { return o.goal_worst_db <= 0 || c.worst_view() >= o.goal_worst_db; };
     bool any_holds = false;
     for (BakeCandidate& c : *candidates) {
-        c.meets = c.ok && !c.coarse && !c.unranked && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
-                  (o.min_psnr < 0 || c.psnr >= o.min_psnr) && (o.max_passes < 0 || c.passes <= o.max_passes) &&
-                  (o.max_bytes < 0 || c.bytes <= o.max_bytes);
+        c.meets = rankable(c, o) && !c.unranked && (o.max_error < 0 || c.error_quantized <= o.max_error) &&
+                  (o.min_psnr < 0 || c.psnr >= o.min_psnr);
         any_holds = any_holds || (c.meets && holds(c));
     }
     auto eligible = [&](const BakeCandidate& c) { return c.meets && (budgeted(o) || !any_holds || holds(c)); };
@@ -439,13 +446,6 @@ void stamp_light_range(const BakeOptions& o, const BakeResult& r, AssetData* a) 
     m.max_lights = uint32_t(o.light_range.max_lights);
 }
 
-// A candidate the fine judge weighs: encoded, past the coarse stage and within the budgets
-// that do not read the image (bytes, passes).
-bool rankable(const BakeCandidate& c, const BakeOptions& o) {
-    return c.ok && !c.coarse && (o.max_passes < 0 || c.passes <= o.max_passes) &&
-           (o.max_bytes < 0 || c.bytes <= o.max_bytes);
-}
-
 class Search {
   public:
     // source: what the factors see; plain: f itself (capped at --cap), what homomorphic
@@ -522,7 +522,7 @@ class Search {
         if (!homomorphic && o_.radiance && out_->horizon > 0) {
             const double c0 = out_->horizon;
             fz.fo.confidence = [c0](const glm::dvec3& wi, const glm::dvec3&) {
-                const double w = std::min(1.0, std::max(0.0, wi.z) / c0);
+                const double w = sepal_horizon_window(float(c0), float(wi.z));
                 return std::max(w * w, 0.01);
             };
         }

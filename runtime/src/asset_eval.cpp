@@ -78,8 +78,9 @@ bool eval_pair(const sepal_asset& a, const AssetTerms& t, const float wi[3], con
     const bool radiance = (a.material.flags & SEPAL_MATERIAL_RADIANCE) != 0;
     float prof[3];
     diffuse_profile_rgb(a.diffuse_profile, a.diffuse_side, a.diffuse_layout, wi[2], wo[2], prof);
+    const float factor_weight = radiance ? sepal_horizon_window(a.material.horizon, wi[2]) : wi[2];
     for (int c = 0; c < 3; ++c)
-        f_cos[c] = (f[c] > 0.0f ? f[c] : 0.0f) * (radiance ? sepal_horizon_window(a.material.horizon, wi[2]) : wi[2]) + a.material.diffuse[c] * wi[2] * prof[c];
+        f_cos[c] = (f[c] > 0.0f ? f[c] : 0.0f) * factor_weight + a.material.diffuse[c] * wi[2] * prof[c];
     return true;
 }
 

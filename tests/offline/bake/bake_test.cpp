@@ -424,20 +424,19 @@ TEST_CASE("bake: the coarse stage sends three pairs of a family on (MERL blue-me
     sepal::BakeOptions o;
     CHECK(o.keep == 3);
     o.held_out = false;
+    auto refined_gs_half = [&](const sepal::BakeResult& r) {
+        return std::count_if(r.candidates.begin(), r.candidates.end(), [](const sepal::BakeCandidate& c) {
+            return c.ok && !c.coarse && c.param == sepal::Param::GsHalf;
+        });
+    };
     sepal::BakeResult r;
     REQUIRE_MESSAGE(sepal::bake(*f, o, &r, &err), err);
-    int refined_gs_half = 0;
-    for (const sepal::BakeCandidate& c : r.candidates)
-        refined_gs_half += c.ok && !c.coarse && c.param == sepal::Param::GsHalf;
-    CHECK(refined_gs_half > 0);
+    CHECK(refined_gs_half(r) > 0);
     REQUIRE(r.winner >= 0);
     CHECK(r.candidates[size_t(r.winner)].param == sepal::Param::GsHalf);
     // With two, as before: gs-half stays at the coarse stage.
     o.keep = 2;
     sepal::BakeResult two;
     REQUIRE_MESSAGE(sepal::bake(*f, o, &two, &err), err);
-    int refined_two = 0;
-    for (const sepal::BakeCandidate& c : two.candidates)
-        refined_two += c.ok && !c.coarse && c.param == sepal::Param::GsHalf;
-    CHECK(refined_two == 0);
+    CHECK(refined_gs_half(two) == 0);
 }
