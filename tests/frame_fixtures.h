@@ -100,11 +100,13 @@ struct Gl {
     std::vector<std::unique_ptr<sepal_asset>> assets;
     std::vector<std::unique_ptr<sepal_material>> materials;
 
-    explicit Gl(int version) {
+    // framebuffer: 0 (RGBA8) or 565 (RGB565, sepal_headless_desc.framebuffer).
+    explicit Gl(int version, int framebuffer = 0) {
         sepal_headless_desc hd = {};
         hd.width = kWidth;
         hd.height = kHeight;
         hd.gles_version = version;
+        hd.framebuffer = framebuffer;
         char msg[512];
         ctx = sepal_headless_create(&hd, msg, sizeof msg);
         REQUIRE_MESSAGE(ctx, msg);

@@ -370,6 +370,9 @@ void write_accumulated(Frame& f) {
     glTexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, 1);
     f.env[1].valid = false;
     draw_mesh(f);
+    // bind_screen_texture's matrix is unit 0's: left there, the frame's next object would
+    // read its factors through it.
+    glActiveTexture(GL_TEXTURE0);
     reset_texture_matrix();
     bind_unit(GL_TEXTURE1, 0, nullptr);
 }

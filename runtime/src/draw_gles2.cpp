@@ -36,6 +36,9 @@ const char kFusedPixelVert[] =
 const char kFusedPixelFrag[] =
 #include "shaders/fused_pixel.frag.inc"
     ;
+const char kAccumulatedFrag[] =
+#include "shaders/accumulated.frag.inc"
+    ;
 
 const char* const kPassAttribs[] = {"a_position", "a_color", "a_uv0", "a_uv1", "a_uvm", nullptr};
 const char* const kFullscreenAttribs[] = {"a_position", "a_uv", nullptr};
@@ -387,6 +390,55 @@ sepal_result create_gles2_programs(srt::Material* m, sepal_error* err) {
     return ok(err);
 }
 
+// The 8-bit target of srt::accumulates on GL ES 2 (core framebuffer objects), and the
+// program that writes it. Where the context cannot make it (a size over its limit, an
+// incomplete framebuffer, a shader that does not build) the material keeps the per-pass
+// path: what it drew before.
+void create_gles2_accumulator(srt::Material* m) {
+    int w = 1, h = 1;
+    while (w < m->max_width) w *= 2;
+    while (h < m->max_height) h *= 2;
+    if (w > m->caps.max_texture_size || h > m->caps.max_texture_size) return;
+    m->program_accumulated = build("accumulated", kPassVert, kAccumulatedFrag, kPassAttribs, 0, nullptr);
+    if (!m->program_accumulated) return;
+    GLint bound = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+    glGenTextures(1, &m->acc_color);
+    glBindTexture(GL_TEXTURE_2D, m->acc_color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    // Nearest: the write reads each pixel's own texel.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenRenderbuffers(1, &m->acc_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, m->acc_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT16, w, h);
+    glGenFramebuffers(1, &m->acc_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m->acc_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m->acc_color, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m->acc_depth);
+    const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)bound);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    if (!complete) {
+        destroy_gles2_accumulator(m);
+        return;
+    }
+    m->acc_width = w;
+    m->acc_height = h;
+}
+
+void destroy_gles2_accumulator(srt::Material* m) {
+    if (m->acc_fbo) glDeleteFramebuffers(1, &m->acc_fbo);
+    if (m->acc_depth) glDeleteRenderbuffers(1, &m->acc_depth);
+    if (m->acc_color) glDeleteTextures(1, &m->acc_color);
+    if (m->program_accumulated) glDeleteProgram(m->program_accumulated);
+    m->acc_fbo = m->acc_depth = m->acc_color = m->program_accumulated = 0;
+    m->acc_width = m->acc_height = 0;
+}
+
 void destroy_gles2_programs(srt::Material* m) {
     if (m->diffuse_texture) glDeleteTextures(1, &m->diffuse_texture);
     m->diffuse_texture = 0;
@@ -402,7 +454,63 @@ void destroy_gles2_programs(srt::Material* m) {
     m->program_fused_vertex = m->program_fused_pixel = 0;
 }
 
+sepal_result draw_object(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err,
+                         float mvp[16]);
+
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err) {
+    const srt::Material* m = srt::material(d->material);
+    float mvp[16];
+    if (!m->acc_fbo) return draw_object(d, prep, stats, err, mvp);
+    // Framebuffers with fewer bits: the object's passes go to the 8-bit target, at the same
+    // size and with the same matrices; then one write to the framebuffer bound now (the
+    // GL ES 1.1 executor does the same: draw_gles1.cpp).
+    GLint bound = 0, viewport[4];
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    // The engine's scissor box is in its framebuffer's coordinates: off in the target, back on
+    // for the write.
+    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, m->acc_fbo);
+    glViewport(0, 0, viewport[2], viewport[3]);
+    glDisable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const sepal_result r = draw_object(d, prep, stats, err, mvp);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)bound);
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+    if (r != SEPAL_OK) return r;
+    // The object's mesh at depth LESS, as the first pass lays it, so that what the engine drew
+    // in front still hides it; replaces what the pixel held, as the first pass did.
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+    const GLuint p = m->program_accumulated;
+    glUseProgram(p);
+    glUniformMatrix4fv(loc(p, "u_mvp"), 1, GL_FALSE, mvp);
+    glUniform1i(loc(p, "u_sum"), 0);
+    glUniform2f(loc(p, "u_origin"), (float)viewport[0], (float)viewport[1]);
+    glUniform2f(loc(p, "u_inv_size"), 1.0f / (float)m->acc_width, 1.0f / (float)m->acc_height);
+    const int bits[3] = {m->caps.red_bits, m->caps.green_bits, m->caps.blue_bits};
+    float scale[3], bias[3];
+    for (int c = 0; c < 3; ++c) scale[c] = write_scale(bits[c]), bias[c] = write_bias(bits[c]);
+    glUniform3fv(loc(p, "u_scale"), 1, scale);
+    glUniform3fv(loc(p, "u_bias"), 1, bias);
+    bind_texture(GL_TEXTURE0, m->acc_color);
+    const MeshView& mesh = prep.mesh;
+    attribs(1);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, (GLsizei)mesh.stride[MeshView::kPosition], mesh.position(0));
+    for_each_drawable_run(mesh, prep.vertices.bad_vertices, [&mesh](int first, int count) {
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_SHORT, mesh.indices + first);
+    });
+    ++stats->draw_calls;  // a mesh pass, as on GL ES 1.1
+    return gl_check("the accumulated sum's write", err);
+}
+
+sepal_result draw_object(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err,
+                         float mvp[16]) {
     const srt::Material* m = srt::material(d->material);
     if (d->mode == SEPAL_MODE_FUSED_VERTEX || d->mode == SEPAL_MODE_MULTIPASS) {
         if (!param_per_vertex((sepal_param)m->info.param))
@@ -415,6 +523,7 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     Frame f = {m, d, &prep.mesh, d->scratch, {}, prep.exposure, stats, prep.vertices.bad_vertices,
                prep.vertices.fallback_tangents > 0, prep.diffuse_per_pass, false};
     mat4_mul(prep.proj, prep.view, f.mvp);
+    memcpy(mvp, f.mvp, sizeof f.mvp);
     // The frame's begin set what every object shares (gles2_frame_begin); the depth set-up
     // of this object here.
     glEnable(GL_DEPTH_TEST);

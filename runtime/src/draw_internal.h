@@ -27,26 +27,28 @@ struct FramePrep {
     bool diffuse_per_pass;
 };
 
-// GL ES 1.1's multipass path on a framebuffer with fewer than 8 bits in some channel
-// (RGB565): it sums the passes in an 8-bit target (GL_OES_framebuffer_object) and writes the
-// sum to the framebuffer once, rounded to its bits, instead of rounding every pass and
-// doubling the rounding (docs/ports.md, "Framebuffer bits"). The emulator decides the same way.
+// On a framebuffer with fewer than 8 bits in some channel (RGB565), the GL paths sum an
+// object's passes in an 8-bit target (GL ES 1.1: GL_OES_framebuffer_object and two units;
+// GL ES 2: core) and write the sum to the framebuffer once, rounded to its bits, instead of
+// rounding every pass and doubling the rounding (docs/ports.md, "Framebuffer bits"). The
+// emulator decides the same way.
 inline bool accumulates(const sepal_caps& c, bool single_unit) {
     const int bits[3] = {c.red_bits, c.green_bits, c.blue_bits};
     bool fewer = false;
     for (int b : bits) fewer = fewer || (b > 0 && b < 8);
-    return c.gles_version == 1 && !single_unit && c.has_fbo && fewer;
+    return (c.gles_version == 2 || (c.gles_version == 1 && !single_unit)) && c.has_fbo && fewer;
 }
 // The final write's fragment per channel, k v + h for the 8-bit sum v: a framebuffer of n bits
 // keeps the top n bits of the fragment rounded to 8 bits (llvmpipe, with or without
-// GL_DITHER; docs/ports.md), floor((255 k v + 255 h) / 2^(8-n)), which with
-// k = (2^n - 1) 2^(8-n) / 255 and h = 2^(7-n) / 255 is round(v (2^n - 1)): the nearest
-// n-bit value, as one rounding of the exact sum would give. A device that rounds or dithers
-// instead lands within half a step of it. 8 bits or more: k = 1, h = 0.
+// GL_DITHER; docs/ports.md), floor(round(255 k v + 255 h) / 2^(8-n)), which with
+// k = (2^n - 1) 2^(8-n) / 255 and h = (2^(7-n) - 1/2) / 255 is round(v (2^n - 1)): the nearest
+// n-bit value, as one rounding of the exact sum would give (with 2^(7-n) alone, the 8-bit
+// rounding pushed a sixteenth of the values a step up: 6-8% of a frame's pixels). A device
+// that rounds or dithers instead lands within half a step of it. 8 bits or more: k = 1, h = 0.
 inline float write_scale(int bits) {
     return bits > 0 && bits < 8 ? (float)(((1 << bits) - 1) << (8 - bits)) / 255.0f : 1.0f;
 }
-inline float write_bias(int bits) { return bits > 0 && bits < 8 ? (float)(1 << (7 - bits)) / 255.0f : 0.0f; }
+inline float write_bias(int bits) { return bits > 0 && bits < 8 ? ((float)(1 << (7 - bits)) - 0.5f) / 255.0f : 0.0f; }
 
 // Everything sepal_material_create sets up except GL objects: validation against caps, the
 // plan, per-pass needs, the paths (one unit, subtraction by inversion, fused groups).
@@ -115,6 +117,8 @@ int gles1_schedule(const srt::Material* m, const FramePrep& prep, int total_doub
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 sepal_result create_gles2_programs(srt::Material* m, sepal_error* err);
 void destroy_gles2_programs(srt::Material* m);
+void create_gles2_accumulator(srt::Material* m);
+void destroy_gles2_accumulator(srt::Material* m);
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 
 }  // namespace srt

@@ -189,6 +189,7 @@ constexpr GLenum kFramebufferOES = 0x8D40, kRenderbufferOES = 0x8D41, kColorAtta
                  kFramebufferBindingOES = 0x8CA6;
 
 void destroy_accumulator(srt::Material* m) {
+    if (m->caps.gles_version == 2) return srt::destroy_gles2_accumulator(m);
     const auto& f = m->caps.fbo_es1;
     if (m->acc_fbo && f.delete_framebuffers) f.delete_framebuffers(1, &m->acc_fbo);
     if (m->acc_depth && f.delete_renderbuffers) f.delete_renderbuffers(1, &m->acc_depth);
@@ -295,7 +296,13 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
             return r;
         }
     }
-    if (srt::accumulates(*caps, out->single_unit != 0) && caps->fbo_es1.gen_framebuffers) create_accumulator(out);
+    // A float target is rounded once anyway (when shown).
+    if (srt::accumulates(*caps, out->single_unit != 0) && !float_target) {
+        if (caps->gles_version == 2)
+            srt::create_gles2_accumulator(out);
+        else if (caps->fbo_es1.gen_framebuffers)
+            create_accumulator(out);
+    }
     return srt::ok(err);
 }
 
@@ -339,7 +346,7 @@ extern "C" void sepal_material_context_lost(sepal_material* storage) {
     // delete that context's objects of the same number).
     memset(m->gl_textures, 0, sizeof m->gl_textures);
     m->copy_texture = m->diffuse_texture = 0;
-    m->acc_fbo = m->acc_color = m->acc_depth = 0;
+    m->acc_fbo = m->acc_color = m->acc_depth = m->program_accumulated = 0;
     m->program_pass = m->program_fullscreen = m->program_mesh_texture = 0;
     m->program_fused_vertex = m->program_fused_pixel = 0;
     m->float_fbo = m->float_color = m->float_depth = 0;

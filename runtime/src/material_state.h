@@ -40,17 +40,17 @@ struct Material {
     int copy_width, copy_height;  // power-of-two size of the copy texture
     int max_width, max_height;
     // GL ES 2: shader programs compiled at creation (0 on GL ES 1.1).
-    uint32_t program_pass, program_fullscreen, program_mesh_texture;
+    uint32_t program_pass, program_fullscreen, program_mesh_texture, program_accumulated;
     uint32_t program_fused_vertex, program_fused_pixel;
     int fused_group;  // terms summed per fused pass: min(terms, texture units / 2, 8)
     // Half-float target (sepal_material_create_float_target): frames are drawn there with no
     // exposure and no doublings, then copied to the current framebuffer for display.
     int float_target;
     uint32_t float_fbo, float_color, float_depth;
-    // GL ES 1.1 on a framebuffer with fewer than 8 bits a channel (srt::accumulates): the
-    // passes are summed in this 8-bit target (colour texture and depth renderbuffer, a power
-    // of two at least max_width x max_height) and written to the framebuffer once, rounded.
-    // 0 when unused.
+    // A framebuffer with fewer than 8 bits a channel (srt::accumulates): the passes are
+    // summed in this 8-bit target (colour texture and depth renderbuffer, a power of two at
+    // least max_width x max_height) and written to the framebuffer once, rounded. 0 when
+    // unused.
     uint32_t acc_fbo, acc_color, acc_depth;
     int acc_width, acc_height;
     // Set by sepal_material_context_lost: the GL names above belong to a dead context.

@@ -97,10 +97,11 @@ typedef struct sepal_material_info {
     int passes;        // the plan's passes per light
     int textures;
     uint32_t weaker_context;  // SEPAL_WEAKER_* bits of its context against the asset's profile
-    // GL ES 1.1 on a framebuffer with fewer than 8 bits a channel (RGB565): the passes are
-    // summed in an 8-bit target (GL_OES_framebuffer_object) and written once, rounded to the
-    // framebuffer's bits; 0: each pass is rounded to them (no extension, SEPAL_MASK_FBO, one
-    // texture unit, or a target the context could not make).
+    // A framebuffer with fewer than 8 bits a channel (RGB565): each object's passes are summed
+    // in an 8-bit target (GL ES 1.1: GL_OES_framebuffer_object; GL ES 2: core) and written
+    // once, rounded to the framebuffer's bits; 0: each pass is rounded to them (no extension,
+    // SEPAL_MASK_FBO, one texture unit on GL ES 1.1, a float target, or a target the context
+    // could not make).
     int accumulates;
 } sepal_material_info;
 // Fills out (all zero for a material never created or destroyed); calls no GL.

@@ -79,9 +79,9 @@ typedef struct sepal_caps {
     // The colour buffer bound when the caps were read (the window's or pbuffer's, normally):
     // bits per channel (GL_RED_BITS, GL_GREEN_BITS, GL_BLUE_BITS; 5/6/5 on an RGB565 surface)
     // and whether GL_DITHER is enabled (GL ES enables it by default). With fewer than 8 bits
-    // in a channel, GL ES 1.1's multipass path sums a frame in an 8-bit target and writes it
-    // rounded once (has_fbo and fbo_es1 below; without them every pass is rounded to these
-    // bits): sepal_emulate_desc takes them to show what the device shows (docs/ports.md,
+    // in a channel, the GL paths sum each object's passes in an 8-bit target and write it
+    // rounded once (has_fbo, and fbo_es1 below on GL ES 1.1; without them every pass is
+    // rounded to these bits): sepal_emulate_desc takes them to show what the device shows (docs/ports.md,
     // "Framebuffer bits"). The frame's exposure, staging and doublings do not depend on them: the
     // exposure keeps every pass and partial sum at or below 1.0, the framebuffer's white at
     // any bit depth, and the doublings are the plan's (chosen by the bake for its target).
@@ -94,8 +94,8 @@ typedef struct sepal_caps {
     char version[128];
     // GL_OES_framebuffer_object's entry points on GL ES 1.1 (from the port's loader; all NULL
     // on GL ES 2, whose core functions are linked, and when has_fbo is 0). With them the
-    // GL ES 1.1 multipass path sums a frame's passes in an 8-bit target when the framebuffer
-    // has fewer bits (sepal_material.h, "Framebuffers with fewer than 8 bits").
+    // GL ES 1.1 multipass path sums an object's passes in an 8-bit target when the framebuffer
+    // has fewer bits (sepal_material_info.accumulates in sepal_material.h).
     struct {
         void (*gen_framebuffers)(int n, unsigned int* ids);
         void (*delete_framebuffers)(int n, const unsigned int* ids);
