@@ -1,8 +1,11 @@
 // The 8-bit sum of an object's passes (srt::accumulates) written once to a framebuffer with
-// fewer bits: each pixel reads its own texel of the sum, times k plus h per channel
-// (draw_internal.h's write_scale and write_bias), so that the framebuffer's truncation to its
-// bits rounds to nearest. highp where the GPU has it: at mediump, gl_FragCoord past 1024
-// pixels cannot name a texel.
+// fewer bits: each pixel reads its own texel of the sum and writes the nearest value the
+// framebuffer holds, exactly. A fragment of exactly N / (2^n - 1) is stored as N both by a
+// driver that converts it to n bits rounding to nearest (the GL ES specification's rule;
+// NVIDIA's) and by one that rounds it to 8 bits and keeps the top n (llvmpipe); the GL ES 1.1
+// write, without a shader, can only be tuned for one of them (draw_internal.h). highp where
+// the GPU has it: at mediump, gl_FragCoord past 1024 pixels cannot name a texel, and v (2^n - 1)
+// comes within 1/510 of a half.
 #ifdef GL_FRAGMENT_PRECISION_HIGH
 precision highp float;
 #else
@@ -11,9 +14,8 @@ precision mediump float;
 uniform sampler2D u_sum;
 uniform vec2 u_origin;    // the viewport's corner: the target's texel (0, 0)
 uniform vec2 u_inv_size;  // 1 / the target's size
-uniform vec3 u_scale;
-uniform vec3 u_bias;
+uniform vec3 u_levels;    // 2^n - 1 per channel
 void main() {
     vec3 v = texture2D(u_sum, (gl_FragCoord.xy - u_origin) * u_inv_size).rgb;
-    gl_FragColor = vec4(v * u_scale + u_bias, 1.0);
+    gl_FragColor = vec4(floor(v * u_levels + 0.5) / u_levels, 1.0);
 }

@@ -494,10 +494,9 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     glUniform2f(loc(p, "u_origin"), (float)viewport[0], (float)viewport[1]);
     glUniform2f(loc(p, "u_inv_size"), 1.0f / (float)m->acc_width, 1.0f / (float)m->acc_height);
     const int bits[3] = {m->caps.red_bits, m->caps.green_bits, m->caps.blue_bits};
-    float scale[3], bias[3];
-    for (int c = 0; c < 3; ++c) scale[c] = write_scale(bits[c]), bias[c] = write_bias(bits[c]);
-    glUniform3fv(loc(p, "u_scale"), 1, scale);
-    glUniform3fv(loc(p, "u_bias"), 1, bias);
+    float levels[3];
+    for (int c = 0; c < 3; ++c) levels[c] = bits[c] > 0 && bits[c] < 8 ? (float)((1 << bits[c]) - 1) : 255.0f;
+    glUniform3fv(loc(p, "u_levels"), 1, levels);
     bind_texture(GL_TEXTURE0, m->acc_color);
     const MeshView& mesh = prep.mesh;
     attribs(1);

@@ -250,9 +250,12 @@ TEST_CASE("frame: on RGB565 each object's passes are summed in 8 bits and writte
                          << summed.pixels << " pixels a step from the 8888 frame rounded (largest "
                          << summed.max_diff << " levels); each pass rounded " << per_pass.psnr << " dB from it");
         // Float arithmetic near half a step may round either way: one step (8 or 9 levels
-        // read back) on a few pixels, never more (measured on llvmpipe: 6-16 of 6,912).
+        // read back) on a few pixels, never more (measured on llvmpipe: 6-16 of 6,912). GL ES
+        // 1.1's write is tuned to llvmpipe's conversion (rounded to 8 bits, top bits kept); a
+        // driver that rounds straight to 5/6/5 (NVIDIA: 490 of 6,912) stores the other of the
+        // two nearest values there (draw_internal.h, write_bias).
         CHECK(summed.max_diff <= 9.5);
-        CHECK(summed.share_over <= 0.005);
+        CHECK(summed.share_over <= (c.version == 1 && !sepal_test::reference_renderer() ? 0.1 : 0.005));
         CHECK(per_pass.psnr < summed.psnr - 6.0);
     }
 }
