@@ -45,10 +45,9 @@ inline bool accumulates(const sepal_caps& c, bool single_unit) {
 // n-bit value, as one rounding of the exact sum would give (with 2^(7-n) alone, the 8-bit
 // rounding pushed a sixteenth of the values a step up: 6-8% of a frame's pixels). GL ES 1.1
 // only: a driver that converts the fragment to n bits directly, rounding (the GL ES
-// specification's rule; NVIDIA's), stores one of the two nearest values, a step from the
-// nearest on 7% of a frame's pixels, and no k and h serve both rules. The GL ES 2 write
-// quantizes in its shader, exact under both (shaders/accumulated.frag). 8 bits or more:
-// k = 1, h = 0.
+// specification's rule), would store the other of the two nearest values near half a step,
+// and no k and h serve both rules; the GL ES 2 write quantizes in its shader, exact under
+// both (shaders/accumulated.frag). 8 bits or more: k = 1, h = 0.
 inline float write_scale(int bits) {
     return bits > 0 && bits < 8 ? (float)(((1 << bits) - 1) << (8 - bits)) / 255.0f : 1.0f;
 }

@@ -244,18 +244,20 @@ TEST_CASE("frame: on RGB565 each object's passes are summed in 8 bits and writte
             return rgb(gl_frame(gl, sc, m, c.mode, false, true));
         };
         const sepal::Image rounded = sepal::nearest_at_bits(frame(0, 0), bits565);
-        const sepal::ImageDiff summed = sepal::diff_images(rounded, frame(565, 0), 0);
-        const sepal::ImageDiff per_pass = sepal::diff_images(rounded, frame(565, SEPAL_MASK_FBO), 0);
+        // Over 1 level: a driver may widen 5 bits to 8 by rounding rather than by repeating bits.
+        const sepal::ImageDiff summed = sepal::diff_images(rounded, frame(565, 0), 1);
+        const sepal::ImageDiff per_pass = sepal::diff_images(rounded, frame(565, SEPAL_MASK_FBO), 1);
         MESSAGE("GL ES " << c.version << " mode " << int(c.mode) << ": " << summed.pixels_over << " of "
                          << summed.pixels << " pixels a step from the 8888 frame rounded (largest "
                          << summed.max_diff << " levels); each pass rounded " << per_pass.psnr << " dB from it");
-        // Float arithmetic near half a step may round either way: one step (8 or 9 levels
-        // read back) on a few pixels, never more (measured on llvmpipe: 6-16 of 6,912). GL ES
-        // 1.1's write is tuned to llvmpipe's conversion (rounded to 8 bits, top bits kept); a
-        // driver that rounds straight to 5/6/5 (NVIDIA: 490 of 6,912) stores the other of the
-        // two nearest values there (draw_internal.h, write_bias).
+        // One step (8 or 9 levels read back) on a few pixels, never more: on llvmpipe 0-6 of
+        // 6,912, where the 8-bit target's sum itself differs from the 8888 pbuffer's (by up
+        // to 10 levels on 5 pixels of the signed plan's object; the write is exact there).
+        // NVIDIA's 565 framebuffer stores values within a fiftieth of a step of half-way
+        // either side of it, whatever fragment the write sends (453-490 pixels, GL ES 1.1
+        // and 2 alike; docs/ports.md): the other of the two nearest values.
         CHECK(summed.max_diff <= 9.5);
-        CHECK(summed.share_over <= (c.version == 1 && !sepal_test::reference_renderer() ? 0.1 : 0.005));
+        CHECK(summed.share_over <= (sepal_test::reference_renderer() ? 0.002 : 0.1));
         CHECK(per_pass.psnr < summed.psnr - 6.0);
     }
 }
