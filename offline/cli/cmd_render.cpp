@@ -57,10 +57,16 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
         else return fail("--scene: the scene file sets camera, lights, meshes and background; " + o->get_name() + " does not apply (--size does)");
     }
     if (!args.input.empty()) return fail("--scene draws the scene file's materials; give no INPUT ('" + args.input + "')");
-    if (!args.env.empty() || !args.diffuse_path.empty() || args.float_target || !args.framebuffer.empty())
-        return fail("--scene takes no --env, --diffuse, --float-target or --framebuffer");
+    if (!args.env.empty() || !args.diffuse_path.empty() || args.float_target)
+        return fail("--scene takes no --env, --diffuse or --float-target");
     const std::string backend = args.backend.empty() ? "gles1" : args.backend;
     std::string err;
+    int framebuffer = 8888;
+    if (!args.framebuffer.empty()) {
+        if (backend == "exact" || backend == "cpu" || backend == "gles1-model" || backend == "gles2-model")
+            return fail("--scene: --framebuffer applies to the GL backends (not " + backend + ")");
+        if (!sepal_ports::parse_framebuffer(args.framebuffer, &framebuffer, &err)) return fail(err);
+    }
     if (!args.export_dir.empty()) {
         SceneFile file;
         LoadedScene scene;
@@ -108,10 +114,14 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
         o.gles_version = gl.gles_version;
         o.mode = gl.mode;
         o.mask = mask;
+        o.framebuffer = framebuffer;
         SceneGlInfo info;
         if (!render_scene_gl(scene, fr, o, &rgba, &info, &err)) return fail(err);
         line = info.device + "; " + std::to_string(info.stats.draw_calls) + " draws, " +
                std::to_string(info.stats.doublings) + " doublings in this scene's frame";
+        if (framebuffer == 565)
+            line += info.accumulates ? "; framebuffer 5/6/5, each object's passes summed in an 8-bit target"
+                                     : "; framebuffer 5/6/5, every pass rounded to it";
     } else {
         return fail("unknown backend '" + backend + "'");
     }
@@ -237,8 +247,8 @@ int render_model(RenderArgs& args, int framebuffer, const CommandIO& io) {
     }
     std::fprintf(io.out, "backend    %s (the GL ES pipeline emulated on the CPU), %dx%d, %d doublings in this scene's frame\n",
                  backend.c_str(), setup.width, setup.height, stats.doublings);
-    // GL ES 1.1 on fewer bits sums in 8 bits unless framebuffer objects are masked (srt::accumulates).
-    const bool summed = framebuffer == 565 && backend == "gles1-model" && !(mask & SEPAL_MASK_FBO);
+    // Fewer bits: summed in 8 bits unless framebuffer objects are masked (srt::accumulates).
+    const bool summed = framebuffer == 565 && !(mask & SEPAL_MASK_FBO);
     std::fprintf(io.out, "framebuffer %s bits per channel, no dithering (modelled)%s\n",
                  framebuffer == 565 ? "5/6/5" : "8/8/8", summed ? ", passes summed in an 8-bit target" : "");
     const std::string dim = sepal_ports::light_range_warning(bytes.data(), bytes.size(), stats, args.input);
@@ -505,8 +515,9 @@ CommandRun setup_render(CLI::App& app) {
     app.add_flag("--float-target", a->float_target, "gles2 backends: draw into a half-float target");
     app.add_option("--framebuffer", a->framebuffer,
                    "the colour buffer's bits: 8888 (default) or 565 (RGB565, as older phones and kiosk boards "
-                   "render); the GL backends draw into such a pbuffer, gles1-model and gles2-model round every "
-                   "pass to its bits");
+                   "render); the GL backends draw into such a pbuffer (a --scene too), gles1-model and "
+                   "gles2-model model one (each object's passes summed in 8 bits and written once, rounded; "
+                   "every pass rounded with --mask fbo)");
     app.add_option("--mask", a->mask_text,
                    "hide GL capabilities to force fallback paths: subtract, multitexture, fbo, npot, third-unit "
                    "(comma-separated)");

@@ -133,6 +133,7 @@ struct SceneGlOptions {
     int gles_version = 1;
     uint32_t mask = 0;
     sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
+    int framebuffer = 8888;  // the pbuffer's colour buffer: 8888 or 565
     int frames = 1;
     std::function<void()> before;
     std::vector<int> order;  // the objects to draw, in this order (empty: all, in the file's)
@@ -141,6 +142,7 @@ struct SceneGlInfo {
     sepal_draw_stats stats{};  // summed over the objects of the last frame
     std::string device;
     double ms = 0;
+    bool accumulates = false;  // every material sums its passes in an 8-bit target
 };
 bool render_scene_gl(const LoadedScene& s, const SceneFrame& fr, const SceneGlOptions& opt, std::vector<uint8_t>* rgba,
                      SceneGlInfo* info, std::string* err);

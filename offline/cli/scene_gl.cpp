@@ -16,6 +16,7 @@ bool render_scene_gl(const LoadedScene& s, const SceneFrame& fr, const SceneGlOp
     go.gles_version = opt.gles_version;
     go.mask = opt.mask;
     go.mode = opt.mode;
+    go.framebuffer = opt.framebuffer;
     go.frames = opt.frames;
     std::vector<std::unique_ptr<sepal_material>> materials;
     std::vector<float> scratch(sepal_draw_scratch_floats(int(s.max_vertices()), fr.light_count));
@@ -79,7 +80,13 @@ bool render_scene_gl(const LoadedScene& s, const SceneFrame& fr, const SceneGlOp
         return ok && ended;
     };
     job.destroy = [&] {
-        for (auto& m : materials) sepal_material_destroy(m.get());
+        info->accumulates = !materials.empty();
+        for (auto& m : materials) {
+            sepal_material_info mi;
+            sepal_material_get_info(m.get(), &mi);
+            info->accumulates = info->accumulates && mi.accumulates;
+            sepal_material_destroy(m.get());
+        }
     };
     sepal_ports::GlRenderInfo gi;
     if (!sepal_ports::run_headless(setup, go, job, rgba, &gi, err)) return false;

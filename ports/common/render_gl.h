@@ -85,7 +85,8 @@ bool render_asset_cpu(const void* bytes, size_t size, const SceneSetup& setup, c
                       std::vector<float>* rgb, double* ms, std::string* err, sepal_draw_stats* stats = nullptr);
 // The GL ES 1.1 emulator (sepal_emulate_draw): what gles1 (gles_version 1) or the gles2
 // multipass path (2) shows, computed on the CPU; RGBA8, top row first. mask: SEPAL_MASK_*.
-// framebuffer: 8888 or 565, the colour buffer's bits it rounds every pass to.
+// framebuffer: 8888 or 565, the colour buffer's bits (the passes summed in 8 bits and written
+// once, rounded, unless mask has SEPAL_MASK_FBO: then every pass is rounded to them).
 bool render_asset_emulated(const void* bytes, size_t size, const SceneSetup& setup, int gles_version, uint32_t mask,
                            std::vector<uint8_t>* rgba, std::string* err, sepal_draw_stats* stats = nullptr,
                            int framebuffer = 8888);

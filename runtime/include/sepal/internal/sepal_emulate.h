@@ -36,8 +36,8 @@ extern "C" {
 // threaded, no allocation (callers hand in the buffers). Not emulated: the one-texture-unit
 // path (SEPAL_MASK_MULTITEXTURE is refused) and diffuse texture maps.
 // Framebuffer bits: red_bits, green_bits and blue_bits (1..8; 0 means 8) are the colour
-// buffer's, as sepal_caps reports them. With fewer than 8, GL ES 1.1 sums the plan in 8 bits
-// and writes it once, rounded, as the runtime does on a context with framebuffer objects;
+// buffer's, as sepal_caps reports them. With fewer than 8, the plan is summed in 8 bits and
+// written once, rounded to nearest, as the runtime does on a context with framebuffer objects;
 // mask SEPAL_MASK_FBO for the per-pass path, where each pass and full-screen step blends in 8 bits
 // against the stored value and keeps the top bits of the result: GL's rule with GL_DITHER
 // off (each component truncated to the framebuffer's bits) and what llvmpipe does with it
