@@ -390,15 +390,10 @@ sepal_result create_gles2_programs(srt::Material* m, sepal_error* err) {
     return ok(err);
 }
 
-// The 8-bit target of srt::accumulates on GL ES 2 (core framebuffer objects), and the
-// program that writes it. Where the context cannot make it (a size over its limit, an
-// incomplete framebuffer, a shader that does not build) the material keeps the per-pass
-// path: what it drew before.
-void create_gles2_accumulator(srt::Material* m) {
-    int w = 1, h = 1;
-    while (w < m->max_width) w *= 2;
-    while (h < m->max_height) h *= 2;
-    if (w > m->caps.max_texture_size || h > m->caps.max_texture_size) return;
+// The 8-bit target of srt::accumulates on GL ES 2 (core framebuffer objects), w x h, and the
+// program that writes it. Where the context cannot make it (an incomplete framebuffer, a
+// shader that does not build) the material keeps the per-pass path: what it drew before.
+void create_gles2_accumulator(srt::Material* m, int w, int h) {
     m->program_accumulated = build("accumulated", kPassVert, kAccumulatedFrag, kPassAttribs, 0, nullptr);
     if (!m->program_accumulated) return;
     GLint bound = 0;

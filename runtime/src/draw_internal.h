@@ -120,7 +120,7 @@ int gles1_schedule(const srt::Material* m, const FramePrep& prep, int total_doub
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 sepal_result create_gles2_programs(srt::Material* m, sepal_error* err);
 void destroy_gles2_programs(srt::Material* m);
-void create_gles2_accumulator(srt::Material* m);
+void create_gles2_accumulator(srt::Material* m, int width, int height);
 void destroy_gles2_accumulator(srt::Material* m);
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 

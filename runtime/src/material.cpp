@@ -198,12 +198,10 @@ void destroy_accumulator(srt::Material* m) {
     m->acc_width = m->acc_height = 0;
 }
 
-// The 8-bit target of srt::accumulates. Where the context cannot make one (a size over its
-// limit, an incomplete framebuffer) the material keeps the per-pass path: what it drew before.
-void create_accumulator(srt::Material* m) {
+// The 8-bit target of srt::accumulates on GL ES 1.1, w x h. Where the context cannot make
+// one (an incomplete framebuffer) the material keeps the per-pass path: what it drew before.
+void create_accumulator(srt::Material* m, int w, int h) {
     const auto& f = m->caps.fbo_es1;
-    const int w = next_pow2(m->max_width), h = next_pow2(m->max_height);
-    if (w > m->caps.max_texture_size || h > m->caps.max_texture_size) return;
     GLint bound = 0;
     glGetIntegerv(kFramebufferBindingOES, &bound);
     glGenTextures(1, &m->acc_color);
@@ -296,12 +294,15 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
             return r;
         }
     }
-    // A float target is rounded once anyway (when shown).
-    if (srt::accumulates(*caps, out->single_unit != 0) && !float_target) {
+    // A float target is rounded once anyway (when shown). A target over the texture limit:
+    // the per-pass path, as where the context cannot make one.
+    const int acc_w = next_pow2(max_width), acc_h = next_pow2(max_height);
+    if (srt::accumulates(*caps, out->single_unit != 0) && !float_target && acc_w <= caps->max_texture_size &&
+        acc_h <= caps->max_texture_size) {
         if (caps->gles_version == 2)
-            srt::create_gles2_accumulator(out);
+            srt::create_gles2_accumulator(out, acc_w, acc_h);
         else if (caps->fbo_es1.gen_framebuffers)
-            create_accumulator(out);
+            create_accumulator(out, acc_w, acc_h);
     }
     return srt::ok(err);
 }
