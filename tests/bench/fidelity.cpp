@@ -29,9 +29,9 @@
 // (5/6/5), and drawn by llvmpipe on GL ES 1.1 into an RGB565 pbuffer at 512x512 in the
 // default scene and the held-out conditions: the 565-profile asset, the 8888-profile asset on
 // 565, and the physical limit (the exact render rounded to the nearest 5/6/5 value, what a
-// 565 framebuffer could show at best), with the 8888 asset on 8888 beside them: PSNR against
-// the exact render, pooled over the held-out conditions, and in the default scene;
-// DIR/fidelity-565.json and .md.
+// 565 framebuffer could show at best), with the 8888 asset on 8888 beside them, and the
+// 565-profile asset on GL ES 2 multipass (held out): PSNR against the exact render, pooled
+// over the held-out conditions, and in the default scene; DIR/fidelity-565.json and .md.
 #include <algorithm>
 #include <sys/resource.h>
 #include <chrono>
@@ -290,10 +290,12 @@ sepal::Image nearest_565(const sepal::Image& exact) {
     return sepal::nearest_at_bits(exact, bits);
 }
 
-// The asset drawn by llvmpipe on GL ES 1.1 into a framebuffer of 8888 or 565; empty on failure.
-sepal::Image draw_gles1(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, int framebuffer,
-                        std::string* err) {
+// The asset drawn by llvmpipe on backend (gles1, gles2) into a framebuffer of 8888 or 565;
+// empty on failure.
+sepal::Image draw_gl(const std::vector<uint8_t>& bytes, const sepal_ports::SceneSetup& s, int framebuffer,
+                     std::string* err, const char* backend = "gles1") {
     sepal_ports::GlRenderOptions opt;
+    sepal_ports::parse_gl_backend(backend, &opt);
     opt.framebuffer = framebuffer;
     std::vector<uint8_t> rgba;
     sepal_ports::GlRenderInfo info;
@@ -320,15 +322,17 @@ int rgb565_main(const std::string& only, int threads, const std::string& out) {
             std::fprintf(stderr, "bench: %s\n", err.c_str());
             return 1;
         }
-    const char* kinds[] = {"limit", "565 profile on 565", "8888 profile on 565", "8888 profile on 8888"};
+    const char* kinds[] = {"limit", "565 profile on 565", "8888 profile on 565", "8888 profile on 8888",
+                           "565 profile on 565, GL ES 2"};
     JsonBuilder j;
-    j.begin_object().key("framebuffer").value("llvmpipe GL ES 1.1, RGB565 pbuffer, 512x512; the default scene and the "
-                                              "default range's held-out conditions");
+    j.begin_object().key("framebuffer").value("llvmpipe GL ES 1.1 (and GL ES 2 multipass), RGB565 pbuffer, 512x512; the "
+                                              "default scene and the default range's held-out conditions");
     j.key("profile").value("gles1:mali400").key("limit").value("the exact render rounded to the nearest 5/6/5 value");
     j.key("rows").begin_array();
     std::string md = "| material | limit dB | 565-profile on 565 dB | 8888-profile on 565 dB | 8888 on 8888 dB | "
-                     "default scene: limit / 565 / 8888-on-565 / 8888 dB | passes 565 / 8888 |\n"
-                     "|---|---:|---:|---:|---:|---|---|\n";
+                     "default scene: limit / 565 / 8888-on-565 / 8888 dB | passes 565 / 8888 | GL ES 2: 565-profile "
+                     "on 565 dB |\n"
+                     "|---|---:|---:|---:|---:|---|---|---:|\n";
     std::printf("%-22s %8s %8s %8s %8s   (held-out pooled; default scene after)\n", "material", "limit", "565",
                 "8888@565", "8888");
     int failures = 0;
@@ -346,7 +350,7 @@ int rgb565_main(const std::string& only, int threads, const std::string& out) {
             ok = sepal::bake(*f, o, &r, &err) && sepal::encode_asset(r.asset, &bytes[k], &err);
             if (ok) passes[k] = int(r.asset.passes.size());
         }
-        double held[4] = {0, 0, 0, 0}, def[4] = {0, 0, 0, 0};
+        double held[5] = {0, 0, 0, 0, 0}, def[5] = {0, 0, 0, 0, 0};
         for (size_t i = 0; i < scenes.size() && ok; ++i) {
             const sepal_ports::SceneSetup& s = scenes[i].second;
             sepal::Image exact;
@@ -354,9 +358,10 @@ int rgb565_main(const std::string& only, int threads, const std::string& out) {
                                      sepal::kReferenceSupersample);
             if (!ok) break;
             const sepal::Image ref = clamp8(exact);
-            const sepal::Image imgs[4] = {nearest_565(exact), draw_gles1(bytes[0], s, 565, &err),
-                                          draw_gles1(bytes[1], s, 565, &err), draw_gles1(bytes[1], s, 8888, &err)};
-            for (int k = 0; k < 4 && ok; ++k) {
+            const sepal::Image imgs[5] = {nearest_565(exact), draw_gl(bytes[0], s, 565, &err),
+                                          draw_gl(bytes[1], s, 565, &err), draw_gl(bytes[1], s, 8888, &err),
+                                          draw_gl(bytes[0], s, 565, &err, "gles2")};
+            for (int k = 0; k < 5 && ok; ++k) {
                 ok = imgs[k].data.size() == ref.data.size();
                 const double mse = ok ? sepal::diff_images(ref, imgs[k], 16).mse : 0.0;
                 if (i == 0) def[k] = mse;
@@ -368,18 +373,19 @@ int rgb565_main(const std::string& only, int threads, const std::string& out) {
             ++failures;
             continue;
         }
-        std::printf("%-22s %8.2f %8.2f %8.2f %8.2f   %.2f / %.2f / %.2f / %.2f; passes %d / %d\n", m.name,
-                    psnr_of(held[0]), psnr_of(held[1]), psnr_of(held[2]), psnr_of(held[3]), psnr_of(def[0]),
-                    psnr_of(def[1]), psnr_of(def[2]), psnr_of(def[3]), passes[0], passes[1]);
+        std::printf("%-22s %8.2f %8.2f %8.2f %8.2f   %.2f / %.2f / %.2f / %.2f; passes %d / %d; GL ES 2 %.2f\n",
+                    m.name, psnr_of(held[0]), psnr_of(held[1]), psnr_of(held[2]), psnr_of(held[3]), psnr_of(def[0]),
+                    psnr_of(def[1]), psnr_of(def[2]), psnr_of(def[3]), passes[0], passes[1], psnr_of(held[4]));
         j.begin_object().key("material").value(m.name).key("spec").value(m.spec);
-        for (int k = 0; k < 4; ++k)
+        for (int k = 0; k < 5; ++k)
             j.key(std::string("held_out_") + kinds[k]).value(psnr_of(held[k])).key(std::string("default_") + kinds[k])
                 .value(psnr_of(def[k]));
         j.key("passes_565").value(passes[0]).key("passes_8888").value(passes[1]).end_object();
         char row[400];
-        std::snprintf(row, sizeof row, "| %s | %.1f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f / %.1f | %d / %d |\n",
-                      m.name, psnr_of(held[0]), psnr_of(held[1]), psnr_of(held[2]), psnr_of(held[3]), psnr_of(def[0]),
-                      psnr_of(def[1]), psnr_of(def[2]), psnr_of(def[3]), passes[0], passes[1]);
+        std::snprintf(row, sizeof row,
+                      "| %s | %.1f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f / %.1f | %d / %d | %.1f |\n", m.name,
+                      psnr_of(held[0]), psnr_of(held[1]), psnr_of(held[2]), psnr_of(held[3]), psnr_of(def[0]),
+                      psnr_of(def[1]), psnr_of(def[2]), psnr_of(def[3]), passes[0], passes[1], psnr_of(held[4]));
         md += row;
     }
     j.end_array().end_object();
