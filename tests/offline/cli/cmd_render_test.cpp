@@ -20,11 +20,14 @@ int run(const std::vector<std::string>& args, std::string* out) {
     return code;
 }
 
-// Every channel value one a 5- or 6-bit channel reads back as (bit replication).
+// Every channel value one a 5- or 6-bit channel reads back as: widened by repeating its bits
+// (llvmpipe) or by rounding code x 255 / (2^n - 1) (NVIDIA), which differ by a level at most.
 bool all_565(const sepal::Image& img) {
     for (size_t i = 0; i < img.data.size(); ++i) {
-        const int v = int(img.data[i] * 255.0f + 0.5f), n = i % 3 == 1 ? 6 : 5, code = v >> (8 - n);
-        if (v != ((code << (8 - n)) | (code >> (2 * n - 8)))) return false;
+        const int v = int(img.data[i] * 255.0f + 0.5f), n = i % 3 == 1 ? 6 : 5, top = (1 << n) - 1;
+        const int code = (v * top + 127) / 255;
+        const int repeated = (code << (8 - n)) | (code >> (2 * n - 8)), rounded = (code * 255 + top / 2) / top;
+        if (v != repeated && v != rounded) return false;
     }
     return true;
 }
