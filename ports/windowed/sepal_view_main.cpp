@@ -2,7 +2,7 @@
 // code). With an asset it draws the baked material; without one, the runtime's preview
 // (a lit, textured mesh). Without --headless it opens a window (ports/windowed/viewer.h).
 //
-//   sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [scene flags] -o out.png
+//   sepal-view --headless [ASSET.sepal] [--gles 1|2] [--mask LIST] [--framebuffer 565] [scene flags] -o out.png
 //   sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]
 #include <math.h>
 #include <stdio.h>
@@ -26,7 +26,7 @@ namespace {
 
 int usage(FILE* f, int code) {
     fprintf(f,
-            "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [scene flags] -o out.png\n"
+            "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [--framebuffer 565] [scene flags] -o out.png\n"
             "       sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]\n"
             "       sepal-view --scene FILE.json|BUNDLE [--headless -o out.png] [--backend B] [--time T] [--frames N --shot PNG]\n"
             "  --scene FILE          a scene file (docs/scenes.md): many objects, moving lights; in a window, or\n"
@@ -42,6 +42,8 @@ int usage(FILE* f, int code) {
             "  --diffuse PNG         a diffuse texture map modulating the material (Fig. 13)\n"
             "  --mask LIST           hide capabilities to force fallback paths: subtract,\n"
             "                        multitexture, fbo, npot, third-unit (comma-separated)\n"
+            "  --framebuffer F       headless: 8888 (default) or 565, an RGB565 pbuffer as\n"
+            "                        older phones and kiosk boards render (docs/ports.md)\n"
             "  -o PATH               output PNG\n"
             "viewer flags (window only):\n%s"
             "scene flags:\n%s",
@@ -70,6 +72,8 @@ int main(int argc, char** argv) {
     bool headless = false;
     int gles = 1;
     uint32_t mask = 0;
+    int framebuffer = 8888;
+    bool framebuffer_given = false;
     sepal_draw_mode mode = SEPAL_MODE_MULTIPASS;
     std::string backend;
     const char* out = nullptr;
@@ -124,6 +128,12 @@ int main(int argc, char** argv) {
                 fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
                 return 2;
             }
+        } else if (!strcmp(a, "--framebuffer") && has_value) {
+            framebuffer_given = true;
+            if (!sepal_ports::parse_framebuffer(argv[++i], &framebuffer, &flag_err)) {
+                fprintf(stderr, "sepal-view: %s\n", flag_err.c_str());
+                return 2;
+            }
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             return usage(stdout, 0);
         } else if (!strcmp(a, "--version")) {
@@ -136,9 +146,13 @@ int main(int argc, char** argv) {
             return usage(stderr, 2);
         }
     }
-    if (!headless && (out || diffuse_path)) {
+    if (!headless && (out || diffuse_path || framebuffer_given)) {
         fprintf(stderr, "sepal-view: %s --headless; without it sepal-view opens a window\n",
-                out ? "-o writes a PNG with" : "--diffuse is drawn only with");
+                out ? "-o writes a PNG with" : diffuse_path ? "--diffuse is drawn only with" : "--framebuffer applies with");
+        return 2;
+    }
+    if (framebuffer_given && backend == "cpu") {
+        fprintf(stderr, "sepal-view: --framebuffer applies to the GL backends (not cpu)\n");
         return 2;
     }
     if (!headless) {
@@ -186,6 +200,7 @@ int main(int argc, char** argv) {
         opt.gles_version = gles;
         opt.mask = mask;
         opt.mode = mode;
+        opt.framebuffer = framebuffer;
         opt.diffuse = diffuse_path ? &diffuse : nullptr;
         if (!sepal_ports::render_asset_headless(bytes.data(), bytes.size(), setup, opt, &rgba, &info, &flag_err)) {
             fprintf(stderr, "sepal-view: %s: %s\n", asset_path, flag_err.c_str());
@@ -205,6 +220,7 @@ int main(int argc, char** argv) {
     hd.width = width;
     hd.height = height;
     hd.gles_version = gles;
+    hd.framebuffer = framebuffer;
     sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
     if (!ctx) {
         fprintf(stderr, "sepal-view: %s\n", msg);

@@ -274,6 +274,22 @@ TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the s
     CHECK(sepal::diff_images(r, v, 0).max_diff == 0);
     CHECK(sepal::diff_images(r, v1, 0).max_diff <= 4);
     CHECK(image_peak(r) > 0.2);
+    // On an RGB565 pbuffer too, GL ES 1.1 and 2 alike (the passes summed in 8 bits).
+    for (const char* backend : {"gles1", "gles2"}) {
+        CAPTURE(backend);
+        const std::string b = std::string(" --backend ") + backend + " --framebuffer 565";
+        REQUIRE(sepal_test::run(sepal_test::bin("sepal") + " render " + dir + "/m.sepal" + b + flags + "-o " + dir +
+                                    "/r565.png", &out) == 0);
+        REQUIRE(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal" + b + flags + "-o " +
+                                    dir + "/v565.png", &out) == 0);
+        CHECK(out.find("passes summed in an 8-bit target") != std::string::npos);
+        sepal::Image r565, v565;
+        REQUIRE(sepal::read_image(dir + "/r565.png", &r565, &err));
+        REQUIRE(sepal::read_image(dir + "/v565.png", &v565, &err));
+        CHECK(sepal::diff_images(r565, v565, 0).max_diff == 0);
+        CHECK(sepal::diff_images(r, v565, 0).max_diff > 0);  // 565, not the 8888 image
+        CHECK(sepal::diff_images(r, v565, 0).max_diff <= 9);  // within a 5-bit step of it
+    }
     // Refusals: not an asset, a corrupt asset, a bad mask.
     CHECK(sepal_test::run(sepal_test::bin("sepal") + " render ward --backend gles1 -o " + dir + "/x.png", &out) == 2);
     CHECK(out.find("baked asset") != std::string::npos);
@@ -285,6 +301,11 @@ TEST_CASE("gles1 material: sepal render and sepal-view draw the same asset the s
     CHECK(out.find("too short") != std::string::npos);
     CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --mask bogus -o " + dir +
                               "/x.png", &out) == 2);
+    CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " --headless " + dir + "/m.sepal --framebuffer 555 -o " +
+                              dir + "/x.png", &out) == 2);
+    CHECK(out.find("give 8888") != std::string::npos);
+    CHECK(sepal_test::run(sepal_test::bin("sepal-view") + " " + dir + "/m.sepal --framebuffer 565", &out) == 2);
+    CHECK(out.find("--framebuffer applies with --headless") != std::string::npos);
     std::FILE* none = std::fopen((dir + "/x.png").c_str(), "rb");
     CHECK(none == nullptr);  // nothing half-written
     if (none) std::fclose(none);
