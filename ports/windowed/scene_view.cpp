@@ -31,6 +31,7 @@ struct SceneViewArgs {
     bool headless = false;
     double time = -1;
     int frames = 0;
+    int framebuffer = 0;  // headless: 8888 or 565 (0: not given, 8888)
 };
 
 int parse_args(int argc, char** argv, SceneViewArgs* a) {
@@ -43,6 +44,10 @@ int parse_args(int argc, char** argv, SceneViewArgs* a) {
         else if (f == "--shot" && v) a->shot = argv[++i];
         else if (f == "--backend" && v) a->backend = argv[++i];
         else if (f == "--sepal" && v) a->tool = argv[++i];
+        else if (f == "--framebuffer" && v) {
+            std::string err;
+            if (!parse_framebuffer(argv[++i], &a->framebuffer, &err)) return fprintf(stderr, "sepal-view: %s\n", err.c_str()), 2;
+        }
         else if (f == "--time" && v) {
             char* end = nullptr;
             a->time = strtod(argv[++i], &end);
@@ -53,7 +58,8 @@ int parse_args(int argc, char** argv, SceneViewArgs* a) {
             if (a->frames < 1 || a->frames > 100000) return fprintf(stderr, "sepal-view: --frames: 1..100000\n"), 2;
         } else {
             return fprintf(stderr, "sepal-view: --scene: unknown or incomplete argument '%s' (scene mode takes "
-                                   "--headless, -o, --backend, --time, --frames, --shot, --sepal)\n", f.c_str()), 2;
+                                   "--headless, -o, --backend, --time, --frames, --shot, --sepal, --framebuffer)\n",
+                           f.c_str()), 2;
         }
     }
     GlRenderOptions o;
@@ -62,6 +68,8 @@ int parse_args(int argc, char** argv, SceneViewArgs* a) {
                        a->backend.c_str()), 2;
     if (a->headless != !a->out.empty())
         return fprintf(stderr, "sepal-view: --scene: --headless needs -o out.png, and -o needs --headless\n"), 2;
+    if (a->framebuffer && !a->headless)
+        return fprintf(stderr, "sepal-view: --scene: --framebuffer applies with --headless (a window has the display's format)\n"), 2;
     if (!a->shot.empty() && !a->frames) return fprintf(stderr, "sepal-view: --shot needs --frames N\n"), 2;
     return -1;
 }
@@ -155,6 +163,7 @@ int headless_scene(const SceneViewArgs& a, SceneBundle& b, const GlRenderOptions
     hd.width = b.width;
     hd.height = b.height;
     hd.gles_version = o.gles_version;
+    hd.framebuffer = a.framebuffer;
     char msg[512];
     sepal_headless_context* ctx = sepal_headless_create(&hd, msg, sizeof msg);
     if (!ctx) return fprintf(stderr, "sepal-view: %s\n", msg), 1;

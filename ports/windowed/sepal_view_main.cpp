@@ -28,7 +28,7 @@ int usage(FILE* f, int code) {
     fprintf(f,
             "usage: sepal-view --headless [ASSET.sepal] [--backend B | --gles 1|2 --mode M] [--mask LIST] [--diffuse PNG] [--framebuffer 565] [scene flags] -o out.png\n"
             "       sepal-view ASSET.sepal|FOLDER|SPEC [--backend B] [--mask LIST] [viewer flags] [scene flags]\n"
-            "       sepal-view --scene FILE.json|BUNDLE [--headless -o out.png] [--backend B] [--time T] [--frames N --shot PNG]\n"
+            "       sepal-view --scene FILE.json|BUNDLE [--headless [--framebuffer 565] -o out.png] [--backend B] [--time T] [--frames N --shot PNG]\n"
             "  --scene FILE          a scene file (docs/scenes.md): many objects, moving lights; in a window, or\n"
             "                        one frame with --headless (ports/windowed/scene_view.h)\n"
             "  ASSET.sepal           a baked material (without one: the runtime's preview)\n"

@@ -38,6 +38,16 @@ TEST_CASE("sepal-view --scene: headless and in a window under Xvfb, the frame se
     const sepal::Image render = read_png(dir + "/render.png");
     CHECK(read_png(dir + "/json.png").data == render.data);
     CHECK(read_png(dir + "/bundle.png").data == render.data);
+    // On an RGB565 pbuffer (each object's passes summed in 8 bits), the same frame as render's.
+    REQUIRE_MESSAGE(sepal_test::run_cmd("render", {"--scene", kiosk, "--time", "4", "--framebuffer", "565", "-o",
+                                                   dir + "/render565.png"}, &out) == 0, out);
+    REQUIRE_MESSAGE(sepal_test::run(view + " --scene " + bundle + " --headless --framebuffer 565 --time 4 -o " + dir +
+                                        "/bundle565.png 2>&1", &out) == 0, out);
+    const sepal::Image render565 = read_png(dir + "/render565.png");
+    CHECK(read_png(dir + "/bundle565.png").data == render565.data);
+    CHECK(render565.data != render.data);
+    CHECK(sepal_test::run(view + " --scene " + bundle + " --framebuffer 565 2>&1", &out) == 2);
+    CHECK(out.find("--framebuffer applies with --headless") != std::string::npos);
     // A window: two frames at t = 4, the last one's pixels.
     const std::string xvfb = "timeout 180 xvfb-run -a -s '-screen 0 800x600x24' ";
     REQUIRE_MESSAGE(sepal_test::run(xvfb + view + " --scene " + bundle + " --time 4 --frames 2 --shot " + dir +
