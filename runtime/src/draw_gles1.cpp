@@ -328,8 +328,6 @@ void diffuse_map(Frame& f, const sepal_draw_desc* d) {
     draw_mesh(f);
 }
 
-constexpr GLenum kFramebufferOES = 0x8D40, kFramebufferBindingOES = 0x8CA6;
-
 // The accumulated sum written to the framebuffer bound at the draw: the object's mesh
 // (depth LESS, as the pre-pass lays it, so what the engine drew in front still hides it),
 // each pixel reading its own texel of the 8-bit sum (bind_screen_texture) times
@@ -389,23 +387,10 @@ sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     if (!m->acc_fbo) return draw_passes(d, prep, stats, err, nullptr);
     // Framebuffers with fewer bits: the passes go to the 8-bit target, at the same size and
     // with the same matrices; then one write to the framebuffer bound now.
-    GLint bound = 0, viewport[4];
-    glGetIntegerv(kFramebufferBindingOES, &bound);
-    glGetIntegerv(GL_VIEWPORT, viewport);
-    // The engine's scissor box is in its framebuffer's coordinates: off in the target, back on
-    // for the write.
-    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
-    m->caps.fbo_es1.bind_framebuffer(kFramebufferOES, m->acc_fbo);
-    glViewport(0, 0, viewport[2], viewport[3]);
-    glDisable(GL_SCISSOR_TEST);
-    glDepthMask(GL_TRUE);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const srt::SumTarget target = srt::enter_sum_target(m);
     Frame f;
     const sepal_result r = draw_passes(d, prep, stats, err, &f);
-    m->caps.fbo_es1.bind_framebuffer(kFramebufferOES, (GLuint)bound);
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    if (scissor) glEnable(GL_SCISSOR_TEST);
+    srt::leave_sum_target(m, target);
     if (r != SEPAL_OK) return r;
     float mvp[16];  // f.mvp pointed into draw_passes' frame
     srt::mat4_mul(prep.proj, prep.view, mvp);

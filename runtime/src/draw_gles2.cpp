@@ -390,48 +390,17 @@ sepal_result create_gles2_programs(srt::Material* m, sepal_error* err) {
     return ok(err);
 }
 
-// The 8-bit target of srt::accumulates on GL ES 2 (core framebuffer objects), w x h, and the
-// program that writes it. Where the context cannot make it (an incomplete framebuffer, a
-// shader that does not build) the material keeps the per-pass path: what it drew before.
-void create_gles2_accumulator(srt::Material* m, int w, int h) {
-    m->program_accumulated = build("accumulated", kPassVert, kAccumulatedFrag, kPassAttribs, 0, nullptr);
-    if (!m->program_accumulated) return;
-    GLint bound = 0;
-    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
-    glGenTextures(1, &m->acc_color);
-    glBindTexture(GL_TEXTURE_2D, m->acc_color);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    // Nearest: the write reads each pixel's own texel.
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glGenRenderbuffers(1, &m->acc_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, m->acc_depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT16, w, h);
-    glGenFramebuffers(1, &m->acc_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, m->acc_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m->acc_color, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m->acc_depth);
-    const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)bound);
-    while (glGetError() != GL_NO_ERROR) {
-    }
-    if (!complete) {
-        destroy_gles2_accumulator(m);
-        return;
-    }
-    m->acc_width = w;
-    m->acc_height = h;
+const FboFunctions& gles2_fbo_functions() {
+    static const FboFunctions f = {glGenFramebuffers,      glDeleteFramebuffers,  glBindFramebuffer,
+                                   glFramebufferTexture2D, glGenRenderbuffers,    glDeleteRenderbuffers,
+                                   glBindRenderbuffer,     glRenderbufferStorage, glFramebufferRenderbuffer,
+                                   glCheckFramebufferStatus};
+    return f;
 }
 
-void destroy_gles2_accumulator(srt::Material* m) {
-    if (m->acc_fbo) glDeleteFramebuffers(1, &m->acc_fbo);
-    if (m->acc_depth) glDeleteRenderbuffers(1, &m->acc_depth);
-    if (m->acc_color) glDeleteTextures(1, &m->acc_color);
-    if (m->program_accumulated) glDeleteProgram(m->program_accumulated);
-    m->acc_fbo = m->acc_depth = m->acc_color = m->program_accumulated = 0;
-    m->acc_width = m->acc_height = 0;
+bool create_gles2_sum_program(srt::Material* m) {
+    m->program_accumulated = build("accumulated", kPassVert, kAccumulatedFrag, kPassAttribs, 0, nullptr);
+    return m->program_accumulated != 0;
 }
 
 void destroy_gles2_programs(srt::Material* m) {
@@ -441,11 +410,11 @@ void destroy_gles2_programs(srt::Material* m) {
     if (m->float_depth) glDeleteRenderbuffers(1, &m->float_depth);
     if (m->float_color) glDeleteTextures(1, &m->float_color);
     m->float_fbo = m->float_depth = m->float_color = 0;
-    const uint32_t programs[5] = {m->program_pass, m->program_fullscreen, m->program_mesh_texture,
-                                  m->program_fused_vertex, m->program_fused_pixel};
+    const uint32_t programs[6] = {m->program_pass,         m->program_fullscreen,  m->program_mesh_texture,
+                                  m->program_fused_vertex, m->program_fused_pixel, m->program_accumulated};
     for (uint32_t p : programs)
         if (p) glDeleteProgram(p);
-    m->program_pass = m->program_fullscreen = m->program_mesh_texture = 0;
+    m->program_pass = m->program_fullscreen = m->program_mesh_texture = m->program_accumulated = 0;
     m->program_fused_vertex = m->program_fused_pixel = 0;
 }
 
@@ -459,23 +428,11 @@ sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_d
     // Framebuffers with fewer bits: the object's passes go to the 8-bit target, at the same
     // size and with the same matrices; then one write to the framebuffer bound now (the
     // GL ES 1.1 executor does the same: draw_gles1.cpp).
-    GLint bound = 0, viewport[4];
-    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
-    glGetIntegerv(GL_VIEWPORT, viewport);
-    // The engine's scissor box is in its framebuffer's coordinates: off in the target, back on
-    // for the write.
-    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
-    glBindFramebuffer(GL_FRAMEBUFFER, m->acc_fbo);
-    glViewport(0, 0, viewport[2], viewport[3]);
-    glDisable(GL_SCISSOR_TEST);
-    glDepthMask(GL_TRUE);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const SumTarget target = enter_sum_target(m);
     const sepal_result r = draw_object(d, prep, stats, err, mvp);
-    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)bound);
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    if (scissor) glEnable(GL_SCISSOR_TEST);
+    leave_sum_target(m, target);
     if (r != SEPAL_OK) return r;
+    const int* viewport = target.viewport;
     // The object's mesh at depth LESS, as the first pass lays it, so that what the engine drew
     // in front still hides it; replaces what the pixel held, as the first pass did.
     glEnable(GL_DEPTH_TEST);

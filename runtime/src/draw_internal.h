@@ -120,8 +120,23 @@ int gles1_schedule(const srt::Material* m, const FramePrep& prep, int total_doub
 sepal_result draw_gles1(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 sepal_result create_gles2_programs(srt::Material* m, sepal_error* err);
 void destroy_gles2_programs(srt::Material* m);
-void create_gles2_accumulator(srt::Material* m, int width, int height);
-void destroy_gles2_accumulator(srt::Material* m);
+// The framebuffer-object entry points of m's context: GL_OES_framebuffer_object's from the
+// caps on GL ES 1.1, the core ones on GL ES 2 (gles2_fbo_functions). One 8-bit target
+// (srt::accumulates) is made, switched to and deleted through them for both versions.
+using FboFunctions = decltype(sepal_caps::fbo_es1);
+const FboFunctions& gles2_fbo_functions();
+const FboFunctions& fbo_functions(const srt::Material* m);
+// GL ES 2: the program that writes the 8-bit sum (shaders/accumulated.frag); false when it
+// does not build (the material then keeps the per-pass path).
+bool create_gles2_sum_program(srt::Material* m);
+// The object's passes into the 8-bit target, at the viewport's size, cleared; and back to
+// the framebuffer, viewport and scissor test the engine had bound.
+struct SumTarget {
+    int bound, viewport[4];
+    bool scissor;
+};
+SumTarget enter_sum_target(const srt::Material* m);
+void leave_sum_target(const srt::Material* m, const SumTarget& t);
 sepal_result draw_gles2(const sepal_draw_desc* d, const FramePrep& prep, sepal_draw_stats* stats, sepal_error* err);
 
 }  // namespace srt

@@ -189,8 +189,7 @@ constexpr GLenum kFramebufferOES = 0x8D40, kRenderbufferOES = 0x8D41, kColorAtta
                  kFramebufferBindingOES = 0x8CA6;
 
 void destroy_accumulator(srt::Material* m) {
-    if (m->caps.gles_version == 2) return srt::destroy_gles2_accumulator(m);
-    const auto& f = m->caps.fbo_es1;
+    const auto& f = srt::fbo_functions(m);
     if (m->acc_fbo && f.delete_framebuffers) f.delete_framebuffers(1, &m->acc_fbo);
     if (m->acc_depth && f.delete_renderbuffers) f.delete_renderbuffers(1, &m->acc_depth);
     if (m->acc_color) glDeleteTextures(1, &m->acc_color);
@@ -198,10 +197,11 @@ void destroy_accumulator(srt::Material* m) {
     m->acc_width = m->acc_height = 0;
 }
 
-// The 8-bit target of srt::accumulates on GL ES 1.1, w x h. Where the context cannot make
-// one (an incomplete framebuffer) the material keeps the per-pass path: what it drew before.
+// The 8-bit target of srt::accumulates, w x h (and on GL ES 2 the program that writes it).
+// Where the context cannot make one (an incomplete framebuffer, a shader that does not
+// build) the material keeps the per-pass path: what it drew before.
 void create_accumulator(srt::Material* m, int w, int h) {
-    const auto& f = m->caps.fbo_es1;
+    const auto& f = srt::fbo_functions(m);
     GLint bound = 0;
     glGetIntegerv(kFramebufferBindingOES, &bound);
     glGenTextures(1, &m->acc_color);
@@ -223,7 +223,7 @@ void create_accumulator(srt::Material* m, int w, int h) {
     f.bind_framebuffer(kFramebufferOES, (GLuint)bound);
     while (glGetError() != GL_NO_ERROR) {
     }
-    if (!complete) {
+    if (!complete || (m->caps.gles_version == 2 && !srt::create_gles2_sum_program(m))) {
         destroy_accumulator(m);
         return;
     }
@@ -298,16 +298,42 @@ sepal_result create(const sepal_caps* caps, const sepal_asset* asset, int max_wi
     // the per-pass path, as where the context cannot make one.
     const int acc_w = next_pow2(max_width), acc_h = next_pow2(max_height);
     if (srt::accumulates(*caps, out->single_unit != 0) && !float_target && acc_w <= caps->max_texture_size &&
-        acc_h <= caps->max_texture_size) {
-        if (caps->gles_version == 2)
-            srt::create_gles2_accumulator(out, acc_w, acc_h);
-        else if (caps->fbo_es1.gen_framebuffers)
-            create_accumulator(out, acc_w, acc_h);
-    }
+        acc_h <= caps->max_texture_size && srt::fbo_functions(out).gen_framebuffers)
+        create_accumulator(out, acc_w, acc_h);
     return srt::ok(err);
 }
 
 }  // namespace
+
+namespace srt {
+
+const FboFunctions& fbo_functions(const Material* m) {
+    return m->caps.gles_version == 2 ? gles2_fbo_functions() : m->caps.fbo_es1;
+}
+
+SumTarget enter_sum_target(const Material* m) {
+    SumTarget t;
+    glGetIntegerv(kFramebufferBindingOES, &t.bound);
+    glGetIntegerv(GL_VIEWPORT, t.viewport);
+    // The engine's scissor box is in its framebuffer's coordinates: off in the target, back on
+    // for the write.
+    t.scissor = glIsEnabled(GL_SCISSOR_TEST);
+    fbo_functions(m).bind_framebuffer(kFramebufferOES, m->acc_fbo);
+    glViewport(0, 0, t.viewport[2], t.viewport[3]);
+    glDisable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    return t;
+}
+
+void leave_sum_target(const Material* m, const SumTarget& t) {
+    fbo_functions(m).bind_framebuffer(kFramebufferOES, (GLuint)t.bound);
+    glViewport(t.viewport[0], t.viewport[1], t.viewport[2], t.viewport[3]);
+    if (t.scissor) glEnable(GL_SCISSOR_TEST);
+}
+
+}  // namespace srt
 
 extern "C" sepal_result sepal_material_create(const sepal_caps* caps, const sepal_asset* asset, int max_width,
                                               int max_height, sepal_material* out, sepal_error* err) {
