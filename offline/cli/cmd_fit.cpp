@@ -3,7 +3,7 @@
 //
 // A Lafortune model fitted to scattered samples (Lensch et al. 2003, section 4; the library
 // is offline/fit/): SAMPLES is a samples.csv (what `sepal measure capture` writes; format in
-// fit/samples.h) or a Cornell .brdf file. Prints each parameter with its 95% interval (from
+// measured/samples.h) or a Cornell .brdf file. Prints each parameter with its 95% interval (from
 // the covariance at the minimum; "unmeasured" when the samples do not determine it), the
 // rank, the residual and the model as a spec that `sepal bake` and `sepal render` take; a
 // warning when weighted samples' residual is over twice their stated noise (the model does
@@ -23,7 +23,7 @@
 #include "cli/picture_report.h"
 #include "spec/spec.h"
 #include "fit/lafortune_fit.h"
-#include "fit/samples.h"
+#include "measured/samples.h"
 #include "util/json.h"
 
 namespace sepal {

@@ -36,7 +36,7 @@
 #include "acquire/capture.h"
 #include "acquire/object.h"
 #include "acquire/known.h"
-#include "fit/samples.h"
+#include "measured/samples.h"
 #include "util/image.h"
 #include "measured/merl.h"
 #include "util/io.h"

@@ -1,11 +1,16 @@
 #include "measured/cornell.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
+#include <glm/geometric.hpp>
+
 #include "brdf/cie.h"
+#include "factor/factored.h"  // luminance
+#include "fit/lafortune_fit.h"
 #include "util/io.h"
 
 namespace sepal {
@@ -269,19 +274,73 @@ bool parse_cornell(const std::string& text, const std::string& name, CornellData
     return true;
 }
 
+namespace {
+
+// The base model of CornellTabulation::base_lobes: the most lobes up to `lobes` whose fit
+// succeeds and stays plausible (no created energy where no sample constrains it).
+bool fit_cornell_base(const std::vector<CornellSample>& samples, int lobes, LafortuneModel* model) {
+    std::vector<BrdfSample> bs;
+    bs.reserve(samples.size());
+    // 1 / (1 + f): about relative error over the highlight, absolute below 1 /sr, as the
+    // log(1 + f) residual the table then holds.
+    for (const CornellSample& s : samples) bs.push_back({s.wi(), s.wo(), s.rgb, 1.0 / (1.0 + luminance(s.rgb))});
+    for (int k = std::min(lobes, 4); k >= 1; --k) {
+        LafortuneFitOptions o;
+        o.lobes = k;
+        o.forward = true;
+        LafortuneFit fit;
+        std::string err;
+        if (!fit_lafortune(bs, o, &fit, &err)) continue;
+        LafortuneModel m = fit.model;
+        tint_lafortune_lobes(bs, &m);
+        if (!lafortune_plausible(m)) continue;
+        *model = m;
+        return true;
+    }
+    return false;
+}
+
+glm::dvec3 log1p_of(const glm::dvec3& v) {
+    return glm::dvec3(std::log1p(std::max(0.0, v.x)), std::log1p(std::max(0.0, v.y)), std::log1p(std::max(0.0, v.z)));
+}
+
+// The base at a cell's centre; a centre below the horizon (its cell is only blended into
+// lookups at the horizon) is evaluated just above it.
+glm::dvec3 base_at(const LafortuneModel& m, const HalfDiff& a) {
+    glm::dvec3 wi, wo;
+    from_half_diff(a, &wi, &wo);
+    wi.z = std::max(wi.z, 1e-3);
+    wo.z = std::max(wo.z, 1e-3);
+    return m.eval(glm::normalize(wi), glm::normalize(wo));
+}
+
+}  // namespace
+
 void tabulate_cornell(const std::vector<CornellSample>& samples, Tabulated* table,
-                      const CornellTabulation& how) {
+                      const CornellTabulation& how, CornellBase* base) {
     if (!table->init(how.res[0], how.res[1], how.res[2], ThetaHMapping::kSqrt, nullptr))
         *table = Tabulated::merl();  // out-of-range settings: the default layout
+    LafortuneModel model;
+    const bool has_base = how.base_lobes > 0 && fit_cornell_base(samples, how.base_lobes, &model);
+    if (base) *base = has_base ? CornellBase{int(model.lobes.size()), model.spec()} : CornellBase{};
     for (const CornellSample& s : samples) {
         HalfDiff a = to_half_diff(s.wi(), s.wo());
-        table->splat(a, s.rgb, 1.0, Tabulated::Kernel::kNearest);
+        const glm::dvec3 v = has_base ? log1p_of(s.rgb) - log1p_of(model.eval(s.wi(), s.wo())) : s.rgb;
+        table->splat(a, v, 1.0, Tabulated::Kernel::kNearest);
         if (!how.mirror) continue;
         a.phi_d = -a.phi_d;  // isotropy: the mirror configuration has the same value
-        table->splat(a, s.rgb, 1.0, Tabulated::Kernel::kNearest);
+        table->splat(a, v, 1.0, Tabulated::Kernel::kNearest);
     }
     table->finish_splats();
-    table->fill_missing(how.domain);
+    // The residual is a log already and may be negative: push-pull on it as it is.
+    table->fill_missing(has_base ? Tabulated::FillDomain::kLinear : how.domain);
+    if (!has_base) return;
+    for (size_t i = 0; i < table->size(); ++i) {
+        if (!table->usable(i)) continue;
+        const glm::dvec3 l = log1p_of(base_at(model, table->cell_center(i))) + table->value(i);
+        const glm::dvec3 f(std::max(0.0, std::expm1(l.x)), std::max(0.0, std::expm1(l.y)), std::max(0.0, std::expm1(l.z)));
+        table->set(i, f, table->confidence(i), table->state(i));
+    }
 }
 
 double relative_rms(const Tabulated& table, const std::vector<CornellSample>& samples) {

@@ -72,10 +72,25 @@ struct CornellTabulation {
     int res[3] = {90, 90, 180};  // theta_h (sqrt-spaced), theta_d, phi_d
     bool mirror = true;          // also splat each sample at -phi_d
     Tabulated::FillDomain domain = Tabulated::FillDomain::kLog1p;
+    // A base model under the table (0: none, the push-pull above on f itself). With 1..4, a
+    // Lafortune model of that many forward lobes (fit/lafortune_fit.h; fewer when the fit
+    // fails or creates energy) is fitted to the samples in a log-like measure (weights
+    // 1 / (1 + luminance)); the table's push-pull then runs on the residual
+    // log(1 + f) - log(1 + base) at the samples, and each cell becomes
+    // exp(log(1 + base) + residual) - 1 at its centre. The base carries the highlight's
+    // round shape between samples where push-pull spreads the samples' phi_d pattern
+    // (cayman's highlight as a bow-tie); measured in docs/reference.md, "Measured data".
+    int base_lobes = 0;
 };
-// Tabulates the samples into *table (re-initialized).
+// What tabulate_cornell put under the table: base_lobes 0 when there is no base.
+struct CornellBase {
+    int lobes = 0;
+    std::string spec;  // the base's `lafortune` spec (brdf_models.h), empty without one
+};
+// Tabulates the samples into *table (re-initialized); *base (optional) says what base the
+// table holds its residual over.
 void tabulate_cornell(const std::vector<CornellSample>& samples, Tabulated* table,
-                      const CornellTabulation& how = CornellTabulation());
+                      const CornellTabulation& how = CornellTabulation(), CornellBase* base = nullptr);
 
 // sqrt(sum over samples and channels of (f_table - f_sample)^2 / sum of f_sample^2), with
 // f_table read by trilinear lookup at each sample's own (wi, wo). 0 when there are no samples.

@@ -1,4 +1,4 @@
-#include "fit/samples.h"
+#include "measured/samples.h"
 
 #include <algorithm>
 #include <cmath>

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/lafortune_fit.h"
+#include "brdf/brdf.h"  // BrdfSample
 
 namespace sepal {
 

@@ -5,7 +5,8 @@
 
 #include <glm/glm.hpp>
 
-#include "fit/samples.h"
+#include "fit/lafortune_fit.h"
+#include "measured/samples.h"
 #include "test_util.h"
 
 TEST_CASE("fit samples: written samples read back to 9 digits, extra columns ignored") {
