@@ -353,6 +353,30 @@ double relative_rms(const Tabulated& table, const std::vector<CornellSample>& sa
     return den > 0.0 ? std::sqrt(num / den) : 0.0;
 }
 
+CornellCrossValidation cornell_cross_validation(const std::vector<CornellSample>& samples,
+                                                const CornellTabulation& how, int folds) {
+    CornellCrossValidation cv;
+    if (folds < 2 || samples.size() < size_t(folds)) return cv;
+    cv.folds = folds;
+    double num = 0, den = 0, lnum = 0, lden = 0;
+    for (int k = 0; k < folds; ++k) {
+        std::vector<CornellSample> train, test;
+        for (size_t i = 0; i < samples.size(); ++i) (int(i % size_t(folds)) == k ? test : train).push_back(samples[i]);
+        Tabulated t;
+        tabulate_cornell(train, &t, how);
+        for (const CornellSample& s : test) {
+            const glm::dvec3 f = t.eval(s.wi(), s.wo()), d = f - s.rgb, l = log1p_of(f) - log1p_of(s.rgb), ls = log1p_of(s.rgb);
+            num += glm::dot(d, d);
+            den += glm::dot(s.rgb, s.rgb);
+            lnum += glm::dot(l, l);
+            lden += glm::dot(ls, ls);
+        }
+    }
+    cv.rms = den > 0 ? std::sqrt(num / den) : 0.0;
+    cv.log_rms = lden > 0 ? std::sqrt(lnum / lden) : 0.0;
+    return cv;
+}
+
 CornellFigures cornell_figures(const CornellData& data, const Tabulated& table,
                                const CornellTabulation& how) {
     CornellFigures f;

@@ -72,8 +72,8 @@ struct CornellTabulation {
     int res[3] = {90, 90, 180};  // theta_h (sqrt-spaced), theta_d, phi_d
     bool mirror = true;          // also splat each sample at -phi_d
     Tabulated::FillDomain domain = Tabulated::FillDomain::kLog1p;
-    // A base model under the table (0: none, the push-pull above on f itself). With 1..4, a
-    // Lafortune model of that many forward lobes (fit/lafortune_fit.h; fewer when the fit
+    // A base model under the table (0: none, the push-pull above on f itself). With 1..4 (more
+    // counts as 4), a Lafortune model of that many forward lobes (fit/lafortune_fit.h; fewer when the fit
     // fails or creates energy) is fitted to the samples in a log-like measure (weights
     // 1 / (1 + luminance)); the table's push-pull then runs on the residual
     // log(1 + f) - log(1 + base) at the samples, and each cell becomes
@@ -82,7 +82,8 @@ struct CornellTabulation {
     // (cayman's highlight as a bow-tie); measured in docs/reference.md, "Measured data".
     int base_lobes = 0;
 };
-// What tabulate_cornell put under the table: base_lobes 0 when there is no base.
+// What tabulate_cornell put under the table: lobes 0 when there is no base (base_lobes 0, or
+// no fit that succeeded and stayed plausible).
 struct CornellBase {
     int lobes = 0;
     std::string spec;  // the base's `lafortune` spec (brdf_models.h), empty without one
@@ -105,6 +106,16 @@ struct CornellFigures {
 // `table` is tabulate_cornell(data.samples, how); the holdout builds a second table.
 CornellFigures cornell_figures(const CornellData& data, const Tabulated& table,
                                const CornellTabulation& how = CornellTabulation());
+
+// k-fold cross-validation of a tabulation: sample i is held out in fold i % folds, the table
+// built from the others; every sample is predicted once and the errors are pooled:
+// relative_rms's measure, and the same of log(1 + f) (less ruled by the few highlight samples).
+struct CornellCrossValidation {
+    double rms = 0, log_rms = 0;
+    int folds = 0;
+};
+CornellCrossValidation cornell_cross_validation(const std::vector<CornellSample>& samples,
+                                                const CornellTabulation& how, int folds);
 
 std::unique_ptr<Brdf> load_cornell_brdf(const std::string& path, std::string* err);
 std::unique_ptr<Brdf> make_cornell_brdf(const std::string& text, const std::string& path,
