@@ -63,7 +63,8 @@ int run_render_scene(RenderArgs& args, const CommandIO& io) {
     std::string err;
     int framebuffer = 8888;
     if (!args.framebuffer.empty()) {
-        if (backend == "exact" || backend == "cpu" || backend == "gles1-model" || backend == "gles2-model")
+        sepal_ports::GlRenderOptions gl_backend;
+        if (!sepal_ports::parse_gl_backend(backend, &gl_backend))
             return fail("--scene: --framebuffer applies to the GL backends (not " + backend + ")");
         if (!sepal_ports::parse_framebuffer(args.framebuffer, &framebuffer, &err)) return fail(err);
     }

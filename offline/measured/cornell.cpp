@@ -343,14 +343,30 @@ void tabulate_cornell(const std::vector<CornellSample>& samples, Tabulated* tabl
     }
 }
 
-double relative_rms(const Tabulated& table, const std::vector<CornellSample>& samples) {
-    double num = 0.0, den = 0.0;
-    for (const CornellSample& s : samples) {
-        const glm::dvec3 d = table.eval(s.wi(), s.wo()) - s.rgb;
-        num += d.x * d.x + d.y * d.y + d.z * d.z;
-        den += s.rgb.x * s.rgb.x + s.rgb.y * s.rgb.y + s.rgb.z * s.rgb.z;
+namespace {
+
+// The table's squared errors at the samples and the samples' squared values, of f and of
+// log(1 + f), added to the running sums: relative_rms's, pooled over folds.
+struct ErrorSums {
+    double num = 0, den = 0, log_num = 0, log_den = 0;
+    void add(const Tabulated& table, const std::vector<CornellSample>& samples) {
+        for (const CornellSample& s : samples) {
+            const glm::dvec3 f = table.eval(s.wi(), s.wo()), d = f - s.rgb, ls = log1p_of(s.rgb), l = log1p_of(f) - ls;
+            num += glm::dot(d, d);
+            den += glm::dot(s.rgb, s.rgb);
+            log_num += glm::dot(l, l);
+            log_den += glm::dot(ls, ls);
+        }
     }
-    return den > 0.0 ? std::sqrt(num / den) : 0.0;
+    static double ratio(double n, double d) { return d > 0.0 ? std::sqrt(n / d) : 0.0; }
+};
+
+}  // namespace
+
+double relative_rms(const Tabulated& table, const std::vector<CornellSample>& samples) {
+    ErrorSums e;
+    e.add(table, samples);
+    return ErrorSums::ratio(e.num, e.den);
 }
 
 CornellCrossValidation cornell_cross_validation(const std::vector<CornellSample>& samples,
@@ -358,22 +374,16 @@ CornellCrossValidation cornell_cross_validation(const std::vector<CornellSample>
     CornellCrossValidation cv;
     if (folds < 2 || samples.size() < size_t(folds)) return cv;
     cv.folds = folds;
-    double num = 0, den = 0, lnum = 0, lden = 0;
+    ErrorSums e;
     for (int k = 0; k < folds; ++k) {
         std::vector<CornellSample> train, test;
         for (size_t i = 0; i < samples.size(); ++i) (int(i % size_t(folds)) == k ? test : train).push_back(samples[i]);
         Tabulated t;
         tabulate_cornell(train, &t, how);
-        for (const CornellSample& s : test) {
-            const glm::dvec3 f = t.eval(s.wi(), s.wo()), d = f - s.rgb, l = log1p_of(f) - log1p_of(s.rgb), ls = log1p_of(s.rgb);
-            num += glm::dot(d, d);
-            den += glm::dot(s.rgb, s.rgb);
-            lnum += glm::dot(l, l);
-            lden += glm::dot(ls, ls);
-        }
+        e.add(t, test);
     }
-    cv.rms = den > 0 ? std::sqrt(num / den) : 0.0;
-    cv.log_rms = lden > 0 ? std::sqrt(lnum / lden) : 0.0;
+    cv.rms = ErrorSums::ratio(e.num, e.den);
+    cv.log_rms = ErrorSums::ratio(e.log_num, e.log_den);
     return cv;
 }
 
