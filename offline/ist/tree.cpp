@@ -463,6 +463,7 @@ bool build_tree(const Decomposition& d, const TreeOptions& o, ShadeTree* out, st
         }
         CornellTabulation how;
         std::copy(o.table_res, o.table_res + 3, how.res);
+        how.base_lobes = 0;  // a basis material's values, not a paint: no Lafortune base under them
         Tabulated table;
         tabulate_cornell(samples, &table, how);
         const TableBrdf tb(table);

@@ -71,7 +71,7 @@ class CornellBrdf : public Brdf {
   public:
     CornellBrdf(std::string path, CornellData data)
         : path_(std::move(path)), data_(std::move(data)) {
-        tabulate_cornell(data_.samples, &table_);
+        tabulate_cornell(data_.samples, &table_, CornellTabulation(), &base_);
         figures_ = cornell_figures(data_, table_);
     }
     glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const override {
@@ -119,14 +119,29 @@ class CornellBrdf : public Brdf {
         s += buf;
         std::snprintf(buf, sizeof buf,
                       "table      %d x %d x %d, MERL layout (theta_h sqrt-spaced, theta_d, "
-                      "phi_d over [0, pi)) = %zu cells, push-pull on log(1 + f)\n",
+                      "phi_d over [0, pi)) = %zu cells",
                       table_.n_theta_h(), table_.n_theta_d(), table_.n_phi_d(), f.cells);
         s += buf;
-        std::snprintf(buf, sizeof buf,
-                      "coverage   %.2f%% of cells hold direct data (%zu: a sample or its phi_d "
-                      "mirror); %zu filled by push-pull\n",
-                      100.0 * f.measured / f.cells, f.measured, f.filled);
-        s += buf;
+        if (base_.lobes == 0) {
+            std::snprintf(buf, sizeof buf,
+                          ", push-pull on log(1 + f)\n"
+                          "coverage   %.2f%% of cells hold direct data (%zu: a sample or its phi_d "
+                          "mirror); %zu filled by push-pull\n",
+                          100.0 * f.measured / f.cells, f.measured, f.filled);
+            s += buf;
+        } else {
+            s += ": a " + std::to_string(base_.lobes) + "-lobe Lafortune base times exp(residual)\nbase       " +
+                 base_.spec + "\n";
+            std::snprintf(buf, sizeof buf,
+                          "residual   log(1 + f) - log(1 + base) over %d x %d x %d cells (theta_h, theta_d%s), "
+                          "%.2f%% hold a sample (%zu), the rest filled by push-pull\n"
+                          "coverage   %.2f%% of the table's cells hold a sample or its phi_d mirror (%zu)\n",
+                          base_.residual_res[0], base_.residual_res[1], base_.residual_res[2],
+                          base_.residual_res[2] == 1 ? "; phi_d from the base" : ", phi_d",
+                          100.0 * base_.residual_measured / std::max<size_t>(1, base_.residual_cells),
+                          base_.residual_measured, 100.0 * f.measured / f.cells, f.measured);
+            s += buf;
+        }
         std::snprintf(buf, sizeof buf,
                       "fit        relative RMS %.2f%% at the %zu sample positions (trilinear "
                       "lookup)\n"
@@ -142,6 +157,7 @@ class CornellBrdf : public Brdf {
     std::string path_;
     CornellData data_;
     Tabulated table_;
+    CornellBase base_;
     CornellFigures figures_;
 };
 
@@ -322,24 +338,53 @@ void tabulate_cornell(const std::vector<CornellSample>& samples, Tabulated* tabl
         *table = Tabulated::merl();  // out-of-range settings: the default layout
     LafortuneModel model;
     const bool has_base = how.base_lobes > 0 && fit_cornell_base(samples, how.base_lobes, &model);
-    if (base) *base = has_base ? CornellBase{int(model.lobes.size()), model.spec()} : CornellBase{};
+    // The residual's own table when it has fewer phi_d cells than the result.
+    Tabulated coarse;
+    int rres[3];
+    for (int k = 0; k < 3; ++k) rres[k] = how.residual_res[k] > 0 ? how.residual_res[k] : how.res[k];
+    const bool separate = has_base && !std::equal(rres, rres + 3, how.res) &&
+                          coarse.init(rres[0], rres[1], rres[2], table->mapping(), nullptr);
+    Tabulated* resid = separate ? &coarse : table;
+    // With a separate residual, the result's cells that hold a sample (or its mirror): they
+    // count as measured, as the splats would have made them.
+    std::vector<uint8_t> hit(separate ? table->size() : 0, 0);
     for (const CornellSample& s : samples) {
         HalfDiff a = to_half_diff(s.wi(), s.wo());
         const glm::dvec3 v = has_base ? log1p_of(s.rgb) - log1p_of(model.eval(s.wi(), s.wo())) : s.rgb;
-        table->splat(a, v, 1.0, Tabulated::Kernel::kNearest);
-        if (!how.mirror) continue;
-        a.phi_d = -a.phi_d;  // isotropy: the mirror configuration has the same value
-        table->splat(a, v, 1.0, Tabulated::Kernel::kNearest);
+        for (int copy = 0; copy < (how.mirror ? 2 : 1); ++copy) {
+            if (copy == 1) a.phi_d = -a.phi_d;  // isotropy: the mirror configuration has the same value
+            resid->splat(a, v, 1.0, Tabulated::Kernel::kNearest);
+            if (separate) hit[table->cell_index(a)] = 1;
+        }
     }
-    table->finish_splats();
+    resid->finish_splats();
     // The residual is a log already and may be negative: push-pull on it as it is.
-    table->fill_missing(has_base ? Tabulated::FillDomain::kLinear : how.domain);
+    resid->fill_missing(has_base ? Tabulated::FillDomain::kLinear : how.domain);
+    if (base) {
+        *base = CornellBase{};
+        if (has_base) {
+            const Tabulated::Counts c = resid->counts();
+            *base = CornellBase{int(model.lobes.size()), model.spec(), {resid->n_theta_h(), resid->n_theta_d(), resid->n_phi_d()},
+                                resid->size(), c.measured};
+        }
+    }
     if (!has_base) return;
     for (size_t i = 0; i < table->size(); ++i) {
-        if (!table->usable(i)) continue;
-        const glm::dvec3 l = log1p_of(base_at(model, table->cell_center(i))) + table->value(i);
+        const HalfDiff c = table->cell_center(i);
+        glm::dvec3 r;
+        float confidence;
+        Tabulated::State state;
+        if (separate) {
+            if (!coarse.trilinear(c, &r)) continue;
+            confidence = hit[i] ? 1.0f : 0.0f;
+            state = hit[i] ? Tabulated::State::kMeasured : Tabulated::State::kFilled;
+        } else {
+            if (!table->usable(i)) continue;
+            r = table->value(i), confidence = table->confidence(i), state = table->state(i);
+        }
+        const glm::dvec3 l = log1p_of(base_at(model, c)) + r;
         const glm::dvec3 f(std::max(0.0, std::expm1(l.x)), std::max(0.0, std::expm1(l.y)), std::max(0.0, std::expm1(l.z)));
-        table->set(i, f, table->confidence(i), table->state(i));
+        table->set(i, f, confidence, state);
     }
 }
 

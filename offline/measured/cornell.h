@@ -23,12 +23,13 @@
 // (colours outside the sRGB gamut; tiny in the Cornell files) are clamped to 0 and counted.
 // Dense form: the samples stay as scattered data (CornellData::samples) and are also
 // tabulated into the MERL layout, 90 x 90 x 180 with sqrt-spaced theta_h so the specular
-// peak gets the finest cells (tabulated.h): each sample goes to the cell containing it and,
-// because an isotropic BRDF is symmetric under phi_d -> -phi_d, also to its mirror cell;
-// push-pull on log(1 + f) fills every other cell. The mirror copies matter at the seam:
-// in-plane samples have phi_d = 0 or pi, where trilinear lookup blends cells 0 and 179.
-// The choices (layout, kernel, mirror, log1p) were measured on the three Cornell files:
-// README.md, "Measured data".
+// peak gets the finest cells (tabulated.h). A two-lobe Lafortune model fitted to the samples
+// is the base; the residual log(1 + f) - log(1 + base) goes to a 20 x 20 table over
+// (theta_h, theta_d): each sample to the cell containing it (and, because an isotropic BRDF
+// is symmetric under phi_d -> -phi_d, its mirror), push-pull fills every other cell; each
+// cell of the result is the base times that residual at its centre (CornellTabulation).
+// The choices (layout, kernel, mirror, log1p, base, residual) were measured on the three
+// Cornell files: docs/reference.md, "Measured data".
 // Limits: isotropic data only (phi_i is used, not assumed 0); at most 64 MiB of text.
 #pragma once
 #include <memory>
@@ -75,18 +76,26 @@ struct CornellTabulation {
     // A base model under the table (0: none, the push-pull above on f itself). With 1..4 (more
     // counts as 4), a Lafortune model of that many forward lobes (fit/lafortune_fit.h; fewer when the fit
     // fails or creates energy) is fitted to the samples in a log-like measure (weights
-    // 1 / (1 + luminance)); the table's push-pull then runs on the residual
-    // log(1 + f) - log(1 + base) at the samples, and each cell becomes
-    // exp(log(1 + base) + residual) - 1 at its centre. The base carries the highlight's
-    // round shape between samples where push-pull spreads the samples' phi_d pattern
-    // (cayman's highlight as a bow-tie); measured in docs/reference.md, "Measured data".
-    int base_lobes = 0;
+    // 1 / (1 + luminance)); push-pull then fills the residual log(1 + f) - log(1 + base) at the
+    // samples, and each cell becomes exp(log(1 + base) + residual) - 1 at its centre.
+    int base_lobes = 2;
+    // Cells of the residual's own table (theta_h sqrt-spaced, theta_d, phi_d; 0 takes the
+    // table's count). The default, 20 x 20 x 1, makes the residual a smooth function of
+    // (theta_h, theta_d) alone: the base carries the phi_d dependence. The Cornell files
+    // sample phi_d on a few dozen azimuths; a residual over phi_d spreads their pattern into
+    // rays around the highlight (a star at normal incidence, a fan where the view grazes
+    // beyond the samples' 80 degrees), and one over the table's 90 x 90 into rings around it.
+    // Measured in docs/reference.md, "Measured data".
+    int residual_res[3] = {20, 20, 1};
 };
 // What tabulate_cornell put under the table: lobes 0 when there is no base (base_lobes 0, or
 // no fit that succeeded and stayed plausible).
 struct CornellBase {
     int lobes = 0;
     std::string spec;  // the base's `lafortune` spec (brdf_models.h), empty without one
+    // The residual's table (with a base): its shape, cells, and those holding a sample.
+    int residual_res[3] = {0, 0, 0};
+    size_t residual_cells = 0, residual_measured = 0;
 };
 // Tabulates the samples into *table (re-initialized); *base (optional) says what base the
 // table holds its residual over.

@@ -732,7 +732,9 @@ TEST_CASE("measured: the three Cornell files load, look right and report their f
         CHECK(f->isotropic());
         const std::string info = f->info();
         CHECK(contains(info, "samples    1439 lines"));
-        CHECK(contains(info, "coverage   0.19% of cells hold direct data"));
+        CHECK(contains(info, "coverage   0.19% of the table's cells hold a sample"));
+        CHECK(contains(info, "base       lafortune:"));
+        CHECK(contains(info, "residual   log(1 + f) - log(1 + base) over 20 x 20 x 1 cells"));
         CHECK(contains(info, "fit        relative RMS"));
         // Regression bounds around the measured figures (README): the dense table
         // reproduces the samples to about 4-5% and predicts held-out ones far worse.
@@ -768,22 +770,28 @@ TEST_CASE("measured: Cornell figures" * doctest::skip()) {
         const char* what;
         sepal::CornellTabulation how;
     };
-    std::vector<Variant> variants(7);
-    variants[0].what = "default: 90x90x180, mirror, log1p push-pull";
-    variants[1].what = "linear push-pull";
-    variants[1].how.domain = sepal::Tabulated::FillDomain::kLinear;
-    variants[2].what = "no mirror copies";
-    variants[2].how.mirror = false;
-    variants[3].what = "45x45x90";
-    variants[3].how.res[0] = variants[3].how.res[1] = 45;
-    variants[3].how.res[2] = 90;
-    variants[4].what = "32x32x64";
-    variants[4].how.res[0] = variants[4].how.res[1] = 32;
-    variants[4].how.res[2] = 64;
-    variants[5].what = "1-lobe Lafortune base, residual push-pull";
+    std::vector<Variant> variants(9);
+    variants[0].what = "default: 2-lobe base, residual 20x20x1";
+    variants[1].what = "push-pull on f: 90x90x180, mirror, log1p";
+    variants[1].how.base_lobes = 0;
+    variants[2].what = "push-pull, linear";
+    variants[2].how.base_lobes = 0;
+    variants[2].how.domain = sepal::Tabulated::FillDomain::kLinear;
+    variants[3].what = "push-pull, no mirror copies";
+    variants[3].how.base_lobes = 0;
+    variants[3].how.mirror = false;
+    variants[4].what = "push-pull, 45x45x90";
+    variants[4].how.base_lobes = 0;
+    variants[4].how.res[0] = variants[4].how.res[1] = 45;
+    variants[4].how.res[2] = 90;
+    variants[5].what = "1-lobe base, residual 20x20x1";
     variants[5].how.base_lobes = 1;
-    variants[6].what = "2-lobe Lafortune base, residual push-pull";
-    variants[6].how.base_lobes = 2;
+    variants[6].what = "2-lobe base, residual 45x45x1";
+    variants[6].how.residual_res[0] = variants[6].how.residual_res[1] = 45;
+    variants[7].what = "2-lobe base, residual 90x90x1";
+    variants[7].how.residual_res[0] = variants[7].how.residual_res[1] = 90;
+    variants[8].what = "2-lobe base, residual 90x90x180";
+    variants[8].how.residual_res[0] = variants[8].how.residual_res[1] = variants[8].how.residual_res[2] = 0;
     std::string report;
     for (const char* name : {"cayman", "garnet_red", "krylon_blue"}) {
         const std::string path =
@@ -811,14 +819,15 @@ TEST_CASE("measured: Cornell figures" * doctest::skip()) {
     std::printf("%s", report.c_str());
 }
 
-// The base model (CornellTabulation::base_lobes) against push-pull alone, on the three Cornell
+// The default Cornell table (a Lafortune base, the residual over (theta_h, theta_d) alone)
+// against push-pull on f and against a base whose residual keeps phi_d, on the three Cornell
 // files: 5-fold cross-validation (every sample predicted by the table built without it; one
-// split alone can favour either: on cayman's every 10th sample 37% -> 22%, but a fold holding a
-// highlight sample the other samples' lobe misses can go the other way) and the highlight's
-// shape. Push-pull spreads each sample to the cells the samples' phi_d pattern reaches, so at
-// a small half angle f changes with the azimuth around the mirror direction (cayman's
-// highlight renders as a bow-tie); an isotropic paint's highlight is round.
-TEST_CASE("measured: a Lafortune base under the Cornell table predicts left-out samples better and keeps the highlight round") {
+// split alone can favour either) and the highlight's shape. Push-pull spreads each sample to
+// the cells the samples' phi_d pattern reaches, so around the mirror direction f changes with
+// the azimuth: cayman's highlight renders as a bow-tie, every file's as a star at normal
+// incidence and as a fan of rays where the view grazes beyond the samples' 80 degrees. An
+// isotropic paint's highlight is round.
+TEST_CASE("measured: the Cornell table's Lafortune base predicts left-out samples better and keeps the highlight round") {
     for (const std::string name : {"cayman", "garnet_red", "krylon_blue"}) {
         CAPTURE(name);
         const std::string path = sepal_test::source_path("fixtures/cornell/" + name + ".brdf");
@@ -827,13 +836,16 @@ TEST_CASE("measured: a Lafortune base under the Cornell table predicts left-out 
         REQUIRE(sepal::read_file(path, &bytes, &err));
         sepal::CornellData d;
         REQUIRE(sepal::parse_cornell(std::string(bytes.begin(), bytes.end()), name, &d, &err));
-        sepal::CornellTabulation plain, based;
-        based.base_lobes = 2;
-        sepal::Tabulated tp, tb;
+        sepal::CornellTabulation plain, phi, based;
+        plain.base_lobes = 0;
+        phi.residual_res[0] = phi.residual_res[1] = phi.residual_res[2] = 0;  // the table's 90 x 90 x 180
+        sepal::Tabulated tp, tf, tb;
         sepal::CornellBase base;
         sepal::tabulate_cornell(d.samples, &tp, plain);
+        sepal::tabulate_cornell(d.samples, &tf, phi);
         sepal::tabulate_cornell(d.samples, &tb, based, &base);
         CHECK(base.lobes >= 1);
+        CHECK(base.residual_res[2] == 1);
         CAPTURE(base.spec);
         // Every sample predicted once, by the table built without its fold.
         const sepal::CornellCrossValidation cp = sepal::cornell_cross_validation(d.samples, plain, 5),
@@ -843,29 +855,30 @@ TEST_CASE("measured: a Lafortune base under the Cornell table predicts left-out 
         CAPTURE(cp.log_rms);
         CAPTURE(cb.log_rms);
         CHECK(cb.rms <= cp.rms);
-        CHECK(cb.log_rms < 0.9 * cp.log_rms);
+        CHECK(cb.log_rms < 1.05 * cp.log_rms);
         CHECK(sepal::relative_rms(tb, d.samples) < 0.07);
-        // Around the mirror direction of a light at 10 degrees, 2 degrees off it, 32 azimuths:
-        // the spread of f over the azimuth, as max / min of the luminance.
-        auto spread = [&](const sepal::Tabulated& t) {
-            const glm::dvec3 wi = dir(10 * kPi / 180, 0.0), mirror(-wi.x, -wi.y, wi.z);
+        // On a circle `off` degrees around the mirror direction of a light at theta_i (64
+        // azimuths), the spread of f's luminance: max / min.
+        auto spread = [&](const sepal::Tabulated& t, double theta_i, double off_degrees) {
+            const glm::dvec3 wi = dir(theta_i * kPi / 180, 0.0), mirror(-wi.x, -wi.y, wi.z);
             const glm::dvec3 u = glm::normalize(glm::cross(mirror, glm::dvec3(0, 1, 0))), v = glm::cross(mirror, u);
-            double lo = 1e300, hi = 0;
-            for (int k = 0; k < 32; ++k) {
-                const double a = 2 * kPi * k / 32, off = 2 * kPi / 180;
+            std::vector<double> l;
+            for (int k = 0; k < 64; ++k) {
+                const double a = 2 * kPi * k / 64, off = off_degrees * kPi / 180;
                 const glm::dvec3 wo = glm::normalize(mirror * std::cos(off) + (u * std::cos(a) + v * std::sin(a)) * std::sin(off));
-                const double l = sepal::luminance(t.eval(wi, wo));
-                lo = std::min(lo, l);
-                hi = std::max(hi, l);
+                l.push_back(sepal::luminance(t.eval(wi, wo)));
             }
+            const double lo = *std::min_element(l.begin(), l.end()), hi = *std::max_element(l.begin(), l.end());
             return hi / std::max(lo, 1e-300);
         };
-        const double sp = spread(tp), sb = spread(tb);
+        const double sp = spread(tp, 10, 2), sf = spread(tf, 10, 2), sb = spread(tb, 10, 2);
         CAPTURE(sp);
+        CAPTURE(sf);
         CAPTURE(sb);
         MESSAGE(name << ": 5-fold " << cp.rms << " -> " << cb.rms << ", of log(1 + f) " << cp.log_rms << " -> " << cb.log_rms
-                     << ", azimuth spread " << sp << " -> " << sb
+                     << ", azimuth spread (push-pull / residual over phi_d -> default) " << sp << " / " << sf << " -> " << sb
                      << ", base " << base.spec);
-        CHECK(sb < sp);
+        CHECK(sb < std::min(sp, sf));
+        CHECK(sb < 1.25);  // 1.11 / 1.03 / 1.06: the residual varies with theta_d around the mirror direction
     }
 }
