@@ -338,11 +338,13 @@ void tabulate_cornell(const std::vector<CornellSample>& samples, Tabulated* tabl
         *table = Tabulated::merl();  // out-of-range settings: the default layout
     LafortuneModel model;
     const bool has_base = how.base_lobes > 0 && fit_cornell_base(samples, how.base_lobes, &model);
-    // The residual's own table when it has fewer phi_d cells than the result.
+    // The residual's own table where its shape differs from the result's (an out-of-range
+    // shape: the result's own cells).
     Tabulated coarse;
+    const int shape[3] = {table->n_theta_h(), table->n_theta_d(), table->n_phi_d()};
     int rres[3];
-    for (int k = 0; k < 3; ++k) rres[k] = how.residual_res[k] > 0 ? how.residual_res[k] : how.res[k];
-    const bool separate = has_base && !std::equal(rres, rres + 3, how.res) &&
+    for (int k = 0; k < 3; ++k) rres[k] = how.residual_res[k] > 0 ? how.residual_res[k] : shape[k];
+    const bool separate = has_base && !std::equal(rres, rres + 3, shape) &&
                           coarse.init(rres[0], rres[1], rres[2], table->mapping(), nullptr);
     Tabulated* resid = separate ? &coarse : table;
     // With a separate residual, the result's cells that hold a sample (or its mirror): they

@@ -73,7 +73,7 @@ struct CornellTabulation {
     int res[3] = {90, 90, 180};  // theta_h (sqrt-spaced), theta_d, phi_d
     bool mirror = true;          // also splat each sample at -phi_d
     Tabulated::FillDomain domain = Tabulated::FillDomain::kLog1p;
-    // A base model under the table (0: none, the push-pull above on f itself). With 1..4 (more
+    // A base model under the table (0: none, push-pull in `domain` on f itself). With 1..4 (more
     // counts as 4), a Lafortune model of that many forward lobes (fit/lafortune_fit.h; fewer when the fit
     // fails or creates energy) is fitted to the samples in a log-like measure (weights
     // 1 / (1 + luminance)); push-pull then fills the residual log(1 + f) - log(1 + base) at the
