@@ -138,7 +138,8 @@ class CornellBrdf : public Brdf {
                           "coverage   %.2f%% of the table's cells hold a sample or its phi_d mirror (%zu)\n",
                           base_.residual_res[0], base_.residual_res[1], base_.residual_res[2],
                           base_.residual_res[2] == 1 ? "; phi_d from the base" : ", phi_d",
-                          100.0 * base_.residual_measured / std::max<size_t>(1, base_.residual_cells),
+                          100.0 * base_.residual_measured /
+                              (size_t(base_.residual_res[0]) * base_.residual_res[1] * base_.residual_res[2]),
                           base_.residual_measured, 100.0 * f.measured / f.cells, f.measured);
             s += buf;
         }
@@ -367,7 +368,7 @@ void tabulate_cornell(const std::vector<CornellSample>& samples, Tabulated* tabl
         if (has_base) {
             const Tabulated::Counts c = resid->counts();
             *base = CornellBase{int(model.lobes.size()), model.spec(), {resid->n_theta_h(), resid->n_theta_d(), resid->n_phi_d()},
-                                resid->size(), c.measured};
+                                c.measured};
         }
     }
     if (!has_base) return;

@@ -93,9 +93,9 @@ struct CornellTabulation {
 struct CornellBase {
     int lobes = 0;
     std::string spec;  // the base's `lafortune` spec (brdf_models.h), empty without one
-    // The residual's table (with a base): its shape, cells, and those holding a sample.
+    // The residual's table (with a base): its shape, and its cells holding a sample.
     int residual_res[3] = {0, 0, 0};
-    size_t residual_cells = 0, residual_measured = 0;
+    size_t residual_measured = 0;
 };
 // Tabulates the samples into *table (re-initialized); *base (optional) says what base the
 // table holds its residual over.
